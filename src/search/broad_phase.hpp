@@ -12,6 +12,13 @@
 
 namespace demlab::search {
 
+// Options shared by the algorithms that have a cell size.
+struct SearchOptions {
+  // Cell size = cellFactor x the algorithm's size statistic; 0 means the algorithm's
+  // automatic default. Algorithms without a cell-size parameter ignore it.
+  double cellFactor = 0.0;
+};
+
 template <int D, class T>
 class BroadPhase {
  public:

@@ -1,0 +1,391 @@
+// CGrid: neighbor search for objects of arbitrary extent (Perkins 2001, chapter 4).
+//
+// The search is a chain of per-axis Subdividers. Subdivider k sweeps the buckets of axis k in
+// increasing order; an object enters at the bucket of its minimum and stays until the bucket
+// of its maximum. At each bucket the objects that enter there are its *current* bucket array
+// and the objects still held over from lower buckets are its *lower-adjacent* array; both are
+// forwarded to Subdivider k+1 with one bit of their label saying which array they came from
+// (1 = lower-adjacent on axis k). The last Subdivider is the contact mask: it checks a pair
+// only if the NAND rule holds, no axis on which both labels are lower-adjacent. That rule is
+// the whole of the exactly-once argument: on every axis a pair of overlapping objects is
+// current for one of them exactly at the bucket max(lo_a, lo_b), so the pair meets the mask at
+// one bucket per axis with disjoint labels, and at no other (doc/design.md has the proof).
+//
+// Only occupied buckets are visited: a bucket is processed only where some object enters it,
+// so empty space and long objects spanning it cost nothing, and with the cell near the size of
+// the objects that fill the space, work is linear in N plus the number of reported pairs.
+//
+// With Extents::Fixed the same chain is the thesis's SGrid: every object is taken to reach
+// exactly one bucket past the one it starts in and the cell is the largest extent, so each
+// object sits in one current bucket and is seen once more as lower-adjacent.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+#include "search/broad_phase.hpp"
+#include "search/cell_size.hpp"
+#include "search/key_sort.hpp"
+#include "search/validate.hpp"
+
+namespace demlab::search {
+
+template <int D, class T>
+class CGrid final : public BroadPhase<D, T> {
+  static_assert(D >= 1 && D <= 8, "labels use one bit per axis in a 32-bit entry");
+
+ public:
+  enum class Extents { Arbitrary, Fixed };
+
+  // The default cell factor: cell = factor x volumeSizeStatistic (Arbitrary) or factor x
+  // largest extent (Fixed). Chosen from the cell-factor sweep in doc/performance.md.
+  static constexpr double kDefaultCellFactor = 1.0;
+
+  explicit CGrid(const SearchOptions& options = {}, Extents extents = Extents::Arbitrary)
+      : cellFactor_(options.cellFactor > 0 ? options.cellFactor : kDefaultCellFactor),
+        extents_(extents) {
+    // Fixed extents are only correct when no object is wider than a cell.
+    if (extents_ == Extents::Fixed) cellFactor_ = std::max(cellFactor_, 1.0);
+  }
+
+  std::string_view name() const override { return extents_ == Extents::Fixed ? "sgrid" : "cgrid"; }
+
+  // Work counters of the last search, for tests of how the work scales (never timed).
+  struct Stats {
+    std::size_t forwarded = 0;    // entries handed from one Subdivider to the next
+    std::size_t maskEntries = 0;  // entries laid into contact-mask cells
+  };
+
+  // Returns the cell size used by the last search (0 before the first).
+  double cellSize() const { return cellSize_; }
+
+  // Returns the work counters of the last search.
+  const Stats& stats() const { return stats_; }
+
+  void findPairs(std::span<const Box<D, T>> boxes, std::vector<IndexPair>& out) override {
+    out.clear();
+    validateBoxes<D, T>(boxes);
+    if (boxes.size() > kIndexMask) {
+      throw Error("too many boxes: " + std::to_string(boxes.size()) + " exceeds " +
+                      std::to_string(kIndexMask),
+                  {"LIMIT", "COUNT"});
+    }
+    stats_ = {};
+    if (boxes.size() < 2) return;
+    out_ = &out;
+    discretize(boxes);
+    subdivideFirstAxis();
+    out_ = nullptr;
+  }
+
+  std::size_t workingBytes() const override {
+    std::size_t bytes = order_.capacity() * sizeof(uint32_t) +
+                        boxes_.capacity() * sizeof(Box<D, T>) +
+                        cells_.capacity() * sizeof(CellRange) + scratch_.bytes() +
+                        maskBytes();
+    for (const auto& s : subdividers_) {
+      bytes +=
+          (s.input.capacity() + s.current.capacity() + s.held.capacity() + s.merged.capacity()) * 4;
+    }
+    return bytes;
+  }
+
+ private:
+  // An entry is an object's position in the sorted order in the low bits and its label (bit
+  // k set = lower-adjacent on axis k) in the top D bits: half the memory traffic of a pair.
+  static constexpr int kLabelShift = 32 - D;
+  static constexpr uint32_t kIndexMask = (uint32_t{1} << kLabelShift) - 1;
+  static constexpr uint32_t kLabelMask = ~kIndexMask;
+  // Bucket indices stay below 2^30 so that lo + 1 and differences never overflow.
+  static constexpr double kMaxBucket = 1073741823.0;
+
+  struct CellRange {
+    std::array<uint32_t, D> lo;
+    std::array<uint32_t, D> hi;
+  };
+
+  // One Subdivider's bucket arrays: the objects forwarded to it, the same sorted by bucket,
+  // and the lower-adjacent array (objects held over from lower buckets).
+  struct Subdivider {
+    std::vector<uint32_t> input;    // Subdivider 0 only: every object, in order
+    std::vector<uint32_t> current;  // objects entering the bucket, sorted on the next axis
+    std::vector<uint32_t> held;     // objects spanning the bucket, sorted on the next axis
+    std::vector<uint32_t> merged;   // scratch for merging the two
+  };
+
+  // Returns the bytes held by the contact mask's cells.
+  std::size_t maskBytes() const {
+    std::size_t bytes = 0;
+    for (const auto& cell : maskCells_) bytes += cell.capacity() * sizeof(MaskEntry);
+    return bytes;
+  }
+
+  // One entry of the contact mask's row, with its bounds inline.
+  struct MaskEntry {
+    T lastLo, lastHi;
+    uint32_t index;
+    std::array<T, (D > 1 ? D - 1 : 1)> lo, hi;
+  };
+  // Labels of entries reaching the contact mask use the bits of axes 0..D-2 only.
+  static constexpr uint32_t kMaskCells = uint32_t{1} << (D - 1);
+
+  static constexpr uint32_t labelBit(int k) { return uint32_t{1} << (kLabelShift + k); }
+
+  // Returns the bucket of coordinate x on axis k: floor((x - origin) / cell), clamped to
+  // [0, kMaxBucket]. Monotone in x in floating point, which is all correctness needs.
+  uint32_t bucket(T x, int k) const {
+    // x >= origin, so the scaled value is >= 0 and truncation is floor.
+    const double b = (static_cast<double>(x) - origin_[k]) * inverseCell_;
+    return static_cast<uint32_t>(b < kMaxBucket ? b : kMaxBucket);
+  }
+
+  // Chooses the cell size, sorts the objects by their bucket on axis 0 and stores, in that
+  // order, their boxes and bucket ranges. Changes every buffer.
+  void discretize(std::span<const Box<D, T>> boxes) {
+    const std::size_t n = boxes.size();
+    std::array<double, D> top{};
+    for (int k = 0; k < D; ++k) {
+      origin_[k] = static_cast<double>(boxes[0].lo[k]);
+      top[k] = static_cast<double>(boxes[0].hi[k]);
+    }
+    for (const auto& b : boxes) {
+      for (int k = 0; k < D; ++k) {
+        origin_[k] = std::min(origin_[k], static_cast<double>(b.lo[k]));
+        top[k] = std::max(top[k], static_cast<double>(b.hi[k]));
+      }
+    }
+    const double statistic =
+        extents_ == Extents::Fixed ? largestExtent<D, T>(boxes) : volumeSizeStatistic<D, T>(boxes);
+    double span = 0.0;
+    for (int k = 0; k < D; ++k) span = std::max(span, top[k] - origin_[k]);
+    // A cell so small that the scene spans more than kMaxBucket buckets would only pile
+    // objects into the clamped last bucket; widen it instead.
+    cellSize_ = std::max(cellFactor_ * statistic, span / kMaxBucket);
+    if (!(cellSize_ > 0.0)) cellSize_ = 1.0;
+    inverseCell_ = 1.0 / cellSize_;
+
+    // Sort the objects by bucket, lexicographically over the axes when the bucket grid is
+    // small enough to number in 32 bits (dense scenes: neighbours in space become neighbours
+    // in memory, and every Subdivider finds its current arrays already in order), by axis 0
+    // alone otherwise (sparse scenes, where locality matters less than the range).
+    std::array<uint64_t, D> ranks{};
+    uint64_t cellsInGrid = 1;
+    for (int k = D - 1; k >= 0; --k) {
+      ranks[k] = cellsInGrid;
+      cellsInGrid *= uint64_t{bucket(static_cast<T>(top[k]), k)} + 1;
+      if (cellsInGrid > UINT32_MAX) break;
+    }
+    const bool lexicographic = cellsInGrid <= UINT32_MAX;
+    auto& identity = subdividers_[0].input;
+    identity.resize(n);
+    std::iota(identity.begin(), identity.end(), 0u);
+    order_.resize(n);
+    if (lexicographic) {
+      sortByKey(
+          identity.data(), order_.data(), n,
+          [&](uint32_t i) {
+            uint64_t key = 0;
+            for (int k = 0; k < D; ++k) key += ranks[k] * bucket(boxes[i].lo[k], k);
+            return static_cast<uint32_t>(key);
+          },
+          scratch_);
+    } else {
+      sortByKey(
+          identity.data(), order_.data(), n,
+          [&](uint32_t i) { return bucket(boxes[i].lo[0], 0); }, scratch_);
+    }
+
+    boxes_.resize(n);
+    cells_.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      const Box<D, T>& b = boxes[order_[j]];
+      boxes_[j] = b;
+      CellRange& c = cells_[j];
+      for (int k = 0; k < D; ++k) {
+        c.lo[k] = bucket(b.lo[k], k);
+        c.hi[k] = extents_ == Extents::Fixed ? c.lo[k] + 1 : bucket(b.hi[k], k);
+      }
+    }
+  }
+
+  // Runs the Subdivider chain over all objects, which discretize() left in bucket order on
+  // axis 0. Changes the Subdivider buffers and appends pairs to *out_.
+  void subdivideFirstAxis() {
+    auto& all = subdividers_[0].input;
+    all.resize(cells_.size());
+    std::iota(all.begin(), all.end(), 0u);
+    if constexpr (D == 1) {
+      refineOnLastAxis(all.data(), all.size());
+      contactMask(all.data(), all.size());
+    } else {
+      subdivide<0>(all.data(), all.size());
+    }
+  }
+
+  // Subdivider K < D-1. `in` holds m entries sorted by bucket on axis K. Sweeps the buckets
+  // where some object enters; at each it keeps the held-over array (objects still spanning the
+  // bucket, lower-adjacent on axis K) sorted on axis K+1, merges the current array (objects
+  // entering the bucket, sorted on axis K+1) into it, and forwards the result, already in
+  // bucket order for Subdivider K+1. Held-over arrays are reused, not subdivided again, as in
+  // the thesis's SGrid; each object is sorted once per axis. Changes Subdividers >= K.
+  template <int K>
+  void subdivide(const uint32_t* in, std::size_t m) {
+    Subdivider& s = subdividers_[K];
+    s.held.clear();
+    auto nextKey = [this](uint32_t e) { return cells_[e & kIndexMask].lo[K + 1]; };
+    for (std::size_t begin = 0; begin < m;) {
+      const uint32_t c = cells_[in[begin] & kIndexMask].lo[K];
+      std::size_t end = begin + 1;
+      while (end < m && cells_[in[end] & kIndexMask].lo[K] == c) ++end;
+
+      s.current.resize(end - begin);
+      sortByKey(in + begin, s.current.data(), end - begin, nextKey, scratch_);
+      if constexpr (K + 1 == D - 1) refineOnLastAxis(s.current.data(), s.current.size());
+      // Held-over objects that still reach bucket c become lower-adjacent on axis K.
+      std::size_t kept = 0;
+      uint32_t common = kLabelMask;
+      for (uint32_t e : s.held) {
+        if (cells_[e & kIndexMask].hi[K] >= c) {
+          e |= labelBit(K);
+          common &= e;
+          s.held[kept++] = e;
+        }
+      }
+      s.held.resize(kept);
+      for (uint32_t e : s.current) common &= e;
+      s.merged.resize(kept + s.current.size());
+      if constexpr (K + 1 == D - 1) {
+        std::merge(s.held.begin(), s.held.end(), s.current.begin(), s.current.end(),
+                   s.merged.begin(), [&](uint32_t a, uint32_t b) { return lastLo(a) < lastLo(b); });
+      } else {
+        std::merge(s.held.begin(), s.held.end(), s.current.begin(), s.current.end(),
+                   s.merged.begin(),
+                   [&](uint32_t a, uint32_t b) { return nextKey(a) < nextKey(b); });
+      }
+      s.held.swap(s.merged);
+      // Where every object shares a lower-adjacent axis, the NAND rule accepts no pair.
+      if (s.held.size() > 1 && (common & kLabelMask) == 0) {
+        stats_.forwarded += s.held.size();
+        if constexpr (K + 1 == D - 1) {
+          contactMask(s.held.data(), s.held.size());
+        } else {
+          subdivide<K + 1>(s.held.data(), s.held.size());
+        }
+      }
+      begin = end;
+    }
+  }
+
+  // Returns the minimum coordinate of entry e on the last axis.
+  T lastLo(uint32_t e) const { return boxes_[e & kIndexMask].lo[D - 1]; }
+
+  // Sorts entries a[0..m), already in bucket order on the last axis, by their minimum
+  // coordinate there. Insertion sort: entries only move within their bucket.
+  void refineOnLastAxis(uint32_t* a, std::size_t m) const {
+    for (std::size_t i = 1; i < m; ++i) {
+      const uint32_t e = a[i];
+      const T lo = lastLo(e);
+      std::size_t j = i;
+      while (j > 0 && lastLo(a[j - 1]) > lo) {
+        a[j] = a[j - 1];
+        --j;
+      }
+      a[j] = e;
+    }
+  }
+
+  // The contact mask. `in` holds m entries sorted by minimum coordinate on the last axis,
+  // where the buckets shrink to the objects' own extents. The entries are split into the
+  // mask's 2^(D-1) cells by label (which earlier axes they are lower-adjacent on), each cell
+  // keeping that order, and the cells are cross-checked by the NAND rule: cell s against
+  // cell t only if s & t == 0, cell 0 against itself. So every pair met here is a pair that
+  // meets nowhere else, and no pair is looked at only to be rejected. Appends the
+  // overlapping pairs to *out_.
+  void contactMask(const uint32_t* in, std::size_t m) {
+    constexpr int L = D - 1;
+    stats_.maskEntries += m;
+    std::array<MaskEntry*, kMaskCells> fill;
+    for (uint32_t c = 0; c < kMaskCells; ++c) {
+      if (maskCells_[c].size() < m) maskCells_[c].resize(m);
+      fill[c] = maskCells_[c].data();
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      const uint32_t e = in[i];
+      const Box<D, T>& b = boxes_[e & kIndexMask];
+      MaskEntry& entry = *fill[e >> kLabelShift]++;
+      entry.lastLo = b.lo[L];
+      entry.lastHi = b.hi[L];
+      entry.index = e & kIndexMask;
+      for (int k = 0; k < L; ++k) {
+        entry.lo[k] = b.lo[k];
+        entry.hi[k] = b.hi[k];
+      }
+    }
+    std::array<std::span<const MaskEntry>, kMaskCells> cells;
+    for (uint32_t c = 0; c < kMaskCells; ++c) {
+      cells[c] = {maskCells_[c].data(), static_cast<std::size_t>(fill[c] - maskCells_[c].data())};
+    }
+    sweepWithin(cells[0]);
+    for (uint32_t s = 0; s < kMaskCells; ++s) {
+      if (cells[s].empty()) continue;
+      for (uint32_t t = s + 1; t < kMaskCells; ++t) {
+        if ((s & t) == 0 && !cells[t].empty()) sweepBetween(cells[s], cells[t]);
+      }
+    }
+  }
+
+  // Appends to *out_ the pair (a, b) if they overlap on the axes before the last; the caller
+  // has established that they overlap on the last.
+  void report(const MaskEntry& a, const MaskEntry& b) {
+    bool hit = true;
+    for (int k = 0; k < D - 1; ++k) hit &= (a.lo[k] <= b.hi[k]) & (b.lo[k] <= a.hi[k]);
+    if (hit) out_->push_back(makePair(order_[a.index], order_[b.index]));
+  }
+
+  // Checks every pair within one mask cell, sorted by lastLo: each entry meets the later
+  // entries that start before it ends.
+  void sweepWithin(std::span<const MaskEntry> cell) {
+    const std::size_t m = cell.size();
+    for (std::size_t i = 0; i < m; ++i) {
+      const MaskEntry& a = cell[i];
+      for (std::size_t j = i + 1; j < m && cell[j].lastLo <= a.lastHi; ++j) report(a, cell[j]);
+    }
+  }
+
+  // Checks every pair across two mask cells, both sorted by lastLo: walking the two in
+  // merged order, the entry that starts first meets the other cell's entries that start
+  // before it ends, so each overlapping pair is met once.
+  void sweepBetween(std::span<const MaskEntry> p, std::span<const MaskEntry> q) {
+    std::size_t i = 0, j = 0;
+    const std::size_t np = p.size(), nq = q.size();
+    while (i < np && j < nq) {
+      if (p[i].lastLo <= q[j].lastLo) {
+        const MaskEntry& a = p[i++];
+        for (std::size_t k = j; k < nq && q[k].lastLo <= a.lastHi; ++k) report(a, q[k]);
+      } else {
+        const MaskEntry& b = q[j++];
+        for (std::size_t k = i; k < np && p[k].lastLo <= b.lastHi; ++k) report(b, p[k]);
+      }
+    }
+  }
+
+  double cellFactor_;
+  Extents extents_;
+  double cellSize_ = 0.0;
+  Stats stats_;
+  double inverseCell_ = 1.0;
+  std::array<double, D> origin_{};
+  std::vector<uint32_t> order_;   // sorted position -> caller's index
+  std::vector<Box<D, T>> boxes_;  // boxes in sorted order (hot for the contact mask)
+  std::vector<CellRange> cells_;  // bucket ranges in sorted order
+  std::array<Subdivider, D> subdividers_;
+  KeySortScratch scratch_;
+  std::array<std::vector<MaskEntry>, kMaskCells> maskCells_;
+  std::vector<IndexPair>* out_ = nullptr;
+};
+
+}  // namespace demlab::search

@@ -1,0 +1,99 @@
+// Linear-time sorting of small integer keys, shared by the grid algorithms: a counting sort
+// when the keys span a range comparable to their number, an LSD radix sort (8-bit digits,
+// skipping digits every key shares) otherwise, and insertion sort for tiny inputs. Time is
+// O(m + range) or O(m * digits), never O(m log m), so a grid stays linear in N whatever the
+// spread of the scene.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace demlab::search {
+
+// Reusable scratch space for sortByKey; keeping it in the caller makes repeated sorts
+// allocation-free once the buffers have grown to the largest input seen.
+struct KeySortScratch {
+  std::vector<uint32_t> counts;
+  std::vector<uint32_t> items;
+  std::vector<uint32_t> keys;
+  std::vector<uint32_t> keysOut;
+
+  // Returns the bytes held by the buffers.
+  std::size_t bytes() const {
+    return 4 * (counts.capacity() + items.capacity() + keys.capacity() + keysOut.capacity());
+  }
+};
+
+// Sorts items[0..m) stably by key(item) into out[0..m); key returns uint32_t. Changes `out`
+// and `scratch`, never `items`. Returns nothing.
+template <class KeyFn>
+void sortByKey(const uint32_t* items, uint32_t* out, std::size_t m, KeyFn key,
+               KeySortScratch& scratch) {
+  if (m == 0) return;
+  // Runs that arrive in order (common: Subdividers receive their objects nearly sorted)
+  // cost one comparison each.
+  std::size_t ordered = 1;
+  while (ordered < m && key(items[ordered - 1]) <= key(items[ordered])) ++ordered;
+  if (ordered == m) {
+    std::copy(items, items + m, out);
+    return;
+  }
+  if (m <= 24) {
+    // Insertion sort: cheaper than any counting pass for the handful of objects in a row.
+    for (std::size_t i = 0; i < m; ++i) {
+      const uint32_t item = items[i];
+      const uint32_t k = key(item);
+      std::size_t j = i;
+      while (j > 0 && key(out[j - 1]) > k) {
+        out[j] = out[j - 1];
+        --j;
+      }
+      out[j] = item;
+    }
+    return;
+  }
+  uint32_t kmin = UINT32_MAX, kmax = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const uint32_t k = key(items[i]);
+    kmin = std::min(kmin, k);
+    kmax = std::max(kmax, k);
+  }
+  const uint64_t range = uint64_t{kmax} - kmin + 1;
+  auto& counts = scratch.counts;
+  if (range <= 4 * m + 256) {
+    counts.assign(range + 1, 0);
+    for (std::size_t i = 0; i < m; ++i) ++counts[key(items[i]) - kmin + 1];
+    for (std::size_t b = 1; b <= range; ++b) counts[b] += counts[b - 1];
+    for (std::size_t i = 0; i < m; ++i) out[counts[key(items[i]) - kmin]++] = items[i];
+    return;
+  }
+  // LSD radix sort on (key - kmin), 8 bits a pass, passes only over the digits in use.
+  auto& keys = scratch.keys;
+  auto& keysOut = scratch.keysOut;
+  auto& tmp = scratch.items;
+  keys.resize(m);
+  keysOut.resize(m);
+  tmp.resize(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    keys[i] = key(items[i]) - kmin;
+    tmp[i] = items[i];
+  }
+  const uint32_t spread = kmax - kmin;
+  counts.resize(257);
+  for (int shift = 0; shift < 32 && (spread >> shift) != 0; shift += 8) {
+    std::fill(counts.begin(), counts.end(), 0u);
+    for (std::size_t i = 0; i < m; ++i) ++counts[((keys[i] >> shift) & 0xFF) + 1];
+    for (int b = 1; b <= 256; ++b) counts[b] += counts[b - 1];
+    for (std::size_t i = 0; i < m; ++i) {
+      const uint32_t slot = counts[(keys[i] >> shift) & 0xFF]++;
+      out[slot] = tmp[i];
+      keysOut[slot] = keys[i];
+    }
+    std::copy(out, out + m, tmp.begin());
+    keys.swap(keysOut);
+  }
+  std::copy(tmp.begin(), tmp.begin() + static_cast<std::ptrdiff_t>(m), out);
+}
+
+}  // namespace demlab::search

@@ -1,0 +1,168 @@
+// CGrid's own properties beyond agreement with the oracle (search_property_test.cpp): how it
+// chooses its cell, how its work scales (by its work counters, never by a clock), and that
+// it allocates nothing once warm.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <new>
+#include <random>
+
+#include "search/cgrid.hpp"
+#include "search/registry.hpp"
+#include "support/random_boxes.hpp"
+
+// Counts heap allocations made while `gCounting` is set, for the steady-state test. GCC
+// cannot see that the replaced operator new and delete below are a matched pair.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+namespace {
+std::atomic<bool> gCounting{false};
+std::atomic<long> gAllocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  if (gCounting.load(std::memory_order_relaxed)) gAllocations.fetch_add(1);
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace demlab::search {
+namespace {
+
+using testing::randomBoxes;
+
+// Returns a bed of n equal spheres' boxes (diameter 2) at solid fraction ~0.6 in 3D.
+std::vector<Box<3, double>> bed(std::size_t n, uint64_t seed, double offset = 0.0) {
+  std::mt19937_64 rng(seed);
+  const double side = std::cbrt(static_cast<double>(n) * 4.18879 / 0.6);
+  return randomBoxes<3, double>(rng, n, side, [](std::mt19937_64&) { return 1.0; }, 0.0,
+                                offset);
+}
+
+// Returns `boxes` with every box moved by up to `step` on each axis.
+std::vector<Box<3, double>> jitter(std::vector<Box<3, double>> boxes, double step,
+                                   uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  for (auto& b : boxes) {
+    for (int k = 0; k < 3; ++k) {
+      const double d = testing::uniform(rng, -step, step);
+      b.lo[k] += d;
+      b.hi[k] += d;
+    }
+  }
+  return boxes;
+}
+
+TEST(CGrid, EveryAlgorithmAllocatesNothingOnceWarm) {
+  const auto a = bed(20000, 1);
+  const auto b = jitter(a, 0.05, 2);
+  for (const auto& row : broadPhaseTable<3, double>()) {
+    if (row.name == "brute") continue;
+    auto algorithm = row.make({});
+    std::vector<IndexPair> out;
+    algorithm->findPairs(a, out);  // warm-up on both inputs: buffers reach their sizes
+    algorithm->findPairs(b, out);
+    gAllocations = 0;
+    gCounting = true;
+    algorithm->findPairs(a, out);
+    algorithm->findPairs(b, out);
+    gCounting = false;
+    EXPECT_EQ(gAllocations.load(), 0) << row.name;
+    EXPECT_GT(out.size(), 0u);
+  }
+}
+
+TEST(CGrid, CellFollowsTheVolumeOfTheObjects) {
+  CGrid<3, double> grid;
+  std::vector<IndexPair> out;
+  grid.findPairs(bed(1000, 3), out);
+  EXPECT_NEAR(grid.cellSize(), 2.0, 1e-12);  // cube root of the mean box volume, 2^3
+
+  CGrid<3, double> coarse(SearchOptions{2.5});
+  coarse.findPairs(bed(1000, 3), out);
+  EXPECT_NEAR(coarse.cellSize(), 5.0, 1e-12);
+
+  // Bidisperse 1:10, 10% large by count: the cell sits between the two sizes.
+  std::mt19937_64 rng(4);
+  auto mixed = randomBoxes<3, double>(rng, 2000, 100.0, [](std::mt19937_64& r) {
+    return testing::uniform(r, 0, 1) < 0.1 ? 10.0 : 1.0;
+  });
+  grid.findPairs(mixed, out);
+  EXPECT_GT(grid.cellSize(), 2.0);
+  EXPECT_LT(grid.cellSize(), 20.0);
+
+  // SGrid needs the largest extent.
+  CGrid<3, double> sgrid({}, CGrid<3, double>::Extents::Fixed);
+  sgrid.findPairs(mixed, out);
+  EXPECT_NEAR(sgrid.cellSize(), 20.0, 1e-9);
+  EXPECT_EQ(sgrid.name(), "sgrid");
+}
+
+TEST(CGrid, PointsAndFlatBoxesGetAUsableCell) {
+  std::vector<Box<2, double>> points(10, Box<2, double>{{1, 1}, {1, 1}});
+  CGrid<2, double> grid;
+  std::vector<IndexPair> out;
+  grid.findPairs(points, out);
+  EXPECT_EQ(out.size(), 45u);
+  EXPECT_EQ(grid.cellSize(), 1.0);
+  std::vector<Box<2, double>> flat = {{{0, 0}, {4, 0}}, {{2, 0}, {6, 0}}, {{5, 1}, {9, 1}}};
+  grid.findPairs(flat, out);
+  EXPECT_EQ(out.size(), 1u);
+  EXPECT_EQ(grid.cellSize(), 4.0);  // the mean largest extent
+}
+
+TEST(CGrid, WorkPerObjectDoesNotGrowWithN) {
+  CGrid<3, double> grid;
+  std::vector<IndexPair> out;
+  double perObject[2];
+  const std::size_t sizes[2] = {10000, 160000};
+  for (int i = 0; i < 2; ++i) {
+    grid.findPairs(bed(sizes[i], 5), out);
+    perObject[i] = static_cast<double>(grid.stats().maskEntries) / sizes[i];
+  }
+  EXPECT_NEAR(perObject[1] / perObject[0], 1.0, 0.1);
+  EXPECT_LT(perObject[1], 6.0);  // about 2^(D-1) = 4 rows per object, plus the edges
+}
+
+TEST(CGrid, EmptySpaceCostsNothing) {
+  // Two clusters a million cells apart do the work of the two clusters alone.
+  CGrid<3, double> grid;
+  std::vector<IndexPair> out;
+  auto one = bed(20000, 6);
+  grid.findPairs(one, out);
+  const auto workOne = grid.stats();
+  const auto pairsOne = out.size();
+  auto two = one;
+  auto far = bed(20000, 6, 2e6);
+  two.insert(two.end(), far.begin(), far.end());
+  grid.findPairs(two, out);
+  EXPECT_EQ(out.size(), 2 * pairsOne);
+  EXPECT_EQ(grid.stats().maskEntries, 2 * workOne.maskEntries);
+  EXPECT_EQ(grid.stats().forwarded, 2 * workOne.forwarded);
+}
+
+TEST(CGrid, DomainSizedWallsBarelyAddWork) {
+  CGrid<3, double> grid;
+  std::vector<IndexPair> out;
+  auto boxes = bed(50000, 7);
+  grid.findPairs(boxes, out);
+  const double base = static_cast<double>(grid.stats().maskEntries + grid.stats().forwarded);
+  const std::size_t basePairs = out.size();
+  const double side = std::cbrt(50000 * 4.18879 / 0.6);
+  for (int axis = 0; axis < 2; ++axis) {
+    for (double at : {-2.0, side}) {
+      Box<3, double> wall{{-2, -2, -2}, {side + 2, side + 2, side + 2}};
+      wall.lo[axis] = at;
+      wall.hi[axis] = at + 2.0;
+      boxes.push_back(wall);
+    }
+  }
+  grid.findPairs(boxes, out);
+  const double withWalls = static_cast<double>(grid.stats().maskEntries + grid.stats().forwarded);
+  EXPECT_GT(out.size(), basePairs);
+  EXPECT_LT(withWalls / base, 1.5);
+}
+
+}  // namespace
+}  // namespace demlab::search
