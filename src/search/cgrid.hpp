@@ -83,7 +83,7 @@ class CGrid final : public BroadPhase<D, T> {
   }
 
   std::size_t workingBytes() const override {
-    std::size_t bytes = order_.capacity() * sizeof(uint32_t) +
+    std::size_t bytes = (keys_.capacity() + order_.capacity()) * sizeof(uint32_t) +
                         boxes_.capacity() * sizeof(Box<D, T>) +
                         cells_.capacity() * sizeof(CellRange) + scratch_.bytes() +
                         maskBytes();
@@ -184,20 +184,18 @@ class CGrid final : public BroadPhase<D, T> {
     identity.resize(n);
     std::iota(identity.begin(), identity.end(), 0u);
     order_.resize(n);
-    if (lexicographic) {
-      sortByKey(
-          identity.data(), order_.data(), n,
-          [&](uint32_t i) {
-            uint64_t key = 0;
-            for (int k = 0; k < D; ++k) key += ranks[k] * bucket(boxes[i].lo[k], k);
-            return static_cast<uint32_t>(key);
-          },
-          scratch_);
-    } else {
-      sortByKey(
-          identity.data(), order_.data(), n,
-          [&](uint32_t i) { return bucket(boxes[i].lo[0], 0); }, scratch_);
+    keys_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (lexicographic) {
+        uint64_t key = 0;
+        for (int k = 0; k < D; ++k) key += ranks[k] * bucket(boxes[i].lo[k], k);
+        keys_[i] = static_cast<uint32_t>(key);
+      } else {
+        keys_[i] = bucket(boxes[i].lo[0], 0);
+      }
     }
+    sortByKey(
+        identity.data(), order_.data(), n, [&](uint32_t i) { return keys_[i]; }, scratch_);
 
     boxes_.resize(n);
     cells_.resize(n);
@@ -379,6 +377,7 @@ class CGrid final : public BroadPhase<D, T> {
   Stats stats_;
   double inverseCell_ = 1.0;
   std::array<double, D> origin_{};
+  std::vector<uint32_t> keys_;       // bucket key of each object, in the caller's order
   std::vector<uint32_t> order_;   // sorted position -> caller's index
   std::vector<Box<D, T>> boxes_;  // boxes in sorted order (hot for the contact mask)
   std::vector<CellRange> cells_;  // bucket ranges in sorted order
