@@ -41,15 +41,19 @@ class CGrid final : public BroadPhase<D, T> {
  public:
   enum class Extents { Arbitrary, Fixed };
 
-  // The default cell factor: cell = factor x volumeSizeStatistic (Arbitrary) or factor x
-  // largest extent (Fixed). Chosen from the cell-factor sweep in doc/performance.md.
-  static constexpr double kDefaultCellFactor = 1.0;
+  // The default cell factor: cell = factor x volumeSizeStatistic (Arbitrary; 1 for Fixed,
+  // where cell = factor x largest extent). Chosen from the cell-factor sweep in
+  // doc/performance.md: the optimum is flat between 1.25 and 2 on every distribution.
+  static constexpr double kDefaultCellFactor = 1.5;
 
   explicit CGrid(const SearchOptions& options = {}, Extents extents = Extents::Arbitrary)
       : cellFactor_(options.cellFactor > 0 ? options.cellFactor : kDefaultCellFactor),
         extents_(extents) {
-    // Fixed extents are only correct when no object is wider than a cell.
-    if (extents_ == Extents::Fixed) cellFactor_ = std::max(cellFactor_, 1.0);
+    // Fixed extents are only correct when no object is wider than a cell, and are at their
+    // best with the cell exactly the largest extent.
+    if (extents_ == Extents::Fixed) {
+      cellFactor_ = options.cellFactor > 0 ? std::max(options.cellFactor, 1.0) : 1.0;
+    }
   }
 
   std::string_view name() const override { return extents_ == Extents::Fixed ? "sgrid" : "cgrid"; }

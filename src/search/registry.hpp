@@ -10,6 +10,9 @@
 #include "search/broad_phase.hpp"
 #include "search/brute_force.hpp"
 #include "search/cgrid.hpp"
+#include "search/hgrid.hpp"
+#include "search/nbs.hpp"
+#include "search/sweep_prune.hpp"
 
 namespace demlab::search {
 
@@ -35,6 +38,18 @@ std::span<const BroadPhaseRow<D, T>> broadPhaseTable() {
       {"sgrid", true,
        [](const SearchOptions& o) -> std::unique_ptr<BroadPhase<D, T>> {
          return std::make_unique<CGrid<D, T>>(o, CGrid<D, T>::Extents::Fixed);
+       }},
+      {"nbs", false,
+       [](const SearchOptions&) -> std::unique_ptr<BroadPhase<D, T>> {
+         return std::make_unique<Nbs<D, T>>();
+       }},
+      {"sap", false,
+       [](const SearchOptions&) -> std::unique_ptr<BroadPhase<D, T>> {
+         return std::make_unique<SweepAndPrune<D, T>>();
+       }},
+      {"hgrid", true,
+       [](const SearchOptions& o) -> std::unique_ptr<BroadPhase<D, T>> {
+         return std::make_unique<HGrid<D, T>>(o);
        }},
   };
   return rows;
