@@ -1,0 +1,352 @@
+// Simulation: the public, dimension-erased face of the simulation core (thesis chapter 9's
+// SimulationManager seen from outside). The Tcl command layer, the benchmark and the tests talk
+// to a scene only through this class; everything under it is templated on the dimension
+// (SimulationManager<2>, SimulationManager<3>) and never seen here.
+//
+// Conventions of the whole interface:
+// - Vectors are std::array<double, 3> (Vec3d). In 2D the z component of a position, velocity,
+//   force or point must be 0 and an angular velocity or torque has only a z component (x and y
+//   must be 0): a Def that breaks this is rejected with DEMLAB VALUE <FIELD>.
+// - Bulk getters return flat std::vector<double> in dense order (grainIds() gives the same
+//   order), with dim() components per vector (positions, velocities, forces), 1 (2D) or 3 (3D)
+//   per angular quantity, 1 (2D angle) or 4 (3D quaternion w x y z) per orientation.
+// - Every mutating call checks its whole input first and either succeeds or throws
+//   demlab::Error and changes nothing (stateDigest() is unchanged). Codes are listed per call.
+// - Handles are generational (core/handle.hpp): a handle to a removed grain or wall is reported
+//   as such (DEMLAB LOOKUP HANDLE), never taken for the object that reuses its slot.
+//
+// Status: every function declared here is implemented (sim/simulation_manager*.hpp/.cpp) and
+// covered by tests/unit/sim/ unless its comment says otherwise.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/handle.hpp"
+#include "physics/material.hpp"
+
+namespace demlab::sim {
+
+using Vec3d = std::array<double, 3>;
+using MaterialDef = physics::MaterialDef;
+using LawKind = physics::LawKind;
+
+struct GrainKind {};
+struct WallKind {};
+struct BehaviorKind {};
+using GrainId = Handle<GrainKind>;
+using WallId = Handle<WallKind>;
+using BehaviorId = Handle<BehaviorKind>;
+
+// A function of simulated time (seconds) giving one component of a time-varying load; the Tcl
+// layer wraps a script callback in it. It must be deterministic for runs to be reproducible.
+using TimeFunction = std::function<double(double t)>;
+
+// Returns the law named name ("linear" or "hertz"). Throws {VALUE LAW} otherwise:
+// `bad law "x": must be linear or hertz`.
+LawKind lawFromName(std::string_view name);
+// Returns the name of law, as lawFromName accepts it.
+std::string_view lawName(LawKind law);
+
+// ---- definitions (checked before anything is created) ------------------------------------
+
+// One grain: a disc in 2D, a sphere in 3D, of uniform density (mass and inertia from the
+// material's density and the radius).
+struct GrainDef {
+  Vec3d position{};
+  Vec3d velocity{};
+  Vec3d angularVelocity{};        // 2D: z only
+  double radius = 0;              // > 0, finite: else VALUE RADIUS
+  std::string material;           // an existing material: else LOOKUP MATERIAL
+  std::vector<std::string> tags;  // each a valid tag: else VALUE TAG
+  std::string name;               // optional, unique: else EXISTS NAME / VALUE NAME
+};
+
+enum class WallShape {
+  Plane,   // infinite plane (a line in 2D) through point with normal; grains on the + side
+  Finite,  // a finite flat wall: 2D a segment, 3D a rectangle; two-sided
+  Box,     // a solid oriented box; grains outside
+  Drum     // a cylinder (a circle in 2D); grains inside
+};
+
+// Prescribed rigid motion of a wall, all parts optional and summed: the wall's reference point
+// (the Def's point) moves as p0 + velocity t + amplitude sin(2 pi frequency t + phase), and the
+// wall turns about that moving point at the constant angularVelocity. The motion is evaluated
+// exactly at each time (no drift): a drum turns, a shaker table vibrates, a piston advances.
+struct WallMotion {
+  Vec3d velocity{};
+  Vec3d angularVelocity{};  // 2D: z only; rad/s
+  Vec3d amplitude{};        // vibration displacement amplitude (m), along its own direction
+  double frequency = 0;     // Hz, >= 0 (0 with a non-zero amplitude: VALUE FREQUENCY)
+  double phase = 0;         // rad
+};
+
+// One wall. Fields used per shape (the others must stay at their defaults, else VALUE <FIELD>):
+//   Plane : point, normal
+//   Finite: point (centre), normal, halfExtents[0] (2D: half length along perp(normal));
+//           3D also axis (in-plane, perpendicular to normal) and halfExtents[1] along
+//           normal x axis
+//   Box   : point (centre), halfExtents (2D: [0], [1]; 3D: all three), rotation: a rotation
+//           vector (axis times angle, 2D: z only) turning the box from axis-aligned
+//   Drum  : point (centre), radius; 3D also axis (the cylinder's axis) and halfLength
+struct WallDef {
+  WallShape shape = WallShape::Plane;
+  Vec3d point{};
+  Vec3d normal{};
+  Vec3d axis{};
+  Vec3d halfExtents{};
+  Vec3d rotation{};
+  double radius = 0;
+  double halfLength = 0;
+  std::string material;  // LOOKUP MATERIAL
+  std::vector<std::string> tags;
+  std::string name;
+  std::optional<WallMotion> motion;
+};
+
+// A load on one grain or on every grain of a tag group (the same force and torque on each).
+// For each component a TimeFunction, when set, replaces the constant. Exactly one of grain and
+// tag must be given (VALUE TARGET). Loads with a TimeFunction cannot be saved in a checkpoint.
+struct LoadDef {
+  GrainId grain;    // null: use tag
+  std::string tag;  // GroupBehavior over the grains carrying it at each step
+  Vec3d force{};
+  Vec3d torque{};  // 2D: z only
+  std::array<TimeFunction, 3> forceFn{};
+  std::array<TimeFunction, 3> torqueFn{};
+};
+
+// Contact detection options. cellFactor: CGrid cell = factor x its size statistic (0: CGrid's
+// default). skin: Verlet skin distance in metres (< 0: automatic, 0.1 x the smallest grain
+// radius; 0: rebuild every step). VALUE CELLFACTOR / VALUE SKIN on NaN or bad signs.
+struct DetectionOptions {
+  double cellFactor = 0;
+  double skin = -1;
+};
+
+// Integrators by name: "verlet" (plain velocity Verlet, as LAMMPS/LIGGGHTS) and "synchronized"
+// (the default: Vyas et al. 2025, forces and tangential springs evaluated with velocities
+// synchronized at the full step; physical for static friction at large size ratios).
+// ---- results ---------------------------------------------------------------------------
+
+struct GrainState {
+  GrainId id;
+  std::string name;
+  std::vector<std::string> tags;
+  std::string material;
+  double radius = 0, mass = 0, inertia = 0;
+  Vec3d position{}, velocity{}, angularVelocity{}, force{}, torque{};
+  std::array<double, 4> orientation{};  // 3D: quaternion w x y z; 2D: {angle, 0, 0, 0}
+};
+
+struct WallState {
+  WallId id;
+  std::string name;
+  std::vector<std::string> tags;
+  std::string material;
+  WallShape shape = WallShape::Plane;
+  Vec3d point{};     // reference point now
+  Vec3d velocity{};  // of the reference point now
+  Vec3d angularVelocity{};
+  std::array<double, 4> orientation{};  // as GrainState
+  Vec3d force{};                        // total force the grains exert on the wall in the last step
+  Vec3d boundsLo{}, boundsHi{};
+};
+
+struct ContactInfo {
+  GrainId a;  // always a grain
+  GrainId b;  // the other grain, or null when the contact is with wall
+  WallId wall;
+  Vec3d point{}, normal{};  // normal from a towards b (or the wall)
+  double overlap = 0;
+  Vec3d force{};  // force on b (or the wall); a receives its opposite
+};
+
+// The energy ledger (joules). balance = kinetic + gravitational + elastic + damping + friction
+// - wallWork - behaviorWork - (the same sum at the reference, the scene's first step) is zero
+// for exact integration; residual = |balance| / scale, with scale the largest of the energies
+// seen, is the run's error indicator.
+struct EnergyLedger {
+  double kineticTranslational = 0, kineticRotational = 0, gravitational = 0, elastic = 0;
+  double dampingLoss = 0, frictionLoss = 0;  // cumulated, >= 0
+  double wallWork = 0, behaviorWork = 0;     // cumulated work done on the grains
+  double balance = 0, scale = 0, residual = 0;
+};
+
+struct ModuleTime {
+  std::string module;
+  double seconds = 0;
+};
+
+struct RunReport {
+  uint64_t steps = 0;        // steps done by this run
+  double simulatedTime = 0;  // seconds simulated by this run
+  double time = 0;           // scene time at the end
+  double wallSeconds = 0;
+  bool interrupted = false;         // the stop flag ended the run early
+  std::vector<ModuleTime> modules;  // wall time per module, in loop order
+  uint64_t contacts = 0;            // at the end
+  uint64_t neighborRebuilds = 0;    // CGrid searches done by this run
+  double energyResidual = 0;        // EnergyLedger::residual at the end
+};
+
+struct RunOptions {
+  uint64_t steps = 0;
+  // Checked at every step boundary; when it reads true the run stops there, consistent.
+  const std::atomic<bool>* stop = nullptr;
+  // Called with (steps done, steps asked) about every progressEvery steps (0: every 1/100 of
+  // the run, at least 1) and once at the end. It may read the scene, not change it.
+  std::function<void(uint64_t, uint64_t)> progress;
+  uint64_t progressEvery = 0;
+};
+
+struct BehaviorInfo {
+  BehaviorId id;
+  std::string kind;          // "gravity", "load"
+  std::string description;   // e.g. `load on tag "bed": force (0 0 -1) N`
+  bool serializable = true;  // false when it holds TimeFunctions
+};
+
+// ---- the scene -----------------------------------------------------------------------------
+
+class Simulation {
+ public:
+  virtual ~Simulation() = default;
+
+  // Returns 2 or 3.
+  virtual int dim() const = 0;
+
+  // -- time --
+  // Sets a fixed time step. Throws VALUE TIMESTEP unless dt > 0 and finite.
+  virtual void setTimeStep(double dt) = 0;
+  // Makes the step automatic: fraction x criticalTimeStep(), recomputed whenever grains or
+  // materials change. Throws VALUE FRACTION unless 0 < fraction <= 1.
+  virtual void setAutoTimeStep(double fraction) = 0;
+  // Returns the step the next run uses. Throws VALUE TIMESTEP if automatic with no grains.
+  virtual double timeStep() const = 0;
+  // Returns the smallest critical step over the materials and grain sizes in the scene
+  // (physics::criticalTimeStep, Rayleigh step for Hertz); +inf when there are no grains.
+  virtual double criticalTimeStep() const = 0;
+  // Returns the scene time and the number of steps taken.
+  virtual double time() const = 0;
+  virtual uint64_t stepCount() const = 0;
+
+  // -- materials and contact laws --
+  // Adds a material. Throws VALUE NAME, EXISTS MATERIAL, or the MaterialDef::check() error.
+  virtual void addMaterial(const std::string& name, const MaterialDef& def) = 0;
+  // Replaces an existing material's properties (grain masses follow the density).
+  // Throws LOOKUP MATERIAL or the check() error.
+  virtual void setMaterial(const std::string& name, const MaterialDef& def) = 0;
+  virtual MaterialDef material(const std::string& name) const = 0;  // LOOKUP MATERIAL
+  virtual std::vector<std::string> materialNames() const = 0;       // in creation order
+  // Sets the law for every pair that has no pair-specific law (default: Hertz-Mindlin).
+  virtual void setContactLaw(LawKind law) = 0;
+  virtual LawKind contactLaw() const = 0;
+  // Sets the law of one pair of materials (order irrelevant). LOOKUP MATERIAL.
+  virtual void setPairLaw(const std::string& a, const std::string& b, LawKind law) = 0;
+  // Returns the law the pair uses. LOOKUP MATERIAL.
+  virtual LawKind pairLaw(const std::string& a, const std::string& b) const = 0;
+
+  // -- grains --
+  virtual GrainId addGrain(const GrainDef& def) = 0;
+  // Adds all or none: every Def is checked (and names checked against each other) first.
+  virtual std::vector<GrainId> addGrains(const std::vector<GrainDef>& defs) = 0;
+  // Removes a grain (its tags, name and contact histories go with it). LOOKUP HANDLE.
+  virtual void removeGrain(GrainId id) = 0;
+  // Removes every grain carrying tag; returns how many.
+  virtual size_t removeGrains(const std::string& tag) = 0;
+  virtual GrainState grain(GrainId id) const = 0;                // LOOKUP HANDLE
+  virtual GrainId findGrain(const std::string& name) const = 0;  // LOOKUP NAME
+  // Changes a grain's state; unset fields stay. LOOKUP HANDLE, VALUE <FIELD>.
+  virtual void setGrainPosition(GrainId id, const Vec3d& p) = 0;
+  virtual void setGrainVelocity(GrainId id, const Vec3d& v) = 0;
+  virtual void setGrainAngularVelocity(GrainId id, const Vec3d& w) = 0;
+  virtual size_t grainCount() const = 0;
+
+  // -- walls --
+  virtual WallId addWall(const WallDef& def) = 0;
+  virtual void removeWall(WallId id) = 0;                      // LOOKUP HANDLE
+  virtual WallState wall(WallId id) const = 0;                 // LOOKUP HANDLE
+  virtual WallId findWall(const std::string& name) const = 0;  // LOOKUP NAME
+  virtual std::vector<WallId> wallIds() const = 0;
+  virtual size_t wallCount() const = 0;
+
+  // -- tags (Tk canvas model: idempotent; an unknown tag is empty) --
+  virtual void tagGrain(GrainId id, const std::string& tag) = 0;    // LOOKUP HANDLE, VALUE TAG
+  virtual void untagGrain(GrainId id, const std::string& tag) = 0;  // LOOKUP HANDLE
+  virtual std::vector<GrainId> grainsTagged(const std::string& tag) const = 0;
+  virtual void tagWall(WallId id, const std::string& tag) = 0;
+  virtual void untagWall(WallId id, const std::string& tag) = 0;
+  virtual std::vector<WallId> wallsTagged(const std::string& tag) const = 0;
+
+  // -- behaviors --
+  // Adds uniform gravity g (m/s^2) on every grain. VALUE GRAVITY.
+  virtual BehaviorId addGravity(const Vec3d& g) = 0;
+  // Adds a load. VALUE TARGET, LOOKUP HANDLE, VALUE FORCE / VALUE TORQUE.
+  virtual BehaviorId addLoad(const LoadDef& def) = 0;
+  virtual void removeBehavior(BehaviorId id) = 0;  // LOOKUP HANDLE
+  virtual std::vector<BehaviorInfo> behaviors() const = 0;
+
+  // -- modules --
+  // Sets the integrator by name ("synchronized" or "verlet"). VALUE INTEGRATOR.
+  virtual void setIntegrator(const std::string& name) = 0;
+  virtual std::string integrator() const = 0;
+  // Sets contact detection options. VALUE CELLFACTOR, VALUE SKIN.
+  virtual void setDetection(const DetectionOptions& options) = 0;
+  virtual DetectionOptions detection() const = 0;
+  // Returns the names of the modules the next step runs, in loop order (e.g. "behaviors",
+  // "detection", "contacts", "walls", "friction-history", "integrate", "rotation").
+  virtual std::vector<std::string> listModules() const = 0;
+
+  // -- running --
+  // Runs options.steps steps (stopping early at a step boundary when *stop reads true).
+  // Throws VALUE TIMESTEP when no step can be chosen; INTEGRATION NAN (state restored to the
+  // start of the failing step is NOT guaranteed: the message names the grain) when a grain's
+  // state stops being finite.
+  virtual RunReport run(const RunOptions& options) = 0;
+  // Runs one step; returns its report.
+  virtual RunReport step() = 0;
+
+  // -- queries --
+  virtual EnergyLedger energy() const = 0;
+  virtual size_t contactCount() const = 0;  // contacts found in the last step
+  virtual std::vector<ContactInfo> contacts() const = 0;
+  // Returns the box holding every grain and finite wall {lo, hi}; empty scene: zeros.
+  virtual std::array<Vec3d, 2> bounds() const = 0;
+  virtual std::vector<GrainId> grainIds() const = 0;  // dense order
+  virtual std::vector<double> positions() const = 0;
+  virtual std::vector<double> velocities() const = 0;
+  virtual std::vector<double> angularVelocities() const = 0;
+  virtual std::vector<double> orientations() const = 0;
+  virtual std::vector<double> forces() const = 0;
+  virtual std::vector<double> radii() const = 0;
+
+  // -- whole scene --
+  // Returns a 64-bit hash of everything that determines the future of the scene (state,
+  // materials, laws, walls, behaviors' parameters, pair histories, time, options, handle
+  // pools): equal digests mean equal scenes.
+  virtual uint64_t stateDigest() const = 0;
+  // Returns a deep copy that runs bit-identically to this scene (TimeFunctions are shared).
+  virtual std::unique_ptr<Simulation> clone() const = 0;
+  // Writes a binary checkpoint of the whole scene. Throws SAVE CALLBACK naming the behaviors
+  // holding TimeFunctions, writing nothing, unless skipCallbacks: then they are left out and
+  // their descriptions returned. Continuing from load() is bit-identical to never stopping.
+  virtual std::vector<std::string> save(std::ostream& out, bool skipCallbacks = false) const = 0;
+  // Replaces this scene by the checkpoint read from in. Throws LOAD FORMAT (not a demlab
+  // checkpoint, truncated, or another dimension: LOAD DIMENSION), changing nothing.
+  virtual void load(std::istream& in) = 0;
+};
+
+// Returns a new, empty scene of dimension dim. Throws VALUE DIMENSION unless dim is 2 or 3.
+std::unique_ptr<Simulation> makeSimulation(int dim);
+
+}  // namespace demlab::sim
