@@ -1,0 +1,400 @@
+#include "io/lammps_data.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+#include <string_view>
+#include <unordered_map>
+
+#include "core/error.hpp"
+#include "io/line_reader.hpp"
+
+namespace demlab::io {
+namespace {
+
+constexpr std::size_t kMaxTokens = 12;
+
+// A line split at blanks, at most kMaxTokens fields; count says how many there were in all.
+struct Tokens {
+  std::array<std::string_view, kMaxTokens> field;
+  std::size_t count = 0;
+  std::string_view operator[](std::size_t i) const { return field[i]; }
+};
+
+bool isBlank(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
+bool isAlpha(char c) {
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z');
+}
+
+// Returns s without leading and trailing blanks.
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// Returns the fields of s (blank-separated).
+Tokens split(std::string_view s) {
+  Tokens t;
+  std::size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && isBlank(s[i])) ++i;
+    if (i == s.size()) break;
+    std::size_t j = i;
+    while (j < s.size() && !isBlank(s[j])) ++j;
+    if (t.count < kMaxTokens) t.field[t.count] = s.substr(i, j - i);
+    ++t.count;
+    i = j;
+  }
+  return t;
+}
+
+// Returns whether line is a LAMMPS data-file section keyword.
+bool isSectionKeyword(std::string_view line) {
+  static constexpr std::array<std::string_view, 11> kPlain{
+      "Atoms",  "Velocities", "Masses", "Ellipsoids", "Lines",    "Triangles",
+      "Bodies", "Bonds",      "Angles", "Dihedrals",  "Impropers"};
+  for (auto k : kPlain) {
+    if (line == k) return true;
+  }
+  return line.size() > 7 && line.substr(line.size() - 7) == " Coeffs";
+}
+
+bool allWords(const Tokens& t, std::size_t from) {
+  if (t.count > kMaxTokens) return false;
+  for (std::size_t i = from; i < t.count; ++i) {
+    for (char c : t[i]) {
+      if (!isAlpha(c)) return false;
+    }
+  }
+  return true;
+}
+
+// Parses the file line by line; one instance per readLammpsData call.
+class Parser {
+ public:
+  explicit Parser(const std::string& path) : in_(path) {}
+
+  SphereData run();
+
+ private:
+  // Throws Error(message + where, code): every error names the file and the current line.
+  [[noreturn]] void fail(const std::string& message, std::vector<std::string> code) const {
+    std::ostringstream os;
+    os << message << " (file \"" << in_.path() << "\" line " << in_.lineNumber() << ")";
+    throw Error(os.str(), std::move(code));
+  }
+
+  // Reads the next line that is not blank once comments are cut, into `line` (trimmed) and
+  // `comment` (the text after "#", trimmed); returns false at the end of the file.
+  bool nextContent(std::string_view& line, std::string_view& comment);
+
+  Real real(std::string_view s, const char* what) const;
+  std::int64_t integer(std::string_view s) const;
+
+  void header(const Tokens& t);
+  void atoms(std::string_view comment);
+  void velocities();
+  // Skips the lines of an unknown section; returns true with `line` holding the next section
+  // keyword, or false at the end of the file.
+  bool skipSection(std::string_view& line, std::string_view& comment);
+
+  LineReader in_;
+  SphereData d_;
+  std::int64_t atomCount_ = -1;
+  std::array<bool, 3> haveBox_{false, false, false};
+  bool haveTypes_ = false;
+  bool haveAtoms_ = false;
+  bool haveVelocities_ = false;
+  std::unordered_map<std::int64_t, std::size_t> index_;
+};
+
+bool Parser::nextContent(std::string_view& line, std::string_view& comment) {
+  std::string_view raw;
+  while (in_.next(raw)) {
+    comment = {};
+    const std::size_t hash = raw.find('#');
+    if (hash != std::string_view::npos) {
+      comment = trim(raw.substr(hash + 1));
+      raw = raw.substr(0, hash);
+    }
+    line = trim(raw);
+    if (!line.empty()) return true;
+  }
+  return false;
+}
+
+Real Parser::real(std::string_view s, const char* what) const {
+  std::string_view digits = s;
+  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);
+  double v = 0;
+  const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+  if (ptr != digits.data() + digits.size() || digits.empty() ||
+      (ec != std::errc() && ec != std::errc::result_out_of_range)) {
+    fail("expected floating-point number but got \"" + std::string(s) + "\"", {"VALUE", "NUMBER"});
+  }
+  if (ec == std::errc::result_out_of_range) {
+    // from_chars leaves v unset out of range; strtod tells underflow (a tiny value, kept)
+    // from overflow (HUGE_VAL, refused below).
+    v = std::strtod(std::string(digits).c_str(), nullptr);
+  }
+  if (!std::isfinite(v) || std::abs(v) == HUGE_VAL) {
+    fail(std::string("bad ") + what + " \"" + std::string(s) + "\": must be a finite number",
+         {"VALUE", "NUMBER"});
+  }
+  return v;
+}
+
+std::int64_t Parser::integer(std::string_view s) const {
+  std::string_view digits = s;
+  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);
+  std::int64_t v = 0;
+  const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+  if (ec != std::errc() || ptr != digits.data() + digits.size() || digits.empty()) {
+    fail("expected integer but got \"" + std::string(s) + "\"", {"VALUE", "NUMBER"});
+  }
+  return v;
+}
+
+void Parser::header(const Tokens& t) {
+  static constexpr std::array<const char*, 3> kLo{"xlo", "ylo", "zlo"};
+  static constexpr std::array<const char*, 3> kHi{"xhi", "yhi", "zhi"};
+  if (t.count == 2 && t[1] == "atoms") {
+    atomCount_ = integer(t[0]);
+    if (atomCount_ < 0) {
+      fail("bad atom count \"" + std::string(t[0]) + "\": must be a non-negative integer",
+           {"VALUE", "COUNT"});
+    }
+    return;
+  }
+  if (t.count == 3 && t[1] == "atom" && t[2] == "types") {
+    const std::int64_t n = integer(t[0]);
+    if (n < 1) {
+      fail("bad atom type count \"" + std::string(t[0]) + "\": must be a positive integer",
+           {"VALUE", "COUNT"});
+    }
+    d_.atomTypes = static_cast<std::size_t>(n);
+    haveTypes_ = true;
+    return;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (t.count == 4 && t[2] == kLo[k] && t[3] == kHi[k]) {
+      const Real lo = real(t[0], kLo[k]), hi = real(t[1], kHi[k]);
+      if (!(lo < hi)) {
+        fail("bad box \"" + std::string(t[0]) + " " + std::string(t[1]) + "\": must have " +
+                 kLo[k] + " < " + kHi[k],
+             {"VALUE", "BOX"});
+      }
+      d_.boxLo[k] = lo;
+      d_.boxHi[k] = hi;
+      haveBox_[k] = true;
+      return;
+    }
+  }
+  if (t.count == 6 && t[3] == "xy" && t[4] == "xz" && t[5] == "yz") {
+    fail("triclinic box (\"xy xz yz\") not supported: the box must be orthogonal",
+         {"IO", "FORMAT"});
+  }
+  // Other header lines are a count followed by words ("0 bonds", "4 extra bond per atom").
+  if (t.count >= 2 && allWords(t, 1)) {
+    integer(t[0]);
+    return;
+  }
+  fail(
+      "unexpected line in the header: must be \"N atoms\", \"N atom types\", \"lo hi xlo xhi\" "
+      "or a section keyword such as \"Atoms\"",
+      {"IO", "FORMAT"});
+}
+
+void Parser::atoms(std::string_view comment) {
+  if (haveAtoms_) fail("second Atoms section", {"IO", "FORMAT"});
+  if (atomCount_ < 0) fail("Atoms section before the header's \"N atoms\" line", {"IO", "FORMAT"});
+  if (!haveTypes_)
+    fail("Atoms section before the header's \"N atom types\" line", {"IO", "FORMAT"});
+  static constexpr std::array<const char*, 3> kAxis{"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    if (!haveBox_[k]) {
+      fail(std::string("Atoms section before the header's \"") + kAxis[k] + "lo " + kAxis[k] +
+               "hi\" line",
+           {"IO", "FORMAT"});
+    }
+  }
+  if (!comment.empty() && split(comment)[0] != "sphere") {
+    fail("bad atom style \"" + std::string(split(comment)[0]) + "\": must be sphere",
+         {"IO", "FORMAT"});
+  }
+  haveAtoms_ = true;
+  const auto n = static_cast<std::size_t>(atomCount_);
+  d_.ids.reserve(n);
+  d_.types.reserve(n);
+  d_.diameters.reserve(n);
+  d_.densities.reserve(n);
+  d_.positions.reserve(n);
+  index_.reserve(n);
+  std::string_view line, c;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!nextContent(line, c)) {
+      std::ostringstream os;
+      os << "file ends after " << i << " of " << n << " atom lines";
+      fail(os.str(), {"IO", "TRUNCATED"});
+    }
+    const Tokens t = split(line);
+    if (t.count != 7 && t.count != 10) {
+      if (isAlpha(line.front())) {
+        std::ostringstream os;
+        os << "section \"" << line << "\" after " << i << " of " << n << " atom lines";
+        fail(os.str(), {"IO", "TRUNCATED"});
+      }
+      std::ostringstream os;
+      os << "bad atom line: has " << t.count
+         << " fields, must be \"id type diameter density x y z\" (and optionally 3 image flags)";
+      fail(os.str(), {"IO", "FORMAT"});
+    }
+    const std::int64_t id = integer(t[0]);
+    const std::int64_t type = integer(t[1]);
+    const Real diameter = real(t[2], "diameter");
+    const Real density = real(t[3], "density");
+    Vec3 x;
+    for (int k = 0; k < 3; ++k) x[k] = real(t[4 + k], kAxis[k]);
+    if (t.count == 10) {
+      for (int k = 0; k < 3; ++k) integer(t[7 + k]);
+    }
+    if (id < 1)
+      fail("bad atom id \"" + std::string(t[0]) + "\": must be a positive integer",
+           {"VALUE", "ID"});
+    if (type < 1 || type > static_cast<std::int64_t>(d_.atomTypes)) {
+      fail("bad atom type \"" + std::string(t[1]) + "\": must be between 1 and " +
+               std::to_string(d_.atomTypes),
+           {"VALUE", "TYPE"});
+    }
+    if (!(diameter > 0)) {
+      fail("bad diameter \"" + std::string(t[2]) + "\": must be a positive number",
+           {"VALUE", "DIAMETER"});
+    }
+    if (!(density > 0)) {
+      fail("bad density \"" + std::string(t[3]) + "\": must be a positive number",
+           {"VALUE", "DENSITY"});
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (x[k] < d_.boxLo[k] || x[k] > d_.boxHi[k]) {
+        std::ostringstream os;
+        os << "bad position of atom " << id << ": " << kAxis[k] << " = " << t[4 + k]
+           << " is outside the box [" << d_.boxLo[k] << ", " << d_.boxHi[k] << "]";
+        fail(os.str(), {"VALUE", "POSITION"});
+      }
+    }
+    if (!index_.emplace(id, d_.ids.size()).second) {
+      fail("duplicate atom id \"" + std::string(t[0]) + "\"", {"VALUE", "ID"});
+    }
+    d_.ids.push_back(id);
+    d_.types.push_back(static_cast<int>(type));
+    d_.diameters.push_back(diameter);
+    d_.densities.push_back(density);
+    d_.positions.push_back(x);
+  }
+}
+
+void Parser::velocities() {
+  if (haveVelocities_) fail("second Velocities section", {"IO", "FORMAT"});
+  if (!haveAtoms_) fail("Velocities section before the Atoms section", {"IO", "FORMAT"});
+  haveVelocities_ = true;
+  const std::size_t n = d_.size();
+  d_.velocities.assign(n, Vec3::Zero());
+  d_.angularVelocities.assign(n, Vec3::Zero());
+  std::vector<bool> seen(n, false);
+  std::string_view line, c;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!nextContent(line, c)) {
+      std::ostringstream os;
+      os << "file ends after " << i << " of " << n << " velocity lines";
+      fail(os.str(), {"IO", "TRUNCATED"});
+    }
+    const Tokens t = split(line);
+    if (t.count != 7) {
+      std::ostringstream os;
+      os << "bad velocity line: has " << t.count << " fields, must be \"id vx vy vz wx wy wz\"";
+      fail(os.str(), {"IO", "FORMAT"});
+    }
+    const std::int64_t id = integer(t[0]);
+    const auto it = index_.find(id);
+    if (it == index_.end()) {
+      fail("bad atom id \"" + std::string(t[0]) + "\" in Velocities: no such atom",
+           {"VALUE", "ID"});
+    }
+    if (seen[it->second]) {
+      fail("duplicate atom id \"" + std::string(t[0]) + "\" in Velocities", {"VALUE", "ID"});
+    }
+    seen[it->second] = true;
+    Vec3 v, w;
+    for (int k = 0; k < 3; ++k) v[k] = real(t[1 + k], "velocity");
+    for (int k = 0; k < 3; ++k) w[k] = real(t[4 + k], "angular velocity");
+    d_.velocities[it->second] = v;
+    d_.angularVelocities[it->second] = w;
+  }
+}
+
+bool Parser::skipSection(std::string_view& line, std::string_view& comment) {
+  while (nextContent(line, comment)) {
+    if (isAlpha(line.front())) return true;
+  }
+  return false;
+}
+
+SphereData Parser::run() {
+  std::string_view raw;
+  if (!in_.next(raw)) fail("file is empty: expected a LAMMPS data file", {"IO", "FORMAT"});
+  d_.title = std::string(trim(raw));
+
+  std::string_view line, comment;
+  bool more = nextContent(line, comment);
+  // The header runs up to the first section keyword (a line starting with a letter).
+  while (more && !isAlpha(line.front())) {
+    header(split(line));
+    more = nextContent(line, comment);
+  }
+  while (more) {
+    if (isAlpha(line.front()) && !isSectionKeyword(line)) {
+      fail("unknown section \"" + std::string(line.substr(0, 60)) +
+               "\": must be a LAMMPS section keyword such as \"Atoms\"",
+           {"IO", "FORMAT"});
+    }
+    if (!isAlpha(line.front())) {
+      fail("unexpected line \"" + std::string(line.substr(0, 60)) +
+               "\" outside any section (more atom lines than the header's \"" +
+               std::to_string(atomCount_) + " atoms\"?)",
+           {"IO", "FORMAT"});
+    }
+    if (line == "Atoms") {
+      atoms(comment);
+    } else if (line == "Velocities") {
+      velocities();
+    } else {
+      more = skipSection(line, comment);
+      continue;
+    }
+    more = nextContent(line, comment);
+  }
+
+  if (atomCount_ < 0) fail("no \"N atoms\" line in the header", {"IO", "FORMAT"});
+  if (!haveAtoms_ && atomCount_ > 0) {
+    fail("file ends before the Atoms section", {"IO", "TRUNCATED"});
+  }
+  if (!haveAtoms_) {  // an empty system may leave out the section, not the box
+    for (int k = 0; k < 3; ++k) {
+      if (!haveBox_[k]) fail("no box bounds in the header", {"IO", "FORMAT"});
+    }
+  }
+  return std::move(d_);
+}
+
+}  // namespace
+
+SphereData readLammpsData(const std::string& path) {
+  return Parser(path).run();
+}
+
+}  // namespace demlab::io
