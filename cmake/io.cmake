@@ -16,3 +16,10 @@ target_compile_definitions(demlab_io_tests PRIVATE
 target_link_libraries(demlab_io_tests PRIVATE demlab_io GTest::gtest GTest::gtest_main
   Threads::Threads)
 add_test(NAME io COMMAND demlab_io_tests --gtest_brief=1)
+
+# The settle benchmark needs the simulation core; it joins the build once cmake/sim.cmake
+# defines demlab_sim (sim is included before io).
+if(TARGET demlab_sim)
+  add_executable(bench_sim bench/bench_sim.cpp)
+  target_link_libraries(bench_sim PRIVATE demlab_io demlab_sim)
+endif()

@@ -1,0 +1,344 @@
+// bench_sim: the "settle" benchmark of ../shared/bench/ in demlab. Reads a LAMMPS data file of
+// spheres (the same starting state the peers read), builds the scene the peers' decks describe
+// through the Simulation API, runs it and prints one CSV row per run, in the peers' format:
+//
+//   code,scene,n,steps,seconds,particle_steps_per_s,contacts,peak_rss_mb
+//
+// The scene (the decks in/settle.liggghts and in/settle.lammps): one material per distinct
+// density in the file, E = 5e6 Pa, Poisson 0.3, restitution 0.5, friction 0.5, Hertz-Mindlin
+// with tangential history; gravity -9.81 z; five infinite planes on the box faces (x = xlo, xhi;
+// y = ylo, yhi; z = zlo), the walls of the same material; the deck's dt and Verlet skin.
+//
+// Measurement model, chosen to match the peers' "Loop time":
+//   - seconds: wall time of Simulation::run over the timed steps (building the scene and
+//     reading the file are not timed; the first contact search is, where LAMMPS does it in its
+//     untimed setup: a small handicap for demlab);
+//   - contacts: particle-particle contacts with overlap > 0 after the run, as LAMMPS's compute
+//     contact/atom counts them (walls excluded);
+//   - peak_rss_mb: the process's peak resident set (getrusage) after the run, in MiB. It is a
+//     high-water mark, so it describes one run only when the process does one run:
+//     scripts/bench-sim starts one process per scene and variant.
+// Variants ("leave out what a scene does not need", issue 3): "full" is the scene above;
+// "nofriction" sets friction 0 (no tangential history kept); "norotation" turns grain rotation
+// off. Their scene names get the suffix "-nofriction" / "-norotation".
+//
+// On stderr: the modules the scene runs and the wall time of each (RunReport::modules), the
+// contact-search rebuilds and the energy-balance residual. --breakdown FILE appends the module
+// times as CSV rows `scene,module,seconds,share` (share of the run's wall time).
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/lammps_data.hpp"
+#include "sim/simulation.hpp"
+
+namespace demlab::bench {
+namespace {
+
+// The fraction of the smallest sphere's Rayleigh time the README's dt values are (used when
+// --dt is not given).
+constexpr double kRayleighFraction = 0.196;
+// Grains are handed to the scene in batches, so the GrainDefs never all exist at once.
+constexpr std::size_t kBatch = 8192;
+
+struct Variant {
+  std::string_view name;
+  std::string_view suffix;
+  bool friction;
+  bool rotation;
+};
+
+// One row per variant; --variant takes these names.
+constexpr Variant kVariants[] = {
+    {"full", "", true, true},
+    {"nofriction", "-nofriction", false, true},
+    {"norotation", "-norotation", true, false},
+};
+
+struct Options {
+  std::vector<std::string> data;
+  std::vector<const Variant*> variants;
+  uint64_t steps = 1000;
+  double dt = 0;  // 0: kRayleighFraction x the scene's critical step
+  double skin = 2.5e-4;
+  double cellFactor = 0;
+  std::string integrator;  // empty: the Simulation's default
+  std::string breakdown;
+  bool header = true;
+};
+
+void usage(std::FILE* f) {
+  std::fprintf(f,
+               "usage: bench_sim [options] DATAFILE...\n"
+               "  DATAFILE          LAMMPS data file of spheres (gzip'd or plain); the scene is\n"
+               "                    named after it (mono_10k_dense.data.gz -> mono_10k_dense)\n"
+               "  --steps N         timed steps (default 1000)\n"
+               "  --dt S            time step (default 0.196 x the Rayleigh step of the\n"
+               "                    smallest sphere, which gives the README's values)\n"
+               "  --skin M          Verlet skin in metres (default 2.5e-4, as the decks)\n"
+               "  --cell-factor F   CGrid cell factor (default: CGrid's own)\n"
+               "  --integrator NAME verlet or synchronized (default: the Simulation's)\n"
+               "  --variant LIST    comma-separated: full, nofriction, norotation (default full)\n"
+               "  --breakdown FILE  append per-module times as CSV scene,module,seconds,share\n"
+               "  --no-header       leave out the CSV header line\n");
+}
+
+// Returns the value of a numeric option; exits with status 2 on a bad value.
+double numberArg(const char* opt, const char* s) {
+  char* end = nullptr;
+  const double v = std::strtod(s, &end);
+  if (end == s || *end != '\0' || !std::isfinite(v) || v < 0) {
+    std::fprintf(stderr, "bench_sim: bad value \"%s\" for %s: must be a non-negative number\n", s,
+                 opt);
+    std::exit(2);
+  }
+  return v;
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a = argv[i];
+    auto value = [&]() -> const char* {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "bench_sim: %s needs a value\n", argv[i]);
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--steps") {
+      o.steps = static_cast<uint64_t>(numberArg("--steps", value()));
+    } else if (a == "--dt") {
+      o.dt = numberArg("--dt", value());
+    } else if (a == "--skin") {
+      o.skin = numberArg("--skin", value());
+    } else if (a == "--cell-factor") {
+      o.cellFactor = numberArg("--cell-factor", value());
+    } else if (a == "--integrator") {
+      o.integrator = value();
+    } else if (a == "--breakdown") {
+      o.breakdown = value();
+    } else if (a == "--no-header") {
+      o.header = false;
+    } else if (a == "--variant") {
+      std::string_view list = value();
+      while (!list.empty()) {
+        const auto comma = list.find(',');
+        const std::string_view name = list.substr(0, comma);
+        const auto it = std::find_if(std::begin(kVariants), std::end(kVariants),
+                                     [&](const Variant& v) { return v.name == name; });
+        if (it == std::end(kVariants)) {
+          std::fprintf(stderr,
+                       "bench_sim: bad variant \"%.*s\": must be full, nofriction or "
+                       "norotation\n",
+                       static_cast<int>(name.size()), name.data());
+          std::exit(2);
+        }
+        o.variants.push_back(&*it);
+        list = comma == std::string_view::npos ? std::string_view() : list.substr(comma + 1);
+      }
+    } else if (a == "-h" || a == "--help") {
+      usage(stdout);
+      std::exit(0);
+    } else if (!a.empty() && a[0] == '-') {
+      std::fprintf(stderr, "bench_sim: unknown option %s\n", argv[i]);
+      usage(stderr);
+      std::exit(2);
+    } else {
+      o.data.emplace_back(a);
+    }
+  }
+  if (o.data.empty()) {
+    usage(stderr);
+    std::exit(2);
+  }
+  if (o.variants.empty()) o.variants.push_back(&kVariants[0]);
+  return o;
+}
+
+// Returns the scene name of a data file: its file name without .gz and .data.
+std::string sceneName(const std::string& path) {
+  std::string s = std::filesystem::path(path).filename().string();
+  for (std::string_view ext : {".gz", ".data"}) {
+    if (s.size() > ext.size() && s.ends_with(ext)) s.resize(s.size() - ext.size());
+  }
+  return s;
+}
+
+// Returns the process's peak resident set size in MiB.
+double peakRssMb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+// Returns the scene of `d` for variant v, ready to run; changes nothing else. Throws
+// demlab::Error from the Simulation API when the scene is refused.
+std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Options& o,
+                                            const Variant& v) {
+  auto s = sim::makeSimulation(3);
+  sim::MaterialDef m;
+  m.young = 5e6;
+  m.poisson = 0.3;
+  m.restitution = 0.5;
+  m.friction = v.friction ? 0.5 : 0.0;
+  // One material per distinct density (the benchmark files have one: 2500 kg/m^3).
+  std::map<double, std::string> materialOf;
+  for (double rho : d.densities) {
+    if (materialOf.contains(rho)) continue;
+    const std::string name = "rho" + std::to_string(materialOf.size());
+    m.density = rho;
+    s->addMaterial(name, m);
+    materialOf.emplace(rho, name);
+  }
+  m.density = d.densities.empty() ? 2500 : d.densities.front();
+  s->addMaterial("wall", m);
+  s->setContactLaw(sim::LawKind::HertzMindlin);
+
+  // Five walls on the box faces, normals pointing into the box; the top stays open.
+  const sim::Vec3d lo{d.boxLo.x(), d.boxLo.y(), d.boxLo.z()};
+  const sim::Vec3d hi{d.boxHi.x(), d.boxHi.y(), d.boxHi.z()};
+  struct Face {
+    const char* name;
+    int axis;
+    bool high;
+  };
+  for (const Face f : {Face{"xlo", 0, false}, Face{"xhi", 0, true}, Face{"ylo", 1, false},
+                       Face{"yhi", 1, true}, Face{"zlo", 2, false}}) {
+    sim::WallDef w;
+    w.shape = sim::WallShape::Plane;
+    w.point = f.high ? hi : lo;
+    w.normal[f.axis] = f.high ? -1.0 : 1.0;
+    w.material = "wall";
+    w.name = f.name;
+    s->addWall(w);
+  }
+  s->addGravity({0, 0, -9.81});
+  s->setRotation(v.rotation);
+  s->setDetection({o.cellFactor, o.skin});
+  if (!o.integrator.empty()) s->setIntegrator(o.integrator);
+
+  std::vector<sim::GrainDef> batch;
+  batch.reserve(std::min(kBatch, d.size()));
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    sim::GrainDef g;
+    g.position = {d.positions[i].x(), d.positions[i].y(), d.positions[i].z()};
+    if (!d.velocities.empty()) {
+      const auto& u = d.velocities[i];
+      const auto& w = d.angularVelocities[i];
+      g.velocity = {u.x(), u.y(), u.z()};
+      g.angularVelocity = {w.x(), w.y(), w.z()};
+    }
+    g.radius = d.diameters[i] / 2;
+    g.material = materialOf.at(d.densities[i]);
+    batch.push_back(std::move(g));
+    if (batch.size() == kBatch || i + 1 == d.size()) {
+      s->addGrains(batch);
+      batch.clear();
+    }
+  }
+  s->setTimeStep(o.dt > 0 ? o.dt : kRayleighFraction * s->criticalTimeStep());
+  return s;
+}
+
+// Returns the number of grain-grain contacts with positive overlap.
+uint64_t grainContacts(const sim::Simulation& s) {
+  uint64_t n = 0;
+  for (const auto& c : s.contacts()) {
+    if (!c.b.isNull() && c.overlap > 0) ++n;
+  }
+  return n;
+}
+
+// The process's peak resident set before any scene was read: the program, its libraries and
+// the C++ runtime, which a per-particle memory figure should leave out.
+double baselineRssMb = 0;
+
+// Runs one scene variant; prints its CSV row on stdout and its breakdown on stderr.
+void runOne(const io::SphereData& d, const std::string& scene, const Options& o, const Variant& v) {
+  auto s = buildScene(d, o, v);
+  const std::string name = scene + std::string(v.suffix);
+  std::string modules;
+  for (const auto& m : s->listModules()) modules += (modules.empty() ? "" : " ") + m;
+
+  sim::RunOptions ro;
+  ro.steps = o.steps;
+  const auto t0 = std::chrono::steady_clock::now();
+  const sim::RunReport r = s->run(ro);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double rss = peakRssMb();
+  const uint64_t contacts = grainContacts(*s);
+
+  std::printf("demlab,%s,%zu,%llu,%.4f,%.0f,%llu,%.1f\n", name.c_str(), d.size(),
+              static_cast<unsigned long long>(r.steps), seconds,
+              static_cast<double>(d.size()) * static_cast<double>(r.steps) / seconds,
+              static_cast<unsigned long long>(contacts), rss);
+  std::fflush(stdout);
+
+  std::fprintf(stderr, "# demlab %s: dt %.4g s, %llu steps, modules: %s\n", name.c_str(),
+               s->timeStep(), static_cast<unsigned long long>(r.steps), modules.c_str());
+  std::fprintf(
+      stderr,
+      "#   %.4f s, %llu contacts (RunReport: %llu), %llu searches, energy residual "
+      "%.3g, peak RSS %.0f bytes/grain (%.0f above the %.1f MB before reading)\n",
+      seconds, static_cast<unsigned long long>(contacts),
+      static_cast<unsigned long long>(r.contacts),
+      static_cast<unsigned long long>(r.neighborRebuilds), r.energyResidual,
+      rss * 1048576.0 / static_cast<double>(std::max<std::size_t>(d.size(), 1)),
+      (rss - baselineRssMb) * 1048576.0 / static_cast<double>(std::max<std::size_t>(d.size(), 1)),
+      baselineRssMb);
+  std::FILE* bd = o.breakdown.empty() ? nullptr : std::fopen(o.breakdown.c_str(), "a");
+  if (!o.breakdown.empty() && bd == nullptr) {
+    std::fprintf(stderr, "bench_sim: couldn't open \"%s\" for appending\n", o.breakdown.c_str());
+  }
+  double accounted = 0;
+  for (const auto& m : r.modules) {
+    const double share = seconds > 0 ? m.seconds / seconds : 0;
+    accounted += m.seconds;
+    std::fprintf(stderr, "#   %-18s %9.4f s %5.1f%%\n", m.module.c_str(), m.seconds, 100 * share);
+    if (bd != nullptr)
+      std::fprintf(bd, "%s,%s,%.6f,%.4f\n", name.c_str(), m.module.c_str(), m.seconds, share);
+  }
+  std::fprintf(stderr, "#   %-18s %9.4f s %5.1f%%\n", "(other)", seconds - accounted,
+               seconds > 0 ? 100 * (seconds - accounted) / seconds : 0);
+  if (bd != nullptr) std::fclose(bd);
+}
+
+int main(int argc, char** argv) {
+  const Options o = parse(argc, argv);
+  baselineRssMb = peakRssMb();
+  if (o.header)
+    std::printf("code,scene,n,steps,seconds,particle_steps_per_s,contacts,peak_rss_mb\n");
+  int status = 0;
+  for (const auto& path : o.data) {
+    try {
+      const io::SphereData d = io::readLammpsData(path);
+      for (const Variant* v : o.variants) runOne(d, sceneName(path), o, *v);
+    } catch (const Error& e) {
+      std::string code;
+      for (const auto& w : e.code()) code += (code.empty() ? "" : " ") + w;
+      std::fprintf(stderr, "bench_sim: %s [%s]\n", e.what(), code.c_str());
+      status = 1;
+    }
+  }
+  return status;
+}
+
+}  // namespace
+}  // namespace demlab::bench
+
+int main(int argc, char** argv) {
+  return demlab::bench::main(argc, argv);
+}
