@@ -1,0 +1,198 @@
+#include "cmd/pipe.hpp"
+
+#include <cmath>
+
+#include "cmd/command.hpp"
+#include "cmd/words.hpp"
+#include "core/error.hpp"
+#include "core/name_lookup.hpp"
+
+namespace demlab::cmd {
+
+namespace {
+
+PipeType make(PipeType::Kind k, std::string label) {
+  PipeType t;
+  t.kind = k;
+  t.label = std::move(label);
+  return t;
+}
+
+std::string num(double x) {
+  std::string s = formatReal(x);
+  if (s.size() > 2 && s.substr(s.size() - 2) == ".0") s.resize(s.size() - 2);
+  return s;
+}
+
+[[noreturn]] void badValue(const Param& p, std::string_view word, const std::string& why) {
+  throw Error("bad " + p.name + " \"" + std::string(word) + "\": " + why,
+              {"VALUE", codeWord(p.name)});
+}
+
+// Returns why x is outside the type's range ("must be a positive number"), or "" if inside.
+std::string rangeFault(const PipeType& t, double x, bool integral) {
+  const char* what = integral ? "integer" : "number";
+  bool below = t.lo && (t.loOpen ? !(x > *t.lo) : !(x >= *t.lo));
+  bool above = t.hi && (t.hiOpen ? !(x < *t.hi) : !(x <= *t.hi));
+  if (!below && !above) return "";
+  if (t.lo && t.hi) return std::string("must be between ") + num(*t.lo) + " and " + num(*t.hi);
+  if (t.lo && *t.lo == 0)
+    return std::string("must be a ") + (t.loOpen ? "positive " : "non-negative ") + what;
+  if (t.lo) return std::string("must be ") + (t.loOpen ? "> " : ">= ") + num(*t.lo);
+  return std::string("must be ") + (t.hiOpen ? "< " : "<= ") + num(*t.hi);
+}
+
+double toReal(std::string_view word, const Param& p) {
+  double x;
+  if (!readReal(word, x)) {
+    throw Error("expected floating-point number but got \"" + std::string(word) + "\"",
+                {"VALUE", codeWord(p.name)});
+  }
+  if (!std::isfinite(x)) badValue(p, word, "must be a finite number");
+  std::string fault = rangeFault(p.type, x, false);
+  if (!fault.empty()) badValue(p, word, fault);
+  return x;
+}
+
+std::int64_t toInt(std::string_view word, const Param& p) {
+  std::int64_t i;
+  if (!readInt(word, i)) {
+    throw Error("expected integer but got \"" + std::string(word) + "\"",
+                {"VALUE", codeWord(p.name)});
+  }
+  std::string fault = rangeFault(p.type, double(i), true);
+  if (!fault.empty()) badValue(p, word, fault);
+  return i;
+}
+
+}  // namespace
+
+std::string PipeType::constraint() const {
+  if (lo && hi) return num(*lo) + (loOpen ? " < x" : "..") + (hiOpen ? " < " : "") + num(*hi);
+  if (lo) return std::string(loOpen ? "> " : ">= ") + num(*lo);
+  if (hi) return std::string(hiOpen ? "< " : "<= ") + num(*hi);
+  return "";
+}
+
+PipeType real() {
+  return make(PipeType::Kind::Real, "real");
+}
+PipeType integer() {
+  return make(PipeType::Kind::Int, "integer");
+}
+PipeType boolean() {
+  return make(PipeType::Kind::Bool, "boolean");
+}
+PipeType text(std::string label) {
+  return make(PipeType::Kind::Text, std::move(label));
+}
+PipeType name(std::string label) {
+  return make(PipeType::Kind::Name, std::move(label));
+}
+PipeType choice(std::vector<std::string> words, std::string label) {
+  PipeType t = make(PipeType::Kind::Choice, label.empty() ? joinList(words) : std::move(label));
+  t.choices = std::move(words);
+  return t;
+}
+PipeType vector(int length) {
+  PipeType t = make(PipeType::Kind::Vector, "vector");
+  t.length = length;
+  return t;
+}
+PipeType reals() {
+  return make(PipeType::Kind::Reals, "list of reals");
+}
+PipeType ints() {
+  return make(PipeType::Kind::Ints, "list of integers");
+}
+PipeType custom(std::string label,
+                std::function<std::any(std::string_view, const Param&, const Context&)> fn) {
+  PipeType t = make(PipeType::Kind::Custom, std::move(label));
+  t.custom = std::move(fn);
+  return t;
+}
+
+const std::string& matchChoice(std::string_view word, const std::vector<std::string>& choices,
+                               std::string_view what, std::vector<std::string> code) {
+  const std::string* hit = nullptr;
+  int prefixHits = 0;
+  for (const std::string& c : choices) {
+    if (c == word) return c;
+    if (!word.empty() && c.compare(0, word.size(), word) == 0) {
+      hit = &c;
+      ++prefixHits;
+    }
+  }
+  if (prefixHits == 1) return *hit;
+  throw Error(std::string(prefixHits > 1 ? "ambiguous " : "bad ") + std::string(what) + " \"" +
+                  std::string(word) + "\": must be " + alternatives(choices),
+              std::move(code));
+}
+
+std::any convertWord(std::string_view word, const Param& p, const Context& ctx) {
+  const PipeType& t = p.type;
+  switch (t.kind) {
+    case PipeType::Kind::Real:
+      return toReal(word, p);
+    case PipeType::Kind::Int:
+      return toInt(word, p);
+    case PipeType::Kind::Bool: {
+      bool b;
+      if (!readBool(word, b)) {
+        throw Error("expected boolean value but got \"" + std::string(word) + "\"",
+                    {"VALUE", codeWord(p.name)});
+      }
+      return b;
+    }
+    case PipeType::Kind::Text:
+      return std::string(word);
+    case PipeType::Kind::Name:
+      try {
+        checkObjectName(p.name, word);
+      } catch (const Error& e) {
+        throw Error(e.what(), {"VALUE", codeWord(p.name)});
+      }
+      return std::string(word);
+    case PipeType::Kind::Choice:
+      return matchChoice(word, t.choices, p.name, {"VALUE", codeWord(p.name)});
+    case PipeType::Kind::Vector: {
+      std::vector<std::string> items;
+      try {
+        items = splitList(word);
+      } catch (const Error& e) {
+        throw Error(e.what(), {"VALUE", codeWord(p.name)});
+      }
+      std::size_t n = std::size_t(t.length > 0 ? t.length : ctx.dimension());
+      if (items.size() != n) {
+        badValue(p, word,
+                 "expected a vector of " + std::to_string(n) + " numbers but got " +
+                     std::to_string(items.size()));
+      }
+      std::vector<double> out;
+      for (const std::string& s : items) out.push_back(toReal(s, p));
+      return out;
+    }
+    case PipeType::Kind::Reals:
+    case PipeType::Kind::Ints: {
+      std::vector<std::string> items;
+      try {
+        items = splitList(word);
+      } catch (const Error& e) {
+        throw Error(e.what(), {"VALUE", codeWord(p.name)});
+      }
+      if (t.kind == PipeType::Kind::Ints) {
+        std::vector<std::int64_t> out;
+        for (const std::string& s : items) out.push_back(toInt(s, p));
+        return out;
+      }
+      std::vector<double> out;
+      for (const std::string& s : items) out.push_back(toReal(s, p));
+      return out;
+    }
+    case PipeType::Kind::Custom:
+      return t.custom(word, p, ctx);
+  }
+  return {};
+}
+
+}  // namespace demlab::cmd

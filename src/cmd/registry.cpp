@@ -1,0 +1,264 @@
+#include "cmd/registry.hpp"
+
+#include <algorithm>
+
+#include "cmd/words.hpp"
+
+namespace demlab::cmd {
+
+namespace {
+
+std::vector<std::string> splitPath(std::string_view path) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : path) {
+    if (c == ' ') {
+      if (!cur.empty()) out.push_back(std::move(cur));
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty()) out.push_back(cur);
+  return out;
+}
+
+bool startsWith(std::string_view s, std::string_view p) {
+  return s.substr(0, p.size()) == p;
+}
+
+}  // namespace
+
+Command& Registry::add(std::string_view path, std::string summary) {
+  std::vector<std::string> words = splitPath(path);
+  Node* n = &root_;
+  for (const std::string& w : words) {
+    if (n->command)
+      throw Error("internal error: command \"" + std::string(path) + "\" under a command",
+                  {"INTERNAL"});
+    auto& slot = n->children[w];
+    if (!slot) slot = std::make_unique<Node>();
+    n = slot.get();
+  }
+  if (n->command || !n->children.empty()) {
+    throw Error("internal error: command \"" + std::string(path) + "\" declared twice",
+                {"INTERNAL"});
+  }
+  Command& c = commands_.emplace_back();
+  c.path = words;
+  c.summary = std::move(summary);
+  n->command = &c;
+  return c;
+}
+
+void Registry::describe(std::string_view group, std::string summary) {
+  Node* n = &root_;
+  for (const std::string& w : splitPath(group)) {
+    auto& slot = n->children[w];
+    if (!slot) slot = std::make_unique<Node>();
+    n = slot.get();
+  }
+  n->summary = std::move(summary);
+}
+
+std::vector<std::string> Registry::topWords() const {
+  std::vector<std::string> out;
+  for (const auto& [w, n] : root_.children) out.push_back(w);
+  return out;
+}
+
+std::pair<std::string, const Registry::Node*> Registry::child(const Node& n, std::string_view word,
+                                                              const std::string& where) const {
+  if (auto it = n.children.find(word); it != n.children.end()) return {it->first, it->second.get()};
+  const Node* hit = nullptr;
+  std::string hitWord;
+  int hits = 0;
+  std::vector<std::string> names;
+  for (const auto& [w, c] : n.children) {
+    names.push_back(w);
+    if (!word.empty() && startsWith(w, word)) {
+      hit = c.get();
+      hitWord = w;
+      ++hits;
+    }
+  }
+  if (hits == 1) return {hitWord, hit};
+  if (where.empty()) {
+    throw Error("unknown or ambiguous command \"" + std::string(word) + "\": must be " +
+                    alternatives(names),
+                {"LOOKUP", "COMMAND"});
+  }
+  throw Error("unknown or ambiguous subcommand \"" + std::string(word) + "\": must be " +
+                  alternatives(names),
+              {"LOOKUP", "SUBCOMMAND"});
+}
+
+Value Registry::invoke(const std::vector<std::string>& words, Context& ctx) const {
+  const Node* n = &root_;
+  std::string where;
+  std::size_t i = 0;
+  while (!n->command) {
+    if (i >= words.size()) {
+      if (where.empty()) throw Error("wrong # args: should be \"command ?arg ...?\"", {"ARGS"});
+      throw Error("wrong # args: should be \"" + where + " subcommand ?arg ...?\"", {"ARGS"});
+    }
+    if (!where.empty() && words[i] == "-help") return groupHelp(*n, where);
+    auto [word, next] = child(*n, words[i], where);
+    where = where.empty() ? word : where + " " + word;  // the full word, not the prefix typed
+    n = next;
+    ++i;
+  }
+  const Command& c = *n->command;
+  std::vector<std::string> rest(words.begin() + long(i), words.end());
+  ArgStack stack(c);
+  // Phase 1: parse.
+  if (!CommandLine(c, std::move(rest)).parse(stack)) return c.helpText();
+  if (c.needsScene) ctx.requireScene();
+  // Phase 2: check.
+  PipeLine::check(c, stack, ctx);
+  Call call(c, stack, ctx);
+  if (c.check) c.check(call);
+  // Phase 3: execute.
+  if (!c.execute) return Value();
+  return c.execute(call);
+}
+
+std::string Registry::groupHelp(const Node& n, const std::string& where) const {
+  std::string s;
+  if (!n.summary.empty()) s += where + ": " + n.summary + "\n\n";
+  std::size_t w = 0;
+  std::vector<std::pair<std::string, std::string>> rows;
+  for (const auto& [word, c] : n.children) {
+    std::string left = where.empty() ? word : where + " " + word;
+    std::string right = c->command ? c->command->summary : c->summary;
+    rows.emplace_back(left, right);
+    w = std::max(w, left.size());
+  }
+  for (auto& [l, r] : rows) s += "    " + l + std::string(w - l.size() + 2, ' ') + r + "\n";
+  if (where.empty()) {
+    s += "\n`help <command>` or `<command> -help` describes a command; unique prefixes of\n"
+         "subcommands and options are accepted.\n";
+  } else {
+    s += "\n`help " + where + " <subcommand>` describes a subcommand.\n";
+  }
+  return s;
+}
+
+std::string Registry::help(const std::vector<std::string>& topic) const {
+  const Node* n = &root_;
+  std::string where;
+  for (const std::string& w : topic) {
+    if (n->command) {
+      throw Error("no help for \"" + w + "\": " + n->command->fullName() + " has no subcommands",
+                  {"LOOKUP", "COMMAND"});
+    }
+    auto [word, next] = child(*n, w, where);
+    where = where.empty() ? word : where + " " + word;
+    n = next;
+  }
+  if (n->command) return n->command->helpText();
+  return groupHelp(*n, where);
+}
+
+std::vector<std::string> Registry::complete(const std::vector<std::string>& before,
+                                            std::string_view partial, const Context& ctx) const {
+  std::vector<std::string> out;
+  const Node* n = &root_;
+  std::size_t i = 0;
+  while (!n->command && i < before.size()) {
+    auto it = n->children.find(before[i]);
+    if (it == n->children.end()) {
+      try {
+        n = child(*n, before[i], "x").second;
+      } catch (const Error&) {
+        return out;
+      }
+    } else {
+      n = it->second.get();
+    }
+    ++i;
+  }
+  auto offer = [&](const std::vector<std::string>& words) {
+    for (const std::string& w : words)
+      if (startsWith(w, partial)) out.push_back(w);
+  };
+  if (!n->command) {
+    for (const auto& [w, c] : n->children)
+      if (startsWith(w, partial)) out.push_back(w);
+    return out;
+  }
+  const Command& c = *n->command;
+  auto values = [&](const Param& p) {
+    std::vector<std::string> v = p.type.choices;
+    if (p.type.candidates) {
+      try {
+        auto more = p.type.candidates(ctx);
+        v.insert(v.end(), more.begin(), more.end());
+      } catch (...) {
+      }
+    }
+    return v;
+  };
+  // After an option that takes a value: complete the value.
+  if (i < before.size() && before.back().size() > 1 && before.back()[0] == '-') {
+    try {
+      const Param& p = CommandLine::matchOption(c, before.back());
+      if (!p.flag) {
+        offer(values(p));
+        return out;
+      }
+    } catch (const Error&) {
+    }
+  }
+  // The positional arguments still to fill.
+  std::size_t given = before.size() - i;
+  std::size_t k = 0;
+  for (const Param& p : c.params) {
+    if (!p.positional) continue;
+    if (k == given && !(partial.size() > 0 && partial[0] == '-')) {
+      offer(values(p));
+      if (!p.optional && !p.variadic) return out;
+    }
+    ++k;
+  }
+  std::vector<std::string> opts = c.optionNames();
+  opts.push_back("-help");
+  offer(opts);
+  return out;
+}
+
+std::string Registry::markdown() const {
+  std::string s =
+      "# demlab command reference\n\n"
+      "Generated by the build from the command declarations (`demlab --markdown`); do not edit.\n"
+      "Every command also answers `help <command>` and `<command> -help`. Options are `-name "
+      "value`\n"
+      "and may be shortened to any unique prefix. Errors carry an `-errorcode` list starting with\n"
+      "`DEMLAB`. Lengths are in metres, times in seconds, masses in kilograms (SI throughout).\n\n";
+  for (const auto& [word, n] : root_.children) {
+    s += "## " + word + "\n\n";
+    if (!n->summary.empty()) s += n->summary + "\n\n";
+    if (n->command) {
+      s += n->command->markdown();
+      continue;
+    }
+    std::vector<const Node*> stack{n.get()};
+    while (!stack.empty()) {
+      const Node* m = stack.back();
+      stack.pop_back();
+      std::vector<const Node*> kids;
+      for (const auto& [w, c] : m->children) kids.push_back(c.get());
+      for (auto it = kids.rbegin(); it != kids.rend(); ++it) stack.push_back(*it);
+      if (m->command) s += m->command->markdown();
+    }
+  }
+  return s;
+}
+
+std::vector<const Command*> Registry::commands() const {
+  std::vector<const Command*> out;
+  for (const Command& c : commands_) out.push_back(&c);
+  return out;
+}
+
+}  // namespace demlab::cmd

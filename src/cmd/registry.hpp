@@ -1,0 +1,64 @@
+// The table of commands: a tree of words (ensembles and their subcommands) whose leaves are
+// Command declarations. It dispatches a call through the three phases, answers help and
+// completion, and writes the Markdown reference, all from the same declarations.
+#pragma once
+
+#include <deque>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cmd/command.hpp"
+
+namespace demlab::cmd {
+
+class Registry {
+ public:
+  // Declares the command named by `path` ("element add"): returns it for the declaration to
+  // fill. Throws demlab::Error {INTERNAL} if the name is taken or clashes with a group.
+  Command& add(std::string_view path, std::string summary);
+  // Gives a group of subcommands ("element") its one-line summary.
+  void describe(std::string_view group, std::string summary);
+
+  // Returns the top-level words, sorted: each becomes one Tcl command.
+  std::vector<std::string> topWords() const;
+
+  // Runs a call: words[0] is the top-level command. Returns the command's result, or the help
+  // text for `-help`. Throws demlab::Error; the three phases guarantee that a call that throws
+  // in parse or check changed nothing.
+  Value invoke(const std::vector<std::string>& words, Context& ctx) const;
+
+  // Returns the help for a topic: {} for the overview, {"element"} for a group, {"element",
+  // "add"} for a command (unique prefixes accepted). Throws demlab::Error {LOOKUP COMMAND}.
+  std::string help(const std::vector<std::string>& topic) const;
+
+  // Returns the completions of `partial`, the word being typed after the complete words
+  // `before` (before[0] is the command; empty when completing the command itself).
+  std::vector<std::string> complete(const std::vector<std::string>& before,
+                                    std::string_view partial, const Context& ctx) const;
+
+  // Returns the Markdown command reference (doc/commands.md).
+  std::string markdown() const;
+
+  // Returns every command, in declaration order.
+  std::vector<const Command*> commands() const;
+
+ private:
+  struct Node {
+    std::string summary;
+    Command* command = nullptr;
+    std::map<std::string, std::unique_ptr<Node>, std::less<>> children;
+  };
+  // Returns the child of n that `word` names, with its full word (exact or unique prefix). Throws
+  // demlab::Error {LOOKUP SUBCOMMAND} (or {LOOKUP COMMAND} at the top) in Tcl's ensemble wording.
+  std::pair<std::string, const Node*> child(const Node& n, std::string_view word,
+                                            const std::string& where) const;
+  std::string groupHelp(const Node& n, const std::string& where) const;
+
+  Node root_;
+  std::deque<Command> commands_;
+};
+
+}  // namespace demlab::cmd
