@@ -1,0 +1,30 @@
+// criticalTimeStep and rayleighTimeStep.
+#include "physics/critical_step.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace demlab::physics {
+
+Real criticalTimeStep(const PairParams& p, Real mass, Real radius) {
+  if (p.law == LawKind::HertzMindlin) return std::numbers::pi * radius * p.rayleighSlowness;
+  // Two equal grains (m* = m/2, R* = R/2) give a faster normal mode than a grain on a wall
+  // (m* = m, R* = R): 2 kn(R/2)/m >= kn(R)/m since kn is affine in R* with kn(0) >= 0.
+  const Real kn = p.knFixed + p.knPerRadius * radius / 2;
+  Real omega2 = 2 * kn / mass;
+  if (p.friction > 0) {
+    // Tangential-rotational mode of two equal solid spheres (I = 2/5 m R^2):
+    // kt (1/m* + R^2/I + R^2/I) = kt (2 + 2.5 + 2.5)/m = 7 kt/m (6 kt/m for discs).
+    omega2 = std::max(omega2, 7 * p.shearRatio * kn / mass);
+  }
+  const Real zeta = p.dampingRatio;
+  return 2 / std::sqrt(omega2) * (std::sqrt(1 + zeta * zeta) - zeta);
+}
+
+Real rayleighTimeStep(const MaterialDef& m, Real radius) {
+  const Real g = m.young / (2 * (1 + m.poisson));
+  return std::numbers::pi * radius * std::sqrt(m.density / g) / (0.1631 * m.poisson + 0.8766);
+}
+
+}  // namespace demlab::physics

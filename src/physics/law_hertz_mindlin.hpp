@@ -1,0 +1,68 @@
+// Hertz-Mindlin with restitution-based damping, exactly as LIGGGHTS's
+// `pair gran model hertz tangential history` (normal_model_hertz.h, tangential_model_history.h,
+// global_properties.cpp of LIGGGHTS-PUBLIC 3.8), with limitForce on:
+//   a = sqrt(R* delta)
+//   Sn = 2 E* a,  St = 8 G* a,  kn = 4/3 E* a,  kt = St
+//   gamma_n = -2 sqrt(5/6) beta sqrt(Sn m*),  gamma_t = -2 sqrt(5/6) beta sqrt(St m*)
+//   beta = ln e / sqrt(ln^2 e + pi^2)
+//   Fn = kn delta - gamma_n vn, clamped at >= 0 (LIGGGHTS: only with limitForce on)
+//   shear += vt dt, projected onto the tangent plane; Ft = -kt shear - gamma_t vt while
+//   kt |shear| <= mu Fn, else Ft = -mu Fn shear/|shear| with shear rescaled to -Ft/kt.
+// E* and G* are mixed in mixPair (pair_params.hpp). The normal spring stores the Hertz energy
+// (2/5) kn delta^2 = (8/15) E* sqrt(R*) delta^(5/2).
+//
+// Cost per contact: two sqrt (a, and sqrt(a m*) shared by both dampers), plus one while
+// sliding; no pow, no allocation, no call.
+#pragma once
+
+#include <cmath>
+
+#include "physics/contact.hpp"
+#include "physics/tangential.hpp"
+
+namespace demlab::physics {
+
+// Returns the force on B and the step's energy figures (contact.hpp); changes *history (when
+// not null and the pair has friction) to the spring after this step. Requires g.overlap > 0,
+// k.effectiveMass > 0, k.effectiveRadius > 0.
+template <int D>
+inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeometry<D>& g,
+                                           const ContactKinematics<D>& k,
+                                           TangentialHistory<D>* history, Real dt) {
+  const Real a = std::sqrt(k.effectiveRadius * g.overlap);
+  const Real kn = p.hertzKn * a;
+  const Real sqrtAm = std::sqrt(a * k.effectiveMass);
+  const Real gn = p.hertzGammaN * sqrtAm;
+  const VecD<D>& n = g.normal;
+  const Real vn = k.relativeVelocity.dot(n);
+  const Real spring = kn * g.overlap;
+  Real fn = spring - gn * vn;
+  ContactForce<D> out;
+  if (fn >= 0) {
+    out.dampingLoss = gn * vn * vn * dt;
+  } else {
+    // No attraction (contact.hpp): the spring's energy leaves through the damper unworked.
+    fn = 0;
+    out.dampingLoss = spring * vn * dt;
+  }
+  out.force = fn * n;
+  out.elasticEnergy = 0.4 * spring * g.overlap;
+  out.frictionLoss = 0;
+  out.springWork = 0;
+  if (history != nullptr) {
+    if (p.friction > 0) {
+      const VecD<D> vt = k.relativeVelocity - vn * n;
+      const Real kt = p.hertzKt * a;
+      // kt grows as sqrt(delta): over the step d(kt) = kt (d delta)/(2 delta) with
+      // d delta = -vn dt; the stored spring gains 1/2 |s|^2 d(kt) from no force.
+      out.springWork = -0.25 * kt * history->spring.squaredNorm() * vn * dt / g.overlap;
+      coulombSpringStep<SpringFrame::Project, D>(n, vt, kt, p.hertzGammaT * sqrtAm, p.friction * fn,
+                                                 dt, *history, out);
+    } else {
+      history->spring.setZero();
+    }
+  }
+  return out;
+}
+
+}  // namespace demlab::physics

@@ -1,0 +1,63 @@
+// The thesis's incremental linear contact law (Perkins 2001, section 1.1.1, after Cundall and
+// Strack 1979):
+//   delta f_n = k_n delta u_n + beta k_n delta(du_n/dt)
+//   delta f_s = k_s delta u_s + beta k_s delta(du_s/dt)
+// normal and shear springs with stiffness-proportional viscous damping (one beta for both),
+// and Coulomb friction on the shear spring. The normal force is kept in total form,
+// f_n = k_n delta - c_n v_n (the sum of the increments of a constant-stiffness spring, without
+// its rounding drift); the shear spring is incremental (tangential.hpp, Rotate frame).
+//
+// Damping: beta = 2 zeta sqrt(m*/k_n), so c_n = beta k_n = 2 zeta sqrt(m* k_n) is zeta times
+// the critical damping of the normal oscillator, and a head-on impact rebounds with
+// e = exp(-pi zeta / sqrt(1 - zeta^2)), the pair's restitution; contact time pi/omega_d with
+// omega_d = omega_n sqrt(1 - zeta^2), omega_n = sqrt(k_n/m*). c_t = beta k_t.
+//
+// Cost per contact: one sqrt (sqrt(m*/kn)), plus one while sliding, no allocation, no call.
+#pragma once
+
+#include <cmath>
+
+#include "physics/contact.hpp"
+#include "physics/tangential.hpp"
+
+namespace demlab::physics {
+
+// Returns the force on B and the step's energy figures (contact.hpp); changes *history (when
+// not null and the pair has friction) to the spring after this step. Requires g.overlap > 0,
+// k.effectiveMass > 0, k.effectiveRadius > 0.
+template <int D>
+inline ContactForce<D> linearContact(const PairParams& p, const ContactGeometry<D>& g,
+                                     const ContactKinematics<D>& k, TangentialHistory<D>* history,
+                                     Real dt) {
+  const Real kn = p.knFixed + p.knPerRadius * k.effectiveRadius;
+  const Real beta = 2 * p.dampingRatio * std::sqrt(k.effectiveMass / kn);
+  const VecD<D>& n = g.normal;
+  const Real vn = k.relativeVelocity.dot(n);
+  const Real spring = kn * g.overlap;
+  Real fn = spring - beta * kn * vn;
+  ContactForce<D> out;
+  if (fn >= 0) {
+    out.dampingLoss = beta * kn * vn * vn * dt;
+  } else {
+    // No attraction (contact.hpp): the spring's energy leaves through the damper unworked.
+    fn = 0;
+    out.dampingLoss = spring * vn * dt;
+  }
+  out.force = fn * n;
+  out.elasticEnergy = 0.5 * spring * g.overlap;
+  out.frictionLoss = 0;
+  out.springWork = 0;
+  if (history != nullptr) {
+    if (p.friction > 0) {
+      const VecD<D> vt = k.relativeVelocity - vn * n;
+      const Real kt = p.shearRatio * kn;
+      coulombSpringStep<SpringFrame::Rotate, D>(n, vt, kt, beta * kt, p.friction * fn, dt, *history,
+                                                out);
+    } else {
+      history->spring.setZero();
+    }
+  }
+  return out;
+}
+
+}  // namespace demlab::physics

@@ -1,0 +1,79 @@
+// mixPair: the one place where two materials become the constants of a contact law.
+#include "physics/pair_params.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace demlab::physics {
+
+std::string_view lawName(LawKind law) {
+  switch (law) {
+    case LawKind::Linear:
+      return "linear";
+    case LawKind::HertzMindlin:
+      return "hertz_mindlin";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// Returns 2 x y / (x + y), the harmonic mean, with a value of 0 meaning "not given": then the
+// other value (or 0 if neither is given). Symmetric and exact for x == y.
+Real mixStiffness(Real x, Real y) {
+  if (x == 0) return y;
+  if (y == 0) return x;
+  return 2 * x * y / (x + y);
+}
+
+// Returns sqrt(rho/G) / (0.1631 nu + 0.8766) for one material (the Rayleigh step per radius / pi).
+Real rayleighSlowness(const MaterialDef& m) {
+  const Real g = m.young / (2 * (1 + m.poisson));
+  return std::sqrt(m.density / g) / (0.1631 * m.poisson + 0.8766);
+}
+
+}  // namespace
+
+PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b) {
+  a.check();
+  b.check();
+  PairParams p;
+  p.law = law;
+  p.friction = std::min(a.friction, b.friction);
+  // sqrt(e e) rounds to e exactly for the common one-material pair (sqrt is correctly rounded).
+  p.restitution = std::sqrt(a.restitution * b.restitution);
+  // The two sums are written in a fixed order of (a, b) terms; both are commutative additions
+  // of two terms, so the mix is bit-for-bit symmetric.
+  p.youngEff = 1 / ((1 - a.poisson * a.poisson) / a.young + (1 - b.poisson * b.poisson) / b.young);
+  p.shearEff = 1 / (2 * (2 - a.poisson) * (1 + a.poisson) / a.young +
+                    2 * (2 - b.poisson) * (1 + b.poisson) / b.young);
+  const Real lnE = std::log(p.restitution);
+  const Real root = std::sqrt(lnE * lnE + std::numbers::pi * std::numbers::pi);
+  const Real beta = lnE / root;  // <= 0; LIGGGHTS's betaeff
+  p.dampingRatio = -beta;        // zeta: e = exp(-pi zeta / sqrt(1 - zeta^2))
+
+  // Linear law.
+  const Real kn = mixStiffness(a.normalStiffness, b.normalStiffness);
+  const Real kt = mixStiffness(a.shearStiffness, b.shearStiffness);
+  const Real mindlin = 4 * p.shearEff / p.youngEff;
+  if (kn > 0) {
+    p.knFixed = kn;
+    p.shearRatio = kt > 0 ? kt / kn : mindlin;
+  } else {
+    p.knPerRadius = p.youngEff;
+    p.shearRatio = mindlin;
+  }
+
+  // Hertz-Mindlin (LIGGGHTS normal_model_hertz.h).
+  const Real sqrtFiveSixths = std::sqrt(5.0 / 6.0);
+  p.hertzKn = 4.0 / 3.0 * p.youngEff;
+  p.hertzKt = 8 * p.shearEff;
+  p.hertzGammaN = -2 * sqrtFiveSixths * beta * std::sqrt(2 * p.youngEff);
+  p.hertzGammaT = -2 * sqrtFiveSixths * beta * std::sqrt(8 * p.shearEff);
+
+  p.rayleighSlowness = std::max(rayleighSlowness(a), rayleighSlowness(b));
+  return p;
+}
+
+}  // namespace demlab::physics

@@ -1,0 +1,68 @@
+// PairParams: the constants of one contact law for one pair of materials, mixed once when a
+// run starts (mixPair), so the force loop reads a few numbers and never mixes anything.
+//
+// Mixing rules (documented choices; all symmetric in a and b):
+//   E* (Yeff) = 1 / ((1 - nu_a^2)/E_a + (1 - nu_b^2)/E_b)            Hertz; LIGGGHTS createYeff
+//   G* (Geff) = 1 / (2(2 - nu_a)(1 + nu_a)/E_a + 2(2 - nu_b)(1 + nu_b)/E_b)   LIGGGHTS createGeff
+//   restitution e = sqrt(e_a e_b) (geometric mean: one material's e for a pair of that material)
+//   friction mu = min(mu_a, mu_b) (the slipperier surface governs, as in YADE's FrictPhys)
+// LIGGGHTS itself takes e and mu per pair of atom types from the user; for one material, or
+// for a pair table written with these rules, the constants here equal its constants.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+#include "core/math.hpp"
+#include "physics/material.hpp"
+
+namespace demlab::physics {
+
+enum class LawKind : uint8_t { Linear, HertzMindlin };
+
+// Returns the law's name as the scripts spell it: "linear", "hertz_mindlin".
+std::string_view lawName(LawKind law);
+
+struct PairParams {
+  LawKind law = LawKind::Linear;
+  Real friction = 0;     // Coulomb mu of the pair
+  Real restitution = 1;  // e of the pair
+  Real youngEff = 0;     // E* (Pa)
+  Real shearEff = 0;     // G* (Pa)
+
+  // ---- linear law (law_linear.hpp) ----
+  // Normal stiffness of a contact: kn = knFixed + knPerRadius * R*, one of the two being 0.
+  // Explicit stiffnesses give knFixed (harmonic mean 2 ka kb / (ka + kb) of the two materials'
+  // values, so a pair of one material has that material's value; a material without an
+  // explicit value takes its partner's). Otherwise knPerRadius = E*: kn = E* R*, the Hertz
+  // contact stiffness 2 E* a at a contact radius a = R*/2.
+  Real knFixed = 0;      // N/m
+  Real knPerRadius = 0;  // Pa
+  // kt = shearRatio * kn: explicit (harmonic mean of the shear stiffnesses over kn) or the
+  // Mindlin ratio 4 G* / E*, i.e. 2(1 - nu)/(2 - nu) for one material (0.8235 at nu = 0.3).
+  Real shearRatio = 0;
+  // Damping ratio zeta of the normal oscillator, from e: zeta = -ln e / sqrt(pi^2 + ln^2 e).
+  // Damping is stiffness proportional (the thesis's beta): c = beta k with
+  // beta = 2 zeta sqrt(m*/kn), so cn = 2 zeta sqrt(m* kn) and ct = beta kt.
+  Real dampingRatio = 0;
+
+  // ---- Hertz-Mindlin (law_hertz_mindlin.hpp), exactly LIGGGHTS's hertz + tangential history.
+  // With a = sqrt(R* delta): kn = 4/3 E* a, kt = 8 G* a,
+  // gamma_n = -2 sqrt(5/6) beta sqrt(2 E* a m*), gamma_t = -2 sqrt(5/6) beta sqrt(8 G* a m*),
+  // beta = ln e / sqrt(ln^2 e + pi^2) (<= 0). Precomputed factors:
+  Real hertzKn = 0;      // 4/3 E*
+  Real hertzKt = 0;      // 8 G*
+  Real hertzGammaN = 0;  // -2 sqrt(5/6) beta sqrt(2 E*): gamma_n = hertzGammaN sqrt(a m*)
+  Real hertzGammaT = 0;  // -2 sqrt(5/6) beta sqrt(8 G*): gamma_t = hertzGammaT sqrt(a m*)
+
+  // ---- time step: the larger of the two materials' sqrt(rho/G) / (0.1631 nu + 0.8766), so
+  // the Rayleigh step of a grain of radius R is pi R rayleighSlowness (critical_step.hpp).
+  Real rayleighSlowness = 0;  // s/m
+};
+
+// Returns the constants of `law` for the pair (a, b); symmetric: mixPair(l, a, b) and
+// mixPair(l, b, a) are equal. Changes nothing. Throws demlab::Error as a.check() and b.check()
+// do (the materials are checked first, so a bad material never yields a PairParams).
+PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b);
+
+}  // namespace demlab::physics

@@ -1,0 +1,73 @@
+// The Coulomb-capped tangential spring shared by the contact laws (law_linear.hpp,
+// law_hertz_mindlin.hpp): one step of the incremental shear spring of a contact.
+//
+// Per step: carry the stored spring into the current tangent plane, add the tangential
+// displacement of the step (vt dt), form the spring force -kt s, and if it exceeds the Coulomb
+// limit mu Fn, scale the force down to the limit and the spring with it (the excess elongation
+// is slip; the energy it held goes to frictionLoss). The tangential dashpot -ct vt acts only
+// while sticking: this is the convention of LIGGGHTS's tangential history model (and of PFC),
+// so a sliding contact's force is exactly mu Fn.
+//
+// Carrying the spring into the new tangent plane, two ways (a template argument):
+//  - Rotate (the linear law): remove the normal component and restore the length, so a rolling
+//    or tumbling contact keeps its spring energy. The restoring factor sqrt(|s|^2/|s_t|^2) is
+//    taken as 1 + x/2 (x = (s.n)^2/|s_t|^2, the squared tangent of the step's tilt; error x^2/8
+//    below 1.3e-15 for x < 1e-7) and with a sqrt only for larger tilts.
+//  - Project (Hertz-Mindlin, as LIGGGHTS: shear += vtr dt, then shear -= (shear.en) en): the
+//    normal component is dropped; the spring energy it held is booked as frictionLoss.
+#pragma once
+
+#include <cmath>
+
+#include "core/math.hpp"
+#include "physics/contact.hpp"
+
+namespace demlab::physics {
+
+enum class SpringFrame { Rotate, Project };
+
+// Returns nothing. Changes h.spring to the spring after this step and adds to out: the
+// tangential force on B (out.force), the spring's energy ½ kt |s|^2 (out.elasticEnergy), and
+// the step's tangential damping and friction losses. n: unit normal; vt: tangential relative
+// velocity (B minus A, orthogonal to n); kt > 0, ct >= 0: spring and dashpot; cap = mu Fn >= 0.
+template <SpringFrame Frame, int D>
+inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt, Real kt, Real ct, Real cap,
+                              Real dt, TangentialHistory<D>& h, ContactForce<D>& out) {
+  VecD<D> s = h.spring;
+  if constexpr (Frame == SpringFrame::Rotate) {
+    const Real sn = s.dot(n);
+    if (sn != 0) {
+      s -= sn * n;
+      const Real t2 = s.squaredNorm();
+      if (t2 > 0) {
+        const Real x = sn * sn / t2;
+        s *= x < 1e-7 ? 1 + 0.5 * x : std::sqrt(1 + x);
+      }
+    }
+    s += vt * dt;
+  } else {
+    s += vt * dt;
+    const Real sn = s.dot(n);
+    s -= sn * n;
+    out.frictionLoss += 0.5 * kt * sn * sn;
+  }
+  const Real s2 = s.squaredNorm();
+  const Real f2 = kt * kt * s2;  // |spring force|^2
+  if (f2 > cap * cap) {
+    // Sliding: the spring force is scaled to the Coulomb limit; the slip |s| - cap/kt
+    // dissipates cap per unit length. (LIGGGHTS zeroes the force if |s| = 0 with cap = 0.)
+    const Real len = std::sqrt(s2);
+    const Real ratio = cap / (kt * len);
+    s *= ratio;
+    out.force -= kt * s;
+    out.frictionLoss += cap * (len - cap / kt);
+    out.elasticEnergy += 0.5 * cap * cap / kt;
+  } else {
+    out.force -= kt * s + ct * vt;
+    out.dampingLoss += ct * vt.squaredNorm() * dt;
+    out.elasticEnergy += 0.5 * kt * s2;
+  }
+  h.spring = s;
+}
+
+}  // namespace demlab::physics
