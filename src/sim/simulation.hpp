@@ -33,6 +33,7 @@
 #include "core/error.hpp"
 #include "core/handle.hpp"
 #include "physics/material.hpp"
+#include "physics/pair_params.hpp"
 
 namespace demlab::sim {
 
@@ -51,11 +52,9 @@ using BehaviorId = Handle<BehaviorKind>;
 // layer wraps a script callback in it. It must be deterministic for runs to be reproducible.
 using TimeFunction = std::function<double(double t)>;
 
-// Returns the law named name ("linear" or "hertz"). Throws {VALUE LAW} otherwise:
-// `bad law "x": must be linear or hertz`.
+// Returns the law named name, as physics::lawName spells it ("linear", "hertz_mindlin").
+// Throws {VALUE LAW} otherwise: `bad law "x": must be linear or hertz_mindlin`.
 LawKind lawFromName(std::string_view name);
-// Returns the name of law, as lawFromName accepts it.
-std::string_view lawName(LawKind law);
 
 // ---- definitions (checked before anything is created) ------------------------------------
 
@@ -172,13 +171,15 @@ struct ContactInfo {
 };
 
 // The energy ledger (joules). balance = kinetic + gravitational + elastic + damping + friction
-// - wallWork - behaviorWork - (the same sum at the reference, the scene's first step) is zero
-// for exact integration; residual = |balance| / scale, with scale the largest of the energies
-// seen, is the run's error indicator.
+// - wallWork - behaviorWork - springWork - (the same sum at the reference, the scene's first step)
+// is zero for exact integration; residual = |balance| / scale, with scale the largest of the
+// energies seen, is the run's error indicator.
 struct EnergyLedger {
   double kineticTranslational = 0, kineticRotational = 0, gravitational = 0, elastic = 0;
   double dampingLoss = 0, frictionLoss = 0;  // cumulated, >= 0
   double wallWork = 0, behaviorWork = 0;     // cumulated work done on the grains
+  double springWork = 0;  // cumulated energy given to Hertz-Mindlin tangential springs by
+                          // their stiffening (physics/contact.hpp ContactForce::springWork)
   double balance = 0, scale = 0, residual = 0;
 };
 
@@ -300,6 +301,11 @@ class Simulation {
   // Sets the integrator by name ("synchronized" or "verlet"). VALUE INTEGRATOR.
   virtual void setIntegrator(const std::string& name) = 0;
   virtual std::string integrator() const = 0;
+  // Turns grain rotation on (the default) or off. Off, grains keep their orientation and
+  // angular velocity and contact torques are ignored: a cheaper, less physical model (the
+  // benchmark's "rotation off" bed).
+  virtual void setRotation(bool enabled) = 0;
+  virtual bool rotation() const = 0;
   // Sets contact detection options. VALUE CELLFACTOR, VALUE SKIN.
   virtual void setDetection(const DetectionOptions& options) = 0;
   virtual DetectionOptions detection() const = 0;

@@ -1,0 +1,14 @@
+# The simulation core (issue 3): SimulationManager, SimLoop and its modules, over src/core,
+# src/search and src/physics. Public API: src/sim/simulation.hpp.
+file(GLOB DEMLAB_SIM_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/sim/*.cpp)
+add_library(demlab_sim STATIC ${DEMLAB_SIM_SOURCES})
+target_link_libraries(demlab_sim PUBLIC demlab_physics demlab_core)
+
+file(GLOB DEMLAB_SIM_TESTS CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tests/unit/sim/*.cpp)
+if(DEMLAB_SIM_TESTS)
+  add_executable(demlab_sim_tests ${DEMLAB_SIM_TESTS})
+  target_include_directories(demlab_sim_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/tests)
+  target_link_libraries(demlab_sim_tests PRIVATE demlab_sim GTest::gtest GTest::gtest_main
+                                                 Threads::Threads)
+  add_test(NAME sim COMMAND demlab_sim_tests --gtest_brief=1)
+endif()

@@ -1,0 +1,200 @@
+// Contact force modules: grain-grain ("contacts") and grain-wall ("wall-contacts").
+//
+// The loops are templates over what the scene uses, chosen once when the loop is built:
+// whether pair histories are kept (some material has friction), whether grains rotate, and
+// the contact law (inline when every material pair of the scene uses one law; otherwise the
+// law's function pointer from a per-material-pair table, so the law is resolved once per
+// material pair, never by a switch per contact). The walls' narrow phase is looked up once per
+// wall in the physics TypeInteractionManager table and run as one batch per wall.
+#pragma once
+
+#include <algorithm>
+#include <memory>
+
+#include "core/type_interaction.hpp"
+#include "physics/law_hertz_mindlin.hpp"
+#include "physics/law_linear.hpp"
+#include "physics/narrow_phase.hpp"
+#include "sim/scene.hpp"
+#include "sim/sim_loop.hpp"
+
+namespace demlab::sim {
+
+// The law a contact loop calls. Law = -1: per-pair function pointer table.
+template <int D, int Law>
+struct LawCall {
+  static physics::ContactForce<D> call(const Scene<D>& s, size_t pair,
+                                       const physics::ContactGeometry<D>& g,
+                                       const physics::ContactKinematics<D>& k,
+                                       physics::TangentialHistory<D>* h, Real dt) {
+    const physics::PairParams& p = s.pairParams[pair];
+    if constexpr (Law == static_cast<int>(physics::LawKind::Linear)) {
+      return physics::linearContact<D>(p, g, k, h, dt);
+    } else if constexpr (Law == static_cast<int>(physics::LawKind::HertzMindlin)) {
+      return physics::hertzMindlinContact<D>(p, g, k, h, dt);
+    } else {
+      return s.pairLawFn[pair](p, g, k, h, dt);
+    }
+  }
+};
+
+// Energy sums of one contact pass.
+struct PassEnergy {
+  double elastic = 0, damping = 0, friction = 0, springWork = 0, wallWork = 0;
+  template <int D>
+  void add(const physics::ContactForce<D>& f) {
+    elastic += f.elasticEnergy;
+    damping += f.dampingLoss;
+    friction += f.frictionLoss;
+    springWork += f.springWork;
+  }
+};
+
+template <int D, int Law, bool History, bool Rotation>
+class GrainContactModule final : public SimModule<D> {
+ public:
+  std::string_view name() const override { return "contacts"; }
+  SimLevel level() const override { return SimLevel::Contacts; }
+
+  void run(Scene<D>& s) override {
+    GrainArrays<D>& a = s.grains.a;
+    const Real dt = s.stepDt;
+    const size_t nMat = s.nMat();
+    PassEnergy e;
+    for (const CandidatePair& c : s.candidates) {
+      uint32_t i = c.i, j = c.j;
+      const VecD<D> d = a.x[j] - a.x[i];
+      const Real rs = a.r[i] + a.r[j];
+      if (d.squaredNorm() >= rs * rs) continue;
+      // A is the grain with the lower slot, so a pair's spring keeps one orientation.
+      if (History && a.slot[i] > a.slot[j]) std::swap(i, j);
+      const auto geom = physics::intersect<D>(physics::SphereShape<D>{a.x[i], a.r[i]},
+                                              physics::SphereShape<D>{a.x[j], a.r[j]});
+      if (!geom) continue;
+      const physics::ContactGeometry<D>& g = *geom;
+      VecD<D> vrel = a.v[j] - a.v[i];
+      VecD<D> armA, armB;
+      if constexpr (Rotation) {
+        armA = g.point - a.x[i];
+        armB = g.point - a.x[j];
+        vrel += cross(a.w[j], armB) - cross(a.w[i], armA);
+      }
+      const physics::ContactKinematics<D> k{vrel, 1.0 / (a.invMass[i] + a.invMass[j]),
+                                            a.r[i] * a.r[j] / (a.r[i] + a.r[j])};
+      physics::TangentialHistory<D>* h = nullptr;
+      if constexpr (History) h = &s.histories.touch(a.slot[i], a.slot[j]).state;
+      const physics::ContactForce<D> f =
+          LawCall<D, Law>::call(s, a.material[i] * nMat + a.material[j], g, k, h, dt);
+      a.f[j] += f.force;
+      a.f[i] -= f.force;
+      if constexpr (Rotation) {
+        a.t[j] += cross(armB, f.force);
+        a.t[i] -= cross(armA, f.force);
+      }
+      e.add(f);
+      s.contacts.push_back({i, j, false, f.force});
+    }
+    s.ledger.elastic += e.elastic;
+    s.ledger.dampingLoss += e.damping;
+    s.ledger.frictionLoss += e.friction;
+    s.ledger.springWork += e.springWork;
+  }
+};
+
+// The narrow-phase table for walls: one lookup per wall per step.
+template <int D>
+struct WallNarrowPhase {
+  TypeRegistry types{"shape type"};
+  TypeInteractionManager<physics::NarrowPhaseEntry<D>> table{types, "narrow phase"};
+  TypeId sphere, byShape[4];
+  WallNarrowPhase() {
+    physics::registerNarrowPhase<D>(types, table);
+    sphere = types.get("sphere");
+    byShape[static_cast<int>(WallShape::Plane)] = types.get("plane");
+    byShape[static_cast<int>(WallShape::Finite)] = types.get("flatwall");
+    byShape[static_cast<int>(WallShape::Box)] = types.get("box");
+    byShape[static_cast<int>(WallShape::Drum)] = types.get("drum");
+  }
+  static const WallNarrowPhase& get() {
+    static const WallNarrowPhase instance;
+    return instance;
+  }
+};
+
+template <int D, int Law, bool History, bool Rotation>
+class WallContactModule final : public SimModule<D> {
+ public:
+  std::string_view name() const override { return "wall-contacts"; }
+  SimLevel level() const override { return SimLevel::Contacts; }
+
+  void run(Scene<D>& s) override {
+    GrainArrays<D>& a = s.grains.a;
+    const Real dt = s.stepDt;
+    const size_t nMat = s.nMat();
+    const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+    PassEnergy e;
+    for (size_t w = 0; w < s.walls.size(); ++w) {
+      Wall<D>& wall = s.walls.items[w];
+      wall.force.setZero();
+      if (w >= s.wallCandidates.size()) continue;
+      const std::vector<uint32_t>& which = s.wallCandidates[w];
+      if (which.empty()) continue;
+      geoms_.resize(which.size());
+      touched_.resize(which.size());
+      const auto& entry = np.table.get(np.sphere, np.byShape[static_cast<int>(wall.kind)]).fn;
+      const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
+      const size_t m = entry.grains(shape, a.x.data(), a.r.data(), which.data(), which.size(),
+                                    geoms_.data(), touched_.data());
+      const uint32_t wallId = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
+      for (size_t c = 0; c < m; ++c) {
+        const uint32_t i = touched_[c];
+        const physics::ContactGeometry<D>& g = geoms_[c];
+        const VecD<D> vWall = wall.surfaceVelocity(g.point);
+        VecD<D> vrel = vWall - a.v[i];
+        VecD<D> arm;
+        if constexpr (Rotation) {
+          arm = g.point - a.x[i];
+          vrel -= cross(a.w[i], arm);
+        }
+        const physics::ContactKinematics<D> k{vrel, 1.0 / a.invMass[i], a.r[i]};
+        physics::TangentialHistory<D>* h = nullptr;
+        if constexpr (History) h = &s.histories.touch(a.slot[i], wallId).state;
+        const physics::ContactForce<D> f =
+            LawCall<D, Law>::call(s, a.material[i] * nMat + wall.material, g, k, h, dt);
+        a.f[i] -= f.force;
+        if constexpr (Rotation) a.t[i] -= cross(arm, f.force);
+        wall.force += f.force;
+        e.add(f);
+        // Work done by the moving wall on the grain over the step.
+        if (wall.moving) e.wallWork -= f.force.dot(vWall) * dt;
+        s.contacts.push_back({i, static_cast<uint32_t>(w), true, f.force});
+      }
+    }
+    s.ledger.elastic += e.elastic;
+    s.ledger.dampingLoss += e.damping;
+    s.ledger.frictionLoss += e.friction;
+    s.ledger.springWork += e.springWork;
+    s.ledger.wallWork += e.wallWork;
+  }
+
+ private:
+  std::vector<physics::ContactGeometry<D>> geoms_;
+  std::vector<uint32_t> touched_;
+};
+
+// Drops the histories of pairs that were not in contact this step ("friction-history").
+template <int D>
+class HistorySweepModule final : public SimModule<D> {
+ public:
+  std::string_view name() const override { return "friction-history"; }
+  SimLevel level() const override { return SimLevel::Cleanup; }
+  void run(Scene<D>& s) override { s.histories.sweep(); }
+};
+
+// Returns the grain-grain and grain-wall contact modules for the scene's law set, history and
+// rotation flags. law: the one law of every pair, or -1 for mixed laws.
+template <int D>
+std::vector<std::unique_ptr<SimModule<D>>> makeContactModules(int law, bool history, bool rotation,
+                                                              bool walls);
+
+}  // namespace demlab::sim

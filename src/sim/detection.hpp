@@ -1,0 +1,126 @@
+// Contact detection module: CGrid (search/cgrid.hpp) over the grains' and walls' bounding boxes,
+// grown by half a Verlet skin, so the candidate pairs stay valid until some grain has moved
+// more than half the skin (or a grain plus a wall more than the whole skin). Then no contact
+// is ever missed: two grains that were more than a skin apart at the search cannot touch
+// before one of them has moved half a skin, and the check runs every step, fast movers
+// included (a grain crossing half a skin per step simply triggers a search every step).
+//
+// Infinite planes are clipped to the domain (the grains' box grown by the skin) for the grid;
+// a drum's box is its whole box. Wall candidates are kept per wall, so the narrow phase runs
+// one batch per wall.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "physics/shapes.hpp"
+#include "search/cgrid.hpp"
+#include "sim/scene.hpp"
+#include "sim/sim_loop.hpp"
+
+namespace demlab::sim {
+
+template <int D>
+class DetectionModule final : public SimModule<D> {
+ public:
+  explicit DetectionModule(double cellFactor) : grid_(search::SearchOptions{cellFactor}) {}
+
+  std::string_view name() const override { return "detection"; }
+  SimLevel level() const override { return SimLevel::Detection; }
+
+  void run(Scene<D>& s) override {
+    if (!s.needRebuild && !stale(s)) return;
+    rebuild(s);
+  }
+
+  // Returns true if the candidates may miss a contact now.
+  static bool stale(const Scene<D>& s) {
+    const Real half = 0.5 * s.skin;
+    const Real g = std::sqrt(s.maxDisp2);
+    if (g > half) return true;
+    const double now = s.time + s.stepDt;
+    Real wallMove = 0;
+    for (const Wall<D>& w : s.walls.items)
+      wallMove = std::max(wallMove, w.displacementSinceBuild(now));
+    return g + wallMove > s.skin;
+  }
+
+  // Searches anew: fills s.candidates and s.wallCandidates, resets the skin bookkeeping.
+  void rebuild(Scene<D>& s) {
+    using Box = search::Box<D, Real>;
+    const GrainArrays<D>& a = s.grains.a;
+    const size_t n = a.size();
+    const Real half = 0.5 * s.skin;
+    boxes_.resize(n);
+    Box domain;
+    domain.lo.fill(std::numeric_limits<Real>::infinity());
+    domain.hi.fill(-std::numeric_limits<Real>::infinity());
+    for (size_t i = 0; i < n; ++i) {
+      const Real e = a.r[i] + half;
+      for (int k = 0; k < D; ++k) {
+        boxes_[i].lo[k] = a.x[i][k] - e;
+        boxes_[i].hi[k] = a.x[i][k] + e;
+        domain.lo[k] = std::min(domain.lo[k], boxes_[i].lo[k]);
+        domain.hi[k] = std::max(domain.hi[k], boxes_[i].hi[k]);
+      }
+    }
+    for (int k = 0; k < D; ++k) {
+      domain.lo[k] -= s.skin;
+      domain.hi[k] += s.skin;
+    }
+    const size_t nw = s.walls.size();
+    wallOfBox_.clear();
+    if (n > 0) {
+      for (size_t w = 0; w < nw; ++w) {
+        Box b = std::visit(
+            [&](const auto& shape) -> Box {
+              using S = std::decay_t<decltype(shape)>;
+              if constexpr (std::is_same_v<S, physics::PlaneShape<D>>) {
+                return physics::boundsWithin(shape, domain);
+              } else {
+                return physics::bounds(shape);
+              }
+            },
+            s.walls.items[w].shape);
+        bool empty = false;
+        for (int k = 0; k < D; ++k) {
+          b.lo[k] = std::max(b.lo[k] - half, domain.lo[k]);
+          b.hi[k] = std::min(b.hi[k] + half, domain.hi[k]);
+          if (!(b.lo[k] <= b.hi[k])) empty = true;
+        }
+        if (empty) continue;
+        boxes_.push_back(b);
+        wallOfBox_.push_back(static_cast<uint32_t>(w));
+      }
+    }
+    grid_.findPairs(boxes_, pairs_);
+    s.candidates.clear();
+    s.wallCandidates.assign(nw, {});
+    for (const search::IndexPair& p : pairs_) {
+      if (p.second < n) {
+        s.candidates.push_back({p.first, p.second});
+      } else if (p.first < n) {
+        s.wallCandidates[wallOfBox_[p.second - n]].push_back(p.first);
+      }
+    }
+    for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
+    s.xAtBuild = a.x;
+    s.maxDisp2 = 0;
+    const double now = s.time + s.stepDt;
+    for (Wall<D>& w : s.walls.items) {
+      w.pointAtBuild = w.point;
+      w.timeAtBuild = now;
+    }
+    s.needRebuild = false;
+    s.rebuilds += 1;
+  }
+
+ private:
+  search::CGrid<D, Real> grid_;
+  std::vector<search::Box<D, Real>> boxes_;
+  std::vector<uint32_t> wallOfBox_;
+  std::vector<search::IndexPair> pairs_;
+};
+
+}  // namespace demlab::sim

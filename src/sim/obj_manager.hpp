@@ -1,0 +1,144 @@
+// SimObjManager: owns the grains (thesis: the elements) of one scene. Their hot state lives
+// in contiguous arrays, one per field (structure of arrays), indexed by a dense index that the
+// HandlePool keeps packed through removals; names, tags and handles are the cold side.
+// Walls are few and large and live apart (sim/wall.hpp).
+#pragma once
+
+#include <cstdint>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "core/handle.hpp"
+#include "core/math.hpp"
+#include "core/name_lookup.hpp"
+#include "core/tag_table.hpp"
+#include "sim/simulation.hpp"
+
+namespace demlab::sim {
+
+template <int D>
+struct GrainArrays {
+  std::vector<VecD<D>> x, v, f, fPrev;   // position, velocity, force now, force of last step
+  std::vector<RotationD<D>> q;           // orientation
+  std::vector<AngularD<D>> w, t, tPrev;  // angular velocity, torque now and last step
+  std::vector<Real> r, invMass, invInertia;
+  std::vector<uint32_t> material;  // index into the scene's material table
+  std::vector<uint32_t> slot;      // handle slot index: the id used for pair histories
+
+  // Appends one grain at rest-initialised forces. Changes every array.
+  void push(const VecD<D>& xi, const VecD<D>& vi, const AngularD<D>& wi, Real ri, Real invM,
+            Real invI, uint32_t mat, uint32_t sl) {
+    x.push_back(xi);
+    v.push_back(vi);
+    f.push_back(VecD<D>::Zero());
+    fPrev.push_back(VecD<D>::Zero());
+    q.push_back(identityRotation());
+    w.push_back(wi);
+    t.push_back(zeroAngular());
+    tPrev.push_back(zeroAngular());
+    r.push_back(ri);
+    invMass.push_back(invM);
+    invInertia.push_back(invI);
+    material.push_back(mat);
+    slot.push_back(sl);
+  }
+
+  // Applies a swap-remove to every array.
+  void remove(SwapRemove m) {
+    applySwapRemove(x, m);
+    applySwapRemove(v, m);
+    applySwapRemove(f, m);
+    applySwapRemove(fPrev, m);
+    applySwapRemove(q, m);
+    applySwapRemove(w, m);
+    applySwapRemove(t, m);
+    applySwapRemove(tPrev, m);
+    applySwapRemove(r, m);
+    applySwapRemove(invMass, m);
+    applySwapRemove(invInertia, m);
+    applySwapRemove(material, m);
+    applySwapRemove(slot, m);
+  }
+
+  size_t size() const { return x.size(); }
+
+  static RotationD<D> identityRotation() {
+    if constexpr (D == 2) {
+      return Rotation2::identity();
+    } else {
+      return Quat::Identity();
+    }
+  }
+  static AngularD<D> zeroAngular() {
+    if constexpr (D == 2) {
+      return 0.0;
+    } else {
+      return Vec3::Zero();
+    }
+  }
+};
+
+// Returns the mass and the moment of inertia of a grain of density rho and radius r.
+// 2D grains are discs of unit thickness: m = rho pi r^2, I = m r^2 / 2 (the disc's 2/3 rolling
+// factor); 3D grains are spheres: m = 4/3 rho pi r^3, I = 2/5 m r^2.
+template <int D>
+inline Real grainMass(Real rho, Real r) {
+  if constexpr (D == 2) {
+    return rho * std::numbers::pi * r * r;
+  } else {
+    return rho * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  }
+}
+template <int D>
+inline Real grainInertia(Real mass, Real r) {
+  return (D == 2 ? 0.5 : 0.4) * mass * r * r;
+}
+
+template <int D>
+class SimObjManager {
+ public:
+  SimObjManager() : pool_("grain"), names_("grain") {}
+
+  GrainArrays<D> a;  // the hot state; dense index i is pool().handleAt(i)
+
+  const HandlePool<GrainKind>& pool() const { return pool_; }
+  HandlePool<GrainKind>& pool() { return pool_; }
+  NameLookup<GrainId>& names() { return names_; }
+  const NameLookup<GrainId>& names() const { return names_; }
+  TagTable<GrainKind>& tags() { return tags_; }
+  const TagTable<GrainKind>& tags() const { return tags_; }
+
+  // Returns the dense index of id. Throws {LOOKUP HANDLE}.
+  uint32_t index(GrainId id) const { return pool_.denseIndex(id); }
+
+  // Adds a grain whose Def was checked. Returns its handle. Changes every array, the pool,
+  // names and tags (the caller has checked the name is free and the tags valid).
+  GrainId add(const VecD<D>& x, const VecD<D>& v, const AngularD<D>& w, Real r, Real invM,
+              Real invI, uint32_t mat, const std::string& name,
+              const std::vector<std::string>& tagList) {
+    const GrainId id = pool_.allocate();
+    a.push(x, v, w, r, invM, invI, mat, id.index);
+    if (!name.empty()) names_.add(name, id);
+    for (const std::string& t : tagList) tags_.add(id, t);
+    return id;
+  }
+
+  // Removes the grain id (live). Returns its slot index (for the pair histories to forget).
+  uint32_t remove(GrainId id) {
+    const SwapRemove m = pool_.free(id);
+    a.remove(m);
+    names_.remove(id);
+    tags_.removeObject(id);
+    return id.index;
+  }
+
+  size_t size() const { return a.size(); }
+
+ private:
+  HandlePool<GrainKind> pool_;
+  NameLookup<GrainId> names_;
+  TagTable<GrainKind> tags_;
+};
+
+}  // namespace demlab::sim

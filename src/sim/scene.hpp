@@ -1,0 +1,109 @@
+// Scene<D>: everything one simulation holds, as the modules see it. The SimulationManager owns
+// one Scene and the SimLoop; modules read and write the Scene's arrays directly (they are the
+// stages of one step, not independent objects), so no data crosses a virtual call.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/instance_interaction.hpp"
+#include "core/math.hpp"
+#include "physics/contact.hpp"
+#include "physics/material.hpp"
+#include "physics/pair_params.hpp"
+#include "search/box.hpp"
+#include "sim/behavior.hpp"
+#include "sim/obj_manager.hpp"
+#include "sim/wall.hpp"
+
+namespace demlab::sim {
+
+enum class IntegratorKind : uint8_t { Synchronized, Verlet };
+
+// The cumulated terms of the energy ledger; the state terms (kinetic, gravitational, elastic)
+// are computed from the state when asked.
+struct LedgerSums {
+  double dampingLoss = 0, frictionLoss = 0, wallWork = 0, behaviorWork = 0;
+  double springWork = 0;        // energy given to Hertz-Mindlin springs by their stiffening
+  double elastic = 0;           // elastic energy in the contacts after the last step
+  bool started = false;         // reference taken
+  double reference = 0;         // the balance sum when the ledger started (rebased on edits)
+  double gravityReference = 0;  // the gravitational energy then (for the scale)
+  double scale = 0;             // largest energy magnitude seen (for the relative residual)
+};
+
+// One grain-grain candidate pair (dense indices) from the last neighbor search.
+struct CandidatePair {
+  uint32_t i, j;
+};
+
+// One contact of the last step (for queries): b < 0 x-encoded as wall index when isWall.
+template <int D>
+struct ContactRecord {
+  uint32_t a;  // grain dense index
+  uint32_t b;  // grain dense index, or wall dense index when wall
+  bool wall;
+  VecD<D> force;  // on b
+};
+
+template <int D>
+struct Scene {
+  // ---- objects ----
+  SimObjManager<D> grains;
+  WallSet<D> walls;
+  BehaviorManager<D> behaviors;
+
+  // ---- materials and laws ----
+  std::vector<std::string> materialNames;
+  std::vector<physics::MaterialDef> materials;
+  physics::LawKind defaultLaw = physics::LawKind::HertzMindlin;
+  // Per material pair law overrides, row-major nMat x nMat (symmetric); -1: default.
+  std::vector<int8_t> pairLawOverride;
+  // Mixed once per run start (SimulationManager::prepare): row-major nMat x nMat.
+  std::vector<physics::PairParams> pairParams;
+  std::vector<physics::ContactLawFn<D>> pairLawFn;
+  bool anyFriction = false;
+
+  // ---- options ----
+  double dt = 0;              // fixed step (when autoFraction == 0)
+  double autoFraction = 0.2;  // > 0: dt = autoFraction x critical step
+  IntegratorKind integrator = IntegratorKind::Synchronized;
+  bool rotationEnabled = true;
+  double cellFactor = 0;
+  double skinOption = -1;
+
+  // ---- time ----
+  double time = 0;
+  uint64_t steps = 0;
+  double stepDt = 0;  // the step in use during a run (set by prepare)
+
+  // ---- contact detection state ----
+  std::vector<CandidatePair> candidates;              // grain-grain
+  std::vector<std::vector<uint32_t>> wallCandidates;  // per wall (dense): grain dense indices
+  std::vector<VecD<D>> xAtBuild;                      // grain positions at the last search
+  double skin = 0;                                    // the skin in use
+  double maxDisp2 = 0;  // largest squared displacement since the build
+  bool needRebuild = true;
+  uint64_t rebuilds = 0;
+
+  // ---- pair state ----
+  physics::TangentialHistory<D> dummyHistory;
+  InstanceInteractionManager<physics::TangentialHistory<D>> histories;
+  bool keepHistory = false;  // anyFriction, fixed at prepare
+
+  // ---- per-step outputs ----
+  std::vector<ContactRecord<D>> contacts;
+  bool rotating = false;  // the rotation modules run
+  LedgerSums ledger;
+
+  size_t nMat() const { return materials.size(); }
+};
+
+// Returns the id used for a wall in pair-history keys: walls live in the top half of the id
+// space so they never collide with grain slot indices.
+inline uint32_t wallPairId(uint32_t wallSlot) {
+  return 0x80000000u | wallSlot;
+}
+
+}  // namespace demlab::sim

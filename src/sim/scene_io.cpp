@@ -1,0 +1,425 @@
+// writeScene / readScene (sim/scene_io.hpp): the sections of a scene, in one order, written
+// and read by mirror-image code.
+#include "sim/scene_io.hpp"
+
+namespace demlab::sim {
+
+namespace {
+
+template <int D>
+void writeShape(Writer& w, const WallGeometry<D>& g) {
+  w.u8(static_cast<uint8_t>(g.index()));
+  std::visit(
+      [&](const auto& s) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, physics::PlaneShape<D>>) {
+          w.vec<D>(s.point);
+          w.vec<D>(s.normal);
+        } else if constexpr (std::is_same_v<S, physics::FlatWallShape<D>>) {
+          w.vec<D>(s.centre);
+          for (int k = 0; k < D - 1; ++k) w.vec<D>(s.axes[k]);
+          for (int k = 0; k < D - 1; ++k) w.f64(s.halfExtents[k]);
+        } else if constexpr (std::is_same_v<S, physics::BoxShape<D>>) {
+          w.vec<D>(s.centre);
+          for (int c = 0; c < D; ++c) w.vec<D>(s.axes.col(c));
+          w.vec<D>(s.halfExtents);
+        } else {
+          w.vec<D>(s.centre);
+          w.vec<D>(s.axis);
+          w.f64(s.radius);
+          w.f64(s.halfLength);
+        }
+      },
+      g);
+}
+
+template <int D>
+WallGeometry<D> readShape(Reader& r) {
+  switch (r.u8()) {
+    case 0: {
+      physics::PlaneShape<D> s;
+      s.point = r.vec<D>();
+      s.normal = r.vec<D>();
+      return s;
+    }
+    case 1: {
+      physics::FlatWallShape<D> s;
+      s.centre = r.vec<D>();
+      for (int k = 0; k < D - 1; ++k) s.axes[k] = r.vec<D>();
+      for (int k = 0; k < D - 1; ++k) s.halfExtents[k] = r.f64();
+      return s;
+    }
+    case 2: {
+      physics::BoxShape<D> s;
+      s.centre = r.vec<D>();
+      for (int c = 0; c < D; ++c) s.axes.col(c) = r.vec<D>();
+      s.halfExtents = r.vec<D>();
+      return s;
+    }
+    case 3: {
+      physics::DrumShape<D> s;
+      s.centre = r.vec<D>();
+      s.axis = r.vec<D>();
+      s.radius = r.f64();
+      s.halfLength = r.f64();
+      return s;
+    }
+    default:
+      Reader::bad("unknown wall shape");
+  }
+}
+
+template <class Kind>
+void writePool(Writer& w, const HandlePool<Kind>& p) {
+  const auto st = p.saveState();
+  w.list(st.generations, [&](uint32_t g) { w.u32(g); });
+  w.list(st.freeSlots, [&](uint32_t g) { w.u32(g); });
+  w.list(st.dense, [&](Handle<Kind> h) { w.u64(h.bits()); });
+}
+
+template <class Kind>
+void readPool(Reader& r, HandlePool<Kind>& p) {
+  typename HandlePool<Kind>::State st;
+  st.generations.resize(r.count(4));
+  for (auto& g : st.generations) g = r.u32();
+  st.freeSlots.resize(r.count(4));
+  for (auto& g : st.freeSlots) g = r.u32();
+  st.dense.resize(r.count(8));
+  for (auto& h : st.dense) h = Handle<Kind>::fromBits(r.u64());
+  try {
+    p.restoreState(st);
+  } catch (const Error& e) {
+    Reader::bad(e.what());
+  }
+}
+
+template <class Kind>
+void writeNamesTags(Writer& w, const NameLookup<Handle<Kind>>& names, const TagTable<Kind>& tags) {
+  w.u64(names.size());
+  names.forEach([&](std::string_view n, Handle<Kind> h) {
+    w.str(std::string(n));
+    w.u64(h.bits());
+  });
+  const auto tagList = tags.tags();
+  w.u64(tagList.size());
+  for (std::string_view t : tagList) {
+    w.str(std::string(t));
+    const auto members = tags.objects(t);
+    w.list(members, [&](Handle<Kind> h) { w.u64(h.bits()); });
+  }
+}
+
+template <class Kind>
+void readNamesTags(Reader& r, const HandlePool<Kind>& pool, NameLookup<Handle<Kind>>& names,
+                   TagTable<Kind>& tags) {
+  try {
+    const size_t nn = r.count(9);
+    for (size_t k = 0; k < nn; ++k) {
+      const std::string n = r.str();
+      const auto h = Handle<Kind>::fromBits(r.u64());
+      if (!pool.valid(h)) Reader::bad("a name refers to no object");
+      names.add(n, h);
+    }
+    const size_t nt = r.count(9);
+    for (size_t k = 0; k < nt; ++k) {
+      const std::string t = r.str();
+      const size_t m = r.count(8);
+      for (size_t j = 0; j < m; ++j) {
+        const auto h = Handle<Kind>::fromBits(r.u64());
+        if (!pool.valid(h)) Reader::bad("a tag refers to no object");
+        tags.add(h, t);
+      }
+    }
+  } catch (const Error& e) {
+    if (e.code().size() > 1 && e.code()[1] == "LOAD") throw;
+    Reader::bad(e.what());
+  }
+}
+
+void writeMaterial(Writer& w, const physics::MaterialDef& m) {
+  for (double x : {m.density, m.young, m.poisson, m.restitution, m.friction, m.rollingFriction,
+                   m.normalStiffness, m.shearStiffness}) {
+    w.f64(x);
+  }
+}
+
+physics::MaterialDef readMaterial(Reader& r) {
+  physics::MaterialDef m;
+  m.density = r.f64();
+  m.young = r.f64();
+  m.poisson = r.f64();
+  m.restitution = r.f64();
+  m.friction = r.f64();
+  m.rollingFriction = r.f64();
+  m.normalStiffness = r.f64();
+  m.shearStiffness = r.f64();
+  return m;
+}
+
+}  // namespace
+
+template <int D>
+void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager<D>* behaviors) {
+  const BehaviorManager<D>& bm = behaviors ? *behaviors : s.behaviors;
+  w.bytes.append(kMagic, 8);
+  w.u32(kFormatVersion);
+  w.u32(D);
+  // Materials and laws.
+  w.u64(s.materials.size());
+  for (size_t m = 0; m < s.materials.size(); ++m) {
+    w.str(s.materialNames[m]);
+    writeMaterial(w, s.materials[m]);
+  }
+  w.u8(static_cast<uint8_t>(s.defaultLaw));
+  w.list(s.pairLawOverride, [&](int8_t x) { w.u8(static_cast<uint8_t>(x)); });
+  // Options and time.
+  w.f64(s.dt);
+  w.f64(s.autoFraction);
+  w.u8(static_cast<uint8_t>(s.integrator));
+  w.u8(s.rotationEnabled);
+  w.f64(s.cellFactor);
+  w.f64(s.skinOption);
+  w.f64(s.time);
+  w.u64(s.steps);
+  w.f64(s.stepDt);
+  // Grains.
+  const GrainArrays<D>& a = s.grains.a;
+  writePool(w, s.grains.pool());
+  for (size_t i = 0; i < a.size(); ++i) {
+    w.vec<D>(a.x[i]);
+    w.vec<D>(a.v[i]);
+    w.vec<D>(a.f[i]);
+    w.vec<D>(a.fPrev[i]);
+    w.rot(a.q[i]);
+    w.ang(a.w[i]);
+    w.ang(a.t[i]);
+    w.ang(a.tPrev[i]);
+    w.f64(a.r[i]);
+    w.f64(a.invMass[i]);
+    w.f64(a.invInertia[i]);
+    w.u32(a.material[i]);
+  }
+  writeNamesTags(w, s.grains.names(), s.grains.tags());
+  // Walls.
+  writePool(w, s.walls.pool());
+  for (const Wall<D>& x : s.walls.items) {
+    w.u8(static_cast<uint8_t>(x.kind));
+    w.u32(x.material);
+    writeShape<D>(w, x.shape0);
+    writeShape<D>(w, x.shape);
+    w.u8(x.moving);
+    w.vec<D>(x.velocity);
+    w.vec<D>(x.amplitude);
+    w.ang(x.omega);
+    w.f64(x.frequency);
+    w.f64(x.phase);
+    w.f64(x.t0);
+    w.vec<D>(x.point);
+    w.vec<D>(x.point0);
+    w.vec<D>(x.pointVelocity);
+    w.rot(x.turned);
+    w.vec<D>(x.pointAtBuild);
+    w.f64(x.timeAtBuild);
+    w.vec<D>(x.force);
+  }
+  writeNamesTags(w, s.walls.names(), s.walls.tags());
+  // Behaviors.
+  writePool(w, bm.pool());
+  for (const Behavior<D>& b : bm.items()) {
+    if (mode == IoMode::Checkpoint && b.hasCallbacks()) {
+      throw Error("internal: a behavior with callbacks reached the checkpoint writer",
+                  {"SAVE", "CALLBACK"});
+    }
+    w.u8(static_cast<uint8_t>(b.type));
+    w.vec<D>(b.g);
+    w.u64(b.grain.bits());
+    w.str(b.tag);
+    for (int k = 0; k < 3; ++k) {
+      w.f64(b.force[k]);
+      w.f64(b.torque[k]);
+      w.u8(static_cast<bool>(b.forceFn[k]));
+      w.u8(static_cast<bool>(b.torqueFn[k]));
+    }
+  }
+  // Pair histories, in iteration order, with the table size that reproduces the layout.
+  auto& hist = const_cast<InstanceInteractionManager<physics::TangentialHistory<D>>&>(s.histories);
+  w.u8(s.keepHistory);
+  w.u64(hist.bucketCount());
+  w.u64(hist.size());
+  hist.forEach([&](const auto& p, const physics::TangentialHistory<D>& h) {
+    w.u32(p.first);
+    w.u32(p.second);
+    w.vec<D>(h.spring);
+  });
+  // Contact detection state.
+  w.list(s.candidates, [&](const CandidatePair& c) {
+    w.u32(c.i);
+    w.u32(c.j);
+  });
+  w.u64(s.wallCandidates.size());
+  for (const auto& l : s.wallCandidates) w.list(l, [&](uint32_t i) { w.u32(i); });
+  w.list(s.xAtBuild, [&](const VecD<D>& x) { w.vec<D>(x); });
+  w.f64(s.skin);
+  w.f64(s.maxDisp2);
+  w.u8(s.needRebuild);
+  w.u64(s.rebuilds);
+  // Outputs of the last step and the ledger.
+  w.list(s.contacts, [&](const ContactRecord<D>& c) {
+    w.u32(c.a);
+    w.u32(c.b);
+    w.u8(c.wall);
+    w.vec<D>(c.force);
+  });
+  const LedgerSums& l = s.ledger;
+  for (double x : {l.dampingLoss, l.frictionLoss, l.wallWork, l.behaviorWork, l.springWork,
+                   l.elastic, l.reference, l.gravityReference, l.scale}) {
+    w.f64(x);
+  }
+  w.u8(l.started);
+}
+
+template <int D>
+void readScene(Reader& r, Scene<D>& s) {
+  char magic[8];
+  for (char& c : magic) c = static_cast<char>(r.u8());
+  if (std::memcmp(magic, kMagic, 8) != 0) Reader::bad("not a demlab checkpoint");
+  if (r.u32() != kFormatVersion) Reader::bad("unknown format version");
+  const uint32_t dim = r.u32();
+  if (dim != D) {
+    throw Error("can't load a " + std::to_string(dim) + "D checkpoint into a " + std::to_string(D) +
+                    "D simulation",
+                {"LOAD", "DIMENSION"});
+  }
+  const size_t nm = r.count(9);
+  for (size_t m = 0; m < nm; ++m) {
+    s.materialNames.push_back(r.str());
+    s.materials.push_back(readMaterial(r));
+  }
+  s.defaultLaw = static_cast<physics::LawKind>(r.u8());
+  s.pairLawOverride.resize(r.count(1));
+  for (auto& x : s.pairLawOverride) x = static_cast<int8_t>(r.u8());
+  if (s.pairLawOverride.size() != nm * nm) Reader::bad("pair law table size");
+  s.dt = r.f64();
+  s.autoFraction = r.f64();
+  s.integrator = static_cast<IntegratorKind>(r.u8());
+  s.rotationEnabled = r.u8();
+  s.cellFactor = r.f64();
+  s.skinOption = r.f64();
+  s.time = r.f64();
+  s.steps = r.u64();
+  s.stepDt = r.f64();
+  readPool(r, s.grains.pool());
+  GrainArrays<D>& a = s.grains.a;
+  const uint32_t n = s.grains.pool().size();
+  for (uint32_t i = 0; i < n; ++i) {
+    const VecD<D> x = r.vec<D>(), v = r.vec<D>(), f = r.vec<D>(), fp = r.vec<D>();
+    const RotationD<D> q = r.rot<RotationD<D>>();
+    const AngularD<D> w = r.ang<AngularD<D>>(), t = r.ang<AngularD<D>>(), tp = r.ang<AngularD<D>>();
+    const Real rad = r.f64(), im = r.f64(), ii = r.f64();
+    const uint32_t mat = r.u32();
+    if (mat >= nm) Reader::bad("grain material index");
+    a.push(x, v, w, rad, im, ii, mat, s.grains.pool().handleAt(i).index);
+    a.f.back() = f;
+    a.fPrev.back() = fp;
+    a.q.back() = q;
+    a.t.back() = t;
+    a.tPrev.back() = tp;
+  }
+  readNamesTags(r, s.grains.pool(), s.grains.names(), s.grains.tags());
+  readPool(r, s.walls.pool());
+  const uint32_t nw = s.walls.pool().size();
+  for (uint32_t k = 0; k < nw; ++k) {
+    Wall<D> x;
+    x.kind = static_cast<WallShape>(r.u8());
+    x.material = r.u32();
+    if (x.material >= nm) Reader::bad("wall material index");
+    x.shape0 = readShape<D>(r);
+    x.shape = readShape<D>(r);
+    x.moving = r.u8();
+    x.velocity = r.vec<D>();
+    x.amplitude = r.vec<D>();
+    x.omega = r.ang<AngularD<D>>();
+    x.frequency = r.f64();
+    x.phase = r.f64();
+    x.t0 = r.f64();
+    x.point = r.vec<D>();
+    x.point0 = r.vec<D>();
+    x.pointVelocity = r.vec<D>();
+    x.turned = r.rot<RotationD<D>>();
+    x.pointAtBuild = r.vec<D>();
+    x.timeAtBuild = r.f64();
+    x.force = r.vec<D>();
+    s.walls.items.push_back(std::move(x));
+  }
+  readNamesTags(r, s.walls.pool(), s.walls.names(), s.walls.tags());
+  readPool(r, s.behaviors.pool());
+  const uint32_t nb = s.behaviors.pool().size();
+  for (uint32_t k = 0; k < nb; ++k) {
+    Behavior<D> b;
+    b.type = static_cast<BehaviorType>(r.u8());
+    b.g = r.vec<D>();
+    b.grain = GrainId::fromBits(r.u64());
+    b.tag = r.str();
+    for (int c = 0; c < 3; ++c) {
+      b.force[c] = r.f64();
+      b.torque[c] = r.f64();
+      // A flag set here means a clone: the caller copies the function itself.
+      r.u8();
+      r.u8();
+    }
+    s.behaviors.items().push_back(std::move(b));
+  }
+  s.keepHistory = r.u8();
+  const size_t buckets = r.u64();
+  if (buckets > (size_t{1} << 40)) Reader::bad("history table size");
+  const size_t nh = r.count(8 + 8 * D);
+  s.histories.reserveBuckets(buckets);
+  for (size_t k = 0; k < nh; ++k) {
+    const uint32_t p = r.u32(), q = r.u32();
+    s.histories.touch(p, q).state.spring = r.vec<D>();
+  }
+  s.histories.sweep();
+  s.candidates.resize(r.count(8));
+  for (auto& c : s.candidates) {
+    c.i = r.u32();
+    c.j = r.u32();
+    if (c.i >= n || c.j >= n) Reader::bad("candidate pair index");
+  }
+  s.wallCandidates.resize(r.count(8));
+  if (s.wallCandidates.size() > nw) Reader::bad("wall candidate lists");
+  for (auto& l : s.wallCandidates) {
+    l.resize(r.count(4));
+    for (auto& i : l) {
+      i = r.u32();
+      if (i >= n) Reader::bad("wall candidate index");
+    }
+  }
+  s.xAtBuild.resize(r.count(8 * D));
+  for (auto& x : s.xAtBuild) x = r.vec<D>();
+  s.skin = r.f64();
+  s.maxDisp2 = r.f64();
+  s.needRebuild = r.u8();
+  s.rebuilds = r.u64();
+  s.contacts.resize(r.count(9 + 8 * D));
+  for (auto& c : s.contacts) {
+    c.a = r.u32();
+    c.b = r.u32();
+    c.wall = r.u8();
+    c.force = r.vec<D>();
+    if (c.a >= n || (c.wall ? c.b >= nw : c.b >= n)) Reader::bad("contact index");
+  }
+  LedgerSums& l = s.ledger;
+  for (double* x : {&l.dampingLoss, &l.frictionLoss, &l.wallWork, &l.behaviorWork, &l.springWork,
+                    &l.elastic, &l.reference, &l.gravityReference, &l.scale}) {
+    *x = r.f64();
+  }
+  l.started = r.u8();
+  if (!r.atEnd()) Reader::bad("trailing bytes");
+}
+
+template void writeScene<2>(Writer&, const Scene<2>&, IoMode, const BehaviorManager<2>*);
+template void writeScene<3>(Writer&, const Scene<3>&, IoMode, const BehaviorManager<3>*);
+template void readScene<2>(Reader&, Scene<2>&);
+template void readScene<3>(Reader&, Scene<3>&);
+
+}  // namespace demlab::sim

@@ -1,0 +1,140 @@
+// The binary form of a whole scene: the checkpoint format (save/load), the bytes the state
+// digest hashes, and the carrier of clone(). Everything that determines the scene's future is
+// written, including what a fresh start would recompute differently: the neighbor candidates
+// and skin bookkeeping (their order fixes the order forces are summed in), the pair histories
+// in the table's iteration order (re-inserted into a table of the same size they rebuild the
+// same layout), the handle pools (future handles), the forces of the last step (the next
+// step's first kick).
+//
+// Format: "DEMLABCK", u32 version, u32 dimension, then the sections in the order of
+// writeScene. Numbers are little-endian as the machine stores them (x86-64 and aarch64 both
+// are); doubles are copied bit for bit.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "sim/scene.hpp"
+
+namespace demlab::sim {
+
+class Writer {
+ public:
+  std::string bytes;
+  template <class T>
+  void raw(const T& x) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes.append(reinterpret_cast<const char*>(&x), sizeof(T));
+  }
+  void u8(uint8_t x) { raw(x); }
+  void u32(uint32_t x) { raw(x); }
+  void u64(uint64_t x) { raw(x); }
+  void f64(double x) { raw(x); }
+  void str(const std::string& s) {
+    u64(s.size());
+    bytes.append(s);
+  }
+  template <int D>
+  void vec(const VecD<D>& v) {
+    for (int k = 0; k < D; ++k) f64(v[k]);
+  }
+  void ang(Real w) { f64(w); }
+  void ang(const Vec3& w) { vec<3>(w); }
+  void rot(const Rotation2& r) { f64(r.angle); }
+  void rot(const Quat& q) {
+    f64(q.w());
+    f64(q.x());
+    f64(q.y());
+    f64(q.z());
+  }
+  template <class T, class F>
+  void list(const std::vector<T>& v, F&& each) {
+    u64(v.size());
+    for (const T& x : v) each(x);
+  }
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::string& b) : bytes_(b) {}
+  template <class T>
+  T raw() {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (pos_ + sizeof(T) > bytes_.size()) bad("truncated");
+    T x;
+    std::memcpy(&x, bytes_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return x;
+  }
+  uint8_t u8() { return raw<uint8_t>(); }
+  uint32_t u32() { return raw<uint32_t>(); }
+  uint64_t u64() { return raw<uint64_t>(); }
+  double f64() { return raw<double>(); }
+  // Returns a count n, checking that n items of at least minBytes each can still follow.
+  size_t count(size_t minBytes) {
+    const uint64_t n = u64();
+    if (minBytes > 0 && n > (bytes_.size() - pos_) / minBytes) bad("truncated");
+    return static_cast<size_t>(n);
+  }
+  std::string str() {
+    const size_t n = count(1);
+    std::string s = bytes_.substr(pos_, n);
+    pos_ += n;
+    return s;
+  }
+  template <int D>
+  VecD<D> vec() {
+    VecD<D> v;
+    for (int k = 0; k < D; ++k) v[k] = f64();
+    return v;
+  }
+  template <class A>
+  A ang() {
+    if constexpr (std::is_same_v<A, Real>) {
+      return f64();
+    } else {
+      return vec<3>();
+    }
+  }
+  template <class R>
+  R rot() {
+    if constexpr (std::is_same_v<R, Rotation2>) {
+      return Rotation2{f64()};
+    } else {
+      const double w = f64(), x = f64(), y = f64(), z = f64();
+      return Quat(w, x, y, z);
+    }
+  }
+  bool atEnd() const { return pos_ == bytes_.size(); }
+  [[noreturn]] static void bad(const std::string& why) {
+    throw Error("bad checkpoint: " + why, {"LOAD", "FORMAT"});
+  }
+
+ private:
+  const std::string& bytes_;
+  size_t pos_ = 0;
+};
+
+// What the bytes are for: a checkpoint (TimeFunctions must be absent), the digest (a
+// TimeFunction is written as a flag), or a clone (flags; the caller copies the functions).
+enum class IoMode { Checkpoint, Digest, Clone };
+
+inline constexpr char kMagic[9] = "DEMLABCK";
+inline constexpr uint32_t kFormatVersion = 1;
+
+// Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
+// checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.
+template <int D>
+void writeScene(Writer& w, const Scene<D>& s, IoMode mode,
+                const BehaviorManager<D>* behaviors = nullptr);
+
+// Reads a whole scene written by writeScene into s (a fresh Scene). Throws {LOAD FORMAT} on
+// malformed input and {LOAD DIMENSION} for a checkpoint of the other dimension; s is then
+// garbage and must be dropped by the caller.
+template <int D>
+void readScene(Reader& r, Scene<D>& s);
+
+}  // namespace demlab::sim

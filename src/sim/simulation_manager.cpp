@@ -1,0 +1,690 @@
+// SimulationManager<D>: scene editing (materials, grains, walls, tags, behaviors, options),
+// each call checking its whole input first. Running, queries and whole-scene operations are in
+// simulation_run.cpp.
+#include "sim/simulation_manager.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_set>
+
+#include "core/name_lookup.hpp"
+#include "physics/critical_step.hpp"
+#include "sim/convert.hpp"
+
+namespace demlab::sim {
+
+LawKind lawFromName(std::string_view name) {
+  for (LawKind k : {LawKind::Linear, LawKind::HertzMindlin}) {
+    if (physics::lawName(k) == name) return k;
+  }
+  throw Error("bad law \"" + std::string(name) + "\": must be linear or hertz_mindlin",
+              {"VALUE", "LAW"});
+}
+
+std::unique_ptr<Simulation> makeSimulation(int dim) {
+  if (dim == 2) return std::make_unique<SimulationManager<2>>();
+  if (dim == 3) return std::make_unique<SimulationManager<3>>();
+  throw Error("bad dimension \"" + std::to_string(dim) + "\": must be 2 or 3",
+              {"VALUE", "DIMENSION"});
+}
+
+// ---- time --------------------------------------------------------------------------------
+
+template <int D>
+void SimulationManager<D>::setTimeStep(double dt) {
+  checkPositive(dt, "time step");
+  s_.dt = dt;
+  s_.autoFraction = 0;
+  touchConfig();
+}
+
+template <int D>
+void SimulationManager<D>::setAutoTimeStep(double fraction) {
+  if (!(fraction > 0 && fraction <= 1)) {
+    throwBad("fraction", physics::formatReal(fraction), "must be in (0, 1]");
+  }
+  s_.autoFraction = fraction;
+  touchConfig();
+}
+
+template <int D>
+double SimulationManager<D>::timeStep() const {
+  if (s_.autoFraction > 0) {
+    const double crit = criticalTimeStep();
+    if (!std::isfinite(crit)) {
+      throw Error("no time step: it is automatic and the scene has no grains",
+                  {"VALUE", "TIMESTEP"});
+    }
+    return s_.autoFraction * crit;
+  }
+  if (!(s_.dt > 0)) throw Error("no time step: set one", {"VALUE", "TIMESTEP"});
+  return s_.dt;
+}
+
+template <int D>
+double SimulationManager<D>::criticalTimeStep() const {
+  const size_t nm = s_.nMat();
+  const Real inf = std::numeric_limits<Real>::infinity();
+  std::vector<Real> rmin(nm, inf);
+  std::vector<bool> used(nm, false);
+  const GrainArrays<D>& a = s_.grains.a;
+  for (size_t i = 0; i < a.size(); ++i) {
+    rmin[a.material[i]] = std::min(rmin[a.material[i]], a.r[i]);
+    used[a.material[i]] = true;
+  }
+  for (const Wall<D>& w : s_.walls.items) used[w.material] = true;
+  Real best = inf;
+  for (size_t m = 0; m < nm; ++m) {
+    if (!std::isfinite(rmin[m])) continue;
+    for (size_t k = 0; k < nm; ++k) {
+      if (!used[k]) continue;
+      const size_t small = rmin[k] < rmin[m] ? k : m;
+      const Real r = rmin[small];
+      const Real mass = grainMass<D>(s_.materials[small].density, r);
+      const int8_t o = s_.pairLawOverride[m * nm + k];
+      const LawKind law = o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
+      const physics::PairParams p = physics::mixPair(law, s_.materials[m], s_.materials[k]);
+      best = std::min(best, physics::criticalTimeStep(p, mass, r));
+    }
+  }
+  return best;
+}
+
+// ---- materials and laws --------------------------------------------------------------------
+
+template <int D>
+uint32_t SimulationManager<D>::materialIndex(const std::string& name) const {
+  for (size_t m = 0; m < s_.materialNames.size(); ++m) {
+    if (s_.materialNames[m] == name) return static_cast<uint32_t>(m);
+  }
+  throw Error("no material named \"" + name + "\"", {"LOOKUP", "MATERIAL"});
+}
+
+template <int D>
+void SimulationManager<D>::addMaterial(const std::string& name, const MaterialDef& def) {
+  checkObjectName("material", name);
+  for (const std::string& n : s_.materialNames) {
+    if (n == name) {
+      throw Error("material \"" + name + "\" already exists", {"EXISTS", "MATERIAL"});
+    }
+  }
+  def.check();
+  const size_t n = s_.nMat();
+  std::vector<int8_t> table((n + 1) * (n + 1), -1);
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = 0; j < n; ++j) table[i * (n + 1) + j] = s_.pairLawOverride[i * n + j];
+  }
+  s_.materialNames.push_back(name);
+  s_.materials.push_back(def);
+  s_.pairLawOverride = std::move(table);
+  touchConfig();
+}
+
+template <int D>
+void SimulationManager<D>::setMaterial(const std::string& name, const MaterialDef& def) {
+  const uint32_t m = materialIndex(name);
+  def.check();
+  const double before = ledgerSum();
+  s_.materials[m] = def;
+  GrainArrays<D>& a = s_.grains.a;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a.material[i] != m) continue;
+    const Real mass = grainMass<D>(def.density, a.r[i]);
+    a.invMass[i] = 1 / mass;
+    a.invInertia[i] = 1 / grainInertia<D>(mass, a.r[i]);
+  }
+  s_.ledger.reference += ledgerSum() - before;
+  touchConfig();
+}
+
+template <int D>
+MaterialDef SimulationManager<D>::material(const std::string& name) const {
+  return s_.materials[materialIndex(name)];
+}
+
+template <int D>
+void SimulationManager<D>::setContactLaw(LawKind law) {
+  if (law != LawKind::Linear && law != LawKind::HertzMindlin) {
+    throw Error("bad law: must be linear or hertz_mindlin", {"VALUE", "LAW"});
+  }
+  s_.defaultLaw = law;
+  touchConfig();
+}
+
+template <int D>
+void SimulationManager<D>::setPairLaw(const std::string& a, const std::string& b, LawKind law) {
+  const uint32_t i = materialIndex(a), j = materialIndex(b);
+  if (law != LawKind::Linear && law != LawKind::HertzMindlin) {
+    throw Error("bad law: must be linear or hertz_mindlin", {"VALUE", "LAW"});
+  }
+  const size_t n = s_.nMat();
+  s_.pairLawOverride[i * n + j] = static_cast<int8_t>(law);
+  s_.pairLawOverride[j * n + i] = static_cast<int8_t>(law);
+  touchConfig();
+}
+
+template <int D>
+LawKind SimulationManager<D>::pairLaw(const std::string& a, const std::string& b) const {
+  const uint32_t i = materialIndex(a), j = materialIndex(b);
+  const int8_t o = s_.pairLawOverride[i * s_.nMat() + j];
+  return o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
+}
+
+// ---- grains --------------------------------------------------------------------------------
+
+template <int D>
+typename SimulationManager<D>::CheckedGrain SimulationManager<D>::checkGrain(
+    const GrainDef& def) const {
+  CheckedGrain c;
+  checkPositive(def.radius, "radius");
+  c.r = def.radius;
+  c.x = toVec<D>(def.position, "position");
+  c.v = toVec<D>(def.velocity, "velocity");
+  c.w = toAngular<D>(def.angularVelocity, "angular velocity");
+  c.material = materialIndex(def.material);
+  for (const std::string& t : def.tags) checkTagName(t);
+  if (!def.name.empty()) {
+    checkObjectName("grain", def.name);
+    if (s_.grains.names().find(def.name)) throwNameExists("grain", def.name);
+  }
+  const Real mass = grainMass<D>(s_.materials[c.material].density, c.r);
+  c.invMass = 1 / mass;
+  c.invInertia = 1 / grainInertia<D>(mass, c.r);
+  return c;
+}
+
+template <int D>
+double SimulationManager<D>::grainEnergy(uint32_t i) const {
+  const GrainArrays<D>& a = s_.grains.a;
+  return 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * squaredNorm(a.w[i]) / a.invInertia[i] -
+         s_.behaviors.gravity().dot(a.x[i]) / a.invMass[i];
+}
+
+template <int D>
+GrainId SimulationManager<D>::addGrain(const GrainDef& def) {
+  const CheckedGrain c = checkGrain(def);
+  const GrainId id =
+      s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material, def.name, def.tags);
+  s_.ledger.reference += grainEnergy(static_cast<uint32_t>(s_.grains.size() - 1));
+  s_.needRebuild = true;
+  touchConfig();
+  return id;
+}
+
+template <int D>
+std::vector<GrainId> SimulationManager<D>::addGrains(const std::vector<GrainDef>& defs) {
+  std::vector<CheckedGrain> checked;
+  checked.reserve(defs.size());
+  std::unordered_set<std::string> names;
+  for (const GrainDef& d : defs) {
+    checked.push_back(checkGrain(d));
+    if (!d.name.empty() && !names.insert(d.name).second) throwNameExists("grain", d.name);
+  }
+  std::vector<GrainId> ids;
+  ids.reserve(defs.size());
+  GrainArrays<D>& a = s_.grains.a;
+  const size_t n0 = a.size();
+  const size_t n1 = n0 + defs.size();
+  for (auto* v : {&a.x, &a.v, &a.f, &a.fPrev}) v->reserve(n1);
+  s_.grains.pool().reserve(static_cast<uint32_t>(n1));
+  for (size_t k = 0; k < defs.size(); ++k) {
+    const CheckedGrain& c = checked[k];
+    ids.push_back(s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
+                                defs[k].name, defs[k].tags));
+    s_.ledger.reference += grainEnergy(static_cast<uint32_t>(n0 + k));
+  }
+  s_.needRebuild = true;
+  touchConfig();
+  return ids;
+}
+
+template <int D>
+void SimulationManager<D>::removeGrain(GrainId id) {
+  const uint32_t i = s_.grains.index(id);
+  s_.ledger.reference -= grainEnergy(i);
+  const uint32_t slot = s_.grains.remove(id);
+  if (s_.keepHistory) s_.histories.removeId(slot);
+  s_.contacts.clear();
+  s_.needRebuild = true;
+  touchConfig();
+}
+
+template <int D>
+size_t SimulationManager<D>::removeGrains(const std::string& tag) {
+  const std::vector<GrainId> ids = s_.grains.tags().objects(tag);
+  if (ids.empty()) return 0;
+  std::unordered_set<uint32_t> slots;
+  for (GrainId id : ids) {
+    s_.ledger.reference -= grainEnergy(s_.grains.index(id));
+    slots.insert(s_.grains.remove(id));
+  }
+  if (s_.keepHistory) {
+    std::vector<std::pair<uint32_t, uint32_t>> drop;
+    s_.histories.forEach([&](const auto& p, auto&) {
+      if (slots.contains(p.first) || slots.contains(p.second)) drop.emplace_back(p.first, p.second);
+    });
+    for (const auto& [p, q] : drop) s_.histories.erase(p, q);
+  }
+  s_.contacts.clear();
+  s_.needRebuild = true;
+  touchConfig();
+  return ids.size();
+}
+
+template <int D>
+GrainState SimulationManager<D>::grain(GrainId id) const {
+  const uint32_t i = s_.grains.index(id);
+  const GrainArrays<D>& a = s_.grains.a;
+  GrainState g;
+  g.id = id;
+  if (auto n = s_.grains.names().nameOf(id)) g.name = std::string(*n);
+  for (std::string_view t : s_.grains.tags().tagsOf(id)) g.tags.emplace_back(t);
+  g.material = s_.materialNames[a.material[i]];
+  g.radius = a.r[i];
+  g.mass = 1 / a.invMass[i];
+  g.inertia = 1 / a.invInertia[i];
+  g.position = fromVec<D>(a.x[i]);
+  g.velocity = fromVec<D>(a.v[i]);
+  g.angularVelocity = fromAngular(a.w[i]);
+  g.force = fromVec<D>(a.f[i]);
+  g.torque = fromAngular(a.t[i]);
+  g.orientation = fromRotation(a.q[i]);
+  return g;
+}
+
+template <int D>
+GrainId SimulationManager<D>::findGrain(const std::string& name) const {
+  return s_.grains.names().get(name);
+}
+
+template <int D>
+void SimulationManager<D>::setGrainPosition(GrainId id, const Vec3d& p) {
+  const uint32_t i = s_.grains.index(id);
+  const VecD<D> x = toVec<D>(p, "position");
+  const double before = grainEnergy(i);
+  s_.grains.a.x[i] = x;
+  s_.ledger.reference += grainEnergy(i) - before;
+  s_.needRebuild = true;
+}
+
+template <int D>
+void SimulationManager<D>::setGrainVelocity(GrainId id, const Vec3d& v) {
+  const uint32_t i = s_.grains.index(id);
+  const VecD<D> x = toVec<D>(v, "velocity");
+  const double before = grainEnergy(i);
+  s_.grains.a.v[i] = x;
+  s_.ledger.reference += grainEnergy(i) - before;
+}
+
+template <int D>
+void SimulationManager<D>::setGrainAngularVelocity(GrainId id, const Vec3d& w) {
+  const uint32_t i = s_.grains.index(id);
+  const AngularD<D> x = toAngular<D>(w, "angular velocity");
+  const double before = grainEnergy(i);
+  s_.grains.a.w[i] = x;
+  s_.ledger.reference += grainEnergy(i) - before;
+  touchConfig();
+}
+
+// ---- walls ---------------------------------------------------------------------------------
+
+namespace {
+
+// Throws {VALUE <FIELD>} unless v is zero (a field the wall's shape does not use).
+inline void checkUnused(const Vec3d& v, const std::string& field, const char* shape) {
+  if (v[0] != 0 || v[1] != 0 || v[2] != 0) {
+    throwBad(field, formatVec(v, 3), std::string("not used by a ") + shape + " wall");
+  }
+}
+inline void checkUnused(double x, const std::string& field, const char* shape) {
+  if (x != 0)
+    throwBad(field, physics::formatReal(x), std::string("not used by a ") + shape + " wall");
+}
+
+// Returns v / |v|. Throws {VALUE <FIELD>} for a zero vector.
+template <int D>
+VecD<D> unit(const VecD<D>& v, const std::string& field) {
+  const Real n = v.norm();
+  if (!(n > 0)) throwBad(field, formatVec(fromVec<D>(v), D), "must be a non-zero vector");
+  return v / n;
+}
+
+}  // namespace
+
+template <int D>
+Wall<D> SimulationManager<D>::checkWall(const WallDef& def) const {
+  Wall<D> w;
+  w.kind = def.shape;
+  w.material = materialIndex(def.material);
+  const VecD<D> p = toVec<D>(def.point, "point");
+  switch (def.shape) {
+    case WallShape::Plane: {
+      const char* sh = "plane";
+      checkUnused(def.axis, "axis", sh);
+      checkUnused(def.halfExtents, "half extents", sh);
+      checkUnused(def.rotation, "rotation", sh);
+      checkUnused(def.radius, "radius", sh);
+      checkUnused(def.halfLength, "half length", sh);
+      w.shape0 = physics::PlaneShape<D>{p, unit<D>(toVec<D>(def.normal, "normal"), "normal")};
+      break;
+    }
+    case WallShape::Finite: {
+      const char* sh = "finite";
+      checkUnused(def.rotation, "rotation", sh);
+      checkUnused(def.radius, "radius", sh);
+      checkUnused(def.halfLength, "half length", sh);
+      const VecD<D> n = unit<D>(toVec<D>(def.normal, "normal"), "normal");
+      physics::FlatWallShape<D> f;
+      f.centre = p;
+      if constexpr (D == 2) {
+        checkUnused(def.axis, "axis", sh);
+        if (def.halfExtents[1] != 0 || def.halfExtents[2] != 0) {
+          throwBad("half extents", formatVec(def.halfExtents, 3), "a segment has one half length");
+        }
+        checkPositive(def.halfExtents[0], "half extents");
+        f.axes[0] = perp(n);
+        f.halfExtents[0] = def.halfExtents[0];
+      } else {
+        const VecD<D> u = unit<D>(toVec<D>(def.axis, "axis"), "axis");
+        if (std::abs(u.dot(n)) > 1e-9) {
+          throwBad("axis", formatVec(def.axis, 3), "must be perpendicular to the normal");
+        }
+        if (def.halfExtents[2] != 0) {
+          throwBad("half extents", formatVec(def.halfExtents, 3),
+                   "a rectangle has two half lengths");
+        }
+        checkPositive(def.halfExtents[0], "half extents");
+        checkPositive(def.halfExtents[1], "half extents");
+        const VecD<D> u2 = (u - u.dot(n) * n).normalized();
+        f.axes[0] = u2;
+        f.axes[1] = n.cross(u2);
+        f.halfExtents[0] = def.halfExtents[0];
+        f.halfExtents[1] = def.halfExtents[1];
+      }
+      w.shape0 = f;
+      break;
+    }
+    case WallShape::Box: {
+      const char* sh = "box";
+      checkUnused(def.normal, "normal", sh);
+      checkUnused(def.axis, "axis", sh);
+      checkUnused(def.radius, "radius", sh);
+      checkUnused(def.halfLength, "half length", sh);
+      physics::BoxShape<D> b;
+      b.centre = p;
+      for (int k = 0; k < D; ++k) checkPositive(def.halfExtents[k], "half extents");
+      if (D == 2 && def.halfExtents[2] != 0) {
+        throwBad("half extents", formatVec(def.halfExtents, 3), "a 2D box has two half lengths");
+      }
+      for (int k = 0; k < D; ++k) b.halfExtents[k] = def.halfExtents[k];
+      const AngularD<D> rv = toAngular<D>(def.rotation, "rotation");
+      if constexpr (D == 2) {
+        b.axes = Rotation2{rv}.matrix();
+      } else {
+        b.axes = quatFromRotationVector(rv).toRotationMatrix();
+      }
+      w.shape0 = b;
+      break;
+    }
+    case WallShape::Drum: {
+      const char* sh = "drum";
+      checkUnused(def.normal, "normal", sh);
+      checkUnused(def.halfExtents, "half extents", sh);
+      checkUnused(def.rotation, "rotation", sh);
+      physics::DrumShape<D> d;
+      d.centre = p;
+      checkPositive(def.radius, "radius");
+      d.radius = def.radius;
+      if constexpr (D == 2) {
+        checkUnused(def.axis, "axis", sh);
+        checkUnused(def.halfLength, "half length", sh);
+      } else {
+        d.axis = unit<D>(toVec<D>(def.axis, "axis"), "axis");
+        if (!(def.halfLength > 0)) {
+          throwBad("half length", physics::formatReal(def.halfLength), "must be a positive number");
+        }
+        d.halfLength = def.halfLength;
+      }
+      w.shape0 = d;
+      break;
+    }
+    default:
+      throw Error("bad wall shape", {"VALUE", "SHAPE"});
+  }
+  if (def.motion) {
+    const WallMotion& m = *def.motion;
+    w.velocity = toVec<D>(m.velocity, "velocity");
+    w.omega = toAngular<D>(m.angularVelocity, "angular velocity");
+    w.amplitude = toVec<D>(m.amplitude, "amplitude");
+    if (!(std::isfinite(m.frequency) && m.frequency >= 0)) {
+      throwBad("frequency", physics::formatReal(m.frequency), "must be a non-negative number");
+    }
+    if (m.frequency == 0 && w.amplitude.squaredNorm() > 0) {
+      throwBad("frequency", "0", "a vibration needs a positive frequency");
+    }
+    if (!std::isfinite(m.phase)) throwBad("phase", physics::formatReal(m.phase), "must be finite");
+    w.frequency = m.frequency;
+    w.phase = m.phase;
+    w.moving =
+        w.velocity.squaredNorm() > 0 || w.amplitude.squaredNorm() > 0 || squaredNorm(w.omega) > 0;
+  }
+  for (const std::string& t : def.tags) checkTagName(t);
+  if (!def.name.empty()) {
+    checkObjectName("wall", def.name);
+    if (s_.walls.names().find(def.name)) throwNameExists("wall", def.name);
+  }
+  w.t0 = s_.time;
+  w.point0 = p;
+  w.moveTo(s_.time);
+  w.pointAtBuild = w.point;
+  w.timeAtBuild = s_.time;
+  return w;
+}
+
+template <int D>
+WallId SimulationManager<D>::addWall(const WallDef& def) {
+  Wall<D> w = checkWall(def);
+  const WallId id = s_.walls.add(std::move(w), def.name, def.tags);
+  s_.needRebuild = true;
+  touchConfig();
+  return id;
+}
+
+template <int D>
+void SimulationManager<D>::removeWall(WallId id) {
+  s_.walls.pool().denseIndex(id);
+  if (s_.keepHistory) s_.histories.removeId(wallPairId(id.index));
+  s_.walls.remove(id);
+  s_.contacts.clear();
+  s_.needRebuild = true;
+  touchConfig();
+}
+
+template <int D>
+WallState SimulationManager<D>::wall(WallId id) const {
+  const Wall<D>& w = s_.walls.items[s_.walls.pool().denseIndex(id)];
+  WallState st;
+  st.id = id;
+  if (auto n = s_.walls.names().nameOf(id)) st.name = std::string(*n);
+  for (std::string_view t : s_.walls.tags().tagsOf(id)) st.tags.emplace_back(t);
+  st.material = s_.materialNames[w.material];
+  st.shape = w.kind;
+  st.point = fromVec<D>(w.point);
+  st.velocity = fromVec<D>(w.pointVelocity);
+  st.angularVelocity = fromAngular(w.omega);
+  st.orientation = fromRotation(w.turned);
+  st.force = fromVec<D>(w.force);
+  const physics::Bounds<D> b =
+      std::visit([](const auto& sh) { return physics::bounds(sh); }, w.shape);
+  for (int k = 0; k < D; ++k) {
+    st.boundsLo[k] = b.lo[k];
+    st.boundsHi[k] = b.hi[k];
+  }
+  return st;
+}
+
+template <int D>
+WallId SimulationManager<D>::findWall(const std::string& name) const {
+  return s_.walls.names().get(name);
+}
+
+template <int D>
+std::vector<WallId> SimulationManager<D>::wallIds() const {
+  const auto h = s_.walls.pool().handles();
+  return {h.begin(), h.end()};
+}
+
+// ---- tags ----------------------------------------------------------------------------------
+
+template <int D>
+void SimulationManager<D>::tagGrain(GrainId id, const std::string& tag) {
+  s_.grains.index(id);
+  s_.grains.tags().add(id, tag);
+}
+
+template <int D>
+void SimulationManager<D>::untagGrain(GrainId id, const std::string& tag) {
+  s_.grains.index(id);
+  s_.grains.tags().remove(id, tag);
+}
+
+template <int D>
+std::vector<GrainId> SimulationManager<D>::grainsTagged(const std::string& tag) const {
+  return s_.grains.tags().objects(tag);
+}
+
+template <int D>
+void SimulationManager<D>::tagWall(WallId id, const std::string& tag) {
+  s_.walls.pool().denseIndex(id);
+  s_.walls.tags().add(id, tag);
+}
+
+template <int D>
+void SimulationManager<D>::untagWall(WallId id, const std::string& tag) {
+  s_.walls.pool().denseIndex(id);
+  s_.walls.tags().remove(id, tag);
+}
+
+template <int D>
+std::vector<WallId> SimulationManager<D>::wallsTagged(const std::string& tag) const {
+  return s_.walls.tags().objects(tag);
+}
+
+// ---- behaviors -----------------------------------------------------------------------------
+
+template <int D>
+BehaviorId SimulationManager<D>::addGravity(const Vec3d& g) {
+  Behavior<D> b;
+  b.type = BehaviorType::Gravity;
+  b.g = toVec<D>(g, "gravity");
+  const double before = ledgerSum();
+  const BehaviorId id = s_.behaviors.add(std::move(b));
+  s_.ledger.reference += ledgerSum() - before;
+  touchConfig();
+  return id;
+}
+
+template <int D>
+BehaviorId SimulationManager<D>::addLoad(const LoadDef& def) {
+  if (def.grain.isNull() == def.tag.empty()) {
+    throw Error("bad target: give exactly one of a grain or a tag", {"VALUE", "TARGET"});
+  }
+  if (!def.grain.isNull()) s_.grains.index(def.grain);
+  if (!def.tag.empty()) checkTagName(def.tag);
+  toVec<D>(def.force, "force");
+  toAngular<D>(def.torque, "torque");
+  if (D == 2) {
+    if (def.forceFn[2]) throwBad("force", "z", "must have z = 0 in 2D");
+    if (def.torqueFn[0] || def.torqueFn[1]) throwBad("torque", "x y", "must be about z only in 2D");
+  }
+  Behavior<D> b;
+  b.type = BehaviorType::Load;
+  b.grain = def.grain;
+  b.tag = def.tag;
+  b.force = def.force;
+  b.torque = def.torque;
+  b.forceFn = def.forceFn;
+  b.torqueFn = def.torqueFn;
+  const BehaviorId id = s_.behaviors.add(std::move(b));
+  touchConfig();
+  return id;
+}
+
+template <int D>
+void SimulationManager<D>::removeBehavior(BehaviorId id) {
+  s_.behaviors.pool().denseIndex(id);
+  const double before = ledgerSum();
+  s_.behaviors.remove(id);
+  s_.ledger.reference += ledgerSum() - before;
+  touchConfig();
+}
+
+template <int D>
+std::string SimulationManager<D>::behaviorDescription(const Behavior<D>& b) const {
+  if (b.type == BehaviorType::Gravity) {
+    return "gravity (" + formatVec(fromVec<D>(b.g), D) + ") m/s^2";
+  }
+  std::string s = "load on ";
+  s += b.grain.isNull() ? "tag \"" + b.tag + "\"" : "grain " + toString(b.grain);
+  s += ": force (" + formatVec(b.force, D) + ") N";
+  if (b.hasTorque()) s += ", torque (" + formatVec(b.torque, 3) + ") N m";
+  if (b.hasCallbacks()) s += ", time-varying (script callback)";
+  return s;
+}
+
+template <int D>
+std::vector<BehaviorInfo> SimulationManager<D>::behaviors() const {
+  std::vector<BehaviorInfo> out;
+  const auto& items = s_.behaviors.items();
+  for (size_t k = 0; k < items.size(); ++k) {
+    const Behavior<D>& b = items[k];
+    out.push_back({s_.behaviors.pool().handleAt(static_cast<uint32_t>(k)),
+                   b.type == BehaviorType::Gravity ? "gravity" : "load", behaviorDescription(b),
+                   !b.hasCallbacks()});
+  }
+  return out;
+}
+
+// ---- options -------------------------------------------------------------------------------
+
+template <int D>
+void SimulationManager<D>::setIntegrator(const std::string& name) {
+  if (name == "synchronized") {
+    s_.integrator = IntegratorKind::Synchronized;
+  } else if (name == "verlet") {
+    s_.integrator = IntegratorKind::Verlet;
+  } else {
+    throw Error("bad integrator \"" + name + "\": must be synchronized or verlet",
+                {"VALUE", "INTEGRATOR"});
+  }
+  touchConfig();
+}
+
+template <int D>
+std::string SimulationManager<D>::integrator() const {
+  return s_.integrator == IntegratorKind::Synchronized ? "synchronized" : "verlet";
+}
+
+template <int D>
+void SimulationManager<D>::setRotation(bool enabled) {
+  s_.rotationEnabled = enabled;
+  touchConfig();
+}
+
+template <int D>
+void SimulationManager<D>::setDetection(const DetectionOptions& o) {
+  if (!(std::isfinite(o.cellFactor) && o.cellFactor >= 0)) {
+    throwBad("cell factor", physics::formatReal(o.cellFactor), "must be a non-negative number");
+  }
+  if (!std::isfinite(o.skin)) throwBad("skin", physics::formatReal(o.skin), "must be finite");
+  s_.cellFactor = o.cellFactor;
+  s_.skinOption = o.skin;
+  s_.needRebuild = true;
+  touchConfig();
+}
+
+template class SimulationManager<2>;
+template class SimulationManager<3>;
+
+}  // namespace demlab::sim

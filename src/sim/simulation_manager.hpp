@@ -1,0 +1,142 @@
+// SimulationManager<D> (thesis chapter 9): owns one Scene (time, the SimObjManager, walls,
+// behaviors, materials) and the SimLoop, and implements the public Simulation interface.
+// Every mutator checks its whole input before changing anything. The loop is rebuilt from the
+// scene (only the modules it uses) and the pair constants mixed whenever the configuration
+// changed since the last run.
+#pragma once
+
+#include <memory>
+
+#include "sim/scene.hpp"
+#include "sim/scene_io.hpp"
+#include "sim/sim_loop.hpp"
+#include "sim/simulation.hpp"
+
+namespace demlab::sim {
+
+template <int D>
+class SimulationManager final : public Simulation {
+ public:
+  SimulationManager() = default;
+
+  int dim() const override { return D; }
+
+  void setTimeStep(double dt) override;
+  void setAutoTimeStep(double fraction) override;
+  double timeStep() const override;
+  double criticalTimeStep() const override;
+  double time() const override { return s_.time; }
+  uint64_t stepCount() const override { return s_.steps; }
+
+  void addMaterial(const std::string& name, const MaterialDef& def) override;
+  void setMaterial(const std::string& name, const MaterialDef& def) override;
+  MaterialDef material(const std::string& name) const override;
+  std::vector<std::string> materialNames() const override { return s_.materialNames; }
+  void setContactLaw(LawKind law) override;
+  LawKind contactLaw() const override { return s_.defaultLaw; }
+  void setPairLaw(const std::string& a, const std::string& b, LawKind law) override;
+  LawKind pairLaw(const std::string& a, const std::string& b) const override;
+
+  GrainId addGrain(const GrainDef& def) override;
+  std::vector<GrainId> addGrains(const std::vector<GrainDef>& defs) override;
+  void removeGrain(GrainId id) override;
+  size_t removeGrains(const std::string& tag) override;
+  GrainState grain(GrainId id) const override;
+  GrainId findGrain(const std::string& name) const override;
+  void setGrainPosition(GrainId id, const Vec3d& p) override;
+  void setGrainVelocity(GrainId id, const Vec3d& v) override;
+  void setGrainAngularVelocity(GrainId id, const Vec3d& w) override;
+  size_t grainCount() const override { return s_.grains.size(); }
+
+  WallId addWall(const WallDef& def) override;
+  void removeWall(WallId id) override;
+  WallState wall(WallId id) const override;
+  WallId findWall(const std::string& name) const override;
+  std::vector<WallId> wallIds() const override;
+  size_t wallCount() const override { return s_.walls.size(); }
+
+  void tagGrain(GrainId id, const std::string& tag) override;
+  void untagGrain(GrainId id, const std::string& tag) override;
+  std::vector<GrainId> grainsTagged(const std::string& tag) const override;
+  void tagWall(WallId id, const std::string& tag) override;
+  void untagWall(WallId id, const std::string& tag) override;
+  std::vector<WallId> wallsTagged(const std::string& tag) const override;
+
+  BehaviorId addGravity(const Vec3d& g) override;
+  BehaviorId addLoad(const LoadDef& def) override;
+  void removeBehavior(BehaviorId id) override;
+  std::vector<BehaviorInfo> behaviors() const override;
+
+  void setIntegrator(const std::string& name) override;
+  std::string integrator() const override;
+  void setRotation(bool enabled) override;
+  bool rotation() const override { return s_.rotationEnabled; }
+  void setDetection(const DetectionOptions& options) override;
+  DetectionOptions detection() const override { return {s_.cellFactor, s_.skinOption}; }
+  std::vector<std::string> listModules() const override;
+
+  RunReport run(const RunOptions& options) override;
+  RunReport step() override;
+
+  EnergyLedger energy() const override;
+  size_t contactCount() const override { return s_.contacts.size(); }
+  std::vector<ContactInfo> contacts() const override;
+  std::array<Vec3d, 2> bounds() const override;
+  std::vector<GrainId> grainIds() const override;
+  std::vector<double> positions() const override;
+  std::vector<double> velocities() const override;
+  std::vector<double> angularVelocities() const override;
+  std::vector<double> orientations() const override;
+  std::vector<double> forces() const override;
+  std::vector<double> radii() const override;
+
+  uint64_t stateDigest() const override;
+  std::unique_ptr<Simulation> clone() const override;
+  std::vector<std::string> save(std::ostream& out, bool skipCallbacks) const override;
+  void load(std::istream& in) override;
+
+  // For tests and the benchmark: the scene itself.
+  const Scene<D>& scene() const { return s_; }
+
+ private:
+  // Returns the index of the material named name. Throws {LOOKUP MATERIAL}.
+  uint32_t materialIndex(const std::string& name) const;
+  // Checks a GrainDef; returns the converted values. Throws as addGrain documents.
+  struct CheckedGrain {
+    VecD<D> x, v;
+    AngularD<D> w;
+    Real r, invMass, invInertia;
+    uint32_t material;
+  };
+  CheckedGrain checkGrain(const GrainDef& def) const;
+  Wall<D> checkWall(const WallDef& def) const;
+  // Mixes the pair constants, picks dt and the skin, rebuilds the loop; called at each run
+  // start, does its work only when the configuration changed. Throws VALUE TIMESTEP.
+  void prepare();
+  // What the scene uses, which decides the modules of its loop.
+  struct Flags {
+    bool anyFriction = false, rotating = false, walls = false, movingWalls = false;
+    bool gravity = false, loads = false;
+    int law = 0;  // the one law of every pair in use, or -1 when they differ
+  };
+  Flags flags() const;
+  std::vector<std::unique_ptr<SimModule<D>>> makeModules(const Flags& f) const;
+  // Throws {INTEGRATION NAN} naming the first grain whose position or velocity is not finite.
+  void checkFinite() const;
+  // Returns the gravitational energy of the grains (0 without gravity).
+  double potential() const;
+  // Returns the ledger's balance sum now (state terms plus cumulated terms).
+  double ledgerSum() const;
+  // Returns the grain's kinetic plus gravitational energy (for rebasing the ledger on edits).
+  double grainEnergy(uint32_t i) const;
+  // Marks the configuration changed: the next run mixes, chooses and rebuilds again.
+  void touchConfig() { configDirty_ = true; }
+  std::string behaviorDescription(const Behavior<D>& b) const;
+  std::string serialize(IoMode mode) const;
+
+  Scene<D> s_;
+  SimLoop<D> loop_;
+  bool configDirty_ = true;
+};
+
+}  // namespace demlab::sim

@@ -1,0 +1,442 @@
+// SimulationManager<D>: building the loop from the scene, running it, the energy ledger,
+// queries, and whole-scene operations (digest, clone, save, load).
+#include <chrono>
+#include <cmath>
+#include <istream>
+#include <iterator>
+#include <ostream>
+
+#include "physics/narrow_phase.hpp"
+#include "sim/behavior_modules.hpp"
+#include "sim/contacts.hpp"
+#include "sim/convert.hpp"
+#include "sim/detection.hpp"
+#include "sim/integrator.hpp"
+#include "sim/simulation_manager.hpp"
+
+namespace demlab::sim {
+
+// ---- the loop ------------------------------------------------------------------------------
+
+template <int D>
+typename SimulationManager<D>::Flags SimulationManager<D>::flags() const {
+  Flags f;
+  const size_t nm = s_.nMat();
+  std::vector<bool> grainMat(nm, false), anyMat(nm, false);
+  const GrainArrays<D>& a = s_.grains.a;
+  bool spinning = false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    grainMat[a.material[i]] = true;
+    anyMat[a.material[i]] = true;
+    if (squaredNorm(a.w[i]) != 0) spinning = true;
+  }
+  for (const Wall<D>& w : s_.walls.items) anyMat[w.material] = true;
+  int law = -2;
+  for (size_t m = 0; m < nm; ++m) {
+    if (!grainMat[m]) continue;
+    for (size_t k = 0; k < nm; ++k) {
+      if (!anyMat[k]) continue;
+      if (s_.materials[m].friction > 0 && s_.materials[k].friction > 0) f.anyFriction = true;
+      const int8_t o = s_.pairLawOverride[m * nm + k];
+      const int l = o < 0 ? static_cast<int>(s_.defaultLaw) : o;
+      law = law == -2 ? l : (law == l ? law : -1);
+    }
+  }
+  f.law = law == -2 ? static_cast<int>(s_.defaultLaw) : law;
+  f.rotating = s_.rotationEnabled && (f.anyFriction || s_.behaviors.hasTorqueLoads() || spinning);
+  f.walls = s_.walls.size() > 0;
+  f.movingWalls = s_.walls.anyMoving();
+  f.gravity = s_.behaviors.hasGravity();
+  f.loads = s_.behaviors.hasLoads();
+  return f;
+}
+
+template <int D>
+std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(const Flags& f) const {
+  std::vector<std::unique_ptr<SimModule<D>>> m;
+  m.push_back(std::make_unique<PredictModule<D>>());
+  if (f.rotating) m.push_back(std::make_unique<PredictRotationModule<D>>());
+  if (f.movingWalls) m.push_back(std::make_unique<WallMotionModule<D>>());
+  m.push_back(std::make_unique<DetectionModule<D>>(s_.cellFactor));
+  for (auto& c : makeContactModules<D>(f.law, f.anyFriction, f.rotating, f.walls)) {
+    m.push_back(std::move(c));
+  }
+  if (f.gravity) m.push_back(std::make_unique<GravityModule<D>>());
+  if (f.loads) m.push_back(std::make_unique<LoadModule<D>>());
+  m.push_back(std::make_unique<CorrectModule<D>>());
+  if (f.anyFriction) m.push_back(std::make_unique<HistorySweepModule<D>>());
+  return m;
+}
+
+template <int D>
+std::vector<std::string> SimulationManager<D>::listModules() const {
+  SimLoop<D> loop;
+  loop.setModules(makeModules(flags()));
+  return loop.names();
+}
+
+template <int D>
+void SimulationManager<D>::prepare() {
+  if (configDirty_) {
+    const Flags f = flags();
+    const double dt = timeStep();
+    const size_t nm = s_.nMat();
+    s_.pairParams.resize(nm * nm);
+    s_.pairLawFn.resize(nm * nm);
+    for (size_t m = 0; m < nm; ++m) {
+      for (size_t k = 0; k < nm; ++k) {
+        const int8_t o = s_.pairLawOverride[m * nm + k];
+        const LawKind law = o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
+        s_.pairParams[m * nm + k] = physics::mixPair(law, s_.materials[m], s_.materials[k]);
+        s_.pairLawFn[m * nm + k] = physics::contactLawFor<D>(law);
+      }
+    }
+    s_.anyFriction = f.anyFriction;
+    if (!f.anyFriction && s_.keepHistory) s_.histories.clear();
+    s_.keepHistory = f.anyFriction;
+    s_.rotating = f.rotating;
+    s_.stepDt = dt;
+    double skin = s_.skinOption;
+    if (skin < 0) {
+      const GrainArrays<D>& a = s_.grains.a;
+      double sum = 0;
+      for (Real r : a.r) sum += r;
+      skin = a.size() ? 0.2 * sum / static_cast<double>(a.size()) : 0;
+    }
+    if (skin != s_.skin) {
+      s_.skin = skin;
+      s_.needRebuild = true;
+    }
+    loop_.setModules(makeModules(f));
+    configDirty_ = false;
+  }
+  if (!s_.ledger.started) {
+    s_.ledger.reference = ledgerSum();
+    s_.ledger.gravityReference = potential();
+    s_.ledger.started = true;
+  }
+}
+
+template <int D>
+void SimulationManager<D>::checkFinite() const {
+  const GrainArrays<D>& a = s_.grains.a;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (!a.x[i].allFinite() || !a.v[i].allFinite()) {
+      throw Error("grain " + toString(s_.grains.pool().handleAt(static_cast<uint32_t>(i))) +
+                      " has a non-finite state at step " + std::to_string(s_.steps) +
+                      ": the time step is too large for the contacts",
+                  {"INTEGRATION", "NAN"});
+    }
+  }
+}
+
+template <int D>
+RunReport SimulationManager<D>::run(const RunOptions& options) {
+  prepare();
+  RunReport rep;
+  const uint64_t steps0 = s_.steps, rebuilds0 = s_.rebuilds;
+  const double time0 = s_.time;
+  loop_.resetTimers();
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint64_t total = options.steps;
+  const uint64_t every =
+      options.progressEvery ? options.progressEvery : std::max<uint64_t>(1, total / 100);
+  for (uint64_t k = 0; k < total; ++k) {
+    if (options.stop && options.stop->load(std::memory_order_relaxed)) {
+      rep.interrupted = true;
+      break;
+    }
+    loop_.step(s_);
+    if ((k & 1023) == 1023) checkFinite();
+    if (options.progress && (k + 1) % every == 0 && k + 1 < total) options.progress(k + 1, total);
+  }
+  checkFinite();
+  rep.steps = s_.steps - steps0;
+  if (options.progress) options.progress(rep.steps, total);
+  rep.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  rep.simulatedTime = s_.time - time0;
+  rep.time = s_.time;
+  const auto names = loop_.names();
+  for (size_t k = 0; k < names.size(); ++k) rep.modules.push_back({names[k], loop_.seconds()[k]});
+  rep.contacts = s_.contacts.size();
+  rep.neighborRebuilds = s_.rebuilds - rebuilds0;
+  const EnergyLedger e = energy();
+  s_.ledger.scale = e.scale;
+  rep.energyResidual = e.residual;
+  return rep;
+}
+
+template <int D>
+RunReport SimulationManager<D>::step() {
+  RunOptions o;
+  o.steps = 1;
+  return run(o);
+}
+
+// ---- the energy ledger ---------------------------------------------------------------------
+
+template <int D>
+double SimulationManager<D>::potential() const {
+  const VecD<D> g = s_.behaviors.gravity();
+  if (g.squaredNorm() == 0) return 0;
+  const GrainArrays<D>& a = s_.grains.a;
+  double u = 0;
+  for (size_t i = 0; i < a.size(); ++i) u -= g.dot(a.x[i]) / a.invMass[i];
+  return u;
+}
+
+template <int D>
+double SimulationManager<D>::ledgerSum() const {
+  const GrainArrays<D>& a = s_.grains.a;
+  double k = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    k += 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * squaredNorm(a.w[i]) / a.invInertia[i];
+  }
+  const LedgerSums& l = s_.ledger;
+  return k + potential() + l.elastic + l.dampingLoss + l.frictionLoss - l.wallWork -
+         l.behaviorWork - l.springWork;
+}
+
+template <int D>
+EnergyLedger SimulationManager<D>::energy() const {
+  EnergyLedger e;
+  const GrainArrays<D>& a = s_.grains.a;
+  for (size_t i = 0; i < a.size(); ++i) {
+    e.kineticTranslational += 0.5 * a.v[i].squaredNorm() / a.invMass[i];
+    e.kineticRotational += 0.5 * squaredNorm(a.w[i]) / a.invInertia[i];
+  }
+  const LedgerSums& l = s_.ledger;
+  e.gravitational = potential();
+  e.elastic = l.elastic;
+  e.dampingLoss = l.dampingLoss;
+  e.frictionLoss = l.frictionLoss;
+  e.wallWork = l.wallWork;
+  e.behaviorWork = l.behaviorWork;
+  e.springWork = l.springWork;
+  const double sum = e.kineticTranslational + e.kineticRotational + e.gravitational + e.elastic +
+                     e.dampingLoss + e.frictionLoss - e.wallWork - e.behaviorWork - e.springWork;
+  e.balance = l.started ? sum - l.reference : 0;
+  e.scale = std::max({l.scale, e.kineticTranslational + e.kineticRotational,
+                      std::abs(e.gravitational - l.gravityReference), e.elastic,
+                      e.dampingLoss + e.frictionLoss, std::abs(e.wallWork),
+                      std::abs(e.behaviorWork), l.started ? std::abs(l.reference) : 0.0});
+  e.residual = e.scale > 0 ? std::abs(e.balance) / e.scale : 0;
+  return e;
+}
+
+// ---- queries -------------------------------------------------------------------------------
+
+template <int D>
+std::vector<ContactInfo> SimulationManager<D>::contacts() const {
+  std::vector<ContactInfo> out;
+  out.reserve(s_.contacts.size());
+  const GrainArrays<D>& a = s_.grains.a;
+  const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+  for (const ContactRecord<D>& c : s_.contacts) {
+    ContactInfo ci;
+    ci.a = s_.grains.pool().handleAt(c.a);
+    const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
+    std::optional<physics::ContactGeometry<D>> g;
+    if (c.wall) {
+      const Wall<D>& w = s_.walls.items[c.b];
+      ci.wall = s_.walls.pool().handleAt(c.b);
+      const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
+      g = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
+    } else {
+      ci.b = s_.grains.pool().handleAt(c.b);
+      g = physics::intersect<D>(sa, physics::SphereShape<D>{a.x[c.b], a.r[c.b]});
+    }
+    if (g) {
+      ci.point = fromVec<D>(g->point);
+      ci.normal = fromVec<D>(g->normal);
+      ci.overlap = g->overlap;
+    }
+    ci.force = fromVec<D>(c.force);
+    out.push_back(ci);
+  }
+  return out;
+}
+
+template <int D>
+std::array<Vec3d, 2> SimulationManager<D>::bounds() const {
+  const Real inf = std::numeric_limits<Real>::infinity();
+  Vec3d lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  bool any = false;
+  auto grow = [&](int k, Real l, Real h) {
+    lo[k] = std::min(lo[k], l);
+    hi[k] = std::max(hi[k], h);
+  };
+  const GrainArrays<D>& a = s_.grains.a;
+  for (size_t i = 0; i < a.size(); ++i) {
+    any = true;
+    for (int k = 0; k < D; ++k) grow(k, a.x[i][k] - a.r[i], a.x[i][k] + a.r[i]);
+  }
+  for (const Wall<D>& w : s_.walls.items) {
+    if (w.kind == WallShape::Plane) continue;
+    const physics::Bounds<D> b =
+        std::visit([](const auto& sh) { return physics::bounds(sh); }, w.shape);
+    bool finite = true;
+    for (int k = 0; k < D; ++k) finite = finite && std::isfinite(b.lo[k]) && std::isfinite(b.hi[k]);
+    if (!finite) continue;
+    any = true;
+    for (int k = 0; k < D; ++k) grow(k, b.lo[k], b.hi[k]);
+  }
+  if (!any) return {Vec3d{0, 0, 0}, Vec3d{0, 0, 0}};
+  for (int k = D; k < 3; ++k) lo[k] = hi[k] = 0;
+  return {lo, hi};
+}
+
+template <int D>
+std::vector<GrainId> SimulationManager<D>::grainIds() const {
+  const auto h = s_.grains.pool().handles();
+  return {h.begin(), h.end()};
+}
+
+namespace {
+
+template <int D>
+void appendVec(std::vector<double>& out, const VecD<D>& v) {
+  for (int k = 0; k < D; ++k) out.push_back(v[k]);
+}
+inline void appendAngular(std::vector<double>& out, Real w) {
+  out.push_back(w);
+}
+inline void appendAngular(std::vector<double>& out, const Vec3& w) {
+  appendVec<3>(out, w);
+}
+
+}  // namespace
+
+template <int D>
+std::vector<double> SimulationManager<D>::positions() const {
+  std::vector<double> out;
+  out.reserve(D * s_.grains.size());
+  for (const auto& x : s_.grains.a.x) appendVec<D>(out, x);
+  return out;
+}
+
+template <int D>
+std::vector<double> SimulationManager<D>::velocities() const {
+  std::vector<double> out;
+  out.reserve(D * s_.grains.size());
+  for (const auto& x : s_.grains.a.v) appendVec<D>(out, x);
+  return out;
+}
+
+template <int D>
+std::vector<double> SimulationManager<D>::forces() const {
+  std::vector<double> out;
+  out.reserve(D * s_.grains.size());
+  for (const auto& x : s_.grains.a.f) appendVec<D>(out, x);
+  return out;
+}
+
+template <int D>
+std::vector<double> SimulationManager<D>::angularVelocities() const {
+  std::vector<double> out;
+  for (const auto& w : s_.grains.a.w) appendAngular(out, w);
+  return out;
+}
+
+template <int D>
+std::vector<double> SimulationManager<D>::orientations() const {
+  std::vector<double> out;
+  for (const auto& q : s_.grains.a.q) {
+    const auto o = fromRotation(q);
+    for (int k = 0; k < (D == 2 ? 1 : 4); ++k) out.push_back(o[k]);
+  }
+  return out;
+}
+
+template <int D>
+std::vector<double> SimulationManager<D>::radii() const {
+  return s_.grains.a.r;
+}
+
+// ---- whole scene ---------------------------------------------------------------------------
+
+template <int D>
+std::string SimulationManager<D>::serialize(IoMode mode) const {
+  Writer w;
+  writeScene(w, s_, mode);
+  return std::move(w.bytes);
+}
+
+template <int D>
+uint64_t SimulationManager<D>::stateDigest() const {
+  const std::string b = serialize(IoMode::Digest);
+  // FNV-1a, 64 bit, eight bytes per round for speed; the digest only needs to tell scenes
+  // apart, not resist an adversary.
+  uint64_t h = 0xcbf29ce484222325ull;
+  size_t k = 0;
+  for (; k + 8 <= b.size(); k += 8) {
+    uint64_t x;
+    std::memcpy(&x, b.data() + k, 8);
+    h = (h ^ x) * 0x100000001b3ull;
+    h ^= h >> 29;
+  }
+  for (; k < b.size(); ++k) h = (h ^ static_cast<unsigned char>(b[k])) * 0x100000001b3ull;
+  return h;
+}
+
+template <int D>
+std::unique_ptr<Simulation> SimulationManager<D>::clone() const {
+  const std::string b = serialize(IoMode::Clone);
+  auto m = std::make_unique<SimulationManager<D>>();
+  Reader r(b);
+  readScene(r, m->s_);
+  auto& dst = m->s_.behaviors.items();
+  const auto& src = s_.behaviors.items();
+  for (size_t k = 0; k < src.size(); ++k) {
+    dst[k].forceFn = src[k].forceFn;
+    dst[k].torqueFn = src[k].torqueFn;
+  }
+  return m;
+}
+
+template <int D>
+std::vector<std::string> SimulationManager<D>::save(std::ostream& out, bool skipCallbacks) const {
+  std::vector<std::string> skipped;
+  std::vector<BehaviorId> drop;
+  const auto& items = s_.behaviors.items();
+  for (size_t k = 0; k < items.size(); ++k) {
+    if (!items[k].hasCallbacks()) continue;
+    const BehaviorId id = s_.behaviors.pool().handleAt(static_cast<uint32_t>(k));
+    skipped.push_back("behavior " + toString(id) + " (" + behaviorDescription(items[k]) + ")");
+    drop.push_back(id);
+  }
+  if (!skipped.empty() && !skipCallbacks) {
+    std::string list;
+    for (const std::string& s : skipped) list += (list.empty() ? "" : ", ") + s;
+    throw Error("can't save the scene: " + list +
+                    " uses a script callback, which a checkpoint cannot hold; remove it or "
+                    "save with callbacks skipped",
+                {"SAVE", "CALLBACK"});
+  }
+  Writer w;
+  if (drop.empty()) {
+    writeScene(w, s_, IoMode::Checkpoint);
+  } else {
+    BehaviorManager<D> kept = s_.behaviors;
+    for (BehaviorId id : drop) kept.remove(id);
+    writeScene(w, s_, IoMode::Checkpoint, &kept);
+  }
+  out.write(w.bytes.data(), static_cast<std::streamsize>(w.bytes.size()));
+  if (!out) throw Error("can't write the checkpoint: the stream failed", {"SAVE", "IO"});
+  return skipped;
+}
+
+template <int D>
+void SimulationManager<D>::load(std::istream& in) {
+  const std::string b{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  Scene<D> fresh;
+  Reader r(b);
+  readScene(r, fresh);
+  s_ = std::move(fresh);
+  configDirty_ = true;
+}
+
+template class SimulationManager<2>;
+template class SimulationManager<3>;
+
+}  // namespace demlab::sim

@@ -1,0 +1,191 @@
+// Walls: few, large, rigid, of infinite mass, kept apart from the grains. Each wall keeps the
+// geometry it was created with and an optional prescribed rigid motion (sim/simulation.hpp
+// WallMotion), evaluated exactly at each time, so a drum turned for 10^6 steps has not drifted.
+// The current geometry is a physics shape (physics/shapes.hpp) the narrow phase reads.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <variant>
+#include <vector>
+
+#include "core/handle.hpp"
+#include "core/math.hpp"
+#include "core/name_lookup.hpp"
+#include "core/tag_table.hpp"
+#include "physics/shapes.hpp"
+#include "sim/simulation.hpp"
+
+namespace demlab::sim {
+
+template <int D>
+using WallGeometry = std::variant<physics::PlaneShape<D>, physics::FlatWallShape<D>,
+                                  physics::BoxShape<D>, physics::DrumShape<D>>;
+
+template <int D>
+struct Wall {
+  WallShape kind = WallShape::Plane;
+  uint32_t material = 0;
+  WallGeometry<D> shape0;  // geometry at creation (time t0)
+  WallGeometry<D> shape;   // geometry now
+
+  // Prescribed motion (moving == false: all zero).
+  bool moving = false;
+  VecD<D> velocity = VecD<D>::Zero(), amplitude = VecD<D>::Zero();
+  AngularD<D> omega{};
+  Real frequency = 0, phase = 0;
+  double t0 = 0;
+
+  // Kinematics now: reference point, its velocity, the rotation turned since t0.
+  VecD<D> point = VecD<D>::Zero(), point0 = VecD<D>::Zero(), pointVelocity = VecD<D>::Zero();
+  RotationD<D> turned{};
+
+  // For the Verlet skin: reference point and time at the last neighbor search.
+  VecD<D> pointAtBuild = VecD<D>::Zero();
+  double timeAtBuild = 0;
+
+  // Total force the grains exerted on the wall in the last step.
+  VecD<D> force = VecD<D>::Zero();
+
+  // Returns the velocity of the wall's material at world point x now.
+  VecD<D> surfaceVelocity(const VecD<D>& x) const {
+    if (!moving) return VecD<D>::Zero();
+    return pointVelocity + cross(omega, VecD<D>(x - point));
+  }
+
+  // Places the wall at time t: evaluates the motion and rebuilds the current shape from
+  // shape0. Changes point, pointVelocity, turned and shape.
+  void moveTo(double t) {
+    const Real tau = t - t0;
+    const Real arg = 2 * std::numbers::pi * frequency * tau + phase;
+    point = point0 + velocity * tau + amplitude * (std::sin(arg) - std::sin(phase));
+    pointVelocity = velocity + amplitude * (2 * std::numbers::pi * frequency * std::cos(arg));
+    MatD<D> R;
+    if constexpr (D == 2) {
+      turned = Rotation2{omega * tau};
+      R = turned.matrix();
+    } else {
+      turned = quatFromRotationVector(omega * tau);
+      R = turned.toRotationMatrix();
+    }
+    const VecD<D> shift = point - point0;
+    shape = std::visit(
+        [&](const auto& s0) -> WallGeometry<D> {
+          auto s = s0;
+          using S = std::decay_t<decltype(s0)>;
+          if constexpr (std::is_same_v<S, physics::PlaneShape<D>>) {
+            s.point = point0 + shift + R * (s0.point - point0);
+            s.normal = R * s0.normal;
+          } else if constexpr (std::is_same_v<S, physics::FlatWallShape<D>>) {
+            s.centre = point0 + shift + R * (s0.centre - point0);
+            for (int k = 0; k < D - 1; ++k) s.axes[k] = R * s0.axes[k];
+          } else if constexpr (std::is_same_v<S, physics::BoxShape<D>>) {
+            s.centre = point0 + shift + R * (s0.centre - point0);
+            s.axes = R * s0.axes;
+          } else {
+            s.centre = point0 + shift + R * (s0.centre - point0);
+            if constexpr (D == 3) s.axis = R * s0.axis;
+          }
+          return s;
+        },
+        shape0);
+  }
+
+  // Returns an upper bound of how far any point of the wall that can touch a grain has moved
+  // since the last neighbor search (time now). Rotation of a drum about its own axis moves no
+  // surface point off the surface, so it counts nothing; a turning infinite plane gives +inf.
+  Real displacementSinceBuild(double now) const {
+    if (!moving) return 0;
+    Real d = (point - pointAtBuild).norm();
+    const Real angle = angularNorm() * (now - timeAtBuild);
+    if (angle == 0) return d;
+    return d + angle * reach();
+  }
+
+  // Returns |omega|.
+  Real angularNorm() const {
+    if constexpr (D == 2) {
+      return std::abs(omega);
+    } else {
+      return omega.norm();
+    }
+  }
+
+  // Returns the largest distance from the reference point to a wall point that matters for a
+  // rotation's displacement (inf for planes; 0 for a drum turning about its own axis).
+  Real reach() const {
+    const Real inf = std::numeric_limits<Real>::infinity();
+    return std::visit(
+        [&](const auto& s) -> Real {
+          using S = std::decay_t<decltype(s)>;
+          if constexpr (std::is_same_v<S, physics::PlaneShape<D>>) {
+            return inf;
+          } else if constexpr (std::is_same_v<S, physics::FlatWallShape<D>>) {
+            Real h2 = 0;
+            for (Real e : s.halfExtents) h2 += e * e;
+            return (s.centre - point).norm() + std::sqrt(h2);
+          } else if constexpr (std::is_same_v<S, physics::BoxShape<D>>) {
+            return (s.centre - point).norm() + s.halfExtents.norm();
+          } else {
+            bool aboutAxis;
+            if constexpr (D == 2) {
+              aboutAxis = true;
+            } else {
+              aboutAxis = omega.cross(s.axis).norm() <= 1e-12 * omega.norm();
+            }
+            const Real off = (s.centre - point).norm();
+            if (aboutAxis && off == 0) return 0;
+            if constexpr (D == 2) {
+              return off + s.radius;
+            } else {
+              return off + std::sqrt(s.radius * s.radius + s.halfLength * s.halfLength);
+            }
+          }
+        },
+        shape);
+  }
+};
+
+template <int D>
+class WallSet {
+ public:
+  WallSet() : pool_("wall"), names_("wall") {}
+
+  std::vector<Wall<D>> items;  // dense order
+
+  HandlePool<WallKind>& pool() { return pool_; }
+  const HandlePool<WallKind>& pool() const { return pool_; }
+  NameLookup<WallId>& names() { return names_; }
+  const NameLookup<WallId>& names() const { return names_; }
+  TagTable<WallKind>& tags() { return tags_; }
+  const TagTable<WallKind>& tags() const { return tags_; }
+
+  WallId add(Wall<D> w, const std::string& name, const std::vector<std::string>& tagList) {
+    const WallId id = pool_.allocate();
+    items.push_back(std::move(w));
+    if (!name.empty()) names_.add(name, id);
+    for (const std::string& t : tagList) tags_.add(id, t);
+    return id;
+  }
+  void remove(WallId id) {
+    applySwapRemove(items, pool_.free(id));
+    names_.remove(id);
+    tags_.removeObject(id);
+  }
+  bool anyMoving() const {
+    for (const auto& w : items) {
+      if (w.moving) return true;
+    }
+    return false;
+  }
+  size_t size() const { return items.size(); }
+
+ private:
+  HandlePool<WallKind> pool_;
+  NameLookup<WallId> names_;
+  TagTable<WallKind> tags_;
+};
+
+}  // namespace demlab::sim
