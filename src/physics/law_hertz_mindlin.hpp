@@ -11,10 +11,11 @@
 // E* and G* are mixed in mixPair (pair_params.hpp). The normal spring stores the Hertz energy
 // (2/5) kn delta^2 = (8/15) E* sqrt(R*) delta^(5/2).
 //
-// Cost per contact: two sqrt (a, and sqrt(a m*) shared by both dampers), plus one while
-// sliding; no pow, no allocation, no call.
+// Cost per contact: two sqrt (a, and sqrt(a m*) shared by both dampers), one more with
+// friction (the spring's stiffening), and one while sliding; no pow, no allocation, no call.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "physics/contact.hpp"
@@ -38,13 +39,12 @@ inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeo
   const Real spring = kn * g.overlap;
   Real fn = spring - gn * vn;
   ContactForce<D> out;
-  if (fn >= 0) {
-    out.dampingLoss = gn * vn * vn * dt;
-  } else {
-    // No attraction (contact.hpp): the spring's energy leaves through the damper unworked.
-    fn = 0;
-    out.dampingLoss = spring * vn * dt;
-  }
+  if (fn < 0) fn = 0;  // no attraction (contact.hpp)
+  // Damping loss: minus the damper's power, (fn - spring) times the normal velocity at the
+  // force time. vn is the half-step velocity that moved the positions; the force's own kick
+  // adds dt/2 fn/m* (the relative normal acceleration of two spheres), which keeps the ledger
+  // second order. Clamped, the damper takes the spring's unworked energy, spring vn dt.
+  out.dampingLoss = (spring - fn) * (vn + 0.5 * dt * fn / k.effectiveMass) * dt;
   out.force = fn * n;
   out.elasticEnergy = 0.4 * spring * g.overlap;
   out.frictionLoss = 0;
@@ -53,9 +53,11 @@ inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeo
     if (p.friction > 0) {
       const VecD<D> vt = k.relativeVelocity - vn * n;
       const Real kt = p.hertzKt * a;
-      // kt grows as sqrt(delta): over the step d(kt) = kt (d delta)/(2 delta) with
-      // d delta = -vn dt; the stored spring gains 1/2 |s|^2 d(kt) from no force.
-      out.springWork = -0.25 * kt * history->spring.squaredNorm() * vn * dt / g.overlap;
+      // kt = 8 G* sqrt(R* delta) changed with the overlap since the last step (the positions
+      // moved by vn dt): the stored spring gained 1/2 (kt - kt_before) |s|^2 from no force.
+      const Real before = std::max<Real>(0, g.overlap + vn * dt);
+      const Real ktBefore = p.hertzKt * std::sqrt(k.effectiveRadius * before);
+      out.springWork = 0.5 * (kt - ktBefore) * history->spring.squaredNorm();
       coulombSpringStep<SpringFrame::Project, D>(n, vt, kt, p.hertzGammaT * sqrtAm, p.friction * fn,
                                                  dt, *history, out);
     } else {

@@ -8,9 +8,11 @@
 // its rounding drift); the shear spring is incremental (tangential.hpp, Rotate frame).
 //
 // Damping: beta = 2 zeta sqrt(m*/k_n), so c_n = beta k_n = 2 zeta sqrt(m* k_n) is zeta times
-// the critical damping of the normal oscillator, and a head-on impact rebounds with
-// e = exp(-pi zeta / sqrt(1 - zeta^2)), the pair's restitution; contact time pi/omega_d with
-// omega_d = omega_n sqrt(1 - zeta^2), omega_n = sqrt(k_n/m*). c_t = beta k_t.
+// the critical damping of the normal oscillator, and c_t = beta k_t. zeta is chosen in mixPair
+// so that a head-on impact rebounds with the pair's restitution e exactly, given that the
+// normal force is cut off at zero (pair_params.hpp: linearDampingRatio; for an oscillator
+// without the cut-off it would be e = exp(-pi zeta / sqrt(1 - zeta^2)) and contact time
+// pi/omega_d, omega_d = omega_n sqrt(1 - zeta^2), omega_n = sqrt(k_n/m*)).
 //
 // Cost per contact: one sqrt (sqrt(m*/kn)), plus one while sliding, no allocation, no call.
 #pragma once
@@ -36,13 +38,12 @@ inline ContactForce<D> linearContact(const PairParams& p, const ContactGeometry<
   const Real spring = kn * g.overlap;
   Real fn = spring - beta * kn * vn;
   ContactForce<D> out;
-  if (fn >= 0) {
-    out.dampingLoss = beta * kn * vn * vn * dt;
-  } else {
-    // No attraction (contact.hpp): the spring's energy leaves through the damper unworked.
-    fn = 0;
-    out.dampingLoss = spring * vn * dt;
-  }
+  if (fn < 0) fn = 0;  // no attraction (contact.hpp)
+  // Damping loss: minus the damper's power, (fn - spring) times the normal velocity at the
+  // force time. vn is the half-step velocity that moved the positions; the force's own kick
+  // adds dt/2 fn/m* (the relative normal acceleration of two spheres), which keeps the ledger
+  // second order. Clamped, the damper takes the spring's unworked energy, spring vn dt.
+  out.dampingLoss = (spring - fn) * (vn + 0.5 * dt * fn / k.effectiveMass) * dt;
   out.force = fn * n;
   out.elasticEnergy = 0.5 * spring * g.overlap;
   out.frictionLoss = 0;

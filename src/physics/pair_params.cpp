@@ -35,6 +35,35 @@ Real rayleighSlowness(const MaterialDef& m) {
 
 }  // namespace
 
+Real linearForceDuration(Real zeta) {
+  if (zeta < 1) {
+    const Real s = std::sqrt((1 - zeta) * (1 + zeta));  // omega_d / omega_n, accurate near 1
+    return 2 * std::atan2(s, zeta) / s;
+  }
+  if (zeta == 1) return 2;
+  const Real w = std::sqrt((zeta - 1) * (zeta + 1));
+  return 2 * std::log(zeta + w) / w;
+}
+
+Real linearRestitution(Real zeta) {
+  const Real t = linearForceDuration(zeta);
+  if (zeta <= 1) return std::exp(-zeta * t);
+  const Real w = std::sqrt((zeta - 1) * (zeta + 1));
+  return std::exp(-zeta * t) * std::abs(std::cosh(w * t) - zeta / w * std::sinh(w * t));
+}
+
+Real linearDampingRatio(Real e) {
+  if (e >= 1) return 0;
+  // linearRestitution falls monotonically from 1 to 0: bracket, then bisect to rounding.
+  Real lo = 0, hi = 1;
+  while (linearRestitution(hi) > e) lo = hi, hi *= 2;
+  for (int i = 0; i < 200 && hi - lo > 1e-16 * hi; ++i) {
+    const Real mid = 0.5 * (lo + hi);
+    (linearRestitution(mid) > e ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b) {
   a.check();
   b.check();
@@ -51,7 +80,7 @@ PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b) {
   const Real lnE = std::log(p.restitution);
   const Real root = std::sqrt(lnE * lnE + std::numbers::pi * std::numbers::pi);
   const Real beta = lnE / root;  // <= 0; LIGGGHTS's betaeff
-  p.dampingRatio = -beta;        // zeta: e = exp(-pi zeta / sqrt(1 - zeta^2))
+  p.dampingRatio = linearDampingRatio(p.restitution);
 
   // Linear law.
   const Real kn = mixStiffness(a.normalStiffness, b.normalStiffness);

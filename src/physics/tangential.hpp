@@ -58,9 +58,11 @@ inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt, Real kt, Real
     // dissipates cap per unit length. (LIGGGHTS zeroes the force if |s| = 0 with cap = 0.)
     const Real len = std::sqrt(s2);
     const Real ratio = cap / (kt * len);
+    const VecD<D> u = vt * dt;
+    const Real before = 0.5 * kt * (s - u).squaredNorm();
     s *= ratio;
     out.force -= kt * s;
-    out.frictionLoss += cap * (len - cap / kt);
+    out.frictionLoss += before + kt * s.dot(u) - 0.5 * cap * cap / kt;
     out.elasticEnergy += 0.5 * cap * cap / kt;
   } else {
     out.force -= kt * s + ct * vt;

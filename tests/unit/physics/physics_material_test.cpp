@@ -152,9 +152,8 @@ TEST(PhysicsMaterial, MixingFormulas) {
   EXPECT_NEAR(p.shearEff, gstar, 1e-9 * gstar);
   EXPECT_DOUBLE_EQ(p.friction, 0.3);
   EXPECT_DOUBLE_EQ(p.restitution, std::sqrt(0.4));
-  // zeta reproduces e through the damped-oscillator formula.
-  const Real z = p.dampingRatio;
-  EXPECT_NEAR(std::exp(-std::numbers::pi * z / std::sqrt(1 - z * z)), p.restitution, 1e-14);
+  // zeta reproduces e through the cut-off oscillator's restitution (pair_params.hpp).
+  EXPECT_NEAR(linearRestitution(p.dampingRatio), p.restitution, 1e-14);
   // One material: e and the Mindlin ratio 2(1-nu)/(2-nu).
   const PairParams q = mixPair(LawKind::Linear, a, a);
   EXPECT_EQ(q.restitution, 0.5);
@@ -172,6 +171,32 @@ TEST(PhysicsMaterial, MixingFormulas) {
   const PairParams st = mixPair(LawKind::Linear, s, t);
   EXPECT_NEAR(st.knFixed, 2 * 1e5 * 3e5 / 4e5, 1e-6);
   EXPECT_NEAR(st.shearRatio, 1e5 / st.knFixed, 1e-14);  // the only shear stiffness given
+}
+
+TEST(PhysicsMaterial, CutOffRestitution) {
+  // Small damping: the cut-off barely matters and the textbook formula holds to O(zeta^2).
+  for (Real z : {1e-4, 1e-3}) {
+    const Real textbook = std::exp(-std::numbers::pi * z / std::sqrt(1 - z * z));
+    EXPECT_NEAR(linearRestitution(z), textbook, 4 * z * z);
+  }
+  // The three branches join continuously at zeta = 1 (e = exp(-2), duration 2/omega_n).
+  EXPECT_DOUBLE_EQ(linearRestitution(1), std::exp(-2.0));
+  EXPECT_NEAR(linearRestitution(1 - 1e-9), std::exp(-2.0), 1e-8);
+  EXPECT_NEAR(linearRestitution(1 + 1e-9), std::exp(-2.0), 1e-8);
+  EXPECT_NEAR(linearForceDuration(1 - 1e-9), 2, 1e-8);
+  EXPECT_NEAR(linearForceDuration(1 + 1e-9), 2, 1e-8);
+  EXPECT_DOUBLE_EQ(linearForceDuration(0), std::numbers::pi);
+  // Overdamped: e ~ 1/(4 zeta^2) for large zeta.
+  EXPECT_NEAR(linearRestitution(100) * 4e4, 1, 1e-3);
+  // The inverse, over the whole range, including overdamped e < exp(-2).
+  Real last = 1;
+  for (Real e : {1.0, 0.99, 0.9, 0.5, 0.2, 0.1353, 0.1, 0.01, 1e-4}) {
+    const Real z = linearDampingRatio(e);
+    EXPECT_NEAR(linearRestitution(z), e, 1e-13 * (1 + 1 / e) * e) << e;
+    EXPECT_LE(z, e == 1.0 ? 0 : 1e9);
+    EXPECT_LE(linearRestitution(z), last + 1e-15);
+    last = linearRestitution(z);
+  }
 }
 
 TEST(PhysicsMaterial, TimeSteps) {
