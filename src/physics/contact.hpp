@@ -21,22 +21,23 @@
 // "limitForce on" is given; demlab always cuts it off. Contact counts do not depend on this
 // (they are geometric); trajectories match LIGGGHTS run with limitForce on.
 //
-// Velocity to pass: the one that moved the positions in this step (in velocity Verlet the
-// half-step velocity v(n+1/2), as LIGGGHTS passes it). The shear spring integrates it, so any
-// other choice (say, a velocity extrapolated to the force time) makes a sticking contact gain
-// or lose energy at first order in dt.
+// Velocity to pass: either the half-step velocity v(n+1/2) that moved the positions (plain
+// velocity Verlet, as LIGGGHTS passes it; set velocityLag = 0.5) or a velocity synchronized
+// with the positions (velocityLag = 0). The shear spring integrates it as the step's
+// displacement.
 //
 // Energy. Per step each law reports the elastic energy its springs hold after the step, the
 // energy dissipated during the step by damping and by Coulomb sliding, and the stiffening work
 // springWork (Hertz-Mindlin's tangential spring), so that over a contact's life
 //   work done on the bodies by the contact
 //     = -(elastic energy now) - sum(dampingLoss + frictionLoss) + sum(springWork).
-// The normal damping loss is charged at the normal velocity of the force time, v + dt/2 Fn/m*
-// (the kick the force itself gives), so the normal ledger is second order: the unit tests
-// close head-on impacts to 3e-5 of the kinetic energy at dt = tc/200. The tangential losses
-// are charged at the half-step velocity (a law does not know the rotational inertia that the
-// same correction would need), so that part is first order: 7e-4 at tc/200 for grains sliding
-// on a wall, 2e-3 for a fast-spinning grain (stick-slip), halving with dt.
+// The normal damping loss is charged at the normal velocity of the force time (see
+// velocityLag), so the normal ledger is second order in dt: the unit tests close head-on
+// impacts to 3e-5 of the kinetic energy at dt = tc/200 with half-step velocities. The
+// tangential losses are charged at the velocity given (the same correction would need the
+// grains' rotational inertia, which a law does not see), so with half-step velocities that
+// part is first order: 7e-4 at tc/200 for grains sliding on a wall, 2e-3 for a fast-spinning
+// grain (stick-slip), halving with dt.
 // Where the normal force is clamped at 0, the spring energy that disappears without doing work
 // is booked as damping loss (it is what the damper took).
 #pragma once
@@ -58,6 +59,11 @@ struct ContactKinematics {
   VecD<D> relativeVelocity;  // B's material velocity at the contact point minus A's (m/s)
   Real effectiveMass;        // m_a m_b / (m_a + m_b); against a wall (infinite mass): m_grain
   Real effectiveRadius;      // r_a r_b / (r_a + r_b); against a wall (flat): r_grain
+  // How many steps relativeVelocity lags the force time, for the damping ledger only: 0 when
+  // the sim passes velocities synchronized with the positions (v(t+dt/2) + a(t) dt/2), 0.5
+  // for plain velocity Verlet's half-step velocities v(t+dt/2). The damper's loss is charged
+  // at vn + velocityLag dt Fn/m*, the velocity the force's own kick leads to.
+  Real velocityLag = 0;
 };
 
 // The tangential spring of one contact, kept per pair (InstanceInteractionManager) from the

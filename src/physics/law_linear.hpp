@@ -40,10 +40,10 @@ inline ContactForce<D> linearContact(const PairParams& p, const ContactGeometry<
   ContactForce<D> out;
   if (fn < 0) fn = 0;  // no attraction (contact.hpp)
   // Damping loss: minus the damper's power, (fn - spring) times the normal velocity at the
-  // force time. vn is the half-step velocity that moved the positions; the force's own kick
-  // adds dt/2 fn/m* (the relative normal acceleration of two spheres), which keeps the ledger
-  // second order. Clamped, the damper takes the spring's unworked energy, spring vn dt.
-  out.dampingLoss = (spring - fn) * (vn + 0.5 * dt * fn / k.effectiveMass) * dt;
+  // force time, vn plus the lagging part of the force's own kick (contact.hpp, velocityLag;
+  // fn/m* is the relative normal acceleration of two spheres). Clamped, the damper takes the
+  // spring's unworked energy, spring vn dt.
+  out.dampingLoss = (spring - fn) * (vn + k.velocityLag * dt * fn / k.effectiveMass) * dt;
   out.force = fn * n;
   out.elasticEnergy = 0.5 * spring * g.overlap;
   out.frictionLoss = 0;

@@ -37,12 +37,13 @@ struct ImpactResult {
 // closing speed v. Velocity Verlet as LIGGGHTS runs it: the law sees the half-step velocity
 // v(n+1/2), the one that moved the positions in the step (contact.hpp says why).
 template <int D>
-ImpactResult headOn(const PairParams& p, Real ra, Real rb, Real ma, Real mb, Real v, Real dt) {
+ImpactResult headOn(const PairParams& p, Real ra, Real rb, Real ma, Real mb, Real v, Real dt,
+                    bool synchronized = false) {
   const ContactLawFn<D> law = contactLawFor<D>(p.law);
   VecD<D> xa = VecD<D>::Zero(), xb = VecD<D>::Unit(0) * (ra + rb);
   VecD<D> va = VecD<D>::Unit(0) * (v * mb / (ma + mb)),
           vb = -VecD<D>::Unit(0) * (v * ma / (ma + mb));
-  const ContactKinematics<D> kin0{VecD<D>::Zero(), ma * mb / (ma + mb), ra * rb / (ra + rb)};
+  const ContactKinematics<D> kin0{VecD<D>::Zero(), ma * mb / (ma + mb), ra * rb / (ra + rb), 0.5};
   VecD<D> f = VecD<D>::Zero();  // force on B
   ImpactResult r{};
   r.ke0 = 0.5 * (ma * va.squaredNorm() + mb * vb.squaredNorm());
@@ -60,6 +61,11 @@ ImpactResult headOn(const PairParams& p, Real ra, Real rb, Real ma, Real mb, Rea
       r.peakOverlap = std::max(r.peakOverlap, g->overlap);
       ContactKinematics<D> k = kin0;
       k.relativeVelocity = hb - ha;
+      if (synchronized) {
+        // The sim's default (src/sim/integrator.hpp): velocities advanced to the force time.
+        k.relativeVelocity += 0.5 * dt * f * (1 / mb + 1 / ma);
+        k.velocityLag = 0;
+      }
       const ContactForce<D> c = law(p, *g, k, nullptr, dt);
       fNew = c.force;
       r.damping += c.dampingLoss;
@@ -139,6 +145,21 @@ void linearHeadOn(Real e) {
 
 TEST(PhysicsImpact, LinearHeadOn3D) {
   for (Real e : {1.0, 0.9, 0.5, 0.2, 0.05}) linearHeadOn<3>(e);
+}
+
+TEST(PhysicsImpact, SynchronizedVelocitiesLedger) {
+  // Velocities synchronized with the positions (velocityLag 0) close the ledger as well.
+  for (LawKind law : {LawKind::Linear, LawKind::HertzMindlin}) {
+    const MaterialDef m = material(0.5, 0.5);
+    const PairParams p = mixPair(law, m, m);
+    const Real r = 1e-3, mass = 1.05e-5, v = 1.0;
+    const Real tc =
+        2.868 * std::pow(0.25 * mass * mass / (0.5 * r * p.youngEff * p.youngEff * v), 0.2);
+    const ImpactResult a = headOn<3>(p, r, r, mass, mass, v, tc / 200, true);
+    EXPECT_NEAR(a.ke0, a.ke1 + a.damping, 1e-3 * a.ke0) << lawName(law);
+    std::printf("synchronized %s: e %.4f ledger %.2e\n", std::string(lawName(law)).c_str(),
+                a.restitution, (a.ke0 - a.ke1 - a.damping) / a.ke0);
+  }
 }
 
 TEST(PhysicsImpact, LinearHeadOn2D) {
@@ -244,7 +265,7 @@ Real obliqueLedger(LawKind lawKind, Real e, Real mu, Real tangentialSpeed, Real 
     if (g) {
       started = true;
       const VecD<D> arm = g->point - x;
-      const ContactKinematics<D> k{-(hv + cross(hw, arm)), mass, r};
+      const ContactKinematics<D> k{-(hv + cross(hw, arm)), mass, r, 0.5};
       const ContactForce<D> c = law(p, *g, k, &hist, dt);
       fNew = -c.force;  // the grain is A
       tNew = cross(arm, fNew);
