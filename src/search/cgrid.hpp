@@ -89,8 +89,7 @@ class CGrid final : public BroadPhase<D, T> {
   std::size_t workingBytes() const override {
     std::size_t bytes = (keys_.capacity() + order_.capacity()) * sizeof(uint32_t) +
                         boxes_.capacity() * sizeof(Box<D, T>) +
-                        cells_.capacity() * sizeof(CellRange) + scratch_.bytes() +
-                        maskBytes();
+                        cells_.capacity() * sizeof(CellRange) + scratch_.bytes() + maskBytes();
     for (const auto& s : subdividers_) {
       bytes +=
           (s.input.capacity() + s.current.capacity() + s.held.capacity() + s.merged.capacity()) * 4;
@@ -164,6 +163,12 @@ class CGrid final : public BroadPhase<D, T> {
     }
     const double statistic =
         extents_ == Extents::Fixed ? largestExtent<D, T>(boxes) : volumeSizeStatistic<D, T>(boxes);
+    // Fixed extents need a cell at least as wide as every box; wider than the largest double
+    // cannot be bucketed, so say so rather than miss pairs.
+    if (!std::isfinite(statistic)) {
+      throw Error("bad box set: sgrid needs every extent to be a finite double (use cgrid)",
+                  {"VALUE", "BOX"});
+    }
     double span = 0.0;
     for (int k = 0; k < D; ++k) span = std::max(span, top[k] - origin_[k]);
     // A cell so small that the scene spans more than kMaxBucket buckets would only pile
@@ -284,6 +289,12 @@ class CGrid final : public BroadPhase<D, T> {
       }
       begin = end;
     }
+    // held and merged trade places at every bucket, so which of them needed the room depends
+    // on the parity of the bucket count; with both at the larger capacity, a later call on the
+    // same input allocates nothing.
+    const std::size_t room = std::max(s.held.capacity(), s.merged.capacity());
+    s.held.reserve(room);
+    s.merged.reserve(room);
   }
 
   // Returns the minimum coordinate of entry e on the last axis.
@@ -387,7 +398,7 @@ class CGrid final : public BroadPhase<D, T> {
   Stats stats_;
   double inverseCell_ = 1.0;
   std::array<double, D> origin_{};
-  std::vector<uint32_t> keys_;       // bucket key of each object, in the caller's order
+  std::vector<uint32_t> keys_;    // bucket key of each object, in the caller's order
   std::vector<uint32_t> order_;   // sorted position -> caller's index
   std::vector<Box<D, T>> boxes_;  // boxes in sorted order (hot for the contact mask)
   std::vector<CellRange> cells_;  // bucket ranges in sorted order

@@ -34,12 +34,12 @@ class Nbs final : public BroadPhase<D, T> {
 
   // Stores every overlapping pair once in `out` (see BroadPhase). Changes the member buffers,
   // which keep their capacity for the next call. Throws demlab::Error {DEMLAB VALUE BOX} on a
-  // bad box and {DEMLAB VALUE SIZE} if there are more boxes than int32 list links can address.
+  // bad box and {DEMLAB LIMIT COUNT} if there are more boxes than int32 list links can address.
   void findPairs(std::span<const Box<D, T>> boxes, std::vector<IndexPair>& out) override {
     out.clear();
     validateBoxes<D, T>(boxes);
     if (boxes.size() > static_cast<std::size_t>(std::numeric_limits<int32_t>::max())) {
-      throw Error("too many boxes for nbs: " + std::to_string(boxes.size()), {"VALUE", "SIZE"});
+      throw Error("too many boxes for nbs: " + std::to_string(boxes.size()), {"LIMIT", "COUNT"});
     }
     const auto n = static_cast<int32_t>(boxes.size());
     if (n < 2) return;

@@ -34,12 +34,12 @@ class SweepAndPrune final : public BroadPhase<D, T> {
 
   // Stores every overlapping pair once in `out` (see BroadPhase). Changes the member buffers
   // and the remembered order and axis used by the next call. Throws demlab::Error
-  // {DEMLAB VALUE BOX} on a bad box and {DEMLAB VALUE SIZE} if the indices overflow uint32.
+  // {DEMLAB VALUE BOX} on a bad box and {DEMLAB LIMIT COUNT} if the indices overflow uint32.
   void findPairs(std::span<const Box<D, T>> boxes, std::vector<IndexPair>& out) override {
     out.clear();
     validateBoxes<D, T>(boxes);
     if (boxes.size() > std::numeric_limits<uint32_t>::max()) {
-      throw Error("too many boxes for sap: " + std::to_string(boxes.size()), {"VALUE", "SIZE"});
+      throw Error("too many boxes for sap: " + std::to_string(boxes.size()), {"LIMIT", "COUNT"});
     }
     const auto n = static_cast<uint32_t>(boxes.size());
     sortBoxes(boxes, n);
