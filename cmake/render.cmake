@@ -1,0 +1,36 @@
+# Off-screen snapshots (src/render): the demlab_render library over OSMesa and libpng, its tests
+# (demlab_render_tests, ctest name "render") and bench_render. With DEMLAB_RENDER off, or when
+# OSMesa or libpng is missing, nothing here is built and everything else still is; code that
+# renders checks if(TARGET demlab_render), and demlab_render carries DEMLAB_HAVE_RENDER=1.
+option(DEMLAB_RENDER "Build the off-screen renderer (OSMesa, libpng)" ON)
+
+if(NOT DEMLAB_RENDER)
+  message(STATUS "demlab: renderer off (DEMLAB_RENDER=OFF); snapshots unavailable")
+  return()
+endif()
+
+find_package(PkgConfig QUIET)
+if(PkgConfig_FOUND)
+  # OSMesa alone: it carries the GL entry points, reached through OSMesaGetProcAddress.
+  pkg_check_modules(DEMLAB_OSMESA QUIET IMPORTED_TARGET osmesa)
+endif()
+find_package(PNG QUIET)
+if(NOT DEMLAB_OSMESA_FOUND OR NOT PNG_FOUND)
+  message(STATUS "demlab: renderer not built: OSMesa found: ${DEMLAB_OSMESA_FOUND}, libpng found: "
+                 "${PNG_FOUND} (Debian: libosmesa6-dev libpng-dev); snapshots unavailable")
+  return()
+endif()
+
+file(GLOB DEMLAB_RENDER_SOURCES CONFIGURE_DEPENDS src/render/*.cpp)
+add_library(demlab_render STATIC ${DEMLAB_RENDER_SOURCES})
+target_link_libraries(demlab_render PUBLIC demlab_core PRIVATE PkgConfig::DEMLAB_OSMESA PNG::PNG)
+target_compile_definitions(demlab_render PUBLIC DEMLAB_HAVE_RENDER=1)
+
+file(GLOB DEMLAB_RENDER_TESTS CONFIGURE_DEPENDS tests/unit/render/*.cpp)
+add_executable(demlab_render_tests ${DEMLAB_RENDER_TESTS})
+target_link_libraries(demlab_render_tests PRIVATE demlab_render PNG::PNG GTest::gtest
+                                                  GTest::gtest_main Threads::Threads)
+add_test(NAME render COMMAND demlab_render_tests --gtest_brief=1)
+
+add_executable(bench_render bench/bench_render.cpp)
+target_link_libraries(bench_render PRIVATE demlab_render)

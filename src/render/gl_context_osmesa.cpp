@@ -1,0 +1,59 @@
+// GlContext over OSMesa (Mesa's off-screen GL; llvmpipe on a machine without a GPU).
+#include <GL/osmesa.h>
+
+#include <array>
+#include <cstdint>
+
+#include "core/error.hpp"
+#include "render/gl_context.hpp"
+
+namespace demlab::render {
+namespace {
+
+class OsMesaContext : public GlContext {
+ public:
+  OsMesaContext() {
+    // No depth or stencil in OSMesa's own buffer: all drawing goes to the renderer's FBO.
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           0,
+                           OSMESA_STENCIL_BITS,
+                           0,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           3,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           3,
+                           0};
+    ctx_ = OSMesaCreateContextAttribs(attribs, nullptr);
+    if (!ctx_)
+      throw Error("couldn't create an OpenGL 3.3 core context with OSMesa", {"RENDER", "CONTEXT"});
+    makeCurrent();
+  }
+  ~OsMesaContext() override { OSMesaDestroyContext(ctx_); }
+
+  void makeCurrent() override {
+    if (!OSMesaMakeCurrent(ctx_, buffer_.data(), GL_UNSIGNED_BYTE, 1, 1))
+      throw Error("couldn't make the OSMesa context current", {"RENDER", "CONTEXT"});
+  }
+
+  void* procAddress(const char* name) override {
+    return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
+  }
+
+  std::string name() const override { return "osmesa"; }
+
+ private:
+  OSMesaContext ctx_ = nullptr;
+  std::array<std::uint8_t, 4> buffer_{};  // the 1x1 default framebuffer OSMesa requires
+};
+
+}  // namespace
+
+std::unique_ptr<GlContext> makeGlContext() {
+  return std::make_unique<OsMesaContext>();
+}
+
+}  // namespace demlab::render

@@ -1,0 +1,337 @@
+// The GL renderer: draws a RenderScene into a framebuffer object at antialias x the image size,
+// reads it back, box-filters it down and draws the overlay. GL objects are created once and
+// reused; only the instance buffers are refilled per frame.
+#include <algorithm>
+#include <cstring>
+
+#include "core/error.hpp"
+#include "render/colour_map.hpp"
+#include "render/gl_api.hpp"
+#include "render/gl_context.hpp"
+#include "render/gl_shaders.hpp"
+#include "render/occlusion.hpp"
+#include "render/overlay.hpp"
+#include "render/png.hpp"
+#include "render/renderer.hpp"
+#include "render/view.hpp"
+#include "render/wall_geometry.hpp"
+
+namespace demlab::render {
+
+void throwMissingGlFunction(const std::string& name) {
+  throw Error("couldn't find OpenGL function \"" + name + "\"", {"RENDER", "CONTEXT"});
+}
+
+namespace {
+
+struct GrainInstance {
+  float centre[3], radius;
+  std::uint8_t rgba[4];
+  float angle;
+};
+
+class GlRenderer : public Renderer {
+ public:
+  GlRenderer() : context_(makeGlContext()) {
+    gl_.load([this](const char* name) { return context_->procAddress(name); });
+    const char* version = reinterpret_cast<const char*>(gl_.GetString(GL_RENDERER));
+    name_ = context_->name() + ": " + (version ? version : "unknown GL renderer");
+    try {
+      sphereProgram_ = buildProgram(gl_, kGrainVertexShader, kSphereFragmentShader, "sphere");
+      discProgram_ = buildProgram(gl_, kGrainVertexShader, kDiscFragmentShader, "disc");
+      lineProgram_ = buildProgram(gl_, kLineVertexShader, kColourFragmentShader, "line");
+      faceProgram_ = buildProgram(gl_, kFaceVertexShader, kColourFragmentShader, "face");
+    } catch (...) {
+      release();
+      throw;
+    }
+    setUpVertexArrays();
+  }
+
+  ~GlRenderer() override { release(); }
+
+  std::string name() const override { return name_; }
+
+  Image render(const RenderScene& scene, const RenderOptions& options) override {
+    checkScene(scene);
+    checkOptions(options);
+    context_->makeCurrent();
+    const int ss = options.antialias;
+    const int w = options.width * ss, h = options.height * ss;
+    ensureFramebuffer(w, h);
+
+    const View view = makeView(scene, options);
+    fillGrains(scene, options, view);
+    wallGeometry(scene, sceneBounds(scene), view.anchor, options.wallAlpha, walls_);
+
+    gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    gl_.Viewport(0, 0, w, h);
+    const Rgb& bg = options.background;
+    gl_.ClearColor(bg[0], bg[1], bg[2], 1);
+    gl_.ClearDepth(1);
+    gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl_.Enable(GL_DEPTH_TEST);
+    gl_.DepthFunc(GL_LESS);
+    gl_.DepthMask(GL_TRUE);
+    gl_.Disable(GL_BLEND);
+
+    const Eigen::Matrix4f viewM = view.view.cast<float>(), projM = view.proj.cast<float>();
+    const int ortho = view.orthographic ? 1 : 0;
+    if (!grains_.empty()) {
+      const GLuint p = scene.dim == 2 ? discProgram_ : sphereProgram_;
+      gl_.UseProgram(p);
+      setMatrices(p, viewM, projM);
+      gl_.Uniform1i(uniform(p, "ortho"), ortho);
+      gl_.Uniform1i(uniform(p, "flat2d"), scene.dim == 2 ? 1 : 0);
+      gl_.Uniform1f(uniform(p, "viewportHeight"), float(h));
+      const Rgb& oc = options.outlineColour;
+      gl_.Uniform3f(uniform(p, "outlineColour"), oc[0], oc[1], oc[2]);
+      gl_.Uniform1f(uniform(p, "outlinePx"), float(options.outlineWidth * ss));
+      gl_.BindVertexArray(grainVao_);
+      const size_t drawn = grains_.size() / 4;
+      ensureQuadIndices(drawn);
+      gl_.BindBuffer(GL_ARRAY_BUFFER, grainBuffer_);
+      gl_.BufferData(GL_ARRAY_BUFFER, grains_.size() * sizeof(GrainInstance), grains_.data(),
+                     GL_STREAM_DRAW);
+      gl_.DrawElements(GL_TRIANGLES, GLsizei(6 * drawn), GL_UNSIGNED_INT, nullptr);
+    }
+    if (!walls_.lines.empty()) {
+      gl_.UseProgram(lineProgram_);
+      setMatrices(lineProgram_, viewM, projM);
+      gl_.Uniform1i(uniform(lineProgram_, "ortho"), ortho);
+      gl_.Uniform1f(uniform(lineProgram_, "nearZ"), float(view.near));
+      gl_.Uniform2f(uniform(lineProgram_, "viewport"), float(w), float(h));
+      gl_.Uniform1f(uniform(lineProgram_, "halfWidth"), float(options.wallWidth * ss / 2));
+      gl_.BindVertexArray(lineVao_);
+      gl_.BindBuffer(GL_ARRAY_BUFFER, lineBuffer_);
+      gl_.BufferData(GL_ARRAY_BUFFER, walls_.lines.size() * sizeof(LineInstance),
+                     walls_.lines.data(), GL_STREAM_DRAW);
+      gl_.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(walls_.lines.size()));
+    }
+    if (!walls_.triangles.empty()) {
+      // Translucent faces last, tested against the grains' depth but not writing it, so a
+      // grain behind a drum's mantle shows through.
+      gl_.Enable(GL_BLEND);
+      gl_.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+      gl_.DepthMask(GL_FALSE);
+      gl_.UseProgram(faceProgram_);
+      setMatrices(faceProgram_, viewM, projM);
+      gl_.BindVertexArray(faceVao_);
+      gl_.BindBuffer(GL_ARRAY_BUFFER, faceBuffer_);
+      gl_.BufferData(GL_ARRAY_BUFFER, walls_.triangles.size() * sizeof(FaceVertex),
+                     walls_.triangles.data(), GL_STREAM_DRAW);
+      gl_.DrawArrays(GL_TRIANGLES, 0, GLsizei(walls_.triangles.size()));
+      gl_.DepthMask(GL_TRUE);
+      gl_.Disable(GL_BLEND);
+    }
+    gl_.BindVertexArray(0);
+    pixels_.resize(size_t(4) * w * h);
+    gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
+    gl_.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, pixels_.data());
+    gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (const GLenum err = gl_.GetError(); err != GL_NO_ERROR)
+      throw Error("OpenGL error " + std::to_string(err) + " while rendering", {"RENDER", "GL"});
+
+    Image image = downsample(options.width, options.height, ss);
+
+    drawOverlay(image, scene, options);
+
+    return image;
+  }
+
+ private:
+  GLint uniform(GLuint p, const char* name) { return gl_.GetUniformLocation(p, name); }
+
+  void setMatrices(GLuint p, const Eigen::Matrix4f& v, const Eigen::Matrix4f& pr) {
+    // Eigen stores column-major, as GL expects with transpose = GL_FALSE.
+    gl_.UniformMatrix4fv(uniform(p, "view"), 1, GL_FALSE, v.data());
+    gl_.UniformMatrix4fv(uniform(p, "proj"), 1, GL_FALSE, pr.data());
+  }
+
+  // Returns nothing; makes the bound grain VAO's index buffer hold at least n quads (two
+  // triangles over vertices 4i..4i+3 each).
+  void ensureQuadIndices(size_t n) {
+    if (n <= quadIndexCount_) return;
+    const size_t m = std::max(n, 2 * quadIndexCount_);
+    std::vector<GLuint> idx(6 * m);
+    for (size_t i = 0; i < m; ++i) {
+      const GLuint b = GLuint(4 * i);
+      const GLuint q[6] = {b, b + 1, b + 2, b + 2, b + 1, b + 3};
+      std::copy(q, q + 6, &idx[6 * i]);
+    }
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer_);
+    gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, idx.size() * sizeof(GLuint), idx.data(),
+                   GL_STATIC_DRAW);
+    quadIndexCount_ = m;
+  }
+
+  // Returns nothing; fills grains_ with the 4 vertices of each grain that may be visible.
+  void fillGrains(const RenderScene& scene, const RenderOptions& options, const View& view) {
+    grainColours(scene, options, colours_);
+    const size_t n = scene.size();
+    if (scene.dim == 3 && options.cullHidden) {
+      cullHiddenGrains(scene, view, keep_);
+    } else {
+      keep_.resize(n);
+      for (size_t i = 0; i < n; ++i) keep_[i] = std::uint32_t(i);
+    }
+    grains_.resize(4 * keep_.size());
+    const bool marks = scene.dim == 2 && !scene.angles.empty();
+    const Vec3& anchor = view.anchor;
+    for (size_t m = 0; m < keep_.size(); ++m) {
+      const size_t i = keep_[m];
+      GrainInstance& g = grains_[4 * m];
+      const Vec3 c = grainCentre(scene, i) - anchor;
+      g.centre[0] = float(c.x());
+      g.centre[1] = float(c.y());
+      g.centre[2] = float(c.z());
+      g.radius = float(scene.radii[i]);
+      std::memcpy(g.rgba, &colours_[4 * i], 3);
+      g.rgba[3] = marks ? 255 : 0;
+      g.angle = marks ? float(scene.angles[i]) : 0.0f;
+      grains_[4 * m + 1] = grains_[4 * m + 2] = grains_[4 * m + 3] = g;
+    }
+  }
+
+  void setUpVertexArrays() {
+    const float ends[] = {0, -1, 0, 1, 1, -1, 1, 1};
+    gl_.GenBuffers(1, &endBuffer_);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, endBuffer_);
+    gl_.BufferData(GL_ARRAY_BUFFER, sizeof ends, ends, GL_STATIC_DRAW);
+    gl_.GenBuffers(1, &grainBuffer_);
+    gl_.GenBuffers(1, &lineBuffer_);
+    gl_.GenBuffers(1, &faceBuffer_);
+    gl_.GenBuffers(1, &indexBuffer_);
+
+    auto attrib = [&](GLuint loc, GLint size, GLenum type, bool norm, GLsizei stride, size_t off,
+                      GLuint divisor) {
+      gl_.EnableVertexAttribArray(loc);
+      gl_.VertexAttribPointer(loc, size, type, norm ? GL_TRUE : GL_FALSE, stride,
+                              reinterpret_cast<const void*>(off));
+      gl_.VertexAttribDivisor(loc, divisor);
+    };
+    gl_.GenVertexArrays(1, &grainVao_);
+    gl_.BindVertexArray(grainVao_);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer_);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, grainBuffer_);
+    constexpr GLsizei gs = sizeof(GrainInstance);
+    attrib(1, 4, GL_FLOAT, false, gs, offsetof(GrainInstance, centre), 0);
+    attrib(2, 4, GL_UNSIGNED_BYTE, true, gs, offsetof(GrainInstance, rgba), 0);
+    attrib(3, 1, GL_FLOAT, false, gs, offsetof(GrainInstance, angle), 0);
+
+    gl_.GenVertexArrays(1, &lineVao_);
+    gl_.BindVertexArray(lineVao_);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, endBuffer_);
+    attrib(0, 2, GL_FLOAT, false, 0, 0, 0);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, lineBuffer_);
+    constexpr GLsizei ls = sizeof(LineInstance);
+    attrib(1, 3, GL_FLOAT, false, ls, offsetof(LineInstance, a), 1);
+    attrib(2, 3, GL_FLOAT, false, ls, offsetof(LineInstance, b), 1);
+    attrib(3, 4, GL_UNSIGNED_BYTE, true, ls, offsetof(LineInstance, rgba), 1);
+
+    gl_.GenVertexArrays(1, &faceVao_);
+    gl_.BindVertexArray(faceVao_);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, faceBuffer_);
+    constexpr GLsizei fs = sizeof(FaceVertex);
+    attrib(0, 3, GL_FLOAT, false, fs, offsetof(FaceVertex, p), 0);
+    attrib(1, 3, GL_FLOAT, false, fs, offsetof(FaceVertex, n), 0);
+    attrib(2, 4, GL_UNSIGNED_BYTE, true, fs, offsetof(FaceVertex, rgba), 0);
+    gl_.BindVertexArray(0);
+  }
+
+  void ensureFramebuffer(int w, int h) {
+    if (fbo_ && fboWidth_ == w && fboHeight_ == h) return;
+    releaseFramebuffer();
+    gl_.GenRenderbuffers(1, &colourRb_);
+    gl_.BindRenderbuffer(GL_RENDERBUFFER, colourRb_);
+    gl_.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    gl_.GenRenderbuffers(1, &depthRb_);
+    gl_.BindRenderbuffer(GL_RENDERBUFFER, depthRb_);
+    gl_.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    gl_.GenFramebuffers(1, &fbo_);
+    gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colourRb_);
+    gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthRb_);
+    const GLenum status = gl_.CheckFramebufferStatus(GL_FRAMEBUFFER);
+    gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+      releaseFramebuffer();
+      throw Error("couldn't make a " + std::to_string(w) + "x" + std::to_string(h) +
+                      " framebuffer (status " + std::to_string(status) + ")",
+                  {"RENDER", "FRAMEBUFFER"});
+    }
+    fboWidth_ = w;
+    fboHeight_ = h;
+  }
+
+  // Returns the final image: the mean of each ss x ss block of the read-back pixels, flipped so
+  // row 0 is the top (GL's row 0 is the bottom).
+  Image downsample(int width, int height, int ss) const {
+    Image img(width, height);
+    const int w = width * ss, h = height * ss;
+    const unsigned n = unsigned(ss * ss), round = n / 2;
+    for (int y = 0; y < height; ++y) {
+      std::uint8_t* out = img.at(0, height - 1 - y);
+      for (int x = 0; x < width; ++x) {
+        unsigned sum[3] = {0, 0, 0};
+        for (int j = 0; j < ss; ++j) {
+          const std::uint8_t* row = &pixels_[(size_t(y * ss + j) * w + size_t(x) * ss) * 4];
+          for (int i = 0; i < ss; ++i)
+            for (int k = 0; k < 3; ++k) sum[k] += row[4 * i + k];
+        }
+        for (int k = 0; k < 3; ++k) out[4 * x + k] = std::uint8_t((sum[k] + round) / n);
+        out[4 * x + 3] = 255;
+      }
+    }
+    (void)h;
+    return img;
+  }
+
+  void releaseFramebuffer() {
+    if (fbo_) gl_.DeleteFramebuffers(1, &fbo_);
+    if (colourRb_) gl_.DeleteRenderbuffers(1, &colourRb_);
+    if (depthRb_) gl_.DeleteRenderbuffers(1, &depthRb_);
+    fbo_ = colourRb_ = depthRb_ = 0;
+    fboWidth_ = fboHeight_ = 0;
+  }
+
+  void release() {
+    if (!gl_.DeleteProgram) return;
+    context_->makeCurrent();
+    releaseFramebuffer();
+    for (GLuint* p : {&sphereProgram_, &discProgram_, &lineProgram_, &faceProgram_})
+      if (*p) gl_.DeleteProgram(*p), *p = 0;
+    for (GLuint* b : {&indexBuffer_, &endBuffer_, &grainBuffer_, &lineBuffer_, &faceBuffer_})
+      if (*b) gl_.DeleteBuffers(1, b), *b = 0;
+    for (GLuint* a : {&grainVao_, &lineVao_, &faceVao_})
+      if (*a) gl_.DeleteVertexArrays(1, a), *a = 0;
+  }
+
+  std::unique_ptr<GlContext> context_;
+  GlApi gl_;
+  std::string name_;
+  GLuint sphereProgram_ = 0, discProgram_ = 0, lineProgram_ = 0, faceProgram_ = 0;
+  GLuint indexBuffer_ = 0, endBuffer_ = 0, grainBuffer_ = 0, lineBuffer_ = 0, faceBuffer_ = 0;
+  GLuint grainVao_ = 0, lineVao_ = 0, faceVao_ = 0;
+  GLuint fbo_ = 0, colourRb_ = 0, depthRb_ = 0;
+  int fboWidth_ = 0, fboHeight_ = 0;
+  size_t quadIndexCount_ = 0;
+  std::vector<GrainInstance> grains_;
+  std::vector<std::uint8_t> colours_;
+  std::vector<std::uint32_t> keep_;
+  std::vector<std::uint8_t> pixels_;
+  WallGeometry walls_;
+};
+
+}  // namespace
+
+std::unique_ptr<Renderer> makeRenderer() {
+  return std::make_unique<GlRenderer>();
+}
+
+void renderPng(Renderer& renderer, const RenderScene& scene, const RenderOptions& options,
+               const std::string& path) {
+  writePng(renderer.render(scene, options), path);
+}
+
+}  // namespace demlab::render

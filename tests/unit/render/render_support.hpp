@@ -1,0 +1,56 @@
+// Helpers shared by the renderer tests: one renderer per test program (making a GL context
+// takes a good fraction of a second) and pixel classification.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "core/error.hpp"
+#include "render/renderer.hpp"
+
+namespace demlab::render::test {
+
+// Returns the test program's renderer, made on first use.
+inline Renderer& sharedRenderer() {
+  static std::unique_ptr<Renderer> r = makeRenderer();
+  return *r;
+}
+
+// Returns the channel (0 red, 1 green, 2 blue) that dominates pixel (x, y) by at least 80 levels
+// over both others, or -1 when none does (background, grey, outline).
+inline int dominant(const Image& img, double x, double y) {
+  const auto p = img.pixel(int(x), int(y));
+  for (int k = 0; k < 3; ++k)
+    if (p[k] >= p[(k + 1) % 3] + 80 && p[k] >= p[(k + 2) % 3] + 80) return k;
+  return -1;
+}
+
+// Returns whether pixel (x, y) is exactly the colour c (within tol levels per channel).
+inline bool isColour(const Image& img, double x, double y, const Rgb& c, int tol = 2) {
+  const auto p = img.pixel(int(x), int(y));
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(int(p[k]) - int(std::lround(c[k] * 255))) > tol) return false;
+  return true;
+}
+
+inline bool isWhite(const Image& img, double x, double y) {
+  return isColour(img, x, y, {1, 1, 1}, 0);
+}
+
+// Returns the code of the demlab::Error f throws, joined by spaces; "" when f does not throw.
+template <class F>
+std::string errorCode(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    std::string s;
+    for (const auto& w : e.code()) s += (s.empty() ? "" : " ") + w;
+    return s;
+  }
+  return "";
+}
+
+}  // namespace demlab::render::test
