@@ -49,6 +49,12 @@ template <int D>
 struct NarrowPhaseEntry {
   IntersectFn<D> one = nullptr;
   IntersectGrainsFn<D> grains = nullptr;
+
+  // Returns one(a, b), so TypeInteractionManager::dispatch(ta, tb, a, b) calls the routine
+  // with the shapes in the row's order.
+  std::optional<ContactGeometry<D>> operator()(const void* a, const void* b) const {
+    return one(a, b);
+  }
 };
 
 template <int D>
