@@ -176,6 +176,14 @@ std::string sceneName(const std::string& path) {
   return s;
 }
 
+// Returns the CPU time (user + system) the process has used so far, in seconds.
+double cpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 // Returns the process's peak resident set size in MiB.
 double peakRssMb() {
   rusage u{};
@@ -274,8 +282,10 @@ void runOne(const io::SphereData& d, const std::string& scene, const Options& o,
 
   sim::RunOptions ro;
   ro.steps = o.steps;
+  const double cpu0 = cpuSeconds();
   const auto t0 = std::chrono::steady_clock::now();
   const sim::RunReport r = s->run(ro);
+  const double cpu = cpuSeconds() - cpu0;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double rss = peakRssMb();
@@ -291,9 +301,10 @@ void runOne(const io::SphereData& d, const std::string& scene, const Options& o,
                s->timeStep(), static_cast<unsigned long long>(r.steps), modules.c_str());
   std::fprintf(
       stderr,
-      "#   %.4f s, %llu contacts (RunReport: %llu), %llu searches, energy residual "
+      "#   %.4f s (CPU %.4f s: a shared machine may have taken the rest), %llu contacts "
+      "(RunReport: %llu), %llu searches, energy residual "
       "%.3g, peak RSS %.0f bytes/grain (%.0f above the %.1f MB before reading)\n",
-      seconds, static_cast<unsigned long long>(contacts),
+      seconds, cpu, static_cast<unsigned long long>(contacts),
       static_cast<unsigned long long>(r.contacts),
       static_cast<unsigned long long>(r.neighborRebuilds), r.energyResidual,
       rss * 1048576.0 / static_cast<double>(std::max<std::size_t>(d.size(), 1)),
