@@ -38,6 +38,13 @@ struct LawCall {
   }
 };
 
+// Returns how far behind the positions the velocities the laws see are, in steps: 0.5 for
+// plain Verlet's half-step velocities, 0 when synchronized (physics/contact.hpp).
+template <int D>
+Real velocityLag(const Scene<D>& s) {
+  return s.integrator == IntegratorKind::Verlet ? 0.5 : 0.0;
+}
+
 // Energy sums of one contact pass.
 struct PassEnergy {
   double elastic = 0, damping = 0, friction = 0, springWork = 0, wallWork = 0;
@@ -60,6 +67,7 @@ class GrainContactModule final : public SimModule<D> {
     GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
+    const Real lag = velocityLag(s);
     PassEnergy e;
     for (const CandidatePair& c : s.candidates) {
       uint32_t i = c.i, j = c.j;
@@ -80,7 +88,7 @@ class GrainContactModule final : public SimModule<D> {
         vrel += cross(a.w[j], armB) - cross(a.w[i], armA);
       }
       const physics::ContactKinematics<D> k{vrel, 1.0 / (a.invMass[i] + a.invMass[j]),
-                                            a.r[i] * a.r[j] / (a.r[i] + a.r[j])};
+                                            a.r[i] * a.r[j] / (a.r[i] + a.r[j]), lag};
       physics::TangentialHistory<D>* h = nullptr;
       if constexpr (History) h = &s.histories.touch(a.slot[i], a.slot[j]).state;
       const physics::ContactForce<D> f =
@@ -131,6 +139,7 @@ class WallContactModule final : public SimModule<D> {
     GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
+    const Real lag = velocityLag(s);
     const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
     PassEnergy e;
     for (size_t w = 0; w < s.walls.size(); ++w) {
@@ -156,7 +165,7 @@ class WallContactModule final : public SimModule<D> {
           arm = g.point - a.x[i];
           vrel -= cross(a.w[i], arm);
         }
-        const physics::ContactKinematics<D> k{vrel, 1.0 / a.invMass[i], a.r[i]};
+        const physics::ContactKinematics<D> k{vrel, 1.0 / a.invMass[i], a.r[i], lag};
         physics::TangentialHistory<D>* h = nullptr;
         if constexpr (History) h = &s.histories.touch(a.slot[i], wallId).state;
         const physics::ContactForce<D> f =

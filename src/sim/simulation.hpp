@@ -321,6 +321,12 @@ class Simulation {
   virtual RunReport run(const RunOptions& options) = 0;
   // Runs one step; returns its report.
   virtual RunReport step() = 0;
+  // Runs n steps with no stop flag and no progress callback; returns the report.
+  RunReport runSteps(uint64_t n) {
+    RunOptions o;
+    o.steps = n;
+    return run(o);
+  }
 
   // -- queries --
   virtual EnergyLedger energy() const = 0;

@@ -34,13 +34,13 @@ struct Wall {
   // Prescribed motion (moving == false: all zero).
   bool moving = false;
   VecD<D> velocity = VecD<D>::Zero(), amplitude = VecD<D>::Zero();
-  AngularD<D> omega{};
+  AngularD<D> omega = zeroAngular();
   Real frequency = 0, phase = 0;
   double t0 = 0;
 
   // Kinematics now: reference point, its velocity, the rotation turned since t0.
   VecD<D> point = VecD<D>::Zero(), point0 = VecD<D>::Zero(), pointVelocity = VecD<D>::Zero();
-  RotationD<D> turned{};
+  RotationD<D> turned = identity();
 
   // For the Verlet skin: reference point and time at the last neighbor search.
   VecD<D> pointAtBuild = VecD<D>::Zero();
@@ -48,6 +48,22 @@ struct Wall {
 
   // Total force the grains exerted on the wall in the last step.
   VecD<D> force = VecD<D>::Zero();
+
+  // Eigen leaves its fixed-size types uninitialised: these give the zero and the identity.
+  static AngularD<D> zeroAngular() {
+    if constexpr (D == 2) {
+      return 0.0;
+    } else {
+      return Vec3::Zero();
+    }
+  }
+  static RotationD<D> identity() {
+    if constexpr (D == 2) {
+      return Rotation2::identity();
+    } else {
+      return Quat::Identity();
+    }
+  }
 
   // Returns the velocity of the wall's material at world point x now.
   VecD<D> surfaceVelocity(const VecD<D>& x) const {

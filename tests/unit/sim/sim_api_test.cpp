@@ -1,0 +1,301 @@
+// The public Simulation API: Defs rejected with the right error code and nothing changed,
+// modules a scene runs, tags and removal, determinism, clone, save/load continuation.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <sstream>
+
+#include "sim/simulation.hpp"
+#include "sim_test_util.hpp"
+
+namespace demlab::sim {
+namespace {
+
+using testing::addBox;
+using testing::grain;
+using testing::latticeGrains;
+using testing::material;
+using testing::plane;
+
+// Returns the error code words after DEMLAB of the Error f throws; fails if it does not throw.
+template <class F>
+std::vector<std::string> codeOf(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return {e.code().begin() + 1, e.code().end()};
+  }
+  ADD_FAILURE() << "no error thrown";
+  return {};
+}
+
+class SimApi : public ::testing::TestWithParam<int> {};
+
+TEST_P(SimApi, BadDefsAreRejectedAndChangeNothing) {
+  const int d = GetParam();
+  auto s = makeSimulation(d);
+  s->addMaterial("glass", material(1e8, 0.5, 0.5));
+  s->addWall(plane({0, 0, 0}, d == 3 ? Vec3d{0, 0, 1} : Vec3d{0, 1, 0}, "glass"));
+  const GrainId g = s->addGrain(grain({0.5, 0.5, d == 3 ? 0.5 : 0.0}, 0.01, "glass"));
+  s->addGravity({0, d == 2 ? -9.81 : 0, d == 3 ? -9.81 : 0});
+  s->setAutoTimeStep(0.2);
+  s->runSteps(10);
+  const uint64_t digest = s->stateDigest();
+
+  using Code = std::vector<std::string>;
+  const double z = d == 3 ? 0.5 : 0.0;
+  EXPECT_EQ(codeOf([&] { s->addGrain(grain({0, 0, z}, -1, "glass")); }), (Code{"VALUE", "RADIUS"}));
+  EXPECT_EQ(codeOf([&] {
+              s->addGrain(grain({0, 0, z}, NAN, "glass"));
+            }),
+            (Code{"VALUE", "RADIUS"}));
+  EXPECT_EQ(codeOf([&] {
+              s->addGrain(grain({0, 0, z}, 0.01, "steel"));
+            }),
+            (Code{"LOOKUP", "MATERIAL"}));
+  EXPECT_EQ(codeOf([&] {
+              s->addGrain(grain({INFINITY, 0, z}, 0.01, "glass"));
+            }),
+            (Code{"VALUE", "POSITION"}));
+  GrainDef tagged = grain({0, 0, z}, 0.01, "glass");
+  tagged.tags = {"ok", "9bad"};
+  EXPECT_EQ(codeOf([&] { s->addGrain(tagged); }), (Code{"VALUE", "TAG"}));
+  // A batch with one bad Def adds nothing.
+  std::vector<GrainDef> batch = {grain({0, 0, z}, 0.01, "glass"), grain({0, 0, z}, 0, "glass")};
+  EXPECT_EQ(codeOf([&] { s->addGrains(batch); }), (Code{"VALUE", "RADIUS"}));
+  GrainDef named = grain({0, 0, z}, 0.01, "glass");
+  named.name = "a";
+  EXPECT_EQ(codeOf([&] { s->addGrains({named, named}); }), (Code{"EXISTS", "NAME"}));
+  EXPECT_EQ(codeOf([&] { s->addMaterial("glass", material(1e8, 0.5, 0.5)); }),
+            (Code{"EXISTS", "MATERIAL"}));
+  EXPECT_EQ(codeOf([&] { s->addMaterial("rubber", material(-1, 0.5, 0.5)); }),
+            (Code{"VALUE", "YOUNG"}));
+  EXPECT_EQ(codeOf([&] { s->setTimeStep(0); }), (Code{"VALUE", "TIMESTEP"}));
+  EXPECT_EQ(codeOf([&] { s->setAutoTimeStep(2); }), (Code{"VALUE", "FRACTION"}));
+  EXPECT_EQ(codeOf([&] {
+              s->addWall(plane({0, 0, 0}, {0, 0, 0}, "glass"));
+            }),
+            (Code{"VALUE", "NORMAL"}));
+  WallDef drum;
+  drum.shape = WallShape::Drum;
+  drum.material = "glass";
+  drum.radius = -2;
+  EXPECT_EQ(codeOf([&] { s->addWall(drum); }), (Code{"VALUE", "RADIUS"}));
+  WallDef shaken = plane({0, 0, 0}, {0, 1, 0}, "glass");
+  shaken.motion = WallMotion{.amplitude = {0, 0.01, 0}, .frequency = 0};
+  EXPECT_EQ(codeOf([&] { s->addWall(shaken); }), (Code{"VALUE", "FREQUENCY"}));
+  EXPECT_EQ(codeOf([&] { s->addLoad(LoadDef{}); }), (Code{"VALUE", "TARGET"}));
+  EXPECT_EQ(codeOf([&] { s->setIntegrator("euler"); }), (Code{"VALUE", "INTEGRATOR"}));
+  EXPECT_EQ(codeOf([&] { s->setDetection({.cellFactor = -1}); }), (Code{"VALUE", "CELLFACTOR"}));
+  EXPECT_EQ(codeOf([&] { s->setGrainVelocity(g, {NAN, 0, 0}); }), (Code{"VALUE", "VELOCITY"}));
+  if (d == 2) {
+    EXPECT_EQ(codeOf([&] {
+                s->addGrain(grain({0, 0, 1}, 0.01, "glass"));
+              }),
+              (Code{"VALUE", "POSITION"}));
+    GrainDef spin = grain({0, 0, 0}, 0.01, "glass");
+    spin.angularVelocity = {1, 0, 0};
+    EXPECT_EQ(codeOf([&] { s->addGrain(spin); }), (Code{"VALUE", "ANGULARVELOCITY"}));
+  }
+  EXPECT_EQ(codeOf([&] { (void)lawFromName("hooke"); }), (Code{"VALUE", "LAW"}));
+  EXPECT_EQ(codeOf([&] { (void)makeSimulation(4); }), (Code{"VALUE", "DIMENSION"}));
+  // Stale handles.
+  s->removeGrain(g);
+  const uint64_t afterRemove = s->stateDigest();
+  EXPECT_NE(afterRemove, digest);
+  EXPECT_EQ(codeOf([&] { s->removeGrain(g); }), (Code{"LOOKUP", "HANDLE"}));
+  EXPECT_EQ(codeOf([&] { (void)s->grain(g); }), (Code{"LOOKUP", "HANDLE"}));
+  EXPECT_EQ(codeOf([&] { s->tagGrain(g, "x"); }), (Code{"LOOKUP", "HANDLE"}));
+  std::istringstream junk("not a checkpoint");
+  EXPECT_EQ(codeOf([&] { s->load(junk); }), (Code{"LOAD", "FORMAT"}));
+  auto other = makeSimulation(d == 2 ? 3 : 2);
+  std::stringstream ck;
+  other->save(ck);
+  EXPECT_EQ(codeOf([&] { s->load(ck); }), (Code{"LOAD", "DIMENSION"}));
+  EXPECT_EQ(s->stateDigest(), afterRemove);
+}
+
+TEST_P(SimApi, ModulesFollowTheScene) {
+  const int d = GetParam();
+  auto s = makeSimulation(d);
+  s->addMaterial("slick", material(1e8, 0.9, 0.0));
+  s->addGrains(latticeGrains(d, 8, 0.01, 0.1, 0.1, "slick", 1));
+  s->setTimeStep(1e-5);
+  using Names = std::vector<std::string>;
+  EXPECT_EQ(s->listModules(), (Names{"integrate", "detection", "contacts", "integrate-correct"}));
+  s->addMaterial("rough", material(1e8, 0.5, 0.5));
+  s->addGrain(grain({0.5, 0.5, d == 3 ? 0.5 : 0.0}, 0.01, "rough"));
+  // "rough" against "slick" has no friction (min rule), but rough against rough has.
+  EXPECT_EQ(s->listModules(), (Names{"integrate", "rotation", "detection", "contacts",
+                                     "integrate-correct", "friction-history"}));
+  s->setRotation(false);
+  EXPECT_EQ(s->listModules(),
+            (Names{"integrate", "detection", "contacts", "integrate-correct", "friction-history"}));
+  addBox(*s, 1.0, "slick");
+  s->addGravity({0, -9.81, 0});
+  EXPECT_EQ(s->listModules(), (Names{"integrate", "detection", "contacts", "wall-contacts",
+                                     "gravity", "integrate-correct", "friction-history"}));
+  WallDef piston = plane({0, 2, 0}, {0, -1, 0}, "slick");
+  piston.motion = WallMotion{.velocity = {0, -0.1, 0}};
+  s->addWall(piston);
+  const RunReport rep = s->runSteps(20);
+  EXPECT_EQ(rep.steps, 20u);
+  Names ran;
+  for (const ModuleTime& m : rep.modules) ran.push_back(m.module);
+  EXPECT_EQ(ran, (Names{"integrate", "walls", "detection", "contacts", "wall-contacts", "gravity",
+                        "integrate-correct", "friction-history"}));
+  EXPECT_EQ(ran, s->listModules());
+}
+
+TEST_P(SimApi, TagsRemovalAndQueries) {
+  const int d = GetParam();
+  auto s = makeSimulation(d);
+  s->addMaterial("glass", material(1e8, 0.5, 0.3));
+  auto defs = latticeGrains(d, 20, 0.01, 0.2, 0.0, "glass", 2);
+  for (size_t k = 0; k < defs.size(); ++k) defs[k].tags = {k % 2 ? "odd" : "even"};
+  defs[3].name = "third";
+  const auto ids = s->addGrains(defs);
+  EXPECT_EQ(s->grainCount(), 20u);
+  EXPECT_EQ(s->findGrain("third"), ids[3]);
+  EXPECT_EQ(s->grainsTagged("odd").size(), 10u);
+  const GrainState g3 = s->grain(ids[3]);
+  EXPECT_EQ(g3.name, "third");
+  EXPECT_EQ(g3.tags, std::vector<std::string>{"odd"});
+  EXPECT_DOUBLE_EQ(g3.radius, 0.01);
+  const double m =
+      d == 3 ? 2500 * 4.0 / 3 * std::numbers::pi * 1e-6 : 2500 * std::numbers::pi * 1e-4;
+  EXPECT_NEAR(g3.mass, m, 1e-12 * m);
+  EXPECT_EQ(s->removeGrains("odd"), 10u);
+  EXPECT_EQ(s->grainCount(), 10u);
+  EXPECT_THROW(s->findGrain("third"), Error);
+  EXPECT_EQ(s->positions().size(), 10u * d);
+  EXPECT_EQ(s->orientations().size(), 10u * (d == 3 ? 4 : 1));
+  EXPECT_EQ(s->angularVelocities().size(), 10u * (d == 3 ? 3 : 1));
+  const auto live = s->grainIds();
+  for (GrainId id : live) EXPECT_EQ(s->grain(id).tags, std::vector<std::string>{"even"});
+  const auto b = s->bounds();
+  EXPECT_LT(b[0][0], b[1][0]);
+}
+
+// Builds a scene that uses every part that has state: friction histories, rotation, a moving
+// wall, a drum, gravity and a constant load, grains in contact.
+std::unique_ptr<Simulation> busyScene(int d) {
+  auto s = makeSimulation(d);
+  s->addMaterial("glass", material(1e7, 0.6, 0.4));
+  s->addMaterial("steel", material(2e7, 0.8, 0.2, 7800));
+  s->setPairLaw("glass", "steel", LawKind::Linear);
+  auto defs = latticeGrains(d, 60, 0.004, 0.08, 0.2, "glass", 3);
+  for (size_t k = 0; k < defs.size(); k += 3) defs[k].material = "steel";
+  for (size_t k = 0; k < defs.size(); k += 5) defs[k].tags = {"loaded"};
+  s->addGrains(defs);
+  addBox(*s, 0.08, "steel");
+  WallDef lid = plane({0, 0.09, 0}, {0, -1, 0}, "glass");
+  lid.motion = WallMotion{.velocity = {0, -0.05, 0}, .amplitude = {0, 0.002, 0}, .frequency = 40};
+  s->addWall(lid);
+  s->addGravity({0, -9.81, 0});
+  LoadDef load;
+  load.tag = "loaded";
+  load.force = {1e-4, 0, 0};
+  load.torque = {0, 0, 1e-7};
+  s->addLoad(load);
+  s->setAutoTimeStep(0.2);
+  return s;
+}
+
+TEST_P(SimApi, SameSceneTwiceIsBitIdentical) {
+  const int d = GetParam();
+  auto a = busyScene(d), b = busyScene(d);
+  EXPECT_EQ(a->stateDigest(), b->stateDigest());
+  a->runSteps(1500);
+  for (int k = 0; k < 3; ++k) b->runSteps(500);
+  EXPECT_GT(a->contactCount(), 0u);
+  EXPECT_EQ(a->positions(), b->positions());
+  EXPECT_EQ(a->velocities(), b->velocities());
+  EXPECT_EQ(a->stateDigest(), b->stateDigest());
+  // The digest sees a one-ulp change.
+  const GrainId g = b->grainIds()[7];
+  Vec3d v = b->grain(g).velocity;
+  v[0] = std::nextafter(v[0], 1.0);
+  b->setGrainVelocity(g, v);
+  EXPECT_NE(a->stateDigest(), b->stateDigest());
+}
+
+TEST_P(SimApi, SaveLoadAndCloneContinueBitIdentically) {
+  const int d = GetParam();
+  auto a = busyScene(d);
+  a->runSteps(700);
+  std::stringstream ck;
+  EXPECT_TRUE(a->save(ck).empty());
+  auto copy = a->clone();
+  EXPECT_EQ(copy->stateDigest(), a->stateDigest());
+  a->runSteps(700);
+  auto b = makeSimulation(d);
+  b->load(ck);
+  b->runSteps(700);
+  copy->runSteps(700);
+  EXPECT_EQ(b->positions(), a->positions());
+  EXPECT_EQ(b->stateDigest(), a->stateDigest());
+  EXPECT_EQ(copy->stateDigest(), a->stateDigest());
+  EXPECT_EQ(b->energy().dampingLoss, a->energy().dampingLoss);
+}
+
+TEST_P(SimApi, CallbacksAreReportedBySave) {
+  const int d = GetParam();
+  auto a = busyScene(d);
+  LoadDef pulse;
+  pulse.tag = "loaded";
+  pulse.forceFn[0] = [](double t) { return 1e-4 * std::sin(100 * t); };
+  const BehaviorId id = a->addLoad(pulse);
+  a->runSteps(50);
+  std::stringstream ck;
+  try {
+    a->save(ck);
+    ADD_FAILURE() << "save accepted a callback";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), (std::vector<std::string>{"DEMLAB", "SAVE", "CALLBACK"}));
+    EXPECT_NE(std::string(e.what()).find("script callback"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(ck.str().size(), 0u);
+  const auto skipped = a->save(ck, true);
+  ASSERT_EQ(skipped.size(), 1u);
+  EXPECT_NE(skipped[0].find(toString(id)), std::string::npos);
+  auto b = makeSimulation(d);
+  b->load(ck);
+  EXPECT_EQ(b->behaviors().size(), a->behaviors().size() - 1);
+  // A clone keeps the callback, and runs as the original.
+  auto c = a->clone();
+  a->runSteps(100);
+  c->runSteps(100);
+  EXPECT_EQ(a->stateDigest(), c->stateDigest());
+}
+
+TEST_P(SimApi, StopFlagAndProgress) {
+  const int d = GetParam();
+  auto s = busyScene(d);
+  std::atomic<bool> stop{false};
+  uint64_t calls = 0, last = 0;
+  RunOptions o;
+  o.steps = 1000;
+  o.stop = &stop;
+  o.progressEvery = 100;
+  o.progress = [&](uint64_t done, uint64_t total) {
+    ++calls;
+    last = done;
+    EXPECT_EQ(total, 1000u);
+    if (done >= 300) stop = true;
+  };
+  const RunReport r = s->run(o);
+  EXPECT_TRUE(r.interrupted);
+  EXPECT_EQ(r.steps, 300u);
+  EXPECT_EQ(s->stepCount(), 300u);
+  EXPECT_EQ(last, 300u);
+  EXPECT_EQ(calls, 4u);
+  EXPECT_GT(r.wallSeconds, 0);
+  EXPECT_NEAR(r.simulatedTime, 300 * s->timeStep(), 1e-12);
+}
+
+INSTANTIATE_TEST_SUITE_P(Dims, SimApi, ::testing::Values(2, 3),
+                         [](const auto& info) { return std::to_string(info.param) + "D"; });
+
+}  // namespace
+}  // namespace demlab::sim

@@ -1,0 +1,84 @@
+// Shared helpers of the simulation tests: materials, walls and small scenes.
+#pragma once
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sim/simulation.hpp"
+
+namespace demlab::sim::testing {
+
+inline MaterialDef material(double young, double restitution, double friction,
+                            double density = 2500) {
+  MaterialDef m;
+  m.density = density;
+  m.young = young;
+  m.poisson = 0.3;
+  m.restitution = restitution;
+  m.friction = friction;
+  return m;
+}
+
+inline WallDef plane(const Vec3d& point, const Vec3d& normal, const std::string& mat) {
+  WallDef w;
+  w.shape = WallShape::Plane;
+  w.point = point;
+  w.normal = normal;
+  w.material = mat;
+  return w;
+}
+
+inline GrainDef grain(const Vec3d& x, double r, const std::string& mat, const Vec3d& v = {}) {
+  GrainDef g;
+  g.position = x;
+  g.radius = r;
+  g.material = mat;
+  g.velocity = v;
+  return g;
+}
+
+// Adds the 2 D walls of the box [0, side]^D (planes facing inwards).
+inline void addBox(Simulation& s, double side, const std::string& mat) {
+  const int d = s.dim();
+  for (int k = 0; k < d; ++k) {
+    Vec3d n{0, 0, 0}, p{0, 0, 0};
+    n[k] = 1;
+    s.addWall(plane(p, n, mat));
+    n[k] = -1;
+    p[k] = side;
+    s.addWall(plane(p, n, mat));
+  }
+}
+
+// Returns defs for n non-overlapping grains of radius r on a jittered lattice inside the box
+// [0, side]^D, with random velocities of magnitude up to vmax (seeded: reproducible).
+inline std::vector<GrainDef> latticeGrains(int dim, int n, double r, double side, double vmax,
+                                           const std::string& mat, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double pitch = 2.2 * r;
+  const int perAxis = static_cast<int>((side - 2 * r) / pitch);
+  int room = 1;
+  for (int a = 0; a < dim; ++a) room *= perAxis;
+  EXPECT_LE(n, room) << "the lattice does not fit in the box";
+  std::vector<GrainDef> out;
+  for (int k = 0; k < n; ++k) {
+    int c = k;
+    Vec3d x{0, 0, 0}, v{0, 0, 0};
+    for (int a = 0; a < dim; ++a) {
+      x[a] = 1.2 * r + pitch * (c % perAxis) + 0.05 * r * u(rng);
+      c /= perAxis;
+      v[a] = vmax * u(rng);
+    }
+    out.push_back(grain(x, r, mat, v));
+  }
+  return out;
+}
+
+}  // namespace demlab::sim::testing
