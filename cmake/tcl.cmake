@@ -38,3 +38,72 @@ if(NOT TARGET demlab_sim)
   message(STATUS "demlab: no demlab_sim target yet; only the command system is built")
   return()
 endif()
+
+# The command groups over the Simulation API.
+file(GLOB DEMLAB_COMMAND_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/cmd/commands/*.cpp)
+add_library(demlab_commands STATIC src/cmd/session.cpp ${DEMLAB_COMMAND_SOURCES})
+target_link_libraries(demlab_commands PUBLIC demlab_cmd demlab_sim demlab_io)
+set_property(TARGET demlab_commands PROPERTY POSITION_INDEPENDENT_CODE ON)
+foreach(dep demlab_sim demlab_io demlab_physics)
+  if(TARGET ${dep})
+    set_property(TARGET ${dep} PROPERTY POSITION_INDEPENDENT_CODE ON)
+  endif()
+endforeach()
+
+# The Tcl-level library (tcl/demlab.tcl) compiled in as a string, so the extension and the
+# executable always carry the library they were built with.
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tcl/demlab.tcl)
+file(READ ${CMAKE_CURRENT_SOURCE_DIR}/tcl/demlab.tcl DEMLAB_TCL_LIBRARY_TEXT)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/generated/demlab_library.cpp.tmp
+  "// Generated from tcl/demlab.tcl by cmake/tcl.cmake; do not edit.\n"
+  "extern const char* const demlabTclLibrary;\n"
+  "const char* const demlabTclLibrary = R\"DEMLAB_TCL(namespace eval ::demlab {variable version ${DEMLAB_PKG_VERSION}}\n"
+  "${DEMLAB_TCL_LIBRARY_TEXT})DEMLAB_TCL\";\n")
+configure_file(${CMAKE_CURRENT_BINARY_DIR}/generated/demlab_library.cpp.tmp
+  ${CMAKE_CURRENT_BINARY_DIR}/generated/demlab_library.cpp COPYONLY)
+
+# The binding, compiled once against the stubs table for both the package and the executable.
+add_library(demlab_tcl_obj OBJECT src/tcl/binding.cpp src/tcl/interrupt.cpp
+  ${CMAKE_CURRENT_BINARY_DIR}/generated/demlab_library.cpp)
+target_compile_definitions(demlab_tcl_obj PUBLIC USE_TCL_STUBS DEMLAB_PKG_VERSION="${DEMLAB_PKG_VERSION}")
+target_include_directories(demlab_tcl_obj PUBLIC ${DEMLAB_TCL_INCLUDE})
+target_link_libraries(demlab_tcl_obj PUBLIC demlab_commands)
+set_property(TARGET demlab_tcl_obj PROPERTY POSITION_INDEPENDENT_CODE ON)
+
+# libdemlab.so in build/lib/demlab beside pkgIndex.tcl: TCLLIBPATH=build/lib tclsh8.6 finds it.
+set(DEMLAB_PKG_DIR ${CMAKE_BINARY_DIR}/lib/demlab)
+add_library(demlab_pkg MODULE $<TARGET_OBJECTS:demlab_tcl_obj>)
+target_link_libraries(demlab_pkg PRIVATE demlab_commands ${DEMLAB_TCL_STUB_LIBRARY})
+set_target_properties(demlab_pkg PROPERTIES OUTPUT_NAME demlab PREFIX lib LIBRARY_OUTPUT_DIRECTORY ${DEMLAB_PKG_DIR})
+configure_file(${CMAKE_CURRENT_SOURCE_DIR}/tcl/pkgIndex.tcl ${DEMLAB_PKG_DIR}/pkgIndex.tcl COPYONLY)
+configure_file(${CMAKE_CURRENT_SOURCE_DIR}/tcl/demlab.tcl ${DEMLAB_PKG_DIR}/demlab.tcl COPYONLY)
+
+# The executable (build/demlab). The Tcl API is called directly here; the binding's objects go
+# through the stubs table, which Demlab_Init fills from the interpreter.
+add_executable(demlab src/app/main.cpp src/app/console.cpp $<TARGET_OBJECTS:demlab_tcl_obj>)
+target_compile_definitions(demlab PRIVATE DEMLAB_PKG_VERSION="${DEMLAB_PKG_VERSION}")
+target_include_directories(demlab PRIVATE ${DEMLAB_TCL_INCLUDE} ${DEMLAB_EDIT_INCLUDE})
+target_link_libraries(demlab PRIVATE demlab_commands ${DEMLAB_TCL_STUB_LIBRARY} ${DEMLAB_TCL_LIBRARY}
+  ${DEMLAB_EDIT_LIBRARY})
+set_target_properties(demlab PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR})
+
+# doc/commands.md, generated from the declarations whenever the executable changes.
+add_custom_command(OUTPUT ${CMAKE_BINARY_DIR}/commands.md
+  COMMAND demlab --markdown > ${CMAKE_BINARY_DIR}/commands.md
+  COMMAND ${CMAKE_COMMAND} -E copy_if_different ${CMAKE_BINARY_DIR}/commands.md
+          ${CMAKE_CURRENT_SOURCE_DIR}/doc/commands.md
+  DEPENDS demlab
+  COMMENT "Writing doc/commands.md from the command declarations")
+add_custom_target(demlab_doc ALL DEPENDS ${CMAKE_BINARY_DIR}/commands.md)
+
+# The tcltest suite: through the executable and through the package in a plain tclsh.
+add_test(NAME tcl COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl)
+add_test(NAME tcl_package COMMAND ${CMAKE_COMMAND} -E env TCLLIBPATH=${CMAKE_BINARY_DIR}/lib
+  ${DEMLAB_TCLSH} ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -package)
+set_tests_properties(tcl tcl_package PROPERTIES ENVIRONMENT "DEMLAB_EXE=$<TARGET_FILE:demlab>")
+
+include(GNUInstallDirs)
+install(TARGETS demlab RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS demlab_pkg LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/tcltk/demlab${DEMLAB_PKG_VERSION})
+install(FILES tcl/pkgIndex.tcl tcl/demlab.tcl DESTINATION ${CMAKE_INSTALL_LIBDIR}/tcltk/demlab${DEMLAB_PKG_VERSION})
+install(FILES doc/commands.md DESTINATION ${CMAKE_INSTALL_DOCDIR} OPTIONAL)

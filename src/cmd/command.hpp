@@ -208,6 +208,9 @@ class Call {
     PipeLine::fill(stack_, &def, typeid(Def));
   }
 
+  // What the check phase prepared for the execute phase (a Def built and checked, a count).
+  std::any prepared;
+
   // Throws demlab::Error {VALUE <PARAM>}: `bad <param> "<word>": <why>`.
   [[noreturn]] void bad(std::string_view param, std::string_view why) const;
 

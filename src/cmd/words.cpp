@@ -210,7 +210,14 @@ std::string quoteElement(std::string_view s) {
     if (c == '\\') braceable = false;
   }
   if (!needs) return std::string(s);
-  if (braceable && depth == 0 && s.back() != '\\') return "{" + std::string(s) + "}";
+  if (braceable && depth == 0 && s.back() != '\\') {
+    std::string out;
+    out.reserve(s.size() + 2);
+    out += '{';
+    out += s;
+    out += '}';
+    return out;
+  }
   std::string out;
   for (char c : s) {
     switch (c) {

@@ -1,0 +1,89 @@
+// demlab: the executable. With no arguments, an interactive console (libedit) on a terminal
+// or commands from stdin otherwise; `demlab script.tcl ?arg ...?` runs a batch script with
+// argv, argc and argv0 set and exits non-zero, printing the error, when it fails.
+// `demlab --markdown` prints the command reference (the build writes doc/commands.md with it).
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "app/console.hpp"
+#include "cmd/commands/commands.hpp"
+#include "tcl/binding.hpp"
+
+namespace {
+
+const char* kUsage =
+    "usage: demlab                     interactive console (commands from stdin when not a "
+    "terminal)\n"
+    "       demlab script.tcl ?arg ...?  run a batch script\n"
+    "       demlab --markdown          print the command reference (Markdown)\n"
+    "       demlab --help | --version\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace demlab;
+  if (argc > 1 && std::strcmp(argv[1], "--markdown") == 0) {
+    std::fputs(cmd::commandRegistry().markdown().c_str(), stdout);
+    return 0;
+  }
+  if (argc > 1 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (argc > 1 && std::strcmp(argv[1], "--version") == 0) {
+    std::printf("demlab %s\n", DEMLAB_PKG_VERSION);
+    return 0;
+  }
+  Tcl_FindExecutable(argv[0]);
+  Tcl_Interp* interp = Tcl_CreateInterp();
+  bool script = argc > 1;
+  bool tty = !script && isatty(0);
+
+  Tcl_Obj* args = Tcl_NewListObj(0, nullptr);
+  for (int k = 2; k < argc; ++k)
+    Tcl_ListObjAppendElement(nullptr, args, Tcl_NewStringObj(argv[k], -1));
+  Tcl_SetVar2Ex(interp, "argv", nullptr, script ? args : Tcl_NewListObj(0, nullptr),
+                TCL_GLOBAL_ONLY);
+  Tcl_SetVar2Ex(interp, "argc", nullptr, Tcl_NewIntObj(script ? argc - 2 : 0), TCL_GLOBAL_ONLY);
+  Tcl_SetVar2Ex(interp, "argv0", nullptr, Tcl_NewStringObj(script ? argv[1] : argv[0], -1),
+                TCL_GLOBAL_ONLY);
+  Tcl_SetVar2Ex(interp, "tcl_interactive", nullptr, Tcl_NewIntObj(tty ? 1 : 0), TCL_GLOBAL_ONLY);
+
+  if (Tcl_Init(interp) != TCL_OK) {
+    std::fprintf(stderr, "demlab: Tcl library not found: %s\n", Tcl_GetStringResult(interp));
+  }
+  Tcl_StaticPackage(nullptr, "Demlab", Demlab_Init, nullptr);
+  if (Demlab_Init(interp) != TCL_OK) {
+    std::fprintf(stderr, "demlab: %s\n", Tcl_GetStringResult(interp));
+    return 2;
+  }
+  tcl::installInterruptHandler(interp);
+
+  int status = 0;
+  if (script) {
+    Tcl_Obj* path = Tcl_NewStringObj(argv[1], -1);
+    Tcl_IncrRefCount(path);
+    tcl::setEvaluating(true);
+    int code = Tcl_FSEvalFileEx(interp, path, nullptr);
+    if (Tcl_AsyncReady()) code = Tcl_AsyncInvoke(interp, code);
+    tcl::setEvaluating(false);
+    Tcl_DecrRefCount(path);
+    if (code != TCL_OK) {
+      const char* info = Tcl_GetVar(interp, "errorInfo", TCL_GLOBAL_ONLY);
+      const char* ecode = Tcl_GetVar(interp, "errorCode", TCL_GLOBAL_ONLY);
+      std::fprintf(stderr, "%s\n", info ? info : Tcl_GetStringResult(interp));
+      if (ecode && std::strncmp(ecode, "DEMLAB INTERRUPTED", 18) == 0) {
+        std::fprintf(stderr, "demlab: %s interrupted by Ctrl-C\n", argv[1]);
+      }
+      status = 1;
+    }
+  } else if (tty) {
+    status = app::runConsole(interp, argv[0]);
+  } else {
+    status = app::runStdin(interp);
+  }
+  Tcl_Exit(status);
+}

@@ -1,0 +1,258 @@
+// The "element" group: one element at a time (add, get, set, clone, remove, tags) and bulk
+// queries that return Tcl lists (ids, positions, ...). Many at once: pack.cpp.
+#include <unordered_map>
+#include <unordered_set>
+
+#include "cmd/commands/commands.hpp"
+#include "cmd/words.hpp"
+#include "core/tag_table.hpp"
+
+namespace demlab::cmd {
+
+namespace {
+
+using sim::GrainId;
+
+Dict stateDict(const sim::GrainState& g, int d) {
+  List tags;
+  for (auto& t : g.tags) tags.emplace_back(t);
+  Dict out{{"id", scriptId(g.id)},
+           {"name", g.name},
+           {"material", g.material},
+           {"radius", g.radius},
+           {"mass", g.mass},
+           {"inertia", g.inertia},
+           {"position", vecValue(g.position, d)},
+           {"velocity", vecValue(g.velocity, d)},
+           {"angularvelocity", vecValue(g.angularVelocity, d, true)},
+           {"orientation", d == 2 ? Value(g.orientation[0])
+                                  : Value(Reals{{g.orientation.begin(), g.orientation.end()}, 0})},
+           {"force", vecValue(g.force, d)},
+           {"torque", vecValue(g.torque, d, true)},
+           {"tags", tags}};
+  return out;
+}
+
+const char* const kStateFields[] = {
+    "id",      "name",     "material", "radius",          "mass",
+    "inertia", "position", "velocity", "angularvelocity", "orientation",
+    "force",   "torque",   "tags"};
+
+// The elements a command targets: every element with -tag, or all.
+std::vector<GrainId> targets(const Call& c, const sim::Simulation& s) {
+  if (c.given("tag")) return s.grainsTagged(c.str("tag"));
+  return s.grainIds();
+}
+
+Value idList(const std::vector<GrainId>& ids) {
+  List l;
+  l.reserve(ids.size());
+  for (GrainId g : ids) l.emplace_back(scriptId(g));
+  return l;
+}
+
+}  // namespace
+
+void registerElementCommands(Registry& r) {
+  r.describe("element", "Elements (grains): spheres in 3D, discs in 2D.");
+
+  Command& add = r.add("element add", "Adds one element; returns its id.");
+  add.option("radius", real().positive().withUnit("m"), "radius")
+      .require()
+      .to(&sim::GrainDef::radius);
+  add.option("material", materialRef(), "its material (default: the first material defined)")
+      .to(&sim::GrainDef::material);
+  add.option("position", vector().withUnit("m"), "centre (default: the origin)");
+  add.option("velocity", vector().withUnit("m/s"), "velocity");
+  add.option("angularvelocity", spin().withUnit("rad/s"), "angular velocity (a number in 2D)");
+  add.option("tags", text("list of tags"), "tags to give it");
+  add.option("name", name(), "a unique name").to(&sim::GrainDef::name);
+  add.onCheck([](Call& c) {
+    auto& s = session(c).scene();
+    sim::GrainDef d;
+    c.fill(d);
+    if (!c.given("material")) {
+      auto names = s.materialNames();
+      if (names.empty())
+        throw Error("no material defined: use \"material add\" first", {"LOOKUP", "MATERIAL"});
+      d.material = names.front();
+    }
+    if (c.has("position")) d.position = vec3(c.vec("position"));
+    if (c.has("velocity")) d.velocity = vec3(c.vec("velocity"));
+    if (c.has("angularvelocity")) d.angularVelocity = vec3(c.vec("angularvelocity"), true);
+    if (c.has("tags")) {
+      for (auto& t : splitList(c.str("tags"))) {
+        checkTagName(t);
+        d.tags.push_back(t);
+      }
+    }
+    c.prepared = d;
+  });
+  add.run([](Call& c) {
+    return Value(scriptId(session(c).scene().addGrain(std::any_cast<sim::GrainDef>(c.prepared))));
+  });
+
+  Command& get =
+      r.add("element get", "Returns an element's state as a dict, or the fields asked for.");
+  get.details = "With one field flag the value alone is returned; with several, a dict of them.";
+  get.arg("element", elementRef(), "an element id or name");
+  for (const char* f : kStateFields) get.flag(f, std::string("the ") + f);
+  get.changesScene = false;
+  get.run([](Call& c) {
+    auto& s = session(c).scene();
+    Dict d = stateDict(s.grain(c.get<GrainId>("element")), s.dim());
+    if (c.flagOrder().empty()) return Value(d);
+    Dict picked;
+    for (const std::string& f : c.flagOrder())
+      for (auto& kv : d)
+        if (kv.first == f) picked.push_back(kv);
+    return picked.size() == 1 ? picked[0].second : Value(picked);
+  });
+
+  Command& set =
+      r.add("element set", "Changes an element's position, velocity or angular velocity.");
+  set.arg("element", elementRef(), "an element id or name");
+  set.option("position", vector().withUnit("m"), "new centre");
+  set.option("velocity", vector().withUnit("m/s"), "new velocity");
+  set.option("angularvelocity", spin().withUnit("rad/s"), "new angular velocity");
+  set.run([](Call& c) {
+    auto& s = session(c).scene();
+    GrainId g = c.get<GrainId>("element");
+    // The pipes made every vector the right size, so none of these calls can fail half-way.
+    if (c.has("position")) s.setGrainPosition(g, vec3(c.vec("position")));
+    if (c.has("velocity")) s.setGrainVelocity(g, vec3(c.vec("velocity")));
+    if (c.has("angularvelocity"))
+      s.setGrainAngularVelocity(g, vec3(c.vec("angularvelocity"), true));
+    return Value();
+  });
+
+  Command& clone =
+      r.add("element clone",
+            "Adds a copy of an element (radius, material, tags, motion); returns its id.");
+  clone.arg("element", elementRef(), "the element to copy");
+  clone.option("position", vector().withUnit("m"), "the copy's centre").require();
+  clone.option("velocity", vector().withUnit("m/s"),
+               "the copy's velocity (default: the original's)");
+  clone.option("name", name(), "a unique name for the copy");
+  clone.run([](Call& c) {
+    auto& s = session(c).scene();
+    sim::GrainState g = s.grain(c.get<GrainId>("element"));
+    sim::GrainDef d;
+    d.radius = g.radius;
+    d.material = g.material;
+    d.tags = g.tags;
+    d.position = vec3(c.vec("position"));
+    d.velocity = c.has("velocity") ? vec3(c.vec("velocity")) : g.velocity;
+    d.angularVelocity = g.angularVelocity;
+    if (c.has("name")) d.name = c.str("name");
+    return Value(scriptId(s.addGrain(d)));
+  });
+
+  Command& rm = r.add("element remove",
+                      "Removes elements (ids, names, or every one with -tag); returns how many.");
+  rm.variadicArg("element", elementRef(), "element ids or names").optional = true;
+  rm.option("tag", tagName(), "remove every element carrying this tag");
+  rm.onCheck([](Call& c) {
+    if (c.given("element") == c.given("tag")) {
+      throw Error("wrong # args: should be \"" + c.command().usage() +
+                      "\" with element ids or -tag, not both",
+                  {"ARGS"});
+    }
+  });
+  rm.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.given("tag")) return Value(s.removeGrains(c.str("tag")));
+    std::vector<GrainId> ids = c.all<GrainId>("element");
+    std::unordered_set<std::uint64_t> seen;
+    std::size_t n = 0;
+    for (GrainId g : ids)
+      if (seen.insert(g.bits()).second) {  // each id was checked to exist; duplicates once
+        s.removeGrain(g);
+        ++n;
+      }
+    return Value(n);
+  });
+
+  Command& list = r.add("element list", "Returns the ids of all elements, or of those with a tag.");
+  list.option("tag", tagName(), "only elements carrying this tag");
+  list.changesScene = false;
+  list.run([](Call& c) { return idList(targets(c, session(c).scene())); });
+
+  Command& count =
+      r.add("element count", "Returns the number of elements, or of those with a tag.");
+  count.option("tag", tagName(), "only elements carrying this tag");
+  count.changesScene = false;
+  count.run([](Call& c) {
+    auto& s = session(c).scene();
+    return c.given("tag") ? Value(s.grainsTagged(c.str("tag")).size()) : Value(s.grainCount());
+  });
+
+  Command& arr =
+      r.add("element array", "Returns one field of every element (or of a tag) as a list.");
+  arr.details =
+      "Vectors come as a list of lists ({x y z} {x y z} ...) unless -flat; the order is that of "
+      "element list with the same -tag.";
+  arr.arg(
+      "field",
+      choice({"id", "position", "velocity", "angularvelocity", "orientation", "force", "radius"}),
+      "the field");
+  arr.option("tag", tagName(), "only elements carrying this tag");
+  arr.flag("flat", "one flat list of numbers");
+  arr.changesScene = false;
+  arr.run([](Call& c) {
+    auto& s = session(c).scene();
+    const std::string& f = c.str("field");
+    std::vector<GrainId> all = s.grainIds();
+    if (f == "id" && !c.given("tag")) return idList(all);
+    int d = s.dim();
+    int stride = d;
+    std::vector<double> data;
+    if (f == "position")
+      data = s.positions();
+    else if (f == "velocity")
+      data = s.velocities();
+    else if (f == "force")
+      data = s.forces();
+    else if (f == "radius")
+      data = s.radii(), stride = 1;
+    else if (f == "angularvelocity")
+      data = s.angularVelocities(), stride = d == 2 ? 1 : 3;
+    else if (f == "orientation")
+      data = s.orientations(), stride = d == 2 ? 1 : 4;
+    if (c.given("tag")) {
+      std::unordered_map<std::uint64_t, std::size_t> dense;
+      for (std::size_t k = 0; k < all.size(); ++k) dense[all[k].bits()] = k;
+      std::vector<GrainId> tagged = s.grainsTagged(c.str("tag"));
+      if (f == "id") return idList(tagged);
+      std::vector<double> picked;
+      picked.reserve(tagged.size() * std::size_t(stride));
+      for (GrainId g : tagged) {
+        std::size_t k = dense.at(g.bits());
+        picked.insert(picked.end(), data.begin() + long(k) * stride,
+                      data.begin() + long(k + 1) * stride);
+      }
+      data.swap(picked);
+    }
+    return Value(Reals{std::move(data), (c.flag("flat") || stride == 1) ? 0 : stride});
+  });
+
+  Command& tag = r.add("element tag", "Gives elements a tag (idempotent).");
+  tag.arg("tag", tagName(), "the tag");
+  tag.variadicArg("element", elementRef(), "element ids or names");
+  tag.run([](Call& c) {
+    auto& s = session(c).scene();
+    for (GrainId g : c.all<GrainId>("element")) s.tagGrain(g, c.str("tag"));
+    return Value();
+  });
+
+  Command& untag = r.add("element untag", "Takes a tag away from elements.");
+  untag.arg("tag", tagName(), "the tag");
+  untag.variadicArg("element", elementRef(), "element ids or names");
+  untag.run([](Call& c) {
+    auto& s = session(c).scene();
+    for (GrainId g : c.all<GrainId>("element")) s.untagGrain(g, c.str("tag"));
+    return Value();
+  });
+}
+
+}  // namespace demlab::cmd

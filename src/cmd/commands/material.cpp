@@ -1,0 +1,133 @@
+// The "material" and "law" groups: materials by name, and the contact law used by each pair.
+#include "cmd/commands/commands.hpp"
+#include "physics/pair_params.hpp"
+
+namespace demlab::cmd {
+
+namespace {
+
+using physics::MaterialDef;
+
+// Declares the material properties on c, bound to MaterialDef's fields; required when adding.
+void materialOptions(Command& c, bool required) {
+  auto opt = [&](const char* n, PipeType t, const char* help, double MaterialDef::*m,
+                 bool req) -> Param& {
+    Param& p = c.option(n, std::move(t), help).to(m);
+    if (req && required) p.require();
+    return p;
+  };
+  opt("density", real().positive().withUnit("kg/m^3"), "mass density (kg/m^2 for 2D discs)",
+      &MaterialDef::density, true);
+  opt("young", real().positive().withUnit("Pa"), "Young's modulus", &MaterialDef::young, true);
+  opt("poisson", real().min(-1, true).max(0.5, true), "Poisson's ratio", &MaterialDef::poisson,
+      true);
+  opt("restitution", real().min(0, true).max(1), "normal coefficient of restitution",
+      &MaterialDef::restitution, true);
+  opt("friction", real().nonNegative(), "Coulomb friction coefficient", &MaterialDef::friction,
+      true);
+  opt("normalstiffness", real().nonNegative().withUnit("N/m"),
+      "linear law: normal spring (0: from young)", &MaterialDef::normalStiffness, false);
+  opt("shearstiffness", real().nonNegative().withUnit("N/m"),
+      "linear law: shear spring (0: from the normal one)", &MaterialDef::shearStiffness, false);
+}
+
+const char* const kFields[] = {"density",  "young",           "poisson",       "restitution",
+                               "friction", "normalstiffness", "shearstiffness"};
+
+Dict materialDict(const MaterialDef& m) {
+  return {{"density", m.density},
+          {"young", m.young},
+          {"poisson", m.poisson},
+          {"restitution", m.restitution},
+          {"friction", m.friction},
+          {"normalstiffness", m.normalStiffness},
+          {"shearstiffness", m.shearStiffness}};
+}
+
+std::string lawWord(physics::LawKind k) {
+  return std::string(physics::lawName(k));
+}
+
+}  // namespace
+
+void registerMaterialCommands(Registry& r) {
+  r.describe("material", "Materials: named sets of constants that elements and walls refer to.");
+
+  Command& add = r.add("material add", "Defines a material.");
+  add.arg("name", name("name"), "the material's name (a letter or _ first)");
+  materialOptions(add, true);
+  add.onCheck([](Call& c) {
+    auto names = session(c).scene().materialNames();
+    if (std::find(names.begin(), names.end(), c.str("name")) != names.end()) {
+      throw Error("material \"" + c.str("name") + "\" already exists", {"EXISTS", "MATERIAL"});
+    }
+    MaterialDef d;
+    c.fill(d);
+    d.check();
+    c.prepared = d;
+  });
+  add.run([](Call& c) {
+    session(c).scene().addMaterial(c.str("name"), std::any_cast<MaterialDef>(c.prepared));
+    return Value(c.str("name"));
+  });
+
+  Command& set = r.add("material set",
+                       "Changes some constants of a material (element masses follow the density).");
+  set.arg("name", materialRef(), "an existing material");
+  materialOptions(set, false);
+  set.onCheck([](Call& c) {
+    MaterialDef d = session(c).scene().material(c.str("name"));
+    c.fill(d);
+    d.check();
+    c.prepared = d;
+  });
+  set.run([](Call& c) {
+    session(c).scene().setMaterial(c.str("name"), std::any_cast<MaterialDef>(c.prepared));
+    return Value();
+  });
+
+  Command& get = r.add("material get", "Returns a material's constants as a dict, or one of them.");
+  get.arg("name", materialRef(), "an existing material");
+  for (const char* f : kFields) get.flag(f, std::string("return the ") + f + " alone");
+  get.changesScene = false;
+  get.run([](Call& c) {
+    Dict d = materialDict(session(c).scene().material(c.str("name")));
+    if (c.flagOrder().empty()) return Value(d);
+    Dict picked;
+    for (const std::string& f : c.flagOrder())
+      for (auto& kv : d)
+        if (kv.first == f) picked.push_back(kv);
+    if (picked.size() == 1) return picked[0].second;
+    return Value(picked);
+  });
+
+  Command& list = r.add("material list", "Returns the names of the materials, in creation order.");
+  list.changesScene = false;
+  list.run([](Call& c) {
+    List l;
+    for (auto& n : session(c).scene().materialNames()) l.emplace_back(n);
+    return Value(l);
+  });
+
+  r.describe("law", "Contact laws: the default law, and the law of a pair of materials.");
+  Command& def =
+      r.add("law default", "Sets the law of every pair without its own law, or returns it.");
+  def.optionalArg("law", lawChoice(), "linear or hertz_mindlin (prefixes accepted)");
+  def.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.given("law")) s.setContactLaw(c.get<physics::LawKind>("law"));
+    return Value(lawWord(s.contactLaw()));
+  });
+
+  Command& pair = r.add("law pair", "Sets the law of one pair of materials, or returns it.");
+  pair.arg("a", materialRef(), "a material");
+  pair.arg("b", materialRef(), "another (or the same) material");
+  pair.optionalArg("law", lawChoice(), "linear or hertz_mindlin");
+  pair.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.given("law")) s.setPairLaw(c.str("a"), c.str("b"), c.get<physics::LawKind>("law"));
+    return Value(lawWord(s.pairLaw(c.str("a"), c.str("b"))));
+  });
+}
+
+}  // namespace demlab::cmd

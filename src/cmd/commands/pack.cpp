@@ -1,0 +1,508 @@
+// The "pack" group: many elements at once, all or none (Simulation::addGrains): a lattice, a
+// random non-overlapping packing of a region with a size distribution, or a file. The elements
+// are laid out in the check phase, so a failure adds nothing.
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <unordered_map>
+
+#include "cmd/commands/commands.hpp"
+#include "cmd/words.hpp"
+#include "core/tag_table.hpp"
+#include "io/lammps_data.hpp"
+#include "io/line_reader.hpp"
+
+namespace demlab::cmd {
+
+namespace {
+
+using sim::Vec3d;
+
+struct Region {
+  enum Kind { Box, Sphere } kind = Box;
+  Vec3d lo{}, hi{};  // Box
+  Vec3d centre{};    // Sphere (a disc in 2D)
+  double radius = 0;
+  // Returns true if a ball of radius r at p lies inside the region.
+  bool holds(const Vec3d& p, double r, int d) const {
+    if (kind == Box) {
+      for (int k = 0; k < d; ++k)
+        if (p[k] - r < lo[k] || p[k] + r > hi[k]) return false;
+      return true;
+    }
+    double s = 0;
+    for (int k = 0; k < d; ++k) s += (p[k] - centre[k]) * (p[k] - centre[k]);
+    return std::sqrt(s) + r <= radius;
+  }
+  double volume(int d) const {
+    if (kind == Box) {
+      double v = 1;
+      for (int k = 0; k < d; ++k) v *= hi[k] - lo[k];
+      return v;
+    }
+    return d == 2 ? M_PI * radius * radius : 4.0 / 3.0 * M_PI * radius * radius * radius;
+  }
+  void bounds(int d, Vec3d& a, Vec3d& b) const {
+    a = lo, b = hi;
+    if (kind == Sphere)
+      for (int k = 0; k < d; ++k) a[k] = centre[k] - radius, b[k] = centre[k] + radius;
+  }
+};
+
+// `{box {lo} {hi}}` or `{sphere {centre} radius}` (a disc in 2D).
+PipeType regionType() {
+  PipeType t =
+      custom("region", [](std::string_view w, const Param& p, const Context& c) -> std::any {
+        auto bad = [&](const std::string& why) -> Error {
+          return Error("bad region \"" + std::string(w) + "\": " + why, {"VALUE", "REGION"});
+        };
+        std::vector<std::string> parts;
+        try {
+          parts = splitList(w);
+        } catch (const Error& e) {
+          throw bad(e.what());
+        }
+        int d = c.dimension();
+        Param q = p;
+        q.type = vector();
+        Region r;
+        if (parts.size() == 3 && parts[0] == "box") {
+          auto lo = std::any_cast<std::vector<double>>(convertWord(parts[1], q, c));
+          auto hi = std::any_cast<std::vector<double>>(convertWord(parts[2], q, c));
+          r.lo = vec3(lo), r.hi = vec3(hi);
+          for (int k = 0; k < d; ++k)
+            if (!(r.hi[k] > r.lo[k]))
+              throw bad("the upper corner must exceed the lower one on every axis");
+          return r;
+        }
+        if (parts.size() == 3 && parts[0] == "sphere") {
+          r.kind = Region::Sphere;
+          r.centre = vec3(std::any_cast<std::vector<double>>(convertWord(parts[1], q, c)));
+          if (!readReal(parts[2], r.radius) || !(r.radius > 0) || !std::isfinite(r.radius)) {
+            throw bad("the radius must be a positive number");
+          }
+          return r;
+        }
+        throw bad("must be {box {lo} {hi}} or {sphere {centre} radius}");
+      });
+  t.choices = {"box", "sphere"};
+  return t;
+}
+
+// A size distribution of radii: a number, {uniform a b}, {normal mean sd} (truncated at 3 sd),
+// {powerlaw a b exponent}, or {discrete r1 w1 r2 w2 ...}.
+struct SizeDist {
+  std::string kind = "constant";
+  std::vector<double> p;
+  double maxRadius() const {
+    if (kind == "constant") return p[0];
+    if (kind == "uniform" || kind == "powerlaw") return p[1];
+    if (kind == "normal") return p[0] + 3 * p[1];
+    double m = 0;
+    for (std::size_t k = 0; k < p.size(); k += 2) m = std::max(m, p[k]);
+    return m;
+  }
+  // Returns one radius drawn with rng (reproducible: the generator and the transforms are ours).
+  double draw(std::mt19937_64& rng) const {
+    auto u = [&] { return double(rng() >> 11) * 0x1.0p-53; };
+    if (kind == "constant") return p[0];
+    if (kind == "uniform") return p[0] + (p[1] - p[0]) * u();
+    if (kind == "powerlaw") {  // density ~ r^exponent on [a, b]
+      double a = p[0], b = p[1], e = p[2];
+      if (std::abs(e + 1) < 1e-12) return a * std::pow(b / a, u());
+      double ea = std::pow(a, e + 1), eb = std::pow(b, e + 1);
+      return std::pow(ea + (eb - ea) * u(), 1 / (e + 1));
+    }
+    if (kind == "normal") {
+      while (true) {
+        double z = std::sqrt(-2 * std::log(1 - u())) * std::cos(2 * M_PI * u());
+        if (std::abs(z) <= 3) {
+          double r = p[0] + p[1] * z;
+          if (r > 0) return r;
+        }
+      }
+    }
+    double total = 0;
+    for (std::size_t k = 1; k < p.size(); k += 2) total += p[k];
+    double x = u() * total;
+    for (std::size_t k = 0; k + 1 < p.size(); k += 2) {
+      if (x < p[k + 1]) return p[k];
+      x -= p[k + 1];
+    }
+    return p[p.size() - 2];
+  }
+};
+
+PipeType sizeType() {
+  PipeType t =
+      custom("size distribution", [](std::string_view w, const Param&, const Context&) -> std::any {
+        auto bad = [&](const std::string& why) -> Error {
+          return Error("bad radius \"" + std::string(w) + "\": " + why, {"VALUE", "RADIUS"});
+        };
+        std::vector<std::string> parts;
+        try {
+          parts = splitList(w);
+        } catch (const Error& e) {
+          throw bad(e.what());
+        }
+        SizeDist s;
+        std::size_t first = 1;
+        if (parts.size() == 1) {
+          s.kind = "constant";
+          first = 0;
+        } else if (!parts.empty()) {
+          static const std::vector<std::string> kinds{"uniform", "normal", "powerlaw", "discrete"};
+          s.kind = matchChoice(parts[0], kinds, "distribution", {"VALUE", "RADIUS"});
+        } else {
+          throw bad("must be a radius or a distribution");
+        }
+        for (std::size_t k = first; k < parts.size(); ++k) {
+          double x;
+          if (!readReal(parts[k], x) || !std::isfinite(x))
+            throw bad("expected a number but got \"" + parts[k] + "\"");
+          s.p.push_back(x);
+        }
+        const auto& p = s.p;
+        if (s.kind == "constant" && !(p[0] > 0)) throw bad("must be a positive number");
+        if (s.kind == "uniform" && (p.size() != 2 || !(p[0] > 0) || !(p[1] >= p[0]))) {
+          throw bad("should be {uniform min max} with 0 < min <= max");
+        }
+        if (s.kind == "powerlaw" && (p.size() != 3 || !(p[0] > 0) || !(p[1] >= p[0]))) {
+          throw bad("should be {powerlaw min max exponent} with 0 < min <= max");
+        }
+        if (s.kind == "normal" && (p.size() != 2 || !(p[0] > 0) || !(p[1] >= 0))) {
+          throw bad("should be {normal mean sd} with mean > 0 and sd >= 0");
+        }
+        if (s.kind == "discrete") {
+          bool ok = p.size() >= 2 && p.size() % 2 == 0;
+          double total = 0;
+          for (std::size_t k = 0; ok && k < p.size(); k += 2) {
+            ok = p[k] > 0 && p[k + 1] >= 0;
+            total += p[k + 1];
+          }
+          if (!ok || !(total > 0))
+            throw bad("should be {discrete r1 w1 r2 w2 ...} with radii > 0 and weights >= 0");
+        }
+        return s;
+      });
+  t.choices = {"uniform", "normal", "powerlaw", "discrete"};
+  return t;
+}
+
+// Declares the options every pack command shares.
+void commonOptions(Command& c) {
+  c.option("material", materialRef(), "their material (default: the first material defined)");
+  c.option("velocity", vector().withUnit("m/s"), "their velocity");
+  c.option("tags", text("list of tags"), "tags to give each of them");
+}
+
+// Returns the Def every packed element starts from (material, velocity, tags).
+sim::GrainDef baseDef(const Call& c, const sim::Simulation& s) {
+  sim::GrainDef d;
+  if (c.given("material")) {
+    d.material = c.str("material");
+  } else {
+    auto names = s.materialNames();
+    if (names.empty())
+      throw Error("no material defined: use \"material add\" first", {"LOOKUP", "MATERIAL"});
+    d.material = names.front();
+  }
+  if (c.has("velocity")) d.velocity = vec3(c.vec("velocity"));
+  if (c.has("tags")) {
+    for (auto& t : splitList(c.str("tags"))) {
+      checkTagName(t);
+      d.tags.push_back(t);
+    }
+  }
+  return d;
+}
+
+constexpr std::size_t kMaxPack = std::size_t(1) << 27;
+
+// A uniform hash grid of the balls placed so far, for the overlap test of random packing.
+class BallGrid {
+ public:
+  BallGrid(double cell, int d) : h_(cell), d_(d) {}
+  void add(const Vec3d& p, double r) {
+    balls_.push_back({p, r});
+    cells_[key(cellOf(p))].push_back(balls_.size() - 1);
+  }
+  // Returns true if a ball of radius r at p overlaps none of the balls (r <= cell / 2 assumed
+  // for the balls in the grid, which the caller's cell choice guarantees).
+  bool free(const Vec3d& p, double r) const {
+    auto c = cellOf(p);
+    int reach = int(std::ceil((r + maxR_) / h_));
+    std::array<long, 3> lo{0, 0, 0}, hi{0, 0, 0};
+    for (int k = 0; k < d_; ++k)
+      lo[std::size_t(k)] = c[std::size_t(k)] - reach,
+      hi[std::size_t(k)] = c[std::size_t(k)] + reach;
+    for (long x = lo[0]; x <= hi[0]; ++x)
+      for (long y = lo[1]; y <= hi[1]; ++y)
+        for (long z = lo[2]; z <= hi[2]; ++z) {
+          auto it = cells_.find(key({x, y, z}));
+          if (it == cells_.end()) continue;
+          for (std::size_t b : it->second) {
+            double s = 0;
+            for (int k = 0; k < d_; ++k)
+              s += (p[std::size_t(k)] - balls_[b].p[std::size_t(k)]) *
+                   (p[std::size_t(k)] - balls_[b].p[std::size_t(k)]);
+            double rr = r + balls_[b].r;
+            if (s < rr * rr) return false;
+          }
+        }
+    return true;
+  }
+  void setMaxRadius(double r) { maxR_ = std::max(maxR_, r); }
+
+ private:
+  struct Ball {
+    Vec3d p;
+    double r;
+  };
+  std::array<long, 3> cellOf(const Vec3d& p) const {
+    std::array<long, 3> c{0, 0, 0};
+    for (int k = 0; k < d_; ++k) c[std::size_t(k)] = long(std::floor(p[std::size_t(k)] / h_));
+    return c;
+  }
+  static std::uint64_t key(const std::array<long, 3>& c) {
+    return std::uint64_t(c[0]) * 0x9E3779B97F4A7C15ull ^
+           std::uint64_t(c[1]) * 0xC2B2AE3D27D4EB4Full ^
+           std::uint64_t(c[2]) * 0x165667B19E3779F9ull;
+  }
+  double h_;
+  int d_;
+  double maxR_ = 0;
+  std::vector<Ball> balls_;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells_;
+};
+
+Value addAll(Call& c) {
+  auto ids = session(c).scene().addGrains(std::any_cast<std::vector<sim::GrainDef>>(c.prepared));
+  List l;
+  l.reserve(ids.size());
+  for (auto g : ids) l.emplace_back(scriptId(g));
+  return l;
+}
+
+}  // namespace
+
+void registerPackCommands(Registry& r) {
+  r.describe("pack", "Many elements at once, all or none: a lattice, a random packing, or a file.");
+
+  Command& lat =
+      r.add("pack lattice",
+            "Fills a region with a regular lattice of equal elements; returns their ids.");
+  lat.option("region", regionType(), "{box {lo} {hi}} or {sphere {centre} radius}").require();
+  lat.option("radius", real().positive().withUnit("m"), "radius of every element").require();
+  lat.option("spacing", real().positive().withUnit("m"),
+             "distance between neighbours (default: one diameter)");
+  lat.option("kind", choice({"cubic", "hex"}),
+             "cubic (square in 2D) or hex (triangular in 2D, FCC in 3D)")
+      .byDefault("cubic");
+  commonOptions(lat);
+  lat.onCheck([](Call& c) {
+    auto& s = session(c).scene();
+    int d = s.dim();
+    Region reg = c.get<Region>("region");
+    double rad = c.real("radius");
+    double a = c.has("spacing") ? c.real("spacing") : 2 * rad;
+    if (a < 2 * rad * (1 - 1e-12))
+      c.bad("spacing", "must be at least one diameter, " + formatReal(2 * rad));
+    bool hex = c.str("kind") == "hex";
+    // Lattice steps per axis: hex rows are a sqrt(3)/2 apart, FCC layers a sqrt(2/3).
+    Vec3d step{a, hex ? a * std::sqrt(3.0) / 2 : a, hex && d == 3 ? a * std::sqrt(2.0 / 3.0) : a};
+    Vec3d lo, hi;
+    reg.bounds(d, lo, hi);
+    std::array<double, 3> n{1, 1, 1};
+    for (int k = 0; k < d; ++k)
+      n[std::size_t(k)] =
+          std::floor((hi[std::size_t(k)] - lo[std::size_t(k)]) / step[std::size_t(k)]) + 2;
+    if (n[0] * n[1] * n[2] > double(kMaxPack))
+      c.bad("radius", "would make more than 2^27 elements");
+    sim::GrainDef base = baseDef(c, s);
+    base.radius = rad;
+    std::vector<sim::GrainDef> defs;
+    for (long z = 0; z < long(n[2]); ++z)
+      for (long y = 0; y < long(n[1]); ++y)
+        for (long x = 0; x < long(n[0]); ++x) {
+          Vec3d p{lo[0] + rad + double(x) * step[0], lo[1] + rad + double(y) * step[1], 0};
+          if (d == 3) p[2] = lo[2] + rad + double(z) * step[2];
+          if (hex) {
+            if (d == 2 && (y & 1)) p[0] += a / 2;
+            if (d == 3) {  // FCC: rows offset within a layer, layers in ABC stacking
+              if (y & 1) p[0] += a / 2;
+              long layer = z % 3;
+              p[0] += double(layer) * a / 2;
+              p[1] += double(layer) * a * std::sqrt(3.0) / 6;
+            }
+          }
+          if (!reg.holds(p, rad, d)) continue;
+          base.position = p;
+          defs.push_back(base);
+        }
+    if (defs.empty()) c.bad("region", "holds no element of radius " + formatReal(rad));
+    c.prepared = std::move(defs);
+  });
+  lat.run(addAll);
+
+  Command& rnd =
+      r.add("pack random",
+            "Fills a region with randomly placed, non-overlapping elements; returns their ids.");
+  rnd.details =
+      "Random sequential addition, largest first, avoiding each other and the elements already in "
+      "the "
+      "scene. Reproducible: the same -seed gives the same packing. Fails, adding nothing, if some "
+      "element "
+      "finds no place in -tries attempts.";
+  rnd.option("region", regionType(), "{box {lo} {hi}} or {sphere {centre} radius}").require();
+  rnd.option("radius", sizeType().withUnit("m"),
+             "a radius, or {uniform a b}, {normal mean sd}, {powerlaw a b exponent}, {discrete r1 "
+             "w1 ...}")
+      .require();
+  rnd.option("count", integer().min(1), "number of elements");
+  rnd.option("fraction", real().positive().max(0.9),
+             "target solid fraction of the region instead of a count");
+  rnd.oneOf({"count", "fraction"}, true);
+  rnd.option("seed", integer().nonNegative(), "random seed").byDefault("1");
+  rnd.option("tries", integer().min(1), "attempts per element before giving up").byDefault("1000");
+  commonOptions(rnd);
+  rnd.onCheck([](Call& c) {
+    auto& s = session(c).scene();
+    int d = s.dim();
+    Region reg = c.get<Region>("region");
+    const SizeDist& dist = c.get<SizeDist>("radius");
+    std::mt19937_64 rng(std::uint64_t(c.integer("seed")));
+    std::vector<double> radii;
+    if (c.given("count")) {
+      if (std::uint64_t(c.integer("count")) > kMaxPack) c.bad("count", "must be at most 2^27");
+      for (std::int64_t k = 0; k < c.integer("count"); ++k) radii.push_back(dist.draw(rng));
+    } else {
+      double target = c.real("fraction") * reg.volume(d), vol = 0;
+      while (vol < target && radii.size() < kMaxPack) {
+        double rr = dist.draw(rng);
+        radii.push_back(rr);
+        vol += d == 2 ? M_PI * rr * rr : 4.0 / 3.0 * M_PI * rr * rr * rr;
+      }
+    }
+    std::sort(radii.begin(), radii.end(), std::greater<>());
+    double rmax = radii.front();
+    BallGrid grid(2 * rmax, d);
+    grid.setMaxRadius(rmax);
+    {  // the elements already there
+      auto pos = s.positions();
+      auto rs = s.radii();
+      for (std::size_t k = 0; k < rs.size(); ++k) {
+        Vec3d p{pos[k * std::size_t(d)], pos[k * std::size_t(d) + 1], d == 3 ? pos[k * 3 + 2] : 0};
+        grid.setMaxRadius(rs[k]);
+        grid.add(p, rs[k]);
+      }
+    }
+    Vec3d lo, hi;
+    reg.bounds(d, lo, hi);
+    auto u = [&] { return double(rng() >> 11) * 0x1.0p-53; };
+    sim::GrainDef base = baseDef(c, s);
+    std::vector<sim::GrainDef> defs;
+    defs.reserve(radii.size());
+    std::int64_t tries = c.integer("tries");
+    for (double rr : radii) {
+      bool placed = false;
+      for (std::int64_t t = 0; t < tries && !placed; ++t) {
+        Vec3d p{0, 0, 0};
+        for (int k = 0; k < d; ++k)
+          p[std::size_t(k)] =
+              lo[std::size_t(k)] + rr + (hi[std::size_t(k)] - lo[std::size_t(k)] - 2 * rr) * u();
+        if (!reg.holds(p, rr, d) || !grid.free(p, rr)) continue;
+        grid.add(p, rr);
+        base.position = p;
+        base.radius = rr;
+        defs.push_back(base);
+        placed = true;
+      }
+      if (!placed) {
+        throw Error("couldn't place element " + std::to_string(defs.size() + 1) + " of " +
+                        std::to_string(radii.size()) + " (radius " + formatReal(rr) + ") after " +
+                        std::to_string(tries) +
+                        " tries: the region is too full; use fewer elements, a larger region or "
+                        "more -tries",
+                    {"PACK", "FULL"});
+      }
+    }
+    c.prepared = std::move(defs);
+  });
+  rnd.run(addAll);
+
+  Command& file = r.add("pack file", "Adds the elements listed in a file; returns their ids.");
+  file.details =
+      "Formats: xyzr (one element per line: the centre's coordinates then the radius, optionally "
+      "followed "
+      "by the velocity; # starts a comment) and lammps (a LAMMPS data file of spheres, atom_style "
+      "sphere, "
+      "gzip'd or plain; velocities are read when present). auto picks lammps for names ending in "
+      ".data, "
+      ".data.gz or .lmp.";
+  file.arg("file", text("file"), "the file to read");
+  file.option("format", choice({"auto", "xyzr", "lammps"}), "the file's format").byDefault("auto");
+  file.option("scale", real().positive(), "multiply lengths (and velocities) by this")
+      .byDefault("1");
+  commonOptions(file);
+  file.onCheck([](Call& c) {
+    auto& s = session(c).scene();
+    int d = s.dim();
+    std::string path = c.str("file"), fmtName = c.str("format");
+    double k = c.real("scale");
+    if (fmtName == "auto") {
+      auto ends = [&](std::string_view e) {
+        return path.size() >= e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0;
+      };
+      fmtName = ends(".data") || ends(".data.gz") || ends(".lmp") ? "lammps" : "xyzr";
+    }
+    sim::GrainDef base = baseDef(c, s);
+    std::vector<sim::GrainDef> defs;
+    if (fmtName == "lammps") {
+      io::SphereData data = io::readLammpsData(path);
+      for (std::size_t a = 0; a < data.size(); ++a) {
+        base.radius = k * data.diameters[a] / 2;
+        for (int j = 0; j < 3; ++j) base.position[std::size_t(j)] = k * data.positions[a][j];
+        if (!data.velocities.empty()) {
+          for (int j = 0; j < 3; ++j) base.velocity[std::size_t(j)] = k * data.velocities[a][j];
+          for (int j = 0; j < 3; ++j)
+            base.angularVelocity[std::size_t(j)] = data.angularVelocities[a][j];
+        }
+        defs.push_back(base);
+      }
+    } else {
+      io::LineReader in(path);
+      std::string_view line;
+      while (in.next(line)) {
+        std::string text(line.substr(0, line.find('#')));
+        std::vector<std::string> f = splitList(text);
+        if (f.empty()) continue;
+        std::size_t n = f.size();
+        if (n != std::size_t(d + 1) && n != std::size_t(2 * d + 1)) {
+          throw Error(path + ":" + std::to_string(in.lineNumber()) + ": expected " +
+                          std::to_string(d + 1) + " or " + std::to_string(2 * d + 1) +
+                          " numbers (centre, radius, ?velocity?) but got " + std::to_string(n),
+                      {"IO", "FORMAT"});
+        }
+        std::vector<double> x(n);
+        for (std::size_t j = 0; j < n; ++j)
+          if (!readReal(f[j], x[j]) || !std::isfinite(x[j])) {
+            throw Error(path + ":" + std::to_string(in.lineNumber()) +
+                            ": expected floating-point number but got \"" + f[j] + "\"",
+                        {"VALUE", "NUMBER"});
+          }
+        base.position = {0, 0, 0};
+        for (int j = 0; j < d; ++j) base.position[std::size_t(j)] = k * x[std::size_t(j)];
+        base.radius = k * x[std::size_t(d)];
+        if (n == std::size_t(2 * d + 1))
+          for (int j = 0; j < d; ++j) base.velocity[std::size_t(j)] = k * x[std::size_t(d + 1 + j)];
+        defs.push_back(base);
+      }
+    }
+    if (defs.empty()) throw Error("no elements in \"" + path + "\"", {"IO", "FORMAT"});
+    c.prepared = std::move(defs);
+  });
+  file.run(addAll);
+}
+
+}  // namespace demlab::cmd

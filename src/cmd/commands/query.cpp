@@ -1,0 +1,101 @@
+// Queries of the whole scene: the energy ledger, contacts, bounds, counts.
+#include "cmd/commands/commands.hpp"
+
+namespace demlab::cmd {
+
+void registerQueryCommands(Registry& r) {
+  r.describe("query", "Questions about the whole scene: energy, contacts, bounds, counts.");
+
+  Command& en =
+      r.add("query energy", "Returns the energy ledger as a dict (J), or one entry of it.");
+  en.details =
+      "balance = kinetic + gravitational + elastic + losses - work done on the grains, relative to "
+      "the "
+      "scene's first step; residual = |balance| / scale is the run's error indicator.";
+  static const char* const fields[] = {"kinetic", "rotational", "gravitational", "elastic",
+                                       "damping", "friction",   "wallwork",      "behaviorwork",
+                                       "balance", "scale",      "residual"};
+  for (const char* f : fields) en.flag(f, std::string("the ") + f + " entry alone");
+  en.changesScene = false;
+  en.run([](Call& c) {
+    sim::EnergyLedger e = session(c).scene().energy();
+    Dict d{{"kinetic", e.kineticTranslational},
+           {"rotational", e.kineticRotational},
+           {"gravitational", e.gravitational},
+           {"elastic", e.elastic},
+           {"damping", e.dampingLoss},
+           {"friction", e.frictionLoss},
+           {"wallwork", e.wallWork},
+           {"behaviorwork", e.behaviorWork},
+           {"balance", e.balance},
+           {"scale", e.scale},
+           {"residual", e.residual}};
+    if (c.flagOrder().empty()) return Value(d);
+    Dict picked;
+    for (const std::string& f : c.flagOrder())
+      for (auto& kv : d)
+        if (kv.first == f) picked.push_back(kv);
+    return picked.size() == 1 ? picked[0].second : Value(picked);
+  });
+
+  Command& ct = r.add("query contacts",
+                      "Returns the contacts of the last step as a list of dicts, or their number.");
+  ct.details =
+      "Each dict: a (element id), b (element id or empty), wall (wall id or empty), point, normal, "
+      "overlap, force (on b).";
+  ct.flag("count", "return the number of contacts only");
+  ct.changesScene = false;
+  ct.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.flag("count")) return Value(s.contactCount());
+    int d = s.dim();
+    List l;
+    for (const auto& k : s.contacts()) {
+      l.emplace_back(Dict{{"a", scriptId(k.a)},
+                          {"b", k.b.isNull() ? Value("") : Value(scriptId(k.b))},
+                          {"wall", k.wall.isNull() ? Value("") : Value(scriptId(k.wall))},
+                          {"point", vecValue(k.point, d)},
+                          {"normal", vecValue(k.normal, d)},
+                          {"overlap", k.overlap},
+                          {"force", vecValue(k.force, d)}});
+    }
+    return Value(l);
+  });
+
+  Command& bb =
+      r.add("query bounds", "Returns the box {lo hi} holding every element and finite wall.");
+  bb.changesScene = false;
+  bb.run([](Call& c) {
+    auto& s = session(c).scene();
+    auto b = s.bounds();
+    return Value(List{vecValue(b[0], s.dim()), vecValue(b[1], s.dim())});
+  });
+
+  Command& cnt = r.add(
+      "query counts", "Returns a dict of counts: elements, walls, contacts, behaviors, materials.");
+  cnt.changesScene = false;
+  cnt.run([](Call& c) {
+    auto& s = session(c).scene();
+    return Value(Dict{{"elements", s.grainCount()},
+                      {"walls", s.wallCount()},
+                      {"contacts", s.contactCount()},
+                      {"behaviors", s.behaviors().size()},
+                      {"materials", s.materialNames().size()}});
+  });
+}
+
+void registerHelpCommands(Registry& r) {
+  Command& h =
+      r.add("help", "Describes the commands: help, help <command>, help <command> <subcommand>.");
+  h.variadicArg("topic", text("word"), "a command and subcommand (unique prefixes accepted)")
+      .optional = true;
+  h.needsScene = false;
+  h.changesScene = false;
+  h.run([&r](Call& c) {
+    std::vector<std::string> topic;
+    if (c.given("topic")) topic = c.all<std::string>("topic");
+    return Value(r.help(topic));
+  });
+}
+
+}  // namespace demlab::cmd

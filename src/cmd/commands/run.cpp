@@ -1,0 +1,192 @@
+// `sim run` and `sim step`: running the loop, with a progress bar on a terminal, a stop flag
+// checked at step boundaries (Ctrl-C), and the end-of-run report, printed and returned as a
+// dict.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "cmd/commands/commands.hpp"
+#include "cmd/words.hpp"
+
+namespace demlab::cmd {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string fmt(const char* f, double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, x);
+  return buf;
+}
+
+// Returns seconds as "12 ms", "3.4 s", "2 min 5 s".
+std::string duration(double s) {
+  if (s < 1e-3) return fmt("%.3g us", s * 1e6);
+  if (s < 1) return fmt("%.3g ms", s * 1e3);
+  if (s < 120) return fmt("%.3g s", s);
+  return std::to_string(int(s / 60)) + " min " + std::to_string(int(std::fmod(s, 60))) + " s";
+}
+
+// Draws the progress bar: `[#####.....]  45%  2250/5000 steps  3.1e+03 steps/s  ETA 0.9 s`.
+class ProgressBar {
+ public:
+  explicit ProgressBar(Session& s) : s_(s), start_(Clock::now()) {}
+  void update(std::uint64_t done, std::uint64_t total) {
+    auto now = Clock::now();
+    if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    double elapsed = std::chrono::duration<double>(now - start_).count();
+    if (elapsed < 0.25 && done < total) return;  // short runs draw nothing
+    double frac = total ? double(done) / double(total) : 1.0;
+    int width = 30, full = int(frac * width);
+    std::string bar = "\r[" + std::string(std::size_t(full), '#') +
+                      std::string(std::size_t(width - full), '.') + "] ";
+    bar += fmt("%3.0f%%  ", frac * 100) + std::to_string(done) + "/" + std::to_string(total) +
+           " steps";
+    double rate = elapsed > 0 ? double(done) / elapsed : 0;
+    bar += fmt("  %.3g steps/s", rate);
+    if (rate > 0) bar += "  ETA " + duration(double(total - done) / rate);
+    bar += "\033[K";
+    s_.write(bar);
+    drawn_ = true;
+  }
+  void finish() {
+    if (drawn_) s_.write("\r\033[K");
+  }
+
+ private:
+  Session& s_;
+  Clock::time_point start_, last_{};
+  bool drawn_ = false;
+};
+
+Value reportValue(const sim::RunReport& r) {
+  Dict d;
+  d.emplace_back("steps", r.steps);
+  d.emplace_back("simulated", r.simulatedTime);
+  d.emplace_back("time", r.time);
+  d.emplace_back("wall", r.wallSeconds);
+  d.emplace_back("per_step", r.steps ? r.wallSeconds / double(r.steps) : 0.0);
+  Dict mods;
+  for (const auto& m : r.modules)
+    mods.emplace_back(m.module, r.steps ? m.seconds / double(r.steps) : 0.0);
+  d.emplace_back("modules", mods);
+  d.emplace_back("contacts", r.contacts);
+  d.emplace_back("rebuilds", r.neighborRebuilds);
+  d.emplace_back("residual", r.energyResidual);
+  d.emplace_back("interrupted", r.interrupted);
+  return d;
+}
+
+std::string reportText(const sim::RunReport& r) {
+  double per = r.steps ? r.wallSeconds / double(r.steps) : 0;
+  std::string s = "run: " + std::to_string(r.steps) + " steps, " + fmt("%.6g", r.simulatedTime) +
+                  " s simulated (t = " + fmt("%.6g", r.time) + " s), wall " +
+                  duration(r.wallSeconds) + " (" + duration(per) + "/step)\n";
+  if (!r.modules.empty() && r.steps) {
+    s += "  per step:";
+    for (std::size_t k = 0; k < r.modules.size(); ++k) {
+      s += (k ? ", " : " ") + r.modules[k].module + " " +
+           duration(r.modules[k].seconds / double(r.steps));
+    }
+    s += "\n";
+  }
+  s += "  contacts " + std::to_string(r.contacts) + ", neighbour searches " +
+       std::to_string(r.neighborRebuilds) + ", energy residual " + fmt("%.3g", r.energyResidual) +
+       "\n";
+  return s;
+}
+
+// Runs `steps` steps on the session's scene; returns the report. Installs the SIGINT hook for
+// the run's duration and draws progress on a terminal. Throws {INTERRUPTED} when stopped.
+sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress) {
+  sim::Simulation& sim = s.scene();
+  s.stop = false;
+  s.callbackError.clear();
+  ProgressBar bar(s);
+  sim::RunOptions o;
+  o.steps = steps;
+  o.stop = &s.stop;
+  if (progress && s.terminal)
+    o.progress = [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); };
+  sim::RunReport rep;
+  s.beginRun();
+  try {
+    rep = sim.run(o);
+  } catch (...) {
+    s.endRun();
+    bar.finish();
+    throw;
+  }
+  s.endRun();
+  bar.finish();
+  return rep;
+}
+
+// Throws the error that ended a run early, if any, after printing the report.
+void raiseIfStopped(Session& s, const sim::RunReport& rep) {
+  if (!s.callbackError.empty()) {
+    std::string msg = s.callbackError;
+    s.callbackError.clear();
+    throw Error("run stopped at step " + std::to_string(s.sim->stepCount()) +
+                    " (t = " + formatReal(s.sim->time()) + " s): " + msg,
+                {"CALLBACK"});
+  }
+  if (rep.interrupted) {
+    throw Error("run interrupted at step " + std::to_string(s.sim->stepCount()) +
+                    " (t = " + formatReal(s.sim->time()) + " s) after " +
+                    std::to_string(rep.steps) + " steps; the scene is consistent and can be run on",
+                {"INTERRUPTED"});
+  }
+}
+
+}  // namespace
+
+void registerRunCommands(Registry& r) {
+  Command& run = r.add("sim run", "Runs the scene for a number of steps or a simulated time.");
+  run.details =
+      "Shows a progress bar with rate and ETA when output is a terminal, prints a report at the "
+      "end "
+      "(steps, simulated and wall time, time per step by module, energy-balance residual) and "
+      "returns "
+      "it as a dict. Ctrl-C stops the run at a step boundary with an error (code DEMLAB "
+      "INTERRUPTED); "
+      "the scene stays consistent.";
+  run.option("steps", integer().min(0), "number of steps");
+  run.option("time", real().positive().withUnit("s"),
+             "simulated time to run (rounded up to whole steps)");
+  run.oneOf({"steps", "time"}, true);
+  run.flag("quiet", "print no report");
+  run.option("progress", boolean(), "show a progress bar on a terminal").byDefault("1");
+  run.onCheck([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.given("steps")) {
+      c.prepared = std::uint64_t(c.integer("steps"));
+    } else {
+      double dt = s.timeStep();  // throws VALUE TIMESTEP when no step can be chosen
+      double n = std::ceil(c.real("time") / dt * (1 - 1e-12));
+      if (n > 1e15) c.bad("time", "needs more than 10^15 steps at dt = " + formatReal(dt));
+      c.prepared = std::uint64_t(std::max(1.0, n));
+    }
+  });
+  run.run([](Call& c) {
+    Session& s = session(c);
+    sim::RunReport rep =
+        runSteps(s, std::any_cast<std::uint64_t>(c.prepared), c.get<bool>("progress"));
+    if (!c.flag("quiet")) s.write(reportText(rep));
+    raiseIfStopped(s, rep);
+    return reportValue(rep);
+  });
+
+  Command& step = r.add("sim step", "Runs one step (or n) quietly; returns the report dict.");
+  step.optionalArg("n", integer().min(1), "number of steps").byDefault("1");
+  step.run([](Call& c) {
+    Session& s = session(c);
+    sim::RunReport rep = runSteps(s, std::uint64_t(c.integer("n")), false);
+    raiseIfStopped(s, rep);
+    return reportValue(rep);
+  });
+}
+
+}  // namespace demlab::cmd

@@ -1,0 +1,245 @@
+// The "sim" group: the scene as a whole (new, reset, info, time step, digest, save and load,
+// kept copies). Running is in run.cpp.
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "cmd/commands/commands.hpp"
+#include "cmd/words.hpp"
+
+namespace demlab::cmd {
+
+namespace {
+
+std::string hex64(std::uint64_t x) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(x));
+  return buf;
+}
+
+Value info(const sim::Simulation& s) {
+  Dict d;
+  d.emplace_back("dimension", s.dim());
+  d.emplace_back("time", s.time());
+  d.emplace_back("steps", s.stepCount());
+  double dt = 0;
+  try {
+    dt = s.timeStep();
+  } catch (const Error&) {
+  }
+  d.emplace_back("timestep", dt);
+  d.emplace_back("elements", s.grainCount());
+  d.emplace_back("walls", s.wallCount());
+  d.emplace_back("materials", s.materialNames().size());
+  d.emplace_back("behaviors", s.behaviors().size());
+  d.emplace_back("integrator", s.integrator());
+  List mods;
+  for (const auto& m : s.listModules()) mods.emplace_back(m);
+  d.emplace_back("modules", mods);
+  return d;
+}
+
+// A time step word: a positive real, or "auto".
+PipeType stepWord() {
+  PipeType t =
+      custom("real|auto", [](std::string_view w, const Param& p, const Context& c) -> std::any {
+        if (w == "auto") return std::string("auto");
+        Param q = p;
+        q.type = real().positive();
+        return convertWord(w, q, c);
+      });
+  t.choices = {"auto"};
+  return t;
+}
+
+// A file that exists and can be read; value: the path.
+PipeType readableFile() {
+  return custom("file", [](std::string_view w, const Param&, const Context&) -> std::any {
+    std::ifstream f{std::string(w), std::ios::binary};
+    if (!f)
+      throw Error("couldn't open \"" + std::string(w) + "\": no such file or not readable",
+                  {"IO", "OPEN"});
+    return std::string(w);
+  });
+}
+
+}  // namespace
+
+void registerSimCommands(Registry& r) {
+  r.describe("sim", "The scene as a whole: create, inspect, time step, run, save and load.");
+
+  Command& n = r.add("sim new", "Starts a new, empty scene, replacing the current one.");
+  n.option("dim", integer().range(2, 3), "dimension: 2 (discs) or 3 (spheres)").byDefault("3");
+  n.needsScene = false;
+  n.run([](Call& c) {
+    session(c).sim = sim::makeSimulation(int(c.integer("dim")));
+    return Value();
+  });
+
+  Command& reset = r.add("sim reset", "Empties the scene, keeping its dimension.");
+  reset.run([](Call& c) {
+    Session& s = session(c);
+    s.sim = sim::makeSimulation(s.sim->dim());
+    return Value();
+  });
+
+  Command& dim = r.add("sim dimension", "Returns the dimension of the scene (2 or 3).");
+  dim.changesScene = false;
+  dim.run([](Call& c) { return Value(session(c).scene().dim()); });
+
+  Command& inf =
+      r.add("sim info", "Returns a dict describing the scene: time, steps, counts, modules.");
+  inf.changesScene = false;
+  inf.run([](Call& c) { return info(session(c).scene()); });
+
+  Command& t =
+      r.add("sim time", "Returns the simulated time (s) and, with -steps, the step count.");
+  t.flag("steps", "return the number of steps taken instead");
+  t.changesScene = false;
+  t.run([](Call& c) {
+    auto& s = session(c).scene();
+    return c.flag("steps") ? Value(s.stepCount()) : Value(s.time());
+  });
+
+  Command& ts = r.add("sim timestep", "Sets the time step, or returns the one the next run uses.");
+  ts.details =
+      "With a number, the step is fixed; with \"auto\" it follows the scene: fraction x the "
+      "critical "
+      "step, recomputed when grains or materials change.";
+  ts.optionalArg("dt", stepWord(), "the time step in seconds, or auto").type.unit = "s";
+  ts.option("fraction", real().positive().max(1), "with auto: the fraction of the critical step")
+      .byDefault("0.2");
+  ts.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.given("dt")) {
+      const std::any& v = c.stack().slot("dt").value;
+      if (std::any_cast<std::string>(&v))
+        s.setAutoTimeStep(c.real("fraction"));
+      else
+        s.setTimeStep(std::any_cast<double>(v));
+      return Value();
+    }
+    return Value(s.timeStep());
+  });
+
+  Command& crit = r.add("sim critical", "Returns the critical time step of the scene (s).");
+  crit.changesScene = false;
+  crit.run([](Call& c) { return Value(session(c).scene().criticalTimeStep()); });
+
+  Command& dig =
+      r.add("sim digest", "Returns a hash of everything that determines the scene's future.");
+  dig.details =
+      "Equal digests mean equal scenes: the tests compare digests before and after failing calls.";
+  dig.changesScene = false;
+  dig.run([](Call& c) { return Value(hex64(session(c).scene().stateDigest())); });
+
+  Command& save = r.add("sim save", "Writes the whole scene to a checkpoint file.");
+  save.arg("file", text("file"), "the file to write");
+  save.flag("skipcallbacks", "leave out loads defined by scripts instead of failing");
+  save.changesScene = false;
+  save.run([](Call& c) {
+    auto& s = session(c).scene();
+    std::ostringstream out(std::ios::binary);
+    std::vector<std::string> skipped = s.save(out, c.flag("skipcallbacks"));
+    const std::string& path = c.str("file");
+    std::string tmp = path + ".tmp";
+    {
+      std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+      if (!f) throw Error("couldn't open \"" + path + "\" for writing", {"IO", "OPEN"});
+      f << out.str();
+      if (!f.flush()) {
+        std::remove(tmp.c_str());
+        throw Error("error writing \"" + path + "\"", {"IO", "WRITE"});
+      }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+      std::remove(tmp.c_str());
+      throw Error("couldn't rename \"" + tmp + "\" to \"" + path + "\"", {"IO", "WRITE"});
+    }
+    List l;
+    for (auto& d : skipped) l.emplace_back(d);
+    return Value(l);
+  });
+
+  Command& load = r.add("sim load", "Replaces the scene by the one in a checkpoint file.");
+  load.arg("file", readableFile(), "a file written by sim save");
+  load.needsScene = false;
+  load.run([](Call& c) {
+    Session& s = session(c);
+    std::ifstream f(c.str("file"), std::ios::binary);
+    std::stringstream buf;
+    buf << f.rdbuf();
+    std::string bytes = buf.str();
+    int first = s.sim ? s.sim->dim() : 3;
+    for (int dim : {first, 5 - first}) {
+      auto fresh = sim::makeSimulation(dim);
+      std::istringstream in(bytes, std::ios::binary);
+      try {
+        fresh->load(in);
+      } catch (const Error& e) {
+        if (e.code().size() >= 3 && e.code()[1] == "LOAD" && e.code()[2] == "DIMENSION") continue;
+        throw;
+      }
+      s.sim = std::move(fresh);
+      return Value();
+    }
+    throw Error("couldn't load \"" + c.str("file") + "\": not a 2D or 3D demlab checkpoint",
+                {"LOAD", "FORMAT"});
+  });
+
+  Command& keep =
+      r.add("sim keep", "Keeps a deep copy of the scene under a name (see sim restore).");
+  keep.details =
+      "The copy runs bit-identically to the scene it was taken from: convergence studies start "
+      "every run from it.";
+  keep.arg("name", name("name"), "the name of the copy (an existing copy is replaced)");
+  keep.changesScene = false;
+  keep.run([](Call& c) {
+    Session& s = session(c);
+    auto copy = s.sim->clone();
+    s.kept[c.str("name")] = std::move(copy);
+    return Value();
+  });
+
+  auto keptRef = [] {
+    PipeType t =
+        custom("kept scene", [](std::string_view w, const Param&, const Context& c) -> std::any {
+          if (!session(c).kept.count(std::string(w))) {
+            throw Error("no kept scene named \"" + std::string(w) + "\"", {"LOOKUP", "SCENE"});
+          }
+          return std::string(w);
+        });
+    return t.complete([](const Context& c) {
+      std::vector<std::string> out;
+      for (auto& [k, v] : session(c).kept) out.push_back(k);
+      return out;
+    });
+  };
+  Command& restore = r.add("sim restore", "Replaces the scene by a copy of a kept one.");
+  restore.arg("name", keptRef(), "a name given to sim keep");
+  restore.needsScene = false;
+  restore.run([](Call& c) {
+    Session& s = session(c);
+    s.sim = s.kept.at(c.str("name"))->clone();
+    return Value();
+  });
+
+  Command& kl = r.add("sim kept", "Returns the names of the kept scenes.");
+  kl.needsScene = false;
+  kl.changesScene = false;
+  kl.run([](Call& c) {
+    List l;
+    for (auto& [k, v] : session(c).kept) l.emplace_back(k);
+    return Value(l);
+  });
+
+  Command& drop = r.add("sim forget", "Drops a kept scene.");
+  drop.arg("name", keptRef(), "a name given to sim keep");
+  drop.needsScene = false;
+  drop.run([](Call& c) {
+    session(c).kept.erase(c.str("name"));
+    return Value();
+  });
+}
+
+}  // namespace demlab::cmd

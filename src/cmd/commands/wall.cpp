@@ -1,0 +1,245 @@
+// The "wall" group: planes, finite walls, boxes and drums, with optional prescribed motion.
+#include <unordered_set>
+
+#include "cmd/commands/commands.hpp"
+#include "cmd/words.hpp"
+#include "core/tag_table.hpp"
+
+namespace demlab::cmd {
+
+namespace {
+
+using sim::WallDef;
+using sim::WallId;
+using sim::WallShape;
+
+const char* shapeName(WallShape s) {
+  switch (s) {
+    case WallShape::Plane:
+      return "plane";
+    case WallShape::Finite:
+      return "finite";
+    case WallShape::Box:
+      return "box";
+    case WallShape::Drum:
+      return "drum";
+  }
+  return "?";
+}
+
+// Declares what every wall takes: material, name, tags and the prescribed motion.
+void commonOptions(Command& c) {
+  c.option("point", vector().withUnit("m"),
+           "reference point (the centre for finite walls, boxes and drums)");
+  c.option("material", materialRef(), "its material (default: the first material defined)");
+  c.option("name", name(), "a unique name");
+  c.option("tags", text("list of tags"), "tags to give it");
+  c.option("velocity", vector().withUnit("m/s"), "prescribed velocity of the reference point");
+  c.option("angularvelocity", spin().withUnit("rad/s"),
+           "prescribed rotation about the reference point");
+  c.option("amplitude", vector().withUnit("m"), "vibration amplitude (displacement)");
+  c.option("frequency", real().nonNegative().withUnit("Hz"), "vibration frequency");
+  c.option("phase", real().withUnit("rad"), "vibration phase");
+}
+
+// Builds the Def from the call's options (check phase); shape-specific fields by the caller.
+WallDef baseDef(const Call& c, WallShape shape) {
+  const sim::Simulation& s = session(c.context()).scene();
+  WallDef d;
+  d.shape = shape;
+  if (c.has("point")) d.point = vec3(c.vec("point"));
+  if (c.given("material")) {
+    d.material = c.str("material");
+  } else {
+    auto names = s.materialNames();
+    if (names.empty())
+      throw Error("no material defined: use \"material add\" first", {"LOOKUP", "MATERIAL"});
+    d.material = names.front();
+  }
+  if (c.has("name")) d.name = c.str("name");
+  if (c.has("tags"))
+    for (auto& t : splitList(c.str("tags"))) {
+      checkTagName(t);
+      d.tags.push_back(t);
+    }
+  if (c.given("velocity") || c.given("angularvelocity") || c.given("amplitude") ||
+      c.given("frequency") || c.given("phase")) {
+    sim::WallMotion m;
+    if (c.has("velocity")) m.velocity = vec3(c.vec("velocity"));
+    if (c.has("angularvelocity")) m.angularVelocity = vec3(c.vec("angularvelocity"), true);
+    if (c.has("amplitude")) m.amplitude = vec3(c.vec("amplitude"));
+    if (c.has("frequency")) m.frequency = c.real("frequency");
+    if (c.has("phase")) m.phase = c.real("phase");
+    d.motion = m;
+  }
+  return d;
+}
+
+// Checks that -halfextents has n numbers, all positive; returns them as a Vec3d.
+sim::Vec3d halfExtents(const Call& c, std::size_t n) {
+  const auto& h = c.vec("halfextents");
+  if (h.size() != n) {
+    c.bad("halfextents", "expected " + std::to_string(n) + (n == 1 ? " number" : " numbers") +
+                             " but got " + std::to_string(h.size()));
+  }
+  for (double x : h)
+    if (!(x > 0)) c.bad("halfextents", "each must be a positive number");
+  return vec3(h);
+}
+
+Value addWall(Call& c) {
+  return Value(scriptId(session(c).scene().addWall(std::any_cast<WallDef>(c.prepared))));
+}
+
+Dict wallDict(const sim::WallState& w, int d) {
+  List tags;
+  for (auto& t : w.tags) tags.emplace_back(t);
+  return {{"id", scriptId(w.id)},
+          {"name", w.name},
+          {"shape", shapeName(w.shape)},
+          {"material", w.material},
+          {"point", vecValue(w.point, d)},
+          {"velocity", vecValue(w.velocity, d)},
+          {"angularvelocity", vecValue(w.angularVelocity, d, true)},
+          {"orientation", d == 2 ? Value(w.orientation[0])
+                                 : Value(Reals{{w.orientation.begin(), w.orientation.end()}, 0})},
+          {"force", vecValue(w.force, d)},
+          {"bounds", List{vecValue(w.boundsLo, d), vecValue(w.boundsHi, d)}},
+          {"tags", tags}};
+}
+
+}  // namespace
+
+void registerWallCommands(Registry& r) {
+  r.describe("wall", "Walls: infinite planes, finite walls, boxes and drums, fixed or moving.");
+  r.describe("wall add", "Adds a wall of one shape; returns its id.");
+
+  Command& plane =
+      r.add("wall add plane",
+            "Adds an infinite plane (a line in 2D); elements stay on the normal's side.");
+  plane.option("normal", vector(), "the normal, pointing to the side the elements are on")
+      .require();
+  commonOptions(plane);
+  plane.onCheck([](Call& c) {
+    WallDef d = baseDef(c, WallShape::Plane);
+    d.normal = vec3(c.vec("normal"));
+    c.prepared = d;
+  });
+  plane.run(addWall);
+
+  Command& fin = r.add("wall add finite",
+                       "Adds a finite flat wall: a segment in 2D, a rectangle in 3D (two-sided).");
+  fin.option("normal", vector(), "the wall's normal").require();
+  fin.option("halfextents", reals().withUnit("m"),
+             "half length (2D), or half sizes along -axis and normal x axis (3D)")
+      .require();
+  fin.option("axis", vector(), "3D: the in-plane direction of the first half size");
+  commonOptions(fin);
+  fin.onCheck([](Call& c) {
+    int d = session(c).scene().dim();
+    WallDef w = baseDef(c, WallShape::Finite);
+    w.normal = vec3(c.vec("normal"));
+    w.halfExtents = halfExtents(c, d == 2 ? 1 : 2);
+    if (c.has("axis")) w.axis = vec3(c.vec("axis"));
+    c.prepared = w;
+  });
+  fin.run(addWall);
+
+  Command& box =
+      r.add("wall add box", "Adds a solid box (a rectangle in 2D); elements stay outside.");
+  box.option("halfextents", reals().withUnit("m"), "half sizes along each axis").require();
+  box.option("rotation", spin().withUnit("rad"),
+             "rotation vector (axis times angle; an angle in 2D)");
+  commonOptions(box);
+  box.onCheck([](Call& c) {
+    int d = session(c).scene().dim();
+    WallDef w = baseDef(c, WallShape::Box);
+    w.halfExtents = halfExtents(c, std::size_t(d));
+    if (c.has("rotation")) w.rotation = vec3(c.vec("rotation"), true);
+    c.prepared = w;
+  });
+  box.run(addWall);
+
+  Command& drum = r.add("wall add drum",
+                        "Adds a drum: a cylinder (a circle in 2D) holding the elements inside.");
+  drum.option("radius", real().positive().withUnit("m"), "inner radius")
+      .require()
+      .to(&WallDef::radius);
+  drum.option("axis", vector(), "3D: the cylinder's axis");
+  drum.option("halflength", real().positive().withUnit("m"), "3D: half its length")
+      .to(&WallDef::halfLength);
+  commonOptions(drum);
+  drum.onCheck([](Call& c) {
+    WallDef w = baseDef(c, WallShape::Drum);
+    c.fill(w);
+    if (c.has("axis")) w.axis = vec3(c.vec("axis"));
+    c.prepared = w;
+  });
+  drum.run(addWall);
+
+  Command& get = r.add("wall get", "Returns a wall's state as a dict, or the fields asked for.");
+  get.arg("wall", wallRef(), "a wall id or name");
+  for (const char* f : {"id", "name", "shape", "material", "point", "velocity", "angularvelocity",
+                        "orientation", "force", "bounds", "tags"})
+    get.flag(f, std::string("the ") + f);
+  get.changesScene = false;
+  get.run([](Call& c) {
+    auto& s = session(c).scene();
+    Dict d = wallDict(s.wall(c.get<WallId>("wall")), s.dim());
+    if (c.flagOrder().empty()) return Value(d);
+    Dict picked;
+    for (const std::string& f : c.flagOrder())
+      for (auto& kv : d)
+        if (kv.first == f) picked.push_back(kv);
+    return picked.size() == 1 ? picked[0].second : Value(picked);
+  });
+
+  Command& rm = r.add("wall remove", "Removes walls; returns how many.");
+  rm.variadicArg("wall", wallRef(), "wall ids or names");
+  rm.run([](Call& c) {
+    auto& s = session(c).scene();
+    std::unordered_set<std::uint64_t> seen;
+    std::size_t n = 0;
+    for (WallId w : c.all<WallId>("wall"))
+      if (seen.insert(w.bits()).second) {
+        s.removeWall(w);
+        ++n;
+      }
+    return Value(n);
+  });
+
+  Command& list = r.add("wall list", "Returns the ids of all walls, or of those with a tag.");
+  list.option("tag", tagName(), "only walls carrying this tag");
+  list.changesScene = false;
+  list.run([](Call& c) {
+    auto& s = session(c).scene();
+    List l;
+    for (WallId w : c.given("tag") ? s.wallsTagged(c.str("tag")) : s.wallIds())
+      l.emplace_back(scriptId(w));
+    return Value(l);
+  });
+
+  Command& count = r.add("wall count", "Returns the number of walls.");
+  count.changesScene = false;
+  count.run([](Call& c) { return Value(session(c).scene().wallCount()); });
+
+  Command& tag = r.add("wall tag", "Gives walls a tag (idempotent).");
+  tag.arg("tag", tagName(), "the tag");
+  tag.variadicArg("wall", wallRef(), "wall ids or names");
+  tag.run([](Call& c) {
+    auto& s = session(c).scene();
+    for (WallId w : c.all<WallId>("wall")) s.tagWall(w, c.str("tag"));
+    return Value();
+  });
+
+  Command& untag = r.add("wall untag", "Takes a tag away from walls.");
+  untag.arg("tag", tagName(), "the tag");
+  untag.variadicArg("wall", wallRef(), "wall ids or names");
+  untag.run([](Call& c) {
+    auto& s = session(c).scene();
+    for (WallId w : c.all<WallId>("wall")) s.untagWall(w, c.str("tag"));
+    return Value();
+  });
+}
+
+}  // namespace demlab::cmd

@@ -1,0 +1,139 @@
+#include "cmd/session.hpp"
+
+#include <algorithm>
+
+#include "cmd/words.hpp"
+#include "core/name_lookup.hpp"
+#include "core/tag_table.hpp"
+
+namespace demlab::cmd {
+
+void Session::requireScene() const {
+  if (!sim) throw Error("no simulation: use \"sim new\" first", {"STATE", "NOSIM"});
+}
+
+sim::Simulation& Session::scene() const {
+  requireScene();
+  return *sim;
+}
+
+std::int64_t scriptId(std::uint32_t index, std::uint32_t generation) {
+  return std::int64_t((std::uint64_t((generation - 1) / 2) << 32) | index);
+}
+
+namespace {
+
+// Returns the handle `word` names (an id, or a name resolved by find), checked by probe.
+template <class H, class Find, class Probe>
+H lookup(std::string_view word, std::string_view kind, Find find, Probe probe) {
+  std::int64_t id;
+  if (readInt(word, id)) {
+    H h = fromScriptId<H>(id);
+    bool ok = id >= 0;
+    if (ok) {
+      try {
+        probe(h);
+      } catch (const Error&) {
+        ok = false;
+      }
+    }
+    if (!ok)
+      throw Error("no " + std::string(kind) + " with id " + std::string(word),
+                  {"LOOKUP", codeWord(kind)});
+    return h;
+  }
+  try {
+    return find(std::string(word));
+  } catch (const Error&) {
+    throw Error("no " + std::string(kind) + " named \"" + std::string(word) + "\"",
+                {"LOOKUP", codeWord(kind)});
+  }
+}
+
+}  // namespace
+
+PipeType elementRef() {
+  return custom("element", [](std::string_view w, const Param&, const Context& c) -> std::any {
+    const sim::Simulation& s = session(c).scene();
+    return lookup<sim::GrainId>(
+        w, "element", [&](const std::string& n) { return s.findGrain(n); },
+        [&](sim::GrainId h) { s.grain(h); });
+  });
+}
+
+PipeType wallRef() {
+  return custom("wall", [](std::string_view w, const Param&, const Context& c) -> std::any {
+    const sim::Simulation& s = session(c).scene();
+    return lookup<sim::WallId>(
+        w, "wall", [&](const std::string& n) { return s.findWall(n); },
+        [&](sim::WallId h) { s.wall(h); });
+  });
+}
+
+PipeType materialRef() {
+  PipeType t =
+      custom("material", [](std::string_view w, const Param&, const Context& c) -> std::any {
+        auto names = session(c).scene().materialNames();
+        if (std::find(names.begin(), names.end(), w) == names.end()) {
+          throw Error("no material named \"" + std::string(w) + "\"", {"LOOKUP", "MATERIAL"});
+        }
+        return std::string(w);
+      });
+  return t.complete([](const Context& c) {
+    const Session& s = session(c);
+    return s.sim ? s.sim->materialNames() : std::vector<std::string>{};
+  });
+}
+
+PipeType behaviorRef() {
+  return custom("behavior", [](std::string_view w, const Param&, const Context& c) -> std::any {
+    std::int64_t id;
+    if (readInt(w, id) && id >= 0) {
+      auto h = fromScriptId<sim::BehaviorId>(id);
+      for (const auto& b : session(c).scene().behaviors())
+        if (b.id == h) return h;
+    }
+    throw Error("no behavior with id " + std::string(w), {"LOOKUP", "BEHAVIOR"});
+  });
+}
+
+PipeType lawChoice() {
+  PipeType t = custom("law", [](std::string_view w, const Param& p, const Context&) -> std::any {
+    static const std::vector<std::string> laws{"linear", "hertz_mindlin"};
+    return sim::lawFromName(matchChoice(w, laws, p.name, {"VALUE", codeWord(p.name)}));
+  });
+  t.choices = {"linear", "hertz_mindlin"};
+  return t;
+}
+
+PipeType tagName() {
+  return custom("tag", [](std::string_view w, const Param&, const Context&) -> std::any {
+    checkTagName(w);
+    return std::string(w);
+  });
+}
+
+PipeType spin() {
+  return custom("spin", [](std::string_view w, const Param& p, const Context& c) -> std::any {
+    Param q = p;
+    q.type = vector(c.dimension() == 2 ? 1 : 3);
+    return convertWord(w, q, c);
+  });
+}
+
+sim::Vec3d vec3(const std::vector<double>& v, bool isSpin) {
+  sim::Vec3d x{0, 0, 0};
+  if (isSpin && v.size() == 1) {
+    x[2] = v[0];
+    return x;
+  }
+  for (std::size_t k = 0; k < v.size() && k < 3; ++k) x[k] = v[k];
+  return x;
+}
+
+Value vecValue(const sim::Vec3d& x, int d, bool isSpin) {
+  if (isSpin) return d == 2 ? Value(x[2]) : Value(Reals{{x[0], x[1], x[2]}, 0});
+  return Value(Reals{{x.begin(), x.begin() + d}, 0});
+}
+
+}  // namespace demlab::cmd

@@ -1,0 +1,88 @@
+// Session: what the commands act on. It owns the current Simulation (none until `sim new`),
+// the scenes kept by `sim keep`, the stop flag a run checks at step boundaries (set by the
+// binding's SIGINT handler), and the hooks through which the binding gives the commands an
+// output channel and Tcl callbacks. One Session per interpreter.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "cmd/command.hpp"
+#include "sim/simulation.hpp"
+
+namespace demlab::cmd {
+
+struct Session : Context {
+  std::unique_ptr<sim::Simulation> sim;
+  std::map<std::string, std::unique_ptr<sim::Simulation>> kept;  // `sim keep` / `sim restore`
+  std::atomic<bool> stop{false};
+
+  // Set by the binding: whether stdout is a terminal (progress bars only there), where text
+  // goes, and how a run is bracketed (the SIGINT handler is installed only during runs).
+  bool terminal = false;
+  std::function<void(std::string_view)> write = [](std::string_view) {};
+  std::function<void()> beginRun = [] {}, endRun = [] {};
+  // Returns a function of time evaluating a Tcl expression in `t`; throws demlab::Error
+  // {VALUE <what>} if the expression does not evaluate to a number at time t0.
+  std::function<sim::TimeFunction(const std::string& expr, const std::string& what, double t0)>
+      timeFunction;
+  // The first error a time function met during a run (it then stops the run).
+  std::string callbackError;
+
+  int dimension() const override { return sim ? sim->dim() : 3; }
+  // Throws demlab::Error {STATE NOSIM}: `no simulation: use "sim new" first`.
+  void requireScene() const override;
+  // Returns the current simulation; throws {STATE NOSIM} when there is none.
+  sim::Simulation& scene() const;
+};
+
+// The Session a command runs in.
+inline Session& session(Call& c) {
+  return static_cast<Session&>(c.context());
+}
+inline const Session& session(const Context& c) {
+  return static_cast<const Session&>(c);
+}
+
+// Script-visible ids. A handle's first life gets the id of its slot (0, 1, 2, ...); each reuse
+// of a slot adds 2^32, so a stale id never names the element that took its slot.
+std::int64_t scriptId(std::uint32_t index, std::uint32_t generation);
+template <class H>
+std::int64_t scriptId(H h) {
+  return scriptId(h.index, h.generation);
+}
+template <class H>
+H fromScriptId(std::int64_t id) {
+  H h;
+  h.index = std::uint32_t(std::uint64_t(id) & 0xffffffffu);
+  h.generation = std::uint32_t(2 * (std::uint64_t(id) >> 32) + 1);
+  return h;
+}
+
+// Pipes over the scene, for the check phase.
+// An element by id or name; value: sim::GrainId. {LOOKUP ELEMENT} if there is none.
+PipeType elementRef();
+// A wall by id or name; value: sim::WallId. {LOOKUP WALL}.
+PipeType wallRef();
+// An existing material's name; value: std::string. {LOOKUP MATERIAL}.
+PipeType materialRef();
+// A behavior id; value: sim::BehaviorId. {LOOKUP BEHAVIOR}.
+PipeType behaviorRef();
+// A contact law name (linear, hertz_mindlin; prefixes such as "hertz"); value: physics::LawKind.
+PipeType lawChoice();
+// A tag (a letter or "_" first); value: std::string. {VALUE TAG}.
+PipeType tagName();
+// An angular quantity: one number in 2D (about z), three in 3D; value: std::vector<double>.
+PipeType spin();
+
+// Returns the 3-vector of a dimension-long (or spin) vector: missing components are 0, a 2D
+// spin goes to z.
+sim::Vec3d vec3(const std::vector<double>& v, bool isSpin = false);
+// Returns the first d components of x as a Value list (angular quantities: z alone in 2D).
+Value vecValue(const sim::Vec3d& x, int d, bool isSpin = false);
+
+}  // namespace demlab::cmd

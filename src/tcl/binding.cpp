@@ -1,0 +1,310 @@
+#include "tcl/binding.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <new>
+
+#include "cmd/commands/commands.hpp"
+#include "cmd/words.hpp"
+
+extern const char* const demlabTclLibrary;  // tcl/demlab.tcl, compiled in (generated)
+
+#ifndef DEMLAB_PKG_VERSION
+#define DEMLAB_PKG_VERSION "0.1"
+#endif
+
+namespace demlab::tcl {
+
+void beginRun(std::atomic<bool>* stop);
+void endRun();
+
+namespace {
+
+constexpr const char* kAssocKey = "demlab::session";
+
+struct Bound {
+  cmd::Session* session;
+  std::string word;
+};
+
+// The Session and what the binding keeps beside it.
+struct InterpState {
+  cmd::Session session;
+  Tcl_Interp* interp = nullptr;
+  bool running = false;
+};
+
+InterpState* stateOf(Tcl_Interp* interp) {
+  return static_cast<InterpState*>(Tcl_GetAssocData(interp, kAssocKey, nullptr));
+}
+
+extern "C" void deleteState(ClientData cd, Tcl_Interp*) {
+  delete static_cast<InterpState*>(cd);
+}
+extern "C" void deleteBound(ClientData cd) {
+  delete static_cast<Bound*>(cd);
+}
+
+// Sets the interpreter's result and -errorcode from e; returns TCL_ERROR.
+int fail(Tcl_Interp* interp, const std::string& message, const std::vector<std::string>& code) {
+  Tcl_SetObjResult(interp, Tcl_NewStringObj(message.c_str(), int(message.size())));
+  Tcl_Obj* list = Tcl_NewListObj(0, nullptr);
+  for (const std::string& w : code)
+    Tcl_ListObjAppendElement(nullptr, list, Tcl_NewStringObj(w.c_str(), int(w.size())));
+  Tcl_SetObjErrorCode(interp, list);
+  return TCL_ERROR;
+}
+
+// A time function that evaluates `apply {t {expr {EXPR}}} $t` in the interpreter. An error
+// during a run is recorded in the Session and stops the run; the function then returns 0.
+struct ExprFn {
+  Tcl_Interp* interp;
+  InterpState* state;
+  Tcl_Obj* apply;
+  Tcl_Obj* lambda;
+  ExprFn(Tcl_Interp* i, InterpState* s, const std::string& expr) : interp(i), state(s) {
+    apply = Tcl_NewStringObj("::apply", -1);
+    Tcl_IncrRefCount(apply);
+    std::string l = "t {expr {" + expr + "}}";
+    lambda = Tcl_NewStringObj(l.c_str(), int(l.size()));
+    Tcl_IncrRefCount(lambda);
+  }
+  ~ExprFn() {
+    Tcl_DecrRefCount(apply);
+    Tcl_DecrRefCount(lambda);
+  }
+  // Returns the value at t, or false with the message in err.
+  bool eval(double t, double& out, std::string& err) {
+    Tcl_Obj* objv[3] = {apply, lambda, Tcl_NewDoubleObj(t)};
+    Tcl_IncrRefCount(objv[2]);
+    Tcl_InterpState saved = Tcl_SaveInterpState(interp, TCL_OK);
+    int code = Tcl_EvalObjv(interp, 3, objv, TCL_EVAL_GLOBAL);
+    bool ok =
+        code == TCL_OK && Tcl_GetDoubleFromObj(nullptr, Tcl_GetObjResult(interp), &out) == TCL_OK;
+    if (!ok)
+      err = code == TCL_OK ? "expected a number but got \"" +
+                                 std::string(Tcl_GetString(Tcl_GetObjResult(interp))) + "\""
+                           : std::string(Tcl_GetString(Tcl_GetObjResult(interp)));
+    Tcl_DecrRefCount(objv[2]);
+    Tcl_RestoreInterpState(interp, saved);
+    return ok;
+  }
+};
+
+void setupSession(Tcl_Interp* interp, InterpState* st) {
+  cmd::Session& s = st->session;
+  s.terminal = isatty(1) != 0;
+  s.write = [interp](std::string_view text) {
+    Tcl_Channel out = Tcl_GetStdChannel(TCL_STDOUT);
+    if (!out) return;
+    Tcl_WriteChars(out, text.data(), int(text.size()));
+    Tcl_Flush(out);
+  };
+  s.beginRun = [st] {
+    st->running = true;
+    beginRun(&st->session.stop);
+  };
+  s.endRun = [st] {
+    endRun();
+    st->running = false;
+  };
+  s.timeFunction = [interp, st](const std::string& expr, const std::string& what,
+                                double t0) -> sim::TimeFunction {
+    auto fn = std::make_shared<ExprFn>(interp, st, expr);
+    double v;
+    std::string err;
+    if (!fn->eval(t0, v, err)) {
+      throw Error("bad " + what + " expression \"" + expr + "\": " + err,
+                  {"VALUE", cmd::codeWord(what)});
+    }
+    return [fn](double t) {
+      double out = 0;
+      std::string err;
+      if (!fn->eval(t, out, err) || !std::isfinite(out)) {
+        if (fn->state->session.callbackError.empty()) {
+          fn->state->session.callbackError =
+              err.empty() ? "a load expression gave a non-finite value" : err;
+        }
+        fn->state->session.stop = true;
+        return 0.0;
+      }
+      return out;
+    };
+  };
+}
+
+extern "C" int dispatch(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
+  Bound* b = static_cast<Bound*>(cd);
+  InterpState* st = stateOf(interp);
+  if (!st)
+    return fail(interp, "demlab is not initialised in this interpreter", {"DEMLAB", "STATE"});
+  std::vector<std::string> words;
+  words.reserve(std::size_t(objc));
+  words.push_back(b->word);
+  for (int k = 1; k < objc; ++k) {
+    int len;
+    const char* s = Tcl_GetStringFromObj(objv[k], &len);
+    words.emplace_back(s, std::size_t(len));
+  }
+  try {
+    if (st->running && b->word != "help" && b->word != "query") {
+      // A load expression calling back into demlab while the scene is stepping.
+      throw Error("can't use \"" + b->word + "\" while the scene is running", {"STATE", "RUNNING"});
+    }
+    cmd::Value v = cmd::commandRegistry().invoke(words, st->session);
+    Tcl_SetObjResult(interp, toObj(v));
+    return TCL_OK;
+  } catch (const Error& e) {
+    return fail(interp, e.what(), e.code());
+  } catch (const std::bad_alloc&) {
+    return fail(interp, "not enough memory", {"DEMLAB", "MEMORY"});
+  } catch (const std::exception& e) {
+    return fail(interp, std::string("internal error: ") + e.what(), {"DEMLAB", "INTERNAL"});
+  } catch (...) {
+    return fail(interp, "internal error", {"DEMLAB", "INTERNAL"});
+  }
+}
+
+bool tclSplit(std::string_view text, std::vector<std::string>& out, std::string& error) {
+  Tcl_Obj* o = Tcl_NewStringObj(text.data(), int(text.size()));
+  Tcl_IncrRefCount(o);
+  int n = 0;
+  Tcl_Obj** elems = nullptr;
+  bool ok = Tcl_ListObjGetElements(nullptr, o, &n, &elems) == TCL_OK;
+  if (ok) {
+    for (int k = 0; k < n; ++k) {
+      int len;
+      const char* s = Tcl_GetStringFromObj(elems[k], &len);
+      out.emplace_back(s, std::size_t(len));
+    }
+  } else {
+    // Tcl gives no message without an interpreter; the built-in splitter words it the same way.
+    cmd::setListSplitter(nullptr);
+    try {
+      cmd::splitList(text);
+      error = "malformed list";
+    } catch (const Error& e) {
+      error = e.what();
+    }
+    cmd::setListSplitter(tclSplit);
+  }
+  Tcl_DecrRefCount(o);
+  return ok;
+}
+
+}  // namespace
+
+cmd::Session* sessionOf(Tcl_Interp* interp) {
+  InterpState* st = stateOf(interp);
+  return st ? &st->session : nullptr;
+}
+
+Tcl_Obj* toObj(const cmd::Value& v) {
+  struct Visitor {
+    Tcl_Obj* operator()(std::monostate) const { return Tcl_NewObj(); }
+    Tcl_Obj* operator()(bool b) const { return Tcl_NewBooleanObj(b); }
+    Tcl_Obj* operator()(std::int64_t i) const { return Tcl_NewWideIntObj(Tcl_WideInt(i)); }
+    Tcl_Obj* operator()(double d) const { return Tcl_NewDoubleObj(d); }
+    Tcl_Obj* operator()(const std::string& s) const {
+      return Tcl_NewStringObj(s.c_str(), int(s.size()));
+    }
+    Tcl_Obj* operator()(const cmd::List& l) const {
+      Tcl_Obj* o = Tcl_NewListObj(0, nullptr);
+      for (const cmd::Value& e : l) Tcl_ListObjAppendElement(nullptr, o, toObj(e));
+      return o;
+    }
+    Tcl_Obj* operator()(const cmd::Dict& d) const {
+      Tcl_Obj* o = Tcl_NewDictObj();
+      for (const auto& [k, e] : d)
+        Tcl_DictObjPut(nullptr, o, Tcl_NewStringObj(k.c_str(), int(k.size())), toObj(e));
+      return o;
+    }
+    Tcl_Obj* operator()(const cmd::Reals& r) const {
+      std::size_t n = r.data.size();
+      if (r.stride <= 0) {
+        std::vector<Tcl_Obj*> objs(n);
+        for (std::size_t k = 0; k < n; ++k) objs[k] = Tcl_NewDoubleObj(r.data[k]);
+        return Tcl_NewListObj(int(n), objs.data());
+      }
+      std::size_t m = std::size_t(r.stride);
+      std::vector<Tcl_Obj*> rows(n / m), tuple(m);
+      for (std::size_t k = 0; k < n / m; ++k) {
+        for (std::size_t j = 0; j < m; ++j) tuple[j] = Tcl_NewDoubleObj(r.data[k * m + j]);
+        rows[k] = Tcl_NewListObj(int(m), tuple.data());
+      }
+      return Tcl_NewListObj(int(rows.size()), rows.data());
+    }
+  };
+  return std::visit(Visitor{}, v.v);
+}
+
+std::vector<std::string> completions(Tcl_Interp* interp, const std::string& line,
+                                     std::string& partial) {
+  // The words of the last command on the line: after the last unbracketed ;, newline or [.
+  std::size_t start = 0;
+  for (std::size_t k = 0; k < line.size(); ++k)
+    if (line[k] == ';' || line[k] == '\n' || line[k] == '[') start = k + 1;
+  std::string cmdText = line.substr(start);
+  std::vector<std::string> words;
+  std::string cur;
+  for (char c : cmdText) {
+    if (c == ' ' || c == '\t') {
+      if (!cur.empty()) words.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  partial = cur;
+  std::vector<std::string> out;
+  InterpState* st = stateOf(interp);
+  if (!st) return out;
+  out = cmd::commandRegistry().complete(words, partial, st->session);
+  if (words.empty()) {
+    // Any other Tcl command too (puts, proc, ...).
+    std::string script = "lsort [info commands {" + partial + "*}]";
+    if (partial.find_first_of("{}\\[]$\" ") == std::string::npos &&
+        Tcl_EvalEx(interp, script.c_str(), -1, TCL_EVAL_GLOBAL) == TCL_OK) {
+      int n;
+      Tcl_Obj** elems;
+      if (Tcl_ListObjGetElements(nullptr, Tcl_GetObjResult(interp), &n, &elems) == TCL_OK) {
+        for (int k = 0; k < n; ++k) {
+          std::string w = Tcl_GetString(elems[k]);
+          if (std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
+        }
+      }
+    }
+    Tcl_ResetResult(interp);
+    std::sort(out.begin(), out.end());
+  }
+  return out;
+}
+
+}  // namespace demlab::tcl
+
+using namespace demlab;
+
+extern "C" int Demlab_Init(Tcl_Interp* interp) {
+  if (!Tcl_InitStubs(interp, "8.6", 0)) return TCL_ERROR;
+  if (tcl::stateOf(interp)) return Tcl_PkgProvide(interp, "demlab", DEMLAB_PKG_VERSION);
+  cmd::setListSplitter(tcl::tclSplit);
+  auto* st = new tcl::InterpState;
+  st->interp = interp;
+  Tcl_SetAssocData(interp, tcl::kAssocKey, tcl::deleteState, st);
+  tcl::setupSession(interp, st);
+  try {
+    for (const std::string& w : cmd::commandRegistry().topWords()) {
+      std::string name = "::" + w;
+      Tcl_CreateObjCommand(interp, name.c_str(), tcl::dispatch, new tcl::Bound{&st->session, w},
+                           tcl::deleteBound);
+    }
+  } catch (const std::exception& e) {
+    return tcl::fail(interp, std::string("demlab: ") + e.what(), {"DEMLAB", "INTERNAL"});
+  }
+  if (Tcl_EvalEx(interp, demlabTclLibrary, -1, TCL_EVAL_GLOBAL) != TCL_OK) return TCL_ERROR;
+  return Tcl_PkgProvide(interp, "demlab", DEMLAB_PKG_VERSION);
+}

@@ -1,0 +1,85 @@
+# demlab's Tcl-level library: procedures written in Tcl over the commands that the C++ layer
+# defines. It is compiled into the extension and the executable (so the two always agree) and
+# also installed beside pkgIndex.tcl for reading.
+
+namespace eval ::demlab {
+    namespace export settle each report
+}
+
+# demlab::settle ?-energy E? ?-chunk N? ?-maxsteps N?
+# Runs the scene in chunks of -chunk steps until its kinetic energy (translational plus
+# rotational, J) falls below -energy, or -maxsteps have been run. Returns a dict: steps (run by
+# this call), kinetic (at the end), settled (1 if the threshold was reached). Errors of the
+# underlying sim run (Ctrl-C among them) pass through.
+proc ::demlab::settle {args} {
+    array set opt {-energy 1e-9 -chunk 500 -maxsteps 1000000}
+    if {[llength $args] % 2} {
+        return -code error -errorcode {DEMLAB ARGS} \
+            {wrong # args: should be "demlab::settle ?-energy E? ?-chunk N? ?-maxsteps N?"}
+    }
+    foreach {k v} $args {
+        set full [lsearch -inline -all -glob {-energy -chunk -maxsteps} $k*]
+        if {[llength $full] != 1} {
+            return -code error -errorcode {DEMLAB OPTION} \
+                "bad option \"$k\": must be -energy, -chunk, or -maxsteps"
+        }
+        if {![string is double -strict $v] || $v <= 0} {
+            set name [string range [lindex $full 0] 1 end]
+            return -code error -errorcode [list DEMLAB VALUE [string toupper $name]] \
+                "bad $name \"$v\": must be a positive number"
+        }
+        set opt([lindex $full 0]) $v
+    }
+    set done 0
+    set kinetic [demlab::KineticEnergy]
+    while {$kinetic >= $opt(-energy) && $done < $opt(-maxsteps)} {
+        set n [expr {min(int($opt(-chunk)), int($opt(-maxsteps)) - $done)}]
+        sim run -steps $n -quiet
+        incr done $n
+        set kinetic [demlab::KineticEnergy]
+    }
+    return [dict create steps $done kinetic $kinetic settled [expr {$kinetic < $opt(-energy)}]]
+}
+
+proc ::demlab::KineticEnergy {} {
+    set e [query energy]
+    expr {[dict get $e kinetic] + [dict get $e rotational]}
+}
+
+# demlab::each varName ?-tag tag? body
+# Runs body once per element id (of the tag, if given), with varName set to the id, in the
+# order of element list. break and continue work as in foreach. Returns the empty string.
+proc ::demlab::each {varName args} {
+    if {[llength $args] == 1} {
+        set ids [element list]
+    } elseif {[llength $args] == 3 && [lindex $args 0] eq "-tag"} {
+        set ids [element list -tag [lindex $args 1]]
+    } else {
+        return -code error -errorcode {DEMLAB ARGS} \
+            {wrong # args: should be "demlab::each varName ?-tag tag? body"}
+    }
+    upvar 1 $varName id
+    set body [lindex $args end]
+    foreach id $ids {
+        set code [catch {uplevel 1 $body} result options]
+        switch -- $code {
+            0 - 4 {}
+            3 {break}
+            default {return -options $options $result}
+        }
+    }
+    return
+}
+
+# demlab::report dict
+# Returns the text of a run report dict (what sim run prints) for logging from scripts.
+proc ::demlab::report {r} {
+    set s [format "run: %d steps, %.6g s simulated (t = %.6g s), wall %.3g s" \
+        [dict get $r steps] [dict get $r simulated] [dict get $r time] [dict get $r wall]]
+    set parts {}
+    dict for {m sec} [dict get $r modules] {lappend parts [format "%s %.3g us" $m [expr {$sec * 1e6}]]}
+    if {[llength $parts]} {append s "\n  per step: [join $parts {, }]"}
+    append s [format "\n  contacts %d, neighbour searches %d, energy residual %.3g" \
+        [dict get $r contacts] [dict get $r rebuilds] [dict get $r residual]]
+    return $s
+}
