@@ -40,7 +40,7 @@ struct Surface {
 // five times finer grid around the best sample.
 template <int D>
 VecD<D> closestPoint(const Surface<D>& s, const VecD<D>& x) {
-  const int nu = s.flat1D ? 500 : 50, nv = s.flat1D ? 1 : 50;
+  const int nu = s.flat1D ? 400 : 32, nv = s.flat1D ? 1 : 32;
   Real best = std::numeric_limits<Real>::infinity();
   VecD<D> bestPoint = VecD<D>::Zero();
   for (const Patch<D>& p : s.patches) {
