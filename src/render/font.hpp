@@ -1,5 +1,5 @@
-// A tiny built-in 5x7 bitmap font (digits, capitals, a little punctuation; small letters are
-// drawn as capitals) for the time stamp and the legend, so frames need no font files.
+// A tiny built-in 5x7 bitmap font (digits, letters, a little punctuation) for the time stamp and
+// the legend, so frames need no font files.
 #pragma once
 
 #include <string_view>

@@ -156,7 +156,7 @@ TEST(RenderWalls, PlanesAreClippedToTheBounds) {
 }
 
 TEST(RenderFont, GlyphsAreDistinct) {
-  const std::string chars = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ.:-+=";
+  const std::string chars = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz.:-+=";
   std::set<std::vector<bool>> shapes;
   for (char ch : chars) {
     std::vector<bool> bits;
@@ -167,7 +167,6 @@ TEST(RenderFont, GlyphsAreDistinct) {
   EXPECT_EQ(shapes.size(), chars.size());
   for (int r = 0; r < kGlyphHeight; ++r)
     for (int c = 0; c < kGlyphWidth; ++c) {
-      EXPECT_EQ(glyphPixel('a', c, r), glyphPixel('A', c, r));
       EXPECT_EQ(glyphPixel('~', c, r), glyphPixel('?', c, r));
       EXPECT_FALSE(glyphPixel(' ', c, r));
     }
