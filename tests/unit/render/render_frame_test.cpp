@@ -182,6 +182,31 @@ TEST(RenderFrame, WallsAreDrawnWhereTheyAre) {
   EXPECT_TRUE(isWhite(img, 100, 60));
 }
 
+TEST(RenderFrame, WallsIn3D) {
+  RenderScene s;
+  s.walls.push_back(RenderWall::box(Vec3(-2, -2, -1), Vec3(2, 2, 1)));
+  s.walls.back().colour = {0, 0, 1};
+  s.walls.push_back(RenderWall::plane(Vec3(0, 0, -0.5), Vec3(0, 0, 1)));
+  s.walls.back().colour = {1, 0, 0};
+  RenderOptions o = topView(true);  // 20 pixels per unit
+  o.wallWidth = 3;
+  o.wallAlpha = 0.5;
+  const Image img = sharedRenderer().render(s, o);
+  // Box edges x = +-2, y = +-2 seen from above.
+  EXPECT_EQ(dominant(img, 140, 100), kBlue);
+  EXPECT_EQ(dominant(img, 60, 70), kBlue);
+  EXPECT_EQ(dominant(img, 100, 140), kBlue);
+  // Inside: the translucent plane, half red over white, lit by the face shading.
+  const auto p = img.pixel(100, 100);
+  EXPECT_GT(p[0], 220);
+  EXPECT_GT(p[1], 100);
+  EXPECT_LT(p[1], 200);
+  EXPECT_EQ(p[1], p[2]);
+  // Outside the bounds (widened by 2% of their diagonal): background.
+  EXPECT_TRUE(isWhite(img, 150, 100));
+  EXPECT_TRUE(isWhite(img, 5, 5));
+}
+
 TEST(RenderFrame, ColourByFieldAndCategories) {
   Grains g;
   for (int i = 0; i < 3; ++i) g.add(Vec3(-1.2 + 1.2 * i, 0, 0), 0.5, red, 2);
