@@ -60,7 +60,7 @@ struct PassEnergy {
 template <int D, int Law, bool History, bool Rotation>
 class GrainContactModule final : public SimModule<D> {
  public:
-  std::string_view name() const override { return "contacts"; }
+  std::string_view name() const override { return History ? "contacts-friction" : "contacts"; }
   SimLevel level() const override { return SimLevel::Contacts; }
 
   void run(Scene<D>& s) override {
@@ -69,16 +69,23 @@ class GrainContactModule final : public SimModule<D> {
     const size_t nMat = s.nMat();
     const Real lag = velocityLag(s);
     PassEnergy e;
-    for (const CandidatePair& c : s.candidates) {
-      uint32_t i = c.i, j = c.j;
+    const size_t nc = s.candidates.size();
+    for (size_t kc = 0; kc < nc; ++kc) {
+      uint32_t i = s.candidates[kc].i, j = s.candidates[kc].j;
       const VecD<D> d = a.x[j] - a.x[i];
       const Real rs = a.r[i] + a.r[j];
-      if (d.squaredNorm() >= rs * rs) continue;
+      if (d.squaredNorm() >= rs * rs) {
+        if constexpr (History) s.pairSprings[kc].spring.setZero();  // the contact opened
+        continue;
+      }
       // A is the grain with the lower slot, so a pair's spring keeps one orientation.
       if (History && a.slot[i] > a.slot[j]) std::swap(i, j);
       const auto geom = physics::intersect<D>(physics::SphereShape<D>{a.x[i], a.r[i]},
                                               physics::SphereShape<D>{a.x[j], a.r[j]});
-      if (!geom) continue;
+      if (!geom) {
+        if constexpr (History) s.pairSprings[kc].spring.setZero();
+        continue;
+      }
       const physics::ContactGeometry<D>& g = *geom;
       VecD<D> vrel = a.v[j] - a.v[i];
       VecD<D> armA, armB;
@@ -90,7 +97,7 @@ class GrainContactModule final : public SimModule<D> {
       const physics::ContactKinematics<D> k{vrel, 1.0 / (a.invMass[i] + a.invMass[j]),
                                             a.r[i] * a.r[j] / (a.r[i] + a.r[j]), lag};
       physics::TangentialHistory<D>* h = nullptr;
-      if constexpr (History) h = &s.histories.touch(a.slot[i], a.slot[j]).state;
+      if constexpr (History) h = &s.pairSprings[kc];
       const physics::ContactForce<D> f =
           LawCall<D, Law>::call(s, a.material[i] * nMat + a.material[j], g, k, h, dt);
       a.f[j] += f.force;
@@ -132,7 +139,9 @@ struct WallNarrowPhase {
 template <int D, int Law, bool History, bool Rotation>
 class WallContactModule final : public SimModule<D> {
  public:
-  std::string_view name() const override { return "wall-contacts"; }
+  std::string_view name() const override {
+    return History ? "wall-contacts-friction" : "wall-contacts";
+  }
   SimLevel level() const override { return SimLevel::Contacts; }
 
   void run(Scene<D>& s) override {
@@ -154,9 +163,14 @@ class WallContactModule final : public SimModule<D> {
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
       const size_t m = entry.grains(shape, a.x.data(), a.r.data(), which.data(), which.size(),
                                     geoms_.data(), touched_.data());
-      const uint32_t wallId = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
+      // touched_ lists the grains in contact in the order of `which`: walk both to find each
+      // contact's candidate index (its spring slot), zeroing the springs of those not touched.
+      size_t kc = 0;
       for (size_t c = 0; c < m; ++c) {
         const uint32_t i = touched_[c];
+        if constexpr (History) {
+          while (which[kc] != i) s.wallSprings[w][kc++].spring.setZero();
+        }
         const physics::ContactGeometry<D>& g = geoms_[c];
         const VecD<D> vWall = wall.surfaceVelocity(g.point);
         VecD<D> vrel = vWall - a.v[i];
@@ -167,7 +181,7 @@ class WallContactModule final : public SimModule<D> {
         }
         const physics::ContactKinematics<D> k{vrel, 1.0 / a.invMass[i], a.r[i], lag};
         physics::TangentialHistory<D>* h = nullptr;
-        if constexpr (History) h = &s.histories.touch(a.slot[i], wallId).state;
+        if constexpr (History) h = &s.wallSprings[w][kc++];
         const physics::ContactForce<D> f =
             LawCall<D, Law>::call(s, a.material[i] * nMat + wall.material, g, k, h, dt);
         a.f[i] -= f.force;
@@ -177,6 +191,9 @@ class WallContactModule final : public SimModule<D> {
         // Work done by the moving wall on the grain over the step.
         if (wall.moving) e.wallWork -= f.force.dot(vWall) * dt;
         s.contacts.push_back({i, static_cast<uint32_t>(w), true, f.force});
+      }
+      if constexpr (History) {
+        while (kc < which.size()) s.wallSprings[w][kc++].spring.setZero();
       }
     }
     s.ledger.elastic += e.elastic;
@@ -189,15 +206,6 @@ class WallContactModule final : public SimModule<D> {
  private:
   std::vector<physics::ContactGeometry<D>> geoms_;
   std::vector<uint32_t> touched_;
-};
-
-// Drops the histories of pairs that were not in contact this step ("friction-history").
-template <int D>
-class HistorySweepModule final : public SimModule<D> {
- public:
-  std::string_view name() const override { return "friction-history"; }
-  SimLevel level() const override { return SimLevel::Cleanup; }
-  void run(Scene<D>& s) override { s.histories.sweep(); }
 };
 
 // Returns the grain-grain and grain-wall contact modules for the scene's law set, history and

@@ -16,6 +16,7 @@
 
 #include "physics/shapes.hpp"
 #include "search/cgrid.hpp"
+#include "sim/history_store.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -95,16 +96,22 @@ class DetectionModule final : public SimModule<D> {
       }
     }
     grid_.findPairs(boxes_, pairs_);
+    parkSprings(s);
     s.candidates.clear();
     s.wallCandidates.assign(nw, {});
     for (const search::IndexPair& p : pairs_) {
       if (p.second < n) {
+        // Boxes overlap for pairs up to sqrt(D) times farther apart than spheres can come
+        // within a skin: keep only the pairs whose gap is at most the skin.
+        const Real reach = a.r[p.first] + a.r[p.second] + s.skin;
+        if ((a.x[p.first] - a.x[p.second]).squaredNorm() > reach * reach) continue;
         s.candidates.push_back({p.first, p.second});
       } else if (p.first < n) {
         s.wallCandidates[wallOfBox_[p.second - n]].push_back(p.first);
       }
     }
     for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
+    unparkSprings(s);
     s.xAtBuild = a.x;
     s.maxDisp2 = 0;
     const double now = s.time + s.stepDt;

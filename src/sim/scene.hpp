@@ -87,9 +87,10 @@ struct Scene {
   bool needRebuild = true;
   uint64_t rebuilds = 0;
 
-  // ---- pair state ----
-  physics::TangentialHistory<D> dummyHistory;
-  InstanceInteractionManager<physics::TangentialHistory<D>> histories;
+  // ---- pair state (sim/history_store.hpp) ----
+  std::vector<physics::TangentialHistory<D>> pairSprings;               // per candidate
+  std::vector<std::vector<physics::TangentialHistory<D>>> wallSprings;  // per wall candidate
+  InstanceInteractionManager<physics::TangentialHistory<D>> histories;  // parked springs
   bool keepHistory = false;  // anyFriction, fixed at prepare
 
   // ---- per-step outputs ----

@@ -251,11 +251,16 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.u32(p.second);
     w.vec<D>(h.spring);
   });
-  // Contact detection state.
+  // Contact detection state, with the springs of the candidate pairs.
   w.list(s.candidates, [&](const CandidatePair& c) {
     w.u32(c.i);
     w.u32(c.j);
   });
+  w.list(s.pairSprings, [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
+  w.u64(s.wallSprings.size());
+  for (const auto& l : s.wallSprings) {
+    w.list(l, [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
+  }
   w.u64(s.wallCandidates.size());
   for (const auto& l : s.wallCandidates) w.list(l, [&](uint32_t i) { w.u32(i); });
   w.list(s.xAtBuild, [&](const VecD<D>& x) { w.vec<D>(x); });
@@ -385,6 +390,16 @@ void readScene(Reader& r, Scene<D>& s) {
     c.j = r.u32();
     if (c.i >= n || c.j >= n) Reader::bad("candidate pair index");
   }
+  s.pairSprings.resize(r.count(8 * D));
+  for (auto& h : s.pairSprings) h.spring = r.vec<D>();
+  if (!s.pairSprings.empty() && s.pairSprings.size() != s.candidates.size()) {
+    Reader::bad("pair springs");
+  }
+  s.wallSprings.resize(r.count(8));
+  for (auto& l : s.wallSprings) {
+    l.resize(r.count(8 * D));
+    for (auto& h : l) h.spring = r.vec<D>();
+  }
   s.wallCandidates.resize(r.count(8));
   if (s.wallCandidates.size() > nw) Reader::bad("wall candidate lists");
   for (auto& l : s.wallCandidates) {
@@ -392,6 +407,11 @@ void readScene(Reader& r, Scene<D>& s) {
     for (auto& i : l) {
       i = r.u32();
       if (i >= n) Reader::bad("wall candidate index");
+    }
+  }
+  for (size_t w = 0; w < s.wallSprings.size(); ++w) {
+    if (w >= s.wallCandidates.size() || s.wallSprings[w].size() != s.wallCandidates[w].size()) {
+      Reader::bad("wall springs");
     }
   }
   s.xAtBuild.resize(r.count(8 * D));

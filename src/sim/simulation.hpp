@@ -310,7 +310,8 @@ class Simulation {
   virtual void setDetection(const DetectionOptions& options) = 0;
   virtual DetectionOptions detection() const = 0;
   // Returns the names of the modules the next step runs, in loop order (e.g. "behaviors",
-  // "detection", "contacts", "walls", "friction-history", "integrate", "rotation").
+  // "integrate", "rotation", "walls", "detection", "contacts" or "contacts-friction",
+  // "wall-contacts" or "wall-contacts-friction", "gravity", "loads", "integrate-correct").
   virtual std::vector<std::string> listModules() const = 0;
 
   // -- running --

@@ -11,6 +11,7 @@
 #include "core/name_lookup.hpp"
 #include "physics/critical_step.hpp"
 #include "sim/convert.hpp"
+#include "sim/history_store.hpp"
 
 namespace demlab::sim {
 
@@ -243,9 +244,9 @@ template <int D>
 void SimulationManager<D>::removeGrain(GrainId id) {
   const uint32_t i = s_.grains.index(id);
   s_.ledger.reference -= grainEnergy(i);
+  forgetCandidates();
   const uint32_t slot = s_.grains.remove(id);
   if (s_.keepHistory) s_.histories.removeId(slot);
-  s_.contacts.clear();
   s_.needRebuild = true;
   touchConfig();
 }
@@ -254,6 +255,7 @@ template <int D>
 size_t SimulationManager<D>::removeGrains(const std::string& tag) {
   const std::vector<GrainId> ids = s_.grains.tags().objects(tag);
   if (ids.empty()) return 0;
+  forgetCandidates();
   std::unordered_set<uint32_t> slots;
   for (GrainId id : ids) {
     s_.ledger.reference -= grainEnergy(s_.grains.index(id));
@@ -266,7 +268,6 @@ size_t SimulationManager<D>::removeGrains(const std::string& tag) {
     });
     for (const auto& [p, q] : drop) s_.histories.erase(p, q);
   }
-  s_.contacts.clear();
   s_.needRebuild = true;
   touchConfig();
   return ids.size();
@@ -325,6 +326,15 @@ void SimulationManager<D>::setGrainAngularVelocity(GrainId id, const Vec3d& w) {
   s_.grains.a.w[i] = x;
   s_.ledger.reference += grainEnergy(i) - before;
   touchConfig();
+}
+
+template <int D>
+void SimulationManager<D>::forgetCandidates() {
+  parkSprings(s_);
+  s_.candidates.clear();
+  s_.wallCandidates.clear();
+  s_.contacts.clear();
+  s_.needRebuild = true;
 }
 
 // ---- walls ---------------------------------------------------------------------------------
@@ -494,9 +504,9 @@ WallId SimulationManager<D>::addWall(const WallDef& def) {
 template <int D>
 void SimulationManager<D>::removeWall(WallId id) {
   s_.walls.pool().denseIndex(id);
+  forgetCandidates();
   if (s_.keepHistory) s_.histories.removeId(wallPairId(id.index));
   s_.walls.remove(id);
-  s_.contacts.clear();
   s_.needRebuild = true;
   touchConfig();
 }

@@ -129,6 +129,9 @@ class SimulationManager final : public Simulation {
   double ledgerSum() const;
   // Returns the grain's kinetic plus gravitational energy (for rebasing the ledger on edits).
   double grainEnergy(uint32_t i) const;
+  // Parks the springs and drops the candidate pairs and contact records, which hold dense
+  // indices: call before grains or walls are removed (the dense order changes).
+  void forgetCandidates();
   // Marks the configuration changed: the next run mixes, chooses and rebuilds again.
   void touchConfig() { configDirty_ = true; }
   std::string behaviorDescription(const Behavior<D>& b) const;

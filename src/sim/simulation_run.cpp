@@ -64,7 +64,6 @@ std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(con
   if (f.gravity) m.push_back(std::make_unique<GravityModule<D>>());
   if (f.loads) m.push_back(std::make_unique<LoadModule<D>>());
   m.push_back(std::make_unique<CorrectModule<D>>());
-  if (f.anyFriction) m.push_back(std::make_unique<HistorySweepModule<D>>());
   return m;
 }
 
@@ -92,7 +91,13 @@ void SimulationManager<D>::prepare() {
       }
     }
     s_.anyFriction = f.anyFriction;
-    if (!f.anyFriction && s_.keepHistory) s_.histories.clear();
+    if (f.anyFriction != s_.keepHistory) {
+      // Springs appear or go: the next search sizes (or drops) the per-candidate arrays.
+      s_.histories.clear();
+      s_.pairSprings.clear();
+      s_.wallSprings.clear();
+      s_.needRebuild = true;
+    }
     s_.keepHistory = f.anyFriction;
     s_.rotating = f.rotating;
     s_.stepDt = dt;

@@ -126,15 +126,15 @@ TEST_P(SimApi, ModulesFollowTheScene) {
   s->addMaterial("rough", material(1e8, 0.5, 0.5));
   s->addGrain(grain({0.5, 0.5, d == 3 ? 0.5 : 0.0}, 0.01, "rough"));
   // "rough" against "slick" has no friction (min rule), but rough against rough has.
-  EXPECT_EQ(s->listModules(), (Names{"integrate", "rotation", "detection", "contacts",
-                                     "integrate-correct", "friction-history"}));
+  EXPECT_EQ(s->listModules(), (Names{"integrate", "rotation", "detection", "contacts-friction",
+                                     "integrate-correct"}));
   s->setRotation(false);
   EXPECT_EQ(s->listModules(),
-            (Names{"integrate", "detection", "contacts", "integrate-correct", "friction-history"}));
+            (Names{"integrate", "detection", "contacts-friction", "integrate-correct"}));
   addBox(*s, 1.0, "slick");
   s->addGravity({0, -9.81, 0});
-  EXPECT_EQ(s->listModules(), (Names{"integrate", "detection", "contacts", "wall-contacts",
-                                     "gravity", "integrate-correct", "friction-history"}));
+  EXPECT_EQ(s->listModules(), (Names{"integrate", "detection", "contacts-friction",
+                                     "wall-contacts-friction", "gravity", "integrate-correct"}));
   WallDef piston = plane({0, 2, 0}, {0, -1, 0}, "slick");
   piston.motion = WallMotion{.velocity = {0, -0.1, 0}};
   s->addWall(piston);
@@ -142,8 +142,8 @@ TEST_P(SimApi, ModulesFollowTheScene) {
   EXPECT_EQ(rep.steps, 20u);
   Names ran;
   for (const ModuleTime& m : rep.modules) ran.push_back(m.module);
-  EXPECT_EQ(ran, (Names{"integrate", "walls", "detection", "contacts", "wall-contacts", "gravity",
-                        "integrate-correct", "friction-history"}));
+  EXPECT_EQ(ran, (Names{"integrate", "walls", "detection", "contacts-friction",
+                        "wall-contacts-friction", "gravity", "integrate-correct"}));
   EXPECT_EQ(ran, s->listModules());
 }
 
