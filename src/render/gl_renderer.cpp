@@ -125,6 +125,7 @@ class GlRenderer : public Renderer {
       gl_.Disable(GL_BLEND);
     }
     gl_.BindVertexArray(0);
+
     pixels_.resize(size_t(4) * w * h);
     gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
     gl_.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, pixels_.data());
@@ -133,9 +134,7 @@ class GlRenderer : public Renderer {
       throw Error("OpenGL error " + std::to_string(err) + " while rendering", {"RENDER", "GL"});
 
     Image image = downsample(options.width, options.height, ss);
-
     drawOverlay(image, scene, options);
-
     return image;
   }
 
