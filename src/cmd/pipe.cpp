@@ -150,7 +150,11 @@ std::any convertWord(std::string_view word, const Param& p, const Context& ctx) 
       try {
         checkObjectName(p.name, word);
       } catch (const Error& e) {
-        throw Error(e.what(), {"VALUE", codeWord(p.name)});
+        // Keep the reason, word it for this parameter: bad name "7up": must start with ...
+        std::string why = e.what();
+        auto colon = why.find("\": ");
+        why = colon == std::string::npos ? why : why.substr(colon + 3);
+        badValue(p, word, why);
       }
       return std::string(word);
     case PipeType::Kind::Choice:

@@ -363,22 +363,35 @@ bool readBool(std::string_view text, bool& out) {
 std::string formatReal(double x) {
   if (std::isnan(x)) return "NaN";
   if (std::isinf(x)) return x > 0 ? "Inf" : "-Inf";
+  // The shortest digits that read back to x, laid out as Tcl does (TclPrintDouble with
+  // tcl_precision 0): exponential below 1e-4 and from 1e17 on, fixed with ".0" otherwise.
   char buf[64];
-  auto [p, ec] = std::to_chars(buf, buf + sizeof buf, x);
-  std::string s(buf, p);
-  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
-  // Tcl writes exponents with a sign and at least two digits: 1e-05, 2.5e+20.
-  if (auto e = s.find('e'); e != std::string::npos) {
-    std::string mant = s.substr(0, e), ex = s.substr(e + 1);
-    char sign = '+';
-    if (!ex.empty() && (ex[0] == '-' || ex[0] == '+')) {
-      sign = ex[0];
-      ex.erase(0, 1);
+  auto [p, ec] = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::scientific);
+  std::string sci(buf, p);
+  std::size_t e = sci.find('e');
+  int exp10 = std::atoi(sci.c_str() + e + 1);
+  std::string mant = sci.substr(0, e);
+  bool neg = mant[0] == '-';
+  if (neg) mant.erase(0, 1);
+  std::string digits;
+  for (char c : mant)
+    if (c != '.') digits += c;
+  std::string out;
+  if (exp10 < -4 || exp10 > 16) {
+    out = digits.substr(0, 1);
+    if (digits.size() > 1) out += "." + digits.substr(1);
+    out += exp10 < 0 ? "e-" : "e+";
+    out += std::to_string(std::abs(exp10));
+  } else if (exp10 < 0) {
+    out = "0." + std::string(std::size_t(-exp10 - 1), '0') + digits;
+  } else {
+    if (digits.size() <= std::size_t(exp10) + 1) {
+      out = digits + std::string(std::size_t(exp10) + 1 - digits.size(), '0') + ".0";
+    } else {
+      out = digits.substr(0, std::size_t(exp10) + 1) + "." + digits.substr(std::size_t(exp10) + 1);
     }
-    if (ex.size() < 2) ex = "0" + ex;
-    s = mant + "e" + sign + ex;
   }
-  return s;
+  return neg ? "-" + out : out;
 }
 
 std::string alternatives(const std::vector<std::string>& items, std::string_view conj) {

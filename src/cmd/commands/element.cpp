@@ -44,6 +44,18 @@ std::vector<GrainId> targets(const Call& c, const sim::Simulation& s) {
   return s.grainIds();
 }
 
+// Throws {EXISTS NAME} in the element's words if name is taken (the core says "grain").
+void checkNameFree(const sim::Simulation& s, const std::string& name) {
+  if (name.empty()) return;
+  bool taken = true;
+  try {
+    s.findGrain(name);
+  } catch (const Error&) {
+    taken = false;
+  }
+  if (taken) throw Error("element \"" + name + "\" already exists", {"EXISTS", "NAME"});
+}
+
 Value idList(const std::vector<GrainId>& ids) {
   List l;
   l.reserve(ids.size());
@@ -78,6 +90,7 @@ void registerElementCommands(Registry& r) {
       d.material = names.front();
     }
     if (c.has("position")) d.position = vec3(c.vec("position"));
+    checkNameFree(s, d.name);
     if (c.has("velocity")) d.velocity = vec3(c.vec("velocity"));
     if (c.has("angularvelocity")) d.angularVelocity = vec3(c.vec("angularvelocity"), true);
     if (c.has("tags")) {
@@ -145,6 +158,7 @@ void registerElementCommands(Registry& r) {
     d.velocity = c.has("velocity") ? vec3(c.vec("velocity")) : g.velocity;
     d.angularVelocity = g.angularVelocity;
     if (c.has("name")) d.name = c.str("name");
+    checkNameFree(s, d.name);
     return Value(scriptId(s.addGrain(d)));
   });
 

@@ -230,7 +230,13 @@ TEST(Words, NumbersAndBooleansReadAsTclReadsThem) {
   EXPECT_FALSE(readBool("maybe", b));
   EXPECT_EQ(formatReal(1.0), "1.0");
   EXPECT_EQ(formatReal(0.1), "0.1");
-  EXPECT_EQ(formatReal(1e-5), "1e-05");
+  EXPECT_EQ(formatReal(1e-5), "1e-5");
+  EXPECT_EQ(formatReal(1e16), "10000000000000000.0");
+  EXPECT_EQ(formatReal(1e17), "1e+17");
+  EXPECT_EQ(formatReal(-0.00012), "-0.00012");
+  EXPECT_EQ(formatReal(1.5e300), "1.5e+300");
+  EXPECT_EQ(formatReal(123.25), "123.25");
+  EXPECT_EQ(formatReal(1e15), "1000000000000000.0");
   EXPECT_EQ(formatReal(2.5e20), "2.5e+20");
   EXPECT_EQ(alternatives({"a"}), "a");
   EXPECT_EQ(alternatives({"a", "b"}), "a or b");
