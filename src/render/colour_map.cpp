@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "core/error.hpp"
 
 namespace demlab::render {
 namespace {
@@ -36,6 +39,17 @@ Rgb viridis(double t) {
 Rgb categorical(long k) {
   const long m = ((k % 10) + 10) % 10;
   return {kCategorical[m][0], kCategorical[m][1], kCategorical[m][2]};
+}
+
+ColourMap colourMapNamed(std::string_view name) {
+  if (name == "viridis") return ColourMap::viridis;
+  if (name == "categorical") return ColourMap::categorical;
+  throw Error("bad colour map \"" + std::string(name) + "\": must be categorical or viridis",
+              {"VALUE", "COLOURMAP"});
+}
+
+std::string_view colourMapName(ColourMap m) {
+  return m == ColourMap::categorical ? "categorical" : "viridis";
 }
 
 long categoryOf(double value) {

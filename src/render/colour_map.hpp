@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "render/scene.hpp"
@@ -16,6 +17,13 @@ Rgb viridis(double t);
 
 // Returns the colour of category k (any integer; the 10-colour palette repeats).
 Rgb categorical(long k);
+
+// Returns the map called name ("viridis", "categorical"), the names the snapshot command takes.
+// Throws demlab::Error {VALUE COLOURMAP}: bad colour map "x": must be categorical or viridis.
+ColourMap colourMapNamed(std::string_view name);
+
+// Returns the name of map m.
+std::string_view colourMapName(ColourMap m);
 
 // Returns the integer category of a field value (rounded to nearest).
 long categoryOf(double value);

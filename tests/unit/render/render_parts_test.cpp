@@ -36,6 +36,17 @@ TEST(RenderColourMap, CategoriesAreDistinctAndRepeat) {
   EXPECT_EQ(categoryOf(2.6), 3);
 }
 
+TEST(RenderColourMap, Names) {
+  for (ColourMap m : {ColourMap::viridis, ColourMap::categorical})
+    EXPECT_EQ(colourMapNamed(colourMapName(m)), m);
+  EXPECT_EQ(test::errorCode([] { colourMapNamed("jet"); }), "DEMLAB VALUE COLOURMAP");
+  try {
+    colourMapNamed("jet");
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "bad colour map \"jet\": must be categorical or viridis");
+  }
+}
+
 TEST(RenderColourMap, FieldRange) {
   std::vector<double> f = {3, -1, 7};
   RenderScene s;
