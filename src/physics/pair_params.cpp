@@ -55,8 +55,9 @@ Real linearRestitution(Real zeta) {
 Real linearDampingRatio(Real e) {
   if (e >= 1) return 0;
   // linearRestitution falls monotonically from 1 to 0: bracket, then bisect to rounding.
+  // Beyond zeta = 1e100 (e ~ 2.5e-201) cosh and sinh overflow; no physical e is that small.
   Real lo = 0, hi = 1;
-  while (linearRestitution(hi) > e) lo = hi, hi *= 2;
+  while (hi < 1e100 && linearRestitution(hi) > e) lo = hi, hi *= 2;
   for (int i = 0; i < 200 && hi - lo > 1e-16 * hi; ++i) {
     const Real mid = 0.5 * (lo + hi);
     (linearRestitution(mid) > e ? lo : hi) = mid;

@@ -79,7 +79,8 @@ struct PairParams {
 Real linearRestitution(Real zeta);
 
 // Returns the damping ratio zeta >= 0 with linearRestitution(zeta) = e, for e in (0, 1], to
-// rounding (bisection). Changes nothing.
+// rounding (bisection); zeta is capped near 1e100 (e below ~1e-200 behaves as that e).
+// Changes nothing.
 Real linearDampingRatio(Real e);
 
 // Returns the time from first touch until the normal force vanishes, in units of 1/omega_n,

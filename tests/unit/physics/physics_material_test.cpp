@@ -188,6 +188,9 @@ TEST(PhysicsMaterial, CutOffRestitution) {
   EXPECT_DOUBLE_EQ(linearForceDuration(0), std::numbers::pi);
   // Overdamped: e ~ 1/(4 zeta^2) for large zeta.
   EXPECT_NEAR(linearRestitution(100) * 4e4, 1, 1e-3);
+  // Absurdly small restitutions stay finite.
+  EXPECT_TRUE(std::isfinite(linearDampingRatio(1e-250)));
+  EXPECT_TRUE(std::isfinite(linearDampingRatio(std::numeric_limits<Real>::denorm_min())));
   // The inverse, over the whole range, including overdamped e < exp(-2).
   Real last = 1;
   for (Real e : {1.0, 0.99, 0.9, 0.5, 0.2, 0.1353, 0.1, 0.01, 1e-4}) {
