@@ -24,15 +24,18 @@ struct Region {
   Vec3d centre{};    // Sphere (a disc in 2D)
   double radius = 0;
   // Returns true if a ball of radius r at p lies inside the region.
+  // Rounding of lattice coordinates is forgiven up to 1e-9 radii, so a lattice that exactly
+  // fits its box keeps its last row.
   bool holds(const Vec3d& p, double r, int d) const {
+    double tol = 1e-9 * r;
     if (kind == Box) {
       for (int k = 0; k < d; ++k)
-        if (p[k] - r < lo[k] || p[k] + r > hi[k]) return false;
+        if (p[k] - r < lo[k] - tol || p[k] + r > hi[k] + tol) return false;
       return true;
     }
     double s = 0;
     for (int k = 0; k < d; ++k) s += (p[k] - centre[k]) * (p[k] - centre[k]);
-    return std::sqrt(s) + r <= radius;
+    return std::sqrt(s) + r <= radius + tol;
   }
   double volume(int d) const {
     if (kind == Box) {
