@@ -24,7 +24,10 @@
 //
 // On stderr: the modules the scene runs and the wall time of each (RunReport::modules), the
 // contact-search rebuilds and the energy-balance residual. --breakdown FILE appends the module
-// times as CSV rows `scene,module,seconds,share` (share of the run's wall time).
+// times as CSV rows `scene,module,seconds,share` (share of the run's wall time). --cpu FILE
+// appends `demlab,scene,n,steps,cpu_seconds,particle_steps_per_cpu_s,load1`: the process's CPU
+// time (user + system) over the run and the 1-minute load average before it, the steadier
+// figure on a crowded machine (scripts/peer-settle --cpu writes the same for the peers).
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -75,6 +78,7 @@ struct Options {
   double cellFactor = 0;
   std::string integrator;  // empty: the Simulation's default
   std::string breakdown;
+  std::string cpu;
   bool header = true;
 };
 
@@ -91,6 +95,8 @@ void usage(std::FILE* f) {
                "  --integrator NAME verlet or synchronized (default: the Simulation's)\n"
                "  --variant LIST    comma-separated: full, nofriction, norotation (default full)\n"
                "  --breakdown FILE  append per-module times as CSV scene,module,seconds,share\n"
+               "  --cpu FILE        append code,scene,n,steps,cpu_seconds,\n"
+               "                    particle_steps_per_cpu_s,load1 (CPU time of the run)\n"
                "  --no-header       leave out the CSV header line\n");
 }
 
@@ -129,6 +135,8 @@ Options parse(int argc, char** argv) {
       o.integrator = value();
     } else if (a == "--breakdown") {
       o.breakdown = value();
+    } else if (a == "--cpu") {
+      o.cpu = value();
     } else if (a == "--no-header") {
       o.header = false;
     } else if (a == "--variant") {
@@ -182,6 +190,12 @@ double cpuSeconds() {
   getrusage(RUSAGE_SELF, &u);
   return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Returns the 1-minute load average, or -1 when it cannot be read.
+double loadAverage() {
+  double l[1] = {-1};
+  return getloadavg(l, 1) == 1 ? l[0] : -1;
 }
 
 // Returns the process's peak resident set size in MiB.
@@ -282,6 +296,7 @@ void runOne(const io::SphereData& d, const std::string& scene, const Options& o,
 
   sim::RunOptions ro;
   ro.steps = o.steps;
+  const double load1 = loadAverage();
   const double cpu0 = cpuSeconds();
   const auto t0 = std::chrono::steady_clock::now();
   const sim::RunReport r = s->run(ro);
@@ -325,6 +340,17 @@ void runOne(const io::SphereData& d, const std::string& scene, const Options& o,
   std::fprintf(stderr, "#   %-18s %9.4f s %5.1f%%\n", "(other)", seconds - accounted,
                seconds > 0 ? 100 * (seconds - accounted) / seconds : 0);
   if (bd != nullptr) std::fclose(bd);
+  if (!o.cpu.empty()) {
+    std::FILE* f = std::fopen(o.cpu.c_str(), "a");
+    if (f == nullptr) {
+      std::fprintf(stderr, "bench_sim: couldn't open \"%s\" for appending\n", o.cpu.c_str());
+    } else {
+      std::fprintf(f, "demlab,%s,%zu,%llu,%.3f,%.0f,%.2f\n", name.c_str(), d.size(),
+                   static_cast<unsigned long long>(r.steps), cpu,
+                   static_cast<double>(d.size()) * static_cast<double>(r.steps) / cpu, load1);
+      std::fclose(f);
+    }
+  }
 }
 
 int main(int argc, char** argv) {
