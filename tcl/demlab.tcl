@@ -7,7 +7,7 @@ namespace eval ::demlab {
 }
 
 # demlab::settle ?-energy E? ?-chunk N? ?-maxsteps N?
-# Runs the scene in chunks of -chunk steps until its kinetic energy (translational plus
+# Runs the scene in chunks of -chunk steps (one at least) until its kinetic energy (translational plus
 # rotational, J) falls below -energy, or -maxsteps have been run. Returns a dict: steps (run by
 # this call), kinetic (at the end), settled (1 if the threshold was reached). Errors of the
 # underlying sim run (Ctrl-C among them) pass through.
@@ -30,8 +30,9 @@ proc ::demlab::settle {args} {
         }
         set opt([lindex $full 0]) $v
     }
+    # At least one chunk: a bed at rest before its first step is not settled under gravity.
     set done 0
-    set kinetic [demlab::KineticEnergy]
+    set kinetic Inf
     while {$kinetic >= $opt(-energy) && $done < $opt(-maxsteps)} {
         set n [expr {min(int($opt(-chunk)), int($opt(-maxsteps)) - $done)}]
         sim run -steps $n -quiet

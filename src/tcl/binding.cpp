@@ -98,11 +98,21 @@ struct ExprFn {
 void setupSession(Tcl_Interp* interp, InterpState* st) {
   cmd::Session& s = st->session;
   s.terminal = isatty(1) != 0;
+  // Through the puts command, not the channel, so whatever redirects puts (tcltest's -output,
+  // a console widget) sees the report and the progress bar too.
   s.write = [interp](std::string_view text) {
-    Tcl_Channel out = Tcl_GetStdChannel(TCL_STDOUT);
-    if (!out) return;
-    Tcl_WriteChars(out, text.data(), int(text.size()));
-    Tcl_Flush(out);
+    Tcl_Obj* objv[4] = {Tcl_NewStringObj("::puts", -1), Tcl_NewStringObj("-nonewline", -1),
+                        Tcl_NewStringObj("stdout", -1),
+                        Tcl_NewStringObj(text.data(), int(text.size()))};
+    Tcl_Obj* flush[2] = {Tcl_NewStringObj("::flush", -1), Tcl_NewStringObj("stdout", -1)};
+    for (Tcl_Obj* o : objv) Tcl_IncrRefCount(o);
+    for (Tcl_Obj* o : flush) Tcl_IncrRefCount(o);
+    Tcl_InterpState saved = Tcl_SaveInterpState(interp, TCL_OK);
+    Tcl_EvalObjv(interp, 4, objv, TCL_EVAL_GLOBAL);
+    Tcl_EvalObjv(interp, 2, flush, TCL_EVAL_GLOBAL);
+    Tcl_RestoreInterpState(interp, saved);
+    for (Tcl_Obj* o : objv) Tcl_DecrRefCount(o);
+    for (Tcl_Obj* o : flush) Tcl_DecrRefCount(o);
   };
   s.beginRun = [st] {
     st->running = true;
