@@ -46,10 +46,14 @@ class LoadModule final : public SimModule<D> {
       } else {
         for (int k = 0; k < 3; ++k) T[k] = b.torqueFn[k] ? b.torqueFn[k](t) : b.torque[k];
       }
+      const bool torque = s.rotating && squaredNorm(T) != 0;
       auto apply = [&](uint32_t i) {
         a.f[i] += F;
-        if (s.rotating) a.t[i] += T;
         work += F.dot(halfStepVelocity(s, i)) * s.stepDt;
+        if (torque) {
+          a.t[i] += T;
+          work += dotAngular(T, halfStepAngularVelocity(s, i)) * s.stepDt;
+        }
       };
       if (!b.grain.isNull()) {
         const uint32_t i = s.grains.pool().findDense(b.grain);

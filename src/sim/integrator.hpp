@@ -141,4 +141,22 @@ inline VecD<D> halfStepVelocity(const Scene<D>& s, size_t i) {
   return a.v[i];
 }
 
+// Returns the half-step angular velocity of grain i during the force phase (as above).
+template <int D>
+inline AngularD<D> halfStepAngularVelocity(const Scene<D>& s, size_t i) {
+  const GrainArrays<D>& a = s.grains.a;
+  if (s.integrator == IntegratorKind::Synchronized) {
+    return a.w[i] - (0.5 * s.stepDt * a.invInertia[i]) * a.tPrev[i];
+  }
+  return a.w[i];
+}
+
+// Returns the dot product of two angular quantities (torque . angular velocity: a power).
+inline Real dotAngular(Real a, Real b) {
+  return a * b;
+}
+inline Real dotAngular(const Vec3& a, const Vec3& b) {
+  return a.dot(b);
+}
+
 }  // namespace demlab::sim

@@ -189,7 +189,7 @@ std::unique_ptr<Simulation> busyScene(int d) {
   for (size_t k = 0; k < defs.size(); k += 5) defs[k].tags = {"loaded"};
   s->addGrains(defs);
   addBox(*s, 0.08, "steel");
-  WallDef lid = plane({0, 0.09, 0}, {0, -1, 0}, "glass");
+  WallDef lid = plane({0, 0.073, 0}, {0, -1, 0}, "glass");
   lid.motion = WallMotion{.velocity = {0, -0.05, 0}, .amplitude = {0, 0.002, 0}, .frequency = 40};
   s->addWall(lid);
   s->addGravity({0, -9.81, 0});
@@ -267,6 +267,24 @@ TEST_P(SimApi, CallbacksAreReportedBySave) {
   a->runSteps(100);
   c->runSteps(100);
   EXPECT_EQ(a->stateDigest(), c->stateDigest());
+}
+
+TEST_P(SimApi, LedgerClosesWithLoadsWallsAndFriction) {
+  const int d = GetParam();
+  auto s = busyScene(d);
+  const EnergyLedger e0 = s->energy();
+  s->runSteps(1500);
+  const EnergyLedger e = s->energy();
+  std::cout << "[ figures  ] " << d << "D busy scene ledger: residual " << e.residual
+            << ", damping " << e.dampingLoss << " J, friction " << e.frictionLoss
+            << " J, wall work " << e.wallWork << " J, load work " << e.behaviorWork << " J\n";
+  EXPECT_EQ(e0.dampingLoss, 0);
+  EXPECT_GT(e.dampingLoss, 0);
+  EXPECT_GT(e.frictionLoss, 0);
+  EXPECT_NE(e.wallWork, 0);                      // the lid moves
+  EXPECT_GT(e.behaviorWork, 0);                  // the loads push the grains along +x
+  EXPECT_LT(e.gravitational, e0.gravitational);  // the grains settle
+  EXPECT_LT(e.residual, 2e-2);
 }
 
 TEST_P(SimApi, StopFlagAndProgress) {
