@@ -15,8 +15,9 @@
 // - Handles are generational (core/handle.hpp): a handle to a removed grain or wall is reported
 //   as such (DEMLAB LOOKUP HANDLE), never taken for the object that reuses its slot.
 //
-// Status: every function declared here is implemented (sim/simulation_manager*.hpp/.cpp) and
-// covered by tests/unit/sim/ unless its comment says otherwise.
+// Status: every function declared here is implemented (sim/simulation_manager.cpp: editing;
+// sim/simulation_run.cpp: running, queries, digest, clone, save/load) and exercised by
+// tests/unit/sim/.
 #pragma once
 
 #include <array>
@@ -125,8 +126,8 @@ struct LoadDef {
 };
 
 // Contact detection options. cellFactor: CGrid cell = factor x its size statistic (0: CGrid's
-// default). skin: Verlet skin distance in metres (< 0: automatic, 0.1 x the smallest grain
-// radius; 0: rebuild every step). VALUE CELLFACTOR / VALUE SKIN on NaN or bad signs.
+// default). skin: Verlet skin distance in metres (< 0: automatic, 0.2 x the mean grain
+// radius; 0: search every step). VALUE CELLFACTOR / VALUE SKIN on NaN or bad signs.
 struct DetectionOptions {
   double cellFactor = 0;
   double skin = -1;

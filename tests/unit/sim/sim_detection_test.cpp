@@ -74,6 +74,17 @@ TEST_P(SimDetection, FastMoversAreNeverMissed) {
     rebuilds += s->step().neighborRebuilds;
     const auto truth = bruteForce(*s);
     ASSERT_EQ(found(*s), truth) << "step " << step;
+    // Grain-wall contacts: every grain closer to a box face than its radius, once per face.
+    size_t wallTruth = 0, wallFound = 0;
+    const auto x = s->positions();
+    const auto r = s->radii();
+    for (size_t i = 0; i < r.size(); ++i) {
+      for (int k = 0; k < d; ++k) {
+        wallTruth += (x[d * i + k] < r[i]) + (side - x[d * i + k] < r[i]);
+      }
+    }
+    for (const ContactInfo& c : s->contacts()) wallFound += !c.wall.isNull();
+    ASSERT_EQ(wallFound, wallTruth) << "step " << step;
     checked += truth.size();
     if (step == 200) {
       // Grains moved by hand far away: the next step must search anew.
