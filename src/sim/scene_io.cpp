@@ -244,6 +244,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   // Pair histories, in iteration order, with the table size that reproduces the layout.
   auto& hist = const_cast<InstanceInteractionManager<physics::TangentialHistory<D>>&>(s.histories);
   w.u8(s.keepHistory);
+  w.u8(s.rotating);
   w.u64(hist.bucketCount());
   w.u64(hist.size());
   hist.forEach([&](const auto& p, const physics::TangentialHistory<D>& h) {
@@ -375,6 +376,7 @@ void readScene(Reader& r, Scene<D>& s) {
     s.behaviors.items().push_back(std::move(b));
   }
   s.keepHistory = r.u8();
+  s.rotating = r.u8();
   const size_t buckets = r.u64();
   if (buckets > (size_t{1} << 40)) Reader::bad("history table size");
   const size_t nh = r.count(8 + 8 * D);

@@ -99,6 +99,11 @@ void SimulationManager<D>::prepare() {
       s_.needRebuild = true;
     }
     s_.keepHistory = f.anyFriction;
+    if (f.rotating && !s_.rotating) {
+      // Torques were not accumulated while rotation was off: start from none.
+      for (auto& t : s_.grains.a.t) t = GrainArrays<D>::zeroAngular();
+      for (auto& t : s_.grains.a.tPrev) t = GrainArrays<D>::zeroAngular();
+    }
     s_.rotating = f.rotating;
     s_.stepDt = dt;
     double skin = s_.skinOption;
