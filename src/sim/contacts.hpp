@@ -71,15 +71,15 @@ class GrainContactModule final : public SimModule<D> {
     PassEnergy e;
     const size_t nc = s.candidates.size();
     for (size_t kc = 0; kc < nc; ++kc) {
-      uint32_t i = s.candidates[kc].i, j = s.candidates[kc].j;
+      const uint32_t i = s.candidates[kc].i, j = s.candidates[kc].j;
       const VecD<D> d = a.x[j] - a.x[i];
       const Real rs = a.r[i] + a.r[j];
       if (d.squaredNorm() >= rs * rs) {
         if constexpr (History) s.pairSprings[kc].spring.setZero();  // the contact opened
         continue;
       }
-      // A is the grain with the lower slot, so a pair's spring keeps one orientation.
-      if (History && a.slot[i] > a.slot[j]) std::swap(i, j);
+      // A (i) is the grain with the lower slot (the search orders each pair so), so a pair's
+      // spring keeps one orientation.
       const auto geom = physics::intersect<D>(physics::SphereShape<D>{a.x[i], a.r[i]},
                                               physics::SphereShape<D>{a.x[j], a.r[j]});
       if (!geom) {

@@ -105,7 +105,12 @@ class DetectionModule final : public SimModule<D> {
         // within a skin: keep only the pairs whose gap is at most the skin.
         const Real reach = a.r[p.first] + a.r[p.second] + s.skin;
         if ((a.x[p.first] - a.x[p.second]).squaredNorm() > reach * reach) continue;
-        s.candidates.push_back({p.first, p.second});
+        // The lower slot first: the contact loop keeps each spring in that orientation.
+        if (a.slot[p.first] < a.slot[p.second]) {
+          s.candidates.push_back({p.first, p.second});
+        } else {
+          s.candidates.push_back({p.second, p.first});
+        }
       } else if (p.first < n) {
         s.wallCandidates[wallOfBox_[p.second - n]].push_back(p.first);
       }
