@@ -85,6 +85,9 @@ struct Scene {
   double skin = 0;                                    // the skin in use
   double maxDisp2 = 0;  // largest squared displacement since the build
   bool needRebuild = true;
+  // The forces in f and t are those of the current state (velocity Verlet's first half kick
+  // needs them); edits of the scene clear it and the next run computes them first.
+  bool forcesReady = false;
   uint64_t rebuilds = 0;
 
   // ---- pair state (sim/history_store.hpp) ----

@@ -268,6 +268,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   w.f64(s.skin);
   w.f64(s.maxDisp2);
   w.u8(s.needRebuild);
+  w.u8(s.forcesReady);
   w.u64(s.rebuilds);
   // Outputs of the last step and the ledger.
   w.list(s.contacts, [&](const ContactRecord<D>& c) {
@@ -421,6 +422,7 @@ void readScene(Reader& r, Scene<D>& s) {
   s.skin = r.f64();
   s.maxDisp2 = r.f64();
   s.needRebuild = r.u8();
+  s.forcesReady = r.u8();
   s.rebuilds = r.u64();
   s.contacts.resize(r.count(9 + 8 * D));
   for (auto& c : s.contacts) {

@@ -56,6 +56,18 @@ class SimLoop {
     }
   }
 
+  // Runs only the force stages (walls, detection, contacts, behaviors) once, untimed: the
+  // forces at the current time that velocity Verlet's first step needs. Changes the scene.
+  void forcesOnly(Scene<D>& scene) {
+    for (const auto& m : modules_) {
+      const SimLevel l = m->level();
+      if (l == SimLevel::Walls || l == SimLevel::Detection || l == SimLevel::Contacts ||
+          l == SimLevel::Behaviors) {
+        m->run(scene);
+      }
+    }
+  }
+
   // Returns the module names in run order.
   std::vector<std::string> names() const {
     std::vector<std::string> out;

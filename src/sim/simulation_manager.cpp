@@ -307,6 +307,7 @@ void SimulationManager<D>::setGrainPosition(GrainId id, const Vec3d& p) {
   s_.grains.a.x[i] = x;
   s_.ledger.reference += grainEnergy(i) - before;
   s_.needRebuild = true;
+  s_.forcesReady = false;
 }
 
 template <int D>
@@ -316,6 +317,7 @@ void SimulationManager<D>::setGrainVelocity(GrainId id, const Vec3d& v) {
   const double before = grainEnergy(i);
   s_.grains.a.v[i] = x;
   s_.ledger.reference += grainEnergy(i) - before;
+  s_.forcesReady = false;
 }
 
 template <int D>

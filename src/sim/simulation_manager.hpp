@@ -133,7 +133,10 @@ class SimulationManager final : public Simulation {
   // indices: call before grains or walls are removed (the dense order changes).
   void forgetCandidates();
   // Marks the configuration changed: the next run mixes, chooses and rebuilds again.
-  void touchConfig() { configDirty_ = true; }
+  void touchConfig() {
+    configDirty_ = true;
+    s_.forcesReady = false;
+  }
   std::string behaviorDescription(const Behavior<D>& b) const;
   std::string serialize(IoMode mode) const;
 

@@ -106,7 +106,11 @@ TEST_P(SimPhysics, SlidingTurnsToRollingAtTheRightSpeed) {
   // The ledger: the kinetic energy lost went to friction (and a little damping).
   const EnergyLedger e = s->energy();
   EXPECT_GT(e.frictionLoss, 0);
-  EXPECT_LT(e.residual, 1e-2);
+  // The tangential losses are charged first order in dt (physics/contact.hpp): at this coarse
+  // step (a fifth of the Rayleigh step) the ledger closes to about 2 % of the energy moved.
+  std::cout << "[ figures  ] " << d << "D sliding-to-rolling ledger residual " << e.residual
+            << "\n";
+  EXPECT_LT(e.residual, 3e-2);
 }
 
 // Elastic (e = 1), frictionless grains in a box of planes, Hertz law: returns the largest
@@ -248,6 +252,48 @@ TEST_P(SimPhysics, RotatingDrumDragsAGrainIntoRolling) {
     EXPECT_NEAR(q[0], std::cos(omega * s->time() / 2), 1e-12);
     EXPECT_NEAR(q[3], std::sin(omega * s->time() / 2), 1e-12);
   }
+}
+
+// Grains dropped onto a finite wall and onto a box wall come to rest on top (at one radius,
+// less the static overlap), a grain dropped beside the finite wall falls past it.
+TEST_P(SimPhysics, GrainsRestOnFiniteAndBoxWalls) {
+  const int d = GetParam();
+  auto s = makeSimulation(d);
+  const double r = 0.005;
+  s->addMaterial("m", material(1e8, 0.3, 0.5));
+  Vec3d n{0, 0, 0}, g{0, 0, 0};
+  n[up(d)] = 1;
+  g[up(d)] = -kG;
+  WallDef plate;
+  plate.shape = WallShape::Finite;
+  plate.material = "m";
+  plate.normal = n;
+  plate.halfExtents = {0.02, d == 3 ? 0.02 : 0.0, 0};
+  if (d == 3) plate.axis = {1, 0, 0};
+  s->addWall(plate);
+  WallDef box;
+  box.shape = WallShape::Box;
+  box.material = "m";
+  box.point = {0.1, 0, 0};
+  box.point[up(d)] = -0.01;
+  box.halfExtents = {0.01, 0.01, d == 3 ? 0.01 : 0.0};
+  s->addWall(box);
+  auto at = [&](double x, double h) {
+    Vec3d p{x, 0, 0};
+    p[up(d)] = h;
+    return s->addGrain(grain(p, r, "m"));
+  };
+  const GrainId onPlate = at(0, 0.02), onBox = at(0.1, 0.02), beside = at(0.05, 0.02);
+  s->addGravity(g);
+  s->setAutoTimeStep(0.2);
+  s->runSteps(static_cast<uint64_t>(0.3 / s->timeStep()));
+  EXPECT_NEAR(s->grain(onPlate).position[up(d)], r, 0.02 * r);
+  EXPECT_NEAR(s->grain(onBox).position[up(d)], r, 0.02 * r);
+  EXPECT_LT(std::abs(s->grain(onPlate).velocity[up(d)]), 1e-3);
+  EXPECT_LT(std::abs(s->grain(onBox).velocity[up(d)]), 1e-3);
+  // Free fall from 0.02 m (velocity Verlet is exact for a constant force).
+  const double t = s->time();
+  EXPECT_NEAR(s->grain(beside).position[up(d)], 0.02 - 0.5 * kG * t * t, 1e-9);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dims, SimPhysics, ::testing::Values(2, 3),
