@@ -1,0 +1,220 @@
+// SimulationManager<D>: walls (checking a WallDef, adding, removing, querying).
+#include <cmath>
+
+#include "sim/convert.hpp"
+#include "sim/simulation_manager.hpp"
+
+namespace demlab::sim {
+
+// ---- walls ---------------------------------------------------------------------------------
+
+namespace {
+
+// Throws {VALUE <FIELD>} unless v is zero (a field the wall's shape does not use).
+inline void checkUnused(const Vec3d& v, const std::string& field, const char* shape) {
+  if (v[0] != 0 || v[1] != 0 || v[2] != 0) {
+    throwBad(field, formatVec(v, 3), std::string("not used by a ") + shape + " wall");
+  }
+}
+inline void checkUnused(double x, const std::string& field, const char* shape) {
+  if (x != 0)
+    throwBad(field, physics::formatReal(x), std::string("not used by a ") + shape + " wall");
+}
+
+// Returns v / |v|. Throws {VALUE <FIELD>} for a zero vector.
+template <int D>
+VecD<D> unit(const VecD<D>& v, const std::string& field) {
+  const Real n = v.norm();
+  if (!(n > 0)) throwBad(field, formatVec(fromVec<D>(v), D), "must be a non-zero vector");
+  return v / n;
+}
+
+}  // namespace
+
+template <int D>
+Wall<D> SimulationManager<D>::checkWall(const WallDef& def) const {
+  Wall<D> w;
+  w.kind = def.shape;
+  w.material = materialIndex(def.material);
+  const VecD<D> p = toVec<D>(def.point, "point");
+  switch (def.shape) {
+    case WallShape::Plane: {
+      const char* sh = "plane";
+      checkUnused(def.axis, "axis", sh);
+      checkUnused(def.halfExtents, "half extents", sh);
+      checkUnused(def.rotation, "rotation", sh);
+      checkUnused(def.radius, "radius", sh);
+      checkUnused(def.halfLength, "half length", sh);
+      w.shape0 = physics::PlaneShape<D>{p, unit<D>(toVec<D>(def.normal, "normal"), "normal")};
+      break;
+    }
+    case WallShape::Finite: {
+      const char* sh = "finite";
+      checkUnused(def.rotation, "rotation", sh);
+      checkUnused(def.radius, "radius", sh);
+      checkUnused(def.halfLength, "half length", sh);
+      const VecD<D> n = unit<D>(toVec<D>(def.normal, "normal"), "normal");
+      physics::FlatWallShape<D> f;
+      f.centre = p;
+      if constexpr (D == 2) {
+        checkUnused(def.axis, "axis", sh);
+        if (def.halfExtents[1] != 0 || def.halfExtents[2] != 0) {
+          throwBad("half extents", formatVec(def.halfExtents, 3), "a segment has one half length");
+        }
+        checkPositive(def.halfExtents[0], "half extents");
+        f.axes[0] = perp(n);
+        f.halfExtents[0] = def.halfExtents[0];
+      } else {
+        const VecD<D> u = unit<D>(toVec<D>(def.axis, "axis"), "axis");
+        if (std::abs(u.dot(n)) > 1e-9) {
+          throwBad("axis", formatVec(def.axis, 3), "must be perpendicular to the normal");
+        }
+        if (def.halfExtents[2] != 0) {
+          throwBad("half extents", formatVec(def.halfExtents, 3),
+                   "a rectangle has two half lengths");
+        }
+        checkPositive(def.halfExtents[0], "half extents");
+        checkPositive(def.halfExtents[1], "half extents");
+        const VecD<D> u2 = (u - u.dot(n) * n).normalized();
+        f.axes[0] = u2;
+        f.axes[1] = n.cross(u2);
+        f.halfExtents[0] = def.halfExtents[0];
+        f.halfExtents[1] = def.halfExtents[1];
+      }
+      w.shape0 = f;
+      break;
+    }
+    case WallShape::Box: {
+      const char* sh = "box";
+      checkUnused(def.normal, "normal", sh);
+      checkUnused(def.axis, "axis", sh);
+      checkUnused(def.radius, "radius", sh);
+      checkUnused(def.halfLength, "half length", sh);
+      physics::BoxShape<D> b;
+      b.centre = p;
+      for (int k = 0; k < D; ++k) checkPositive(def.halfExtents[k], "half extents");
+      if (D == 2 && def.halfExtents[2] != 0) {
+        throwBad("half extents", formatVec(def.halfExtents, 3), "a 2D box has two half lengths");
+      }
+      for (int k = 0; k < D; ++k) b.halfExtents[k] = def.halfExtents[k];
+      const AngularD<D> rv = toAngular<D>(def.rotation, "rotation");
+      if constexpr (D == 2) {
+        b.axes = Rotation2{rv}.matrix();
+      } else {
+        b.axes = quatFromRotationVector(rv).toRotationMatrix();
+      }
+      w.shape0 = b;
+      break;
+    }
+    case WallShape::Drum: {
+      const char* sh = "drum";
+      checkUnused(def.normal, "normal", sh);
+      checkUnused(def.halfExtents, "half extents", sh);
+      checkUnused(def.rotation, "rotation", sh);
+      physics::DrumShape<D> d;
+      d.centre = p;
+      checkPositive(def.radius, "radius");
+      d.radius = def.radius;
+      if constexpr (D == 2) {
+        checkUnused(def.axis, "axis", sh);
+        checkUnused(def.halfLength, "half length", sh);
+      } else {
+        d.axis = unit<D>(toVec<D>(def.axis, "axis"), "axis");
+        if (!(def.halfLength > 0)) {
+          throwBad("half length", physics::formatReal(def.halfLength), "must be a positive number");
+        }
+        d.halfLength = def.halfLength;
+      }
+      w.shape0 = d;
+      break;
+    }
+    default:
+      throw Error("bad wall shape", {"VALUE", "SHAPE"});
+  }
+  if (def.motion) {
+    const WallMotion& m = *def.motion;
+    w.velocity = toVec<D>(m.velocity, "velocity");
+    w.omega = toAngular<D>(m.angularVelocity, "angular velocity");
+    w.amplitude = toVec<D>(m.amplitude, "amplitude");
+    if (!(std::isfinite(m.frequency) && m.frequency >= 0)) {
+      throwBad("frequency", physics::formatReal(m.frequency), "must be a non-negative number");
+    }
+    if (m.frequency == 0 && w.amplitude.squaredNorm() > 0) {
+      throwBad("frequency", "0", "a vibration needs a positive frequency");
+    }
+    if (!std::isfinite(m.phase)) throwBad("phase", physics::formatReal(m.phase), "must be finite");
+    w.frequency = m.frequency;
+    w.phase = m.phase;
+    w.moving =
+        w.velocity.squaredNorm() > 0 || w.amplitude.squaredNorm() > 0 || squaredNorm(w.omega) > 0;
+  }
+  for (const std::string& t : def.tags) checkTagName(t);
+  if (!def.name.empty()) {
+    checkObjectName("wall", def.name);
+    if (s_.walls.names().find(def.name)) throwNameExists("wall", def.name);
+  }
+  w.t0 = s_.time;
+  w.point0 = p;
+  w.moveTo(s_.time);
+  w.pointAtBuild = w.point;
+  w.timeAtBuild = s_.time;
+  return w;
+}
+
+template <int D>
+WallId SimulationManager<D>::addWall(const WallDef& def) {
+  Wall<D> w = checkWall(def);
+  const WallId id = s_.walls.add(std::move(w), def.name, def.tags);
+  s_.needRebuild = true;
+  touchConfig();
+  return id;
+}
+
+template <int D>
+void SimulationManager<D>::removeWall(WallId id) {
+  s_.walls.pool().denseIndex(id);
+  forgetCandidates();
+  if (s_.keepHistory) s_.histories.removeId(wallPairId(id.index));
+  s_.walls.remove(id);
+  s_.needRebuild = true;
+  touchConfig();
+}
+
+template <int D>
+WallState SimulationManager<D>::wall(WallId id) const {
+  const Wall<D>& w = s_.walls.items[s_.walls.pool().denseIndex(id)];
+  WallState st;
+  st.id = id;
+  if (auto n = s_.walls.names().nameOf(id)) st.name = std::string(*n);
+  for (std::string_view t : s_.walls.tags().tagsOf(id)) st.tags.emplace_back(t);
+  st.material = s_.materialNames[w.material];
+  st.shape = w.kind;
+  st.point = fromVec<D>(w.point);
+  st.velocity = fromVec<D>(w.pointVelocity);
+  st.angularVelocity = fromAngular(w.omega);
+  st.orientation = fromRotation(w.turned);
+  st.force = fromVec<D>(w.force);
+  const physics::Bounds<D> b =
+      std::visit([](const auto& sh) { return physics::bounds(sh); }, w.shape);
+  for (int k = 0; k < D; ++k) {
+    st.boundsLo[k] = b.lo[k];
+    st.boundsHi[k] = b.hi[k];
+  }
+  return st;
+}
+
+template <int D>
+WallId SimulationManager<D>::findWall(const std::string& name) const {
+  return s_.walls.names().get(name);
+}
+
+template <int D>
+std::vector<WallId> SimulationManager<D>::wallIds() const {
+  const auto h = s_.walls.pool().handles();
+  return {h.begin(), h.end()};
+}
+
+template class SimulationManager<2>;
+template class SimulationManager<3>;
+
+}  // namespace demlab::sim
