@@ -1,6 +1,7 @@
 // bench_render: seconds per frame of the OSMesa renderer, as CSV on stdout.
 //
 // Usage: bench_render [-n N,...] [-size WxH] [-aa A,...] [-dim 2|3] [-frames F] [-png file]
+//                     [-cull 0|1]
 // Columns: grains, dimension, image size, supersampling factor, wall-clock and CPU (all threads)
 // seconds per frame, the first frame's seconds, frames averaged, the fraction of grains drawn
 // after occlusion culling, seconds to write the PNG.
@@ -55,6 +56,7 @@ int main(int argc, char** argv) {
   std::vector<long> ns = {1000, 10000, 100000}, aas = {1, 2};
   int width = 1280, height = 720, dim = 3, frames = 5;
   std::string png;
+  bool cull = true;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "-n")
@@ -67,10 +69,13 @@ int main(int argc, char** argv) {
       dim = std::stoi(v);
     else if (a == "-frames")
       frames = std::stoi(v);
+    else if (a == "-cull")
+      cull = std::stoi(v) != 0;
     else if (a == "-png")
       png = v;
     else {
-      std::fprintf(stderr, "bad option \"%s\": must be -n, -size, -aa, -dim, -frames or -png\n",
+      std::fprintf(stderr,
+                   "bad option \"%s\": must be -n, -size, -aa, -dim, -frames, -png or -cull\n",
                    a.c_str());
       return 1;
     }
@@ -109,6 +114,7 @@ int main(int argc, char** argv) {
       opt.width = width;
       opt.height = height;
       opt.antialias = int(aa);
+      opt.cullHidden = cull;
       auto t0 = std::chrono::steady_clock::now();
       Image img = renderer->render(scene, opt);
       const double first = seconds(t0);
@@ -118,8 +124,8 @@ int main(int argc, char** argv) {
       const double each = seconds(t0) / frames, cpu = (cpuSeconds() - c0) / frames;
       // The fraction of grains left after occlusion culling (1 in 2D, where none is done).
       std::vector<std::uint32_t> keep;
-      if (dim == 3) cullHiddenGrains(scene, makeView(scene, opt), keep);
-      const double drawn = dim == 3 ? double(keep.size()) / n : 1.0;
+      if (dim == 3 && cull) cullHiddenGrains(scene, makeView(scene, opt), keep);
+      const double drawn = dim == 3 && cull ? double(keep.size()) / n : 1.0;
       // Writing the frame (libpng, then rename) to png, or to /tmp when no file was asked for.
       const std::string out = png.empty() ? "/tmp/bench_render_frame.png" : png;
       t0 = std::chrono::steady_clock::now();
