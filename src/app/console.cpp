@@ -61,6 +61,16 @@ unsigned char complete(EditLine* el, int) {
   return CC_REDISPLAY;
 }
 
+bool g_cancelLine = false;
+
+// Ctrl-C at the prompt (a key here, not a signal: ISIG is off while editing): drops the input.
+unsigned char cancelLine(EditLine*, int) {
+  g_cancelLine = true;
+  std::fputs("^C\n", stdout);
+  std::fflush(stdout);
+  return CC_NEWLINE;
+}
+
 void printResult(Tcl_Interp* interp, int code) {
   const char* r = Tcl_GetStringResult(interp);
   if (code == TCL_OK) {
@@ -101,6 +111,9 @@ int runConsole(Tcl_Interp* interp, const char* argv0) {
   el_set(el, EL_HIST, history, hist);
   el_set(el, EL_ADDFN, "demlab-complete", "complete a command, option or value", complete);
   el_set(el, EL_BIND, "^I", "demlab-complete", nullptr);
+  el_set(el, EL_SETTY, "-d", "-isig", nullptr);
+  el_set(el, EL_ADDFN, "demlab-cancel", "drop the input", cancelLine);
+  el_set(el, EL_BIND, "^C", "demlab-cancel", nullptr);
   el_source(el, nullptr);  // ~/.editrc
 
   std::printf("demlab %s: type help for the commands, exit or Ctrl-D to leave\n",
@@ -113,11 +126,10 @@ int runConsole(Tcl_Interp* interp, const char* argv0) {
     int count = 0;
     errno = 0;
     const char* line = el_gets(el, &count);
-    if (tcl::takePromptInterrupt()) {
+    if (g_cancelLine || tcl::takePromptInterrupt()) {
       // Ctrl-C at the prompt: drop what was typed and start again.
-      std::printf("^C\n");
+      g_cancelLine = false;
       buffer.clear();
-      el_reset(el);
       continue;
     }
     if (!line || count <= 0) {

@@ -11,7 +11,11 @@ set ::demlab_failed 0
 proc tcltest::cleanupTestsHook {} {
     incr ::demlab_failed $tcltest::numTests(Failed)
 }
-tcltest::configure -testdir [file dirname [file normalize [info script]]] -singleproc 1
+# Files the tests make go to a fresh folder under the system's temporary directory.
+set tmp [file join [expr {[info exists env(TMPDIR)] ? $env(TMPDIR) : "/tmp"}] demlab-tcltest-[pid]]
+file mkdir $tmp
+tcltest::configure -testdir [file dirname [file normalize [info script]]] -singleproc 1 -tmpdir $tmp
 tcltest::configure {*}$argv
 tcltest::runAllTests
+file delete -force $tmp
 exit [expr {$::demlab_failed > 0}]

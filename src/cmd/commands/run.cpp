@@ -37,7 +37,7 @@ class ProgressBar {
     if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
     last_ = now;
     double elapsed = std::chrono::duration<double>(now - start_).count();
-    if (elapsed < 0.25 && done < total) return;  // short runs draw nothing
+    if (elapsed < 0.25 && !drawn_) return;  // short runs draw nothing
     double frac = total ? double(done) / double(total) : 1.0;
     int width = 30, full = int(frac * width);
     std::string bar = "\r[" + std::string(std::size_t(full), '#') +
