@@ -40,6 +40,18 @@ class NameLookup {
   // kind: the object's name in error messages ("element", "material", ...).
   explicit NameLookup(std::string kind = "object") : kind_(std::move(kind)) {}
 
+  // byHandle_ points at the keys of byName_, so a copy rebuilds it over its own keys (a
+  // memberwise copy would point into the source). Moving keeps the nodes, hence the pointers.
+  NameLookup(const NameLookup& other) : kind_(other.kind_), byName_(other.byName_) {
+    for (const auto& [name, h] : byName_) byHandle_.emplace(h, &name);
+  }
+  NameLookup& operator=(const NameLookup& other) {
+    if (this != &other) *this = NameLookup(other);
+    return *this;
+  }
+  NameLookup(NameLookup&&) noexcept = default;
+  NameLookup& operator=(NameLookup&&) noexcept = default;
+
   // Gives h the name `name`. Throws demlab::Error, changing nothing, if the name is malformed
   // {VALUE NAME}, taken {EXISTS NAME}, or h already has a name {EXISTS NAME} (rename it).
   void add(std::string_view name, H h) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include <algorithm>
 #include <map>
 #include <random>
@@ -41,6 +43,23 @@ TEST(NameLookup, NamesAndHandlesBothWays) {
   EXPECT_EQ(names.nameOf(Element{2, 1}), std::nullopt);
   EXPECT_EQ(names.names(), (SV{"bar", "foo"}));  // sorted
   EXPECT_EQ(names.size(), 2u);
+}
+
+TEST(NameLookup, CopiesAreIndependentOfTheirSource) {
+  const Element a{0, 1}, b{1, 1};
+  auto source = std::make_unique<Names>("element");
+  source->add("foo", a);
+  Names copy(*source);
+  Names assigned("element");
+  assigned.add("bar", b);
+  assigned = *source;
+  source.reset();  // a copy that pointed into the source would now read freed memory
+  EXPECT_EQ(copy.nameOf(a), "foo");
+  EXPECT_EQ(assigned.nameOf(a), "foo");
+  EXPECT_EQ(assigned.find("bar"), std::nullopt);
+  EXPECT_EQ(assigned.nameOf(b), std::nullopt);
+  Names moved(std::move(copy));
+  EXPECT_EQ(moved.nameOf(a), "foo");
 }
 
 TEST(NameLookup, ErrorsUseTclWordingAndChangeNothing) {
