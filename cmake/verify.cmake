@@ -1,0 +1,22 @@
+# The verification suite (issue 6): analytic cases through the Simulation API, the convergence
+# driver and its program demlab_verify (scripts/verify writes doc/verification.md with it), and
+# the fast GoogleTest checks of the stated tolerances, registered as the "verify" test.
+if(TARGET demlab_sim)
+  file(GLOB DEMLAB_VERIFY_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/verify/*.cpp)
+  list(REMOVE_ITEM DEMLAB_VERIFY_SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/src/verify/verify_main.cpp)
+  add_library(demlab_verify STATIC ${DEMLAB_VERIFY_SOURCES})
+  target_link_libraries(demlab_verify PUBLIC demlab_sim)
+
+  add_executable(demlab_verify_run ${CMAKE_CURRENT_SOURCE_DIR}/src/verify/verify_main.cpp)
+  set_target_properties(demlab_verify_run PROPERTIES OUTPUT_NAME demlab_verify)
+  target_link_libraries(demlab_verify_run PRIVATE demlab_verify)
+
+  file(GLOB DEMLAB_VERIFY_TESTS CONFIGURE_DEPENDS
+       ${CMAKE_CURRENT_SOURCE_DIR}/tests/unit/verify/*.cpp)
+  if(DEMLAB_VERIFY_TESTS)
+    add_executable(demlab_verify_tests ${DEMLAB_VERIFY_TESTS})
+    target_link_libraries(demlab_verify_tests PRIVATE demlab_verify GTest::gtest GTest::gtest_main
+                                                      Threads::Threads)
+    add_test(NAME verify COMMAND demlab_verify_tests --gtest_brief=1)
+  endif()
+endif()
