@@ -6,7 +6,9 @@
 // module per step; each module loops over its own contiguous arrays.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -20,7 +22,8 @@ struct Scene;
 // The stages of one velocity-Verlet step, in order. Forces at t+dt need positions at t+dt
 // (Predict), walls placed at t+dt (Walls) and the candidate pairs (Detection); Behaviors add
 // body forces after the contacts, and Correct closes the step with the second half kick.
-enum class SimLevel { Predict, Walls, Detection, Contacts, Behaviors, Correct, Cleanup };
+// Output modules (snapshots, data files) run last, on the finished step, and only read.
+enum class SimLevel { Predict, Walls, Detection, Contacts, Behaviors, Correct, Cleanup, Output };
 
 template <int D>
 class SimModule {
@@ -42,6 +45,28 @@ class SimLoop {
                      [](const auto& a, const auto& b) { return a->level() < b->level(); });
     modules_ = std::move(modules);
     seconds_.assign(modules_.size(), 0.0);
+  }
+
+  // Replaces the modules of one level by `modules` (an empty list drops the level), keeping
+  // every other module, its state and its timer; the loop stays in level order. Used to plug
+  // output modules into a built loop without rebuilding the physics modules.
+  void setLevel(SimLevel level, std::vector<std::unique_ptr<SimModule<D>>> modules) {
+    std::vector<std::unique_ptr<SimModule<D>>> kept;
+    std::vector<double> secs;
+    size_t at = 0;
+    for (size_t k = 0; k < modules_.size(); ++k) {
+      if (modules_[k]->level() == level) continue;
+      if (modules_[k]->level() < level) at = kept.size() + 1;
+      kept.push_back(std::move(modules_[k]));
+      secs.push_back(seconds_[k]);
+    }
+    for (auto& m : modules) {
+      secs.insert(secs.begin() + static_cast<std::ptrdiff_t>(at), 0.0);
+      kept.insert(kept.begin() + static_cast<std::ptrdiff_t>(at), std::move(m));
+      ++at;
+    }
+    modules_ = std::move(kept);
+    seconds_ = std::move(secs);
   }
 
   // Runs one step: every module once, timing each. Changes the scene and the timers.

@@ -45,9 +45,13 @@ using LawKind = physics::LawKind;
 struct GrainKind {};
 struct WallKind {};
 struct BehaviorKind {};
+struct OutputKind {};
 using GrainId = Handle<GrainKind>;
 using WallId = Handle<WallKind>;
 using BehaviorId = Handle<BehaviorKind>;
+using OutputId = Handle<OutputKind>;
+
+class Simulation;
 
 // A function of simulated time (seconds) giving one component of a time-varying load; the Tcl
 // layer wraps a script callback in it. It must be deterministic for runs to be reproducible.
@@ -160,6 +164,15 @@ struct WallState {
   std::array<double, 4> orientation{};  // as GrainState
   Vec3d force{};                        // total force the grains exert on the wall in the last step
   Vec3d boundsLo{}, boundsHi{};
+  // The geometry now (after any prescribed motion), for renderers and writers. Unit vectors.
+  //   Plane : centre (a point on it), normal.
+  //   Finite: centre, normal, axes[0] (and 3D axes[1]) along halfExtents[0] (and [1]).
+  //   Box   : centre, axes[0..dim-1] its axes, halfExtents along them.
+  //   Drum  : centre, radius; 3D axes[0] its axis and halfLength.
+  Vec3d centre{}, normal{};
+  std::array<Vec3d, 3> axes{};
+  Vec3d halfExtents{};
+  double radius = 0, halfLength = 0;
 };
 
 struct ContactInfo {
@@ -216,6 +229,29 @@ struct BehaviorInfo {
   std::string kind;          // "gravity", "load"
   std::string description;   // e.g. `load on tag "bed": force (0 0 -1) N`
   bool serializable = true;  // false when it holds TimeFunctions
+};
+
+// An output module (thesis chapter 9: a SimModule at the output level of the SimLoop): a
+// callback run on the finished step every everySteps steps (when the scene's step count is a
+// multiple of it), or every everyTime simulated seconds (at the step whose end time is nearest
+// each multiple of everyTime: fires when (t - dt/2, t + dt/2] holds one). Exactly one of the
+// two must be set. Outputs belong to the Simulation object, not to the scene: they are not in
+// the state digest, not cloned, not saved (a checkpoint never holds them; save writes the
+// scene without complaint) and survive load(). The callback may read the scene, never change
+// it, and must not add or remove outputs; an exception it throws ends the run after that
+// (complete, consistent) step and propagates out of run().
+struct OutputDef {
+  std::string name;         // what outputs() shows, e.g. "snapshot frames/"; may be empty
+  uint64_t everySteps = 0;  // > 0, or 0 when everyTime is used
+  double everyTime = 0;     // > 0 and finite (seconds), or 0 when everySteps is used
+  std::function<void(const Simulation&)> callback;  // required
+};
+
+struct OutputInfo {
+  OutputId id;
+  std::string name;
+  uint64_t everySteps = 0;
+  double everyTime = 0;
 };
 
 // ---- the scene -----------------------------------------------------------------------------
@@ -314,6 +350,16 @@ class Simulation {
   // "integrate", "rotation", "walls", "detection", "contacts" or "contacts-friction",
   // "wall-contacts" or "wall-contacts-friction", "gravity", "loads", "integrate-correct").
   virtual std::vector<std::string> listModules() const = 0;
+
+  // -- outputs (see OutputDef) --
+  // Adds an output; the loop then runs the "outputs" module last in each step. Throws VALUE
+  // OUTPUT (neither or both of everySteps and everyTime, or everyTime not positive and
+  // finite), VALUE CALLBACK (no callback), STATE BUSY (called from an output callback).
+  virtual OutputId addOutput(const OutputDef& def) = 0;
+  // Removes an output; with none left the loop runs no output code. LOOKUP HANDLE, STATE BUSY.
+  virtual void removeOutput(OutputId id) = 0;
+  // Returns the outputs in the order they fire (creation order).
+  virtual std::vector<OutputInfo> outputs() const = 0;
 
   // -- running --
   // Runs options.steps steps (stopping early at a step boundary when *stop reads true).

@@ -15,6 +15,9 @@
 namespace demlab::sim {
 
 template <int D>
+class OutputModule;
+
+template <int D>
 class SimulationManager final : public Simulation {
  public:
   SimulationManager() = default;
@@ -74,6 +77,10 @@ class SimulationManager final : public Simulation {
   void setDetection(const DetectionOptions& options) override;
   DetectionOptions detection() const override { return {s_.cellFactor, s_.skinOption}; }
   std::vector<std::string> listModules() const override;
+
+  OutputId addOutput(const OutputDef& def) override;
+  void removeOutput(OutputId id) override;
+  std::vector<OutputInfo> outputs() const override;
 
   RunReport run(const RunOptions& options) override;
   RunReport step() override;
@@ -140,8 +147,21 @@ class SimulationManager final : public Simulation {
   std::string behaviorDescription(const Behavior<D>& b) const;
   std::string serialize(IoMode mode) const;
 
+  // The output modules: none when there are no outputs (sim/simulation_outputs.cpp).
+  std::vector<std::unique_ptr<SimModule<D>>> outputModules() const;
+
+  // Outputs are the object's, not the scene's: outside s_, so never digested, cloned or saved.
+  struct Output {
+    OutputId id;
+    OutputDef def;
+  };
+  friend class OutputModule<D>;
+
   Scene<D> s_;
   SimLoop<D> loop_;
+  HandlePool<OutputKind> outputPool_{"output"};
+  std::vector<Output> outputs_;         // creation order, the order they fire in
+  mutable bool firingOutputs_ = false;  // set while the callbacks run
   bool configDirty_ = true;
 };
 

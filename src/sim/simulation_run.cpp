@@ -64,6 +64,7 @@ std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(con
   if (f.gravity) m.push_back(std::make_unique<GravityModule<D>>());
   if (f.loads) m.push_back(std::make_unique<LoadModule<D>>());
   m.push_back(std::make_unique<CorrectModule<D>>());
+  for (auto& o : outputModules()) m.push_back(std::move(o));
   return m;
 }
 

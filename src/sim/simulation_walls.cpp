@@ -1,6 +1,8 @@
 // SimulationManager<D>: walls (checking a WallDef, adding, removing, querying).
 #include <cmath>
 
+#include <type_traits>
+
 #include "sim/convert.hpp"
 #include "sim/simulation_manager.hpp"
 
@@ -200,6 +202,39 @@ WallState SimulationManager<D>::wall(WallId id) const {
     st.boundsLo[k] = b.lo[k];
     st.boundsHi[k] = b.hi[k];
   }
+  std::visit(
+      [&](const auto& sh) {
+        using S = std::decay_t<decltype(sh)>;
+        if constexpr (std::is_same_v<S, physics::PlaneShape<D>>) {
+          st.centre = fromVec<D>(sh.point);
+          st.normal = fromVec<D>(sh.normal);
+        } else if constexpr (std::is_same_v<S, physics::FlatWallShape<D>>) {
+          st.centre = fromVec<D>(sh.centre);
+          for (int k = 0; k < D - 1; ++k) {
+            st.axes[k] = fromVec<D>(sh.axes[k]);
+            st.halfExtents[k] = sh.halfExtents[k];
+          }
+          if constexpr (D == 2) {
+            st.normal = {sh.axes[0].y(), -sh.axes[0].x(), 0};  // axes[0] = perp(normal)
+          } else {
+            st.normal = fromVec<D>(VecD<D>(sh.axes[0].cross(sh.axes[1]).normalized()));
+          }
+        } else if constexpr (std::is_same_v<S, physics::BoxShape<D>>) {
+          st.centre = fromVec<D>(sh.centre);
+          for (int k = 0; k < D; ++k) {
+            st.axes[k] = fromVec<D>(VecD<D>(sh.axes.col(k)));
+            st.halfExtents[k] = sh.halfExtents[k];
+          }
+        } else {
+          st.centre = fromVec<D>(sh.centre);
+          st.radius = sh.radius;
+          if constexpr (D == 3) {
+            st.axes[0] = fromVec<D>(sh.axis);
+            st.halfLength = sh.halfLength;
+          }
+        }
+      },
+      w.shape);
   return st;
 }
 
