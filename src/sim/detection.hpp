@@ -17,6 +17,7 @@
 #include "physics/shapes.hpp"
 #include "search/cgrid.hpp"
 #include "sim/history_store.hpp"
+#include "sim/reorder.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -47,9 +48,14 @@ class DetectionModule final : public SimModule<D> {
     return g + wallMove > s.skin;
   }
 
-  // Searches anew: fills s.candidates and s.wallCandidates, resets the skin bookkeeping.
+  // Searches anew: fills s.candidates and s.wallCandidates, resets the skin bookkeeping; at
+  // every s.grains.reorderEvery-th search (counting from the first) first sorts the grains'
+  // dense order spatially (sim/reorder.hpp), which renumbers every dense index.
   void rebuild(Scene<D>& s) {
     using Box = search::Box<D, Real>;
+    springs_.collect(s);
+    const uint32_t every = s.grains.reorderEvery;
+    if (every > 0 && s.rebuilds % every == 0) reorderGrains(s);
     const GrainArrays<D>& a = s.grains.a;
     const size_t n = a.size();
     const Real half = 0.5 * s.skin;
@@ -96,7 +102,6 @@ class DetectionModule final : public SimModule<D> {
       }
     }
     grid_.findPairs(boxes_, pairs_);
-    parkSprings(s);
     s.candidates.clear();
     s.wallCandidates.assign(nw, {});
     for (const search::IndexPair& p : pairs_) {
@@ -116,7 +121,7 @@ class DetectionModule final : public SimModule<D> {
       }
     }
     for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
-    unparkSprings(s);
+    springs_.give(s);
     s.xAtBuild = a.x;
     s.maxDisp2 = 0;
     const double now = s.time + s.stepDt;
@@ -133,6 +138,7 @@ class DetectionModule final : public SimModule<D> {
   std::vector<search::Box<D, Real>> boxes_;
   std::vector<uint32_t> wallOfBox_;
   std::vector<search::IndexPair> pairs_;
+  SpringTransfer<D> springs_;
 };
 
 }  // namespace demlab::sim

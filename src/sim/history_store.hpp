@@ -7,9 +7,20 @@
 // (the contact opened). At a search, and before any edit that renumbers the grains, the
 // nonzero springs are parked in the InstanceInteractionManager under the pair's stable ids
 // (handle slot indices, walls in the top half of the id space), and after the search each new
-// candidate takes its spring back from there; the manager is then emptied. So the hash table
-// is touched once per pair per search, not per step.
+// candidate takes its spring back from there; the manager is then emptied.
+//
+// The neighbor search itself does not go through the hash table: SpringTransfer collects the
+// nonzero springs into a flat table indexed by the slot of the pair's lower grain (a counting
+// sort, no hashing), which the new candidates read back. With about one spring per contact a
+// hash table big enough for them all was the largest allocation of a dense bed's run (it first
+// filled at the second search, so memory grew there); the flat table takes a third of it and
+// is freed again after each search. Springs an edit parked in the manager are still taken
+// back from there.
 #pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
 
 #include "sim/scene.hpp"
 
@@ -66,5 +77,103 @@ void unparkSprings(Scene<D>& s) {
   }
   s.histories.clear();
 }
+
+// Carries the tangential springs across a neighbor search, keyed by handle slots so the dense
+// order may change in between (sim/reorder.hpp).
+template <int D>
+class SpringTransfer {
+ public:
+  // Moves every nonzero spring of the current candidates into this table and empties the
+  // per-candidate arrays (keeping their capacity). Call before the candidates or the dense
+  // order change.
+  void collect(Scene<D>& s) {
+    entries_.clear();
+    rowStart_.clear();
+    if (!s.keepHistory) return;
+    const GrainArrays<D>& a = s.grains.a;
+    const uint32_t rows = s.grains.pool().slotCount();
+    rowStart_.assign(static_cast<size_t>(rows) + 1, 0);
+    // Pass 1 counts the springs per row (lower slot), pass 2 places them.
+    auto each = [&](auto&& put) {
+      const size_t n = std::min(s.pairSprings.size(), s.candidates.size());
+      for (size_t k = 0; k < n; ++k) {
+        const VecD<D>& sp = s.pairSprings[k].spring;
+        if (sp.squaredNorm() == 0) continue;
+        const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
+        put(std::min(p, q), std::max(p, q), sp);
+      }
+      for (size_t w = 0; w < s.wallSprings.size() && w < s.wallCandidates.size(); ++w) {
+        const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
+        const auto& springs = s.wallSprings[w];
+        for (size_t k = 0; k < springs.size() && k < s.wallCandidates[w].size(); ++k) {
+          if (springs[k].spring.squaredNorm() == 0) continue;
+          put(a.slot[s.wallCandidates[w][k]], wid, springs[k].spring);
+        }
+      }
+    };
+    size_t total = 0;
+    each([&](uint32_t row, uint32_t, const VecD<D>&) {
+      rowStart_[row + 1] += 1;
+      total += 1;
+    });
+    for (uint32_t r = 0; r < rows; ++r) rowStart_[r + 1] += rowStart_[r];
+    entries_.resize(total);
+    std::vector<uint32_t> fill(rowStart_.begin(), rowStart_.end() - 1);
+    each([&](uint32_t row, uint32_t partner, const VecD<D>& sp) {
+      entries_[fill[row]++] = {partner, sp};
+    });
+    s.pairSprings.clear();
+    s.wallSprings.clear();
+  }
+
+  // Gives every candidate its spring (zero if none) from this table, or from s.histories for
+  // springs an edit parked there; then empties both and frees this table's memory.
+  void give(Scene<D>& s) {
+    if (!s.keepHistory) return;
+    const GrainArrays<D>& a = s.grains.a;
+    s.pairSprings.assign(s.candidates.size(), physics::TangentialHistory<D>{});
+    s.wallSprings.resize(s.wallCandidates.size());
+    for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
+      s.wallSprings[w].assign(s.wallCandidates[w].size(), physics::TangentialHistory<D>{});
+    }
+    const bool parked = !s.histories.empty();
+    auto lookup = [&](uint32_t lo, uint32_t hi, physics::TangentialHistory<D>& out) {
+      if (lo + size_t{1} < rowStart_.size()) {
+        for (uint32_t e = rowStart_[lo]; e < rowStart_[lo + 1]; ++e) {
+          if (entries_[e].partner == hi) {
+            out.spring = entries_[e].spring;
+            return;
+          }
+        }
+      }
+      if (parked) {
+        if (const auto* h = s.histories.find(lo, hi)) out = *h;
+      }
+    };
+    if (!entries_.empty() || parked) {
+      for (size_t k = 0; k < s.candidates.size(); ++k) {
+        const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
+        lookup(std::min(p, q), std::max(p, q), s.pairSprings[k]);
+      }
+      for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
+        const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
+        for (size_t k = 0; k < s.wallCandidates[w].size(); ++k) {
+          lookup(a.slot[s.wallCandidates[w][k]], wid, s.wallSprings[w][k]);
+        }
+      }
+    }
+    if (parked) s.histories.clear();
+    std::vector<Entry>().swap(entries_);
+    std::vector<uint32_t>().swap(rowStart_);
+  }
+
+ private:
+  struct Entry {
+    uint32_t partner;  // the higher slot, or the wall's pair id
+    VecD<D> spring;
+  };
+  std::vector<Entry> entries_;
+  std::vector<uint32_t> rowStart_;  // per lower slot: first entry; one more for the end
+};
 
 }  // namespace demlab::sim

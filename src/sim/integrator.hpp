@@ -78,6 +78,14 @@ inline Rotation2 advance(const Rotation2& q, Real w, Real dt) {
   return integrate(q, w, dt);
 }
 
+// Returns true if the angular velocity w is exactly zero.
+inline bool isZeroAngular(Real w) {
+  return w == 0;
+}
+inline bool isZeroAngular(const Vec3& w) {
+  return w.x() == 0 && w.y() == 0 && w.z() == 0;
+}
+
 template <int D>
 class PredictRotationModule final : public SimModule<D> {
  public:
@@ -92,7 +100,10 @@ class PredictRotationModule final : public SimModule<D> {
     for (size_t i = 0; i < n; ++i) {
       const AngularD<D> alpha = a.t[i] * a.invInertia[i];
       const AngularD<D> wHalf = a.w[i] + h * alpha;
-      a.q[i] = advance(a.q[i], wHalf, dt);
+      // A grain that does not turn keeps its orientation bit for bit (advance() would
+      // renormalise it by rounding): grains falling freely or resting without friction skip
+      // the quaternion work, as LIGGGHTS's nve/sphere, which keeps no orientation at all.
+      if (!isZeroAngular(wHalf)) a.q[i] = advance(a.q[i], wHalf, dt);
       if (sync) {
         a.w[i] = wHalf + h * alpha;
       } else {

@@ -102,6 +102,13 @@ class SimObjManager {
 
   GrainArrays<D> a;  // the hot state; dense index i is pool().handleAt(i)
 
+  // The neighbor search sorts the dense order spatially at every reorderEvery-th search
+  // (sim/reorder.hpp); 0: never. A tuning knob, not part of the scene: checkpoints do not
+  // save it. Between two sorts grains drift little (a search happens when one has moved half
+  // a skin), and a sort costs about as much as one contact pass of a dense bed.
+  uint32_t reorderEvery = kDefaultReorderEvery;
+  static constexpr uint32_t kDefaultReorderEvery = 10;
+
   const HandlePool<GrainKind>& pool() const { return pool_; }
   HandlePool<GrainKind>& pool() { return pool_; }
   NameLookup<GrainId>& names() { return names_; }
