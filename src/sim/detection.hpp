@@ -59,6 +59,8 @@ class DetectionModule final : public SimModule<D> {
     const GrainArrays<D>& a = s.grains.a;
     const size_t n = a.size();
     const Real half = 0.5 * s.skin;
+    // Room for the walls too: growing past n would double the largest array of the search.
+    boxes_.reserve(n + s.walls.size());
     boxes_.resize(n);
     Box domain;
     domain.lo.fill(std::numeric_limits<Real>::infinity());
@@ -101,15 +103,19 @@ class DetectionModule final : public SimModule<D> {
         wallOfBox_.push_back(static_cast<uint32_t>(w));
       }
     }
+    pairs_.reserve(lastPairs_ + lastPairs_ / 8);
     grid_.findPairs(boxes_, pairs_);
     s.candidates.clear();
     s.wallCandidates.assign(nw, {});
+    size_t touching = 0, wallPairs = 0;
     for (const search::IndexPair& p : pairs_) {
       if (p.second < n) {
         // Boxes overlap for pairs up to sqrt(D) times farther apart than spheres can come
         // within a skin: keep only the pairs whose gap is at most the skin.
-        const Real reach = a.r[p.first] + a.r[p.second] + s.skin;
-        if ((a.x[p.first] - a.x[p.second]).squaredNorm() > reach * reach) continue;
+        const Real rs = a.r[p.first] + a.r[p.second], reach = rs + s.skin;
+        const Real d2 = (a.x[p.first] - a.x[p.second]).squaredNorm();
+        if (d2 > reach * reach) continue;
+        if (d2 < rs * rs) touching += 1;
         // The lower slot first: the contact loop keeps each spring in that orientation.
         if (a.slot[p.first] < a.slot[p.second]) {
           s.candidates.push_back({p.first, p.second});
@@ -118,9 +124,21 @@ class DetectionModule final : public SimModule<D> {
         }
       } else if (p.first < n) {
         s.wallCandidates[wallOfBox_[p.second - n]].push_back(p.first);
+        wallPairs += 1;
       }
     }
+    // Room for the contact records of the coming steps: about the pairs touching now. Grown
+    // by doubling from empty instead, the records' array would leave its smaller copies
+    // resident (a tenth of a dense bed's peak memory).
+    const size_t expect = touching + touching / 16 + wallPairs;
+    if (s.contacts.capacity() < expect) s.contacts.reserve(expect + expect / 8);
     for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
+    // The search's scratch goes back to the heap between searches (searches are rare in a
+    // dense bed, and these are the largest arrays after the grains'); the next search
+    // reserves room for about as many pairs as this one found.
+    lastPairs_ = pairs_.size();
+    std::vector<search::IndexPair>().swap(pairs_);
+    std::vector<search::Box<D, Real>>().swap(boxes_);
     springs_.give(s);
     s.xAtBuild = a.x;
     s.maxDisp2 = 0;
@@ -138,6 +156,7 @@ class DetectionModule final : public SimModule<D> {
   std::vector<search::Box<D, Real>> boxes_;
   std::vector<uint32_t> wallOfBox_;
   std::vector<search::IndexPair> pairs_;
+  size_t lastPairs_ = 0;  // pairs found by the last search
   SpringTransfer<D> springs_;
 };
 

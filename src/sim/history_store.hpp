@@ -122,8 +122,10 @@ class SpringTransfer {
     each([&](uint32_t row, uint32_t partner, const VecD<D>& sp) {
       entries_[fill[row]++] = {partner, sp};
     });
-    s.pairSprings.clear();
-    s.wallSprings.clear();
+    // Freed, not just emptied: give() allocates the new arrays, and holding the old ones
+    // through the search would add their size to the run's peak memory.
+    std::vector<physics::TangentialHistory<D>>().swap(s.pairSprings);
+    std::vector<std::vector<physics::TangentialHistory<D>>>().swap(s.wallSprings);
   }
 
   // Gives every candidate its spring (zero if none) from this table, or from s.histories for
