@@ -44,6 +44,11 @@ file(GLOB DEMLAB_COMMAND_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/s
 add_library(demlab_commands STATIC src/cmd/session.cpp ${DEMLAB_COMMAND_SOURCES})
 target_link_libraries(demlab_commands PUBLIC demlab_cmd demlab_sim demlab_io)
 set_property(TARGET demlab_commands PROPERTY POSITION_INDEPENDENT_CODE ON)
+# Snapshots (src/cmd/commands/snapshot.cpp) draw only when the renderer is built.
+if(TARGET demlab_render)
+  target_link_libraries(demlab_commands PUBLIC demlab_render)
+  set_property(TARGET demlab_render PROPERTY POSITION_INDEPENDENT_CODE ON)
+endif()
 foreach(dep demlab_sim demlab_io demlab_physics)
   if(TARGET ${dep})
     set_property(TARGET ${dep} PROPERTY POSITION_INDEPENDENT_CODE ON)

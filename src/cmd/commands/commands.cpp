@@ -8,7 +8,7 @@ Registry& registerAllCommands(Registry& r) {
       registerSimCommands,      registerRunCommands,    registerMaterialCommands,
       registerElementCommands,  registerPackCommands,   registerWallCommands,
       registerBehaviorCommands, registerModuleCommands, registerQueryCommands,
-      registerHelpCommands,
+      registerHelpCommands,     registerSnapshotCommands,
   };
   for (Group g : groups) g(r);
   return r;

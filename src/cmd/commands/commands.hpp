@@ -16,6 +16,7 @@ void registerBehaviorCommands(Registry& r);  // behavior
 void registerModuleCommands(Registry& r);    // module: list, integrator, rotation, detection
 void registerQueryCommands(Registry& r);     // energy, contacts, bounds, counts
 void registerHelpCommands(Registry& r);      // help
+void registerSnapshotCommands(Registry& r);  // snapshot: write, every, list, off, read
 
 // Registers every command group (the table: one row per group). Returns r.
 Registry& registerAllCommands(Registry& r);
