@@ -422,11 +422,12 @@ void registerSnapshotCommands(Registry& r) {
     unsupported();
 #endif
   });
-  write.run([](Call& c) {
+  write.run([](Call& c) -> Value {
 #ifdef DEMLAB_HAVE_RENDER
     writeFrame(session(c).scene(), std::any_cast<const SnapOptions&>(c.prepared), c.str("file"));
     return Value(c.str("file"));
 #else
+    (void)c;
     unsupported();
 #endif
   });
@@ -451,7 +452,7 @@ void registerSnapshotCommands(Registry& r) {
     unsupported();
 #endif
   });
-  every.run([](Call& c) {
+  every.run([](Call& c) -> Value {
 #ifdef DEMLAB_HAVE_RENDER
     sim::Simulation& s = session(c).scene();
     auto job = std::make_shared<Job>();
@@ -481,6 +482,7 @@ void registerSnapshotCommands(Registry& r) {
     jobs()[{&s, id.bits()}] = job;
     return Value(scriptId(id));
 #else
+    (void)c;
     unsupported();
 #endif
   });
@@ -527,7 +529,7 @@ void registerSnapshotCommands(Registry& r) {
   read.option("pixel", ints(), "{x y} of a pixel");
   read.needsScene = false;
   read.changesScene = false;
-  read.run([](Call& c) {
+  read.run([](Call& c) -> Value {
 #ifdef DEMLAB_HAVE_RENDER
     const render::Image img = render::readPng(c.str("file"));
     Dict d{{"width", img.width}, {"height", img.height}};
@@ -541,6 +543,7 @@ void registerSnapshotCommands(Registry& r) {
     }
     return Value(d);
 #else
+    (void)c;
     unsupported();
 #endif
   });
