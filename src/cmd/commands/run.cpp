@@ -108,8 +108,10 @@ sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress) {
   sim::RunOptions o;
   o.steps = steps;
   o.stop = &s.stop;
-  if (progress && s.terminal)
+  if (progress && s.terminal) {
     o.progress = [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); };
+    o.progressEvery = 16;  // the bar itself redraws at most every 0.1 s
+  }
   sim::RunReport rep;
   s.beginRun();
   try {
