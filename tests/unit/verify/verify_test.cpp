@@ -99,19 +99,31 @@ TEST_P(VerifyCase, MeetsItsToleranceAtTheCheckedStep) {
   }
 }
 
-// The cases that state an order show it over the short ladder (tc/50, /100, /200).
-TEST(VerifyStudy, CasesShowTheirStatedOrder) {
-  int studied = 0;
-  for (const CaseDef& def : caseTable()) {
-    if (def.minOrder == 0) continue;
-    for (int d : def.dims) {
-      if (def.knownToFail(d)) continue;
-      const Study st = runStudy(def, d, integrators().front(), ladder(def, 0, 2), true);
-      EXPECT_GE(st.observedOrder, def.minOrder) << def.name << " " << d << "D: " << st.verdict;
-      ++studied;
+// The synchronized integrator is second order where the touch falls at mid-step (finding 3 of
+// doc/verification.md: elsewhere the damped law's jump at the touch makes it first order), and
+// plain velocity Verlet is first order (half-step velocities in the damper): each quantity's
+// error ratio between tc/100 and tc/200.
+TEST(VerifyStudy, ImpactOrdersAtMidStepTouch) {
+  const CaseDef& def = findCase("impact-linear-plane");
+  for (const std::string& in : integrators()) {
+    const Study st = runStudy(def, 3, in, ladder(def, 0, 2), true);
+    ASSERT_EQ(st.rows.size(), 3u);
+    const auto& a = st.rows[1].result.quantities;
+    const auto& b = st.rows[2].result.quantities;
+    ASSERT_EQ(a.size(), b.size());
+    int checked = 0;
+    for (size_t q = 0; q < a.size(); ++q) {
+      if (a[q].name.find("phase=0.5/") != 0) continue;
+      const double order = std::log2(a[q].error() / b[q].error());
+      if (in == "synchronized") {
+        EXPECT_GT(order, 1.8) << in << " " << a[q].name;
+      } else {
+        EXPECT_NEAR(order, 1.0, 0.25) << in << " " << a[q].name;
+      }
+      ++checked;
     }
+    EXPECT_EQ(checked, 4);
   }
-  EXPECT_GT(studied, 0);
 }
 
 std::vector<std::tuple<std::string, int>> allCases() {
