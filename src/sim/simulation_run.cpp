@@ -1,10 +1,12 @@
 // SimulationManager<D>: building the loop from the scene, running it, the energy ledger,
 // queries, and whole-scene operations (digest, clone, save, load).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <istream>
 #include <iterator>
 #include <ostream>
+#include <vector>
 
 #include "physics/narrow_phase.hpp"
 #include "sim/behavior_modules.hpp"
@@ -109,10 +111,14 @@ void SimulationManager<D>::prepare() {
     s_.stepDt = dt;
     double skin = s_.skinOption;
     if (skin < 0) {
-      const GrainArrays<D>& a = s_.grains.a;
+      // Summed in sorted order: the value must not depend on the dense order, which spatial
+      // reordering changes; a one-ulp change here would force an extra search after a load
+      // and break bit-identical continuation from a checkpoint.
+      std::vector<Real> radii = s_.grains.a.r;
+      std::sort(radii.begin(), radii.end());
       double sum = 0;
-      for (Real r : a.r) sum += r;
-      skin = a.size() ? 0.2 * sum / static_cast<double>(a.size()) : 0;
+      for (Real r : radii) sum += r;
+      skin = radii.empty() ? 0 : 0.2 * sum / static_cast<double>(radii.size());
     }
     if (skin != s_.skin) {
       s_.skin = skin;
