@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "renderer: %s\n", renderer->name().c_str());
   std::printf(
       "n,dim,width,height,antialias,seconds_per_frame,cpu_seconds_per_frame,first_frame_seconds,"
-      "frames\n");
+      "frames,drawn_fraction,png_seconds\n");
   for (long n : ns) {
     // Grains of radius r in a box of aspect 2:1(:1) at a volume (area) fraction of about 0.5.
     std::mt19937_64 rng(42);
