@@ -510,6 +510,7 @@ void checkPlan(Call& c) {
                                   : "-steps " + std::to_string(p.steps) + " of the coarsest (" +
                                         formatReal(total) + " s)";
       if (n < 1) c.bad("dt", formatReal(dt) + " is longer than " + what);
+      if (n > 1e12) c.bad("dt", formatReal(dt) + " needs more than 10^12 steps for " + what);
       if (std::fabs(x - n) > 1e-6 * std::max(1.0, n)) {
         c.bad("dt", what + " is not a whole number of steps of " + formatReal(dt) + " (" +
                         fmt("%.6g", x) + "): every run must end at the same time");
@@ -619,6 +620,12 @@ Value execute(Call& c) {
       // The largest step not above the scene's own that divides -time into whole steps.
       n0 = std::uint64_t(std::max(1.0, std::ceil(p.time / dt0 * (1 - 1e-12))));
       dt0 = p.time / double(n0);
+    }
+    if (double(n0) * std::pow(double(p.ratio), p.refine - 1) > 1e12) {
+      throw Error("bad refine \"" + std::to_string(p.refine) +
+                      "\": the finest run would need more than 10^12 steps (" + std::to_string(n0) +
+                      " x " + std::to_string(p.ratio) + "^" + std::to_string(p.refine - 1) + ")",
+                  {"VALUE", "REFINE"});
     }
     std::uint64_t factor = 1;
     for (int k = 0; k < p.refine; ++k) {
