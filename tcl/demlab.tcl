@@ -75,12 +75,13 @@ proc ::demlab::each {varName args} {
 # demlab::report dict
 # Returns the text of a run report dict (what sim run prints) for logging from scripts.
 proc ::demlab::report {r} {
-    set s [format "run: %d steps, %.6g s simulated (t = %.6g s), wall %.3g s" \
-        [dict get $r steps] [dict get $r simulated] [dict get $r time] [dict get $r wall]]
+    set s [format "run: %d steps, %.6g s simulated (t = %.6g s), wall %.3g s, energy residual %.3g" \
+        [dict get $r steps] [dict get $r simulated] [dict get $r time] [dict get $r wall] \
+        [dict get $r residual]]
     set parts {}
     dict for {m sec} [dict get $r modules] {lappend parts [format "%s %.3g us" $m [expr {$sec * 1e6}]]}
     if {[llength $parts]} {append s "\n  per step: [join $parts {, }]"}
-    append s [format "\n  contacts %d, neighbour searches %d, energy residual %.3g" \
-        [dict get $r contacts] [dict get $r rebuilds] [dict get $r residual]]
+    append s [format "\n  contacts %d, neighbour searches %d" \
+        [dict get $r contacts] [dict get $r rebuilds]]
     return $s
 }

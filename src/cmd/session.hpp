@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cmd/command.hpp"
 #include "sim/simulation.hpp"
@@ -32,6 +33,18 @@ struct Session : Context {
       timeFunction;
   // The first error a time function met during a run (it then stops the run).
   std::string callbackError;
+
+  // What a script evaluated through evalScript gave: ok (TCL_OK, or a return), its result (the
+  // error message when not ok), and its -errorcode words when it failed.
+  struct ScriptResult {
+    bool ok = false;
+    std::string result;
+    std::vector<std::string> errorCode;
+  };
+  // Evaluates a Tcl script in the context of the command being run (the caller's frame, as a
+  // loop body is); set by the binding, empty without an interpreter. Used by commands that take
+  // scripts (study convergence). Never throws: failures come back in the ScriptResult.
+  std::function<ScriptResult(const std::string& script)> evalScript;
 
   int dimension() const override { return sim ? sim->dim() : 3; }
   // Throws demlab::Error {STATE NOSIM}: `no simulation: use "sim new" first`.

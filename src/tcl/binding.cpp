@@ -122,6 +122,35 @@ void setupSession(Tcl_Interp* interp, InterpState* st) {
     endRun();
     st->running = false;
   };
+  s.evalScript = [interp](const std::string& script) {
+    cmd::Session::ScriptResult r;
+    Tcl_Obj* o = Tcl_NewStringObj(script.c_str(), int(script.size()));
+    Tcl_IncrRefCount(o);
+    int code = Tcl_EvalObjEx(interp, o, 0);
+    Tcl_DecrRefCount(o);
+    r.ok = code == TCL_OK || code == TCL_RETURN;
+    r.result = Tcl_GetString(Tcl_GetObjResult(interp));
+    if (code == TCL_BREAK || code == TCL_CONTINUE) {
+      r.result = std::string("invoked \"") + (code == TCL_BREAK ? "break" : "continue") +
+                 "\" outside of a loop";
+    } else if (code == TCL_ERROR) {
+      Tcl_Obj* opts = Tcl_GetReturnOptions(interp, code);
+      Tcl_IncrRefCount(opts);
+      Tcl_Obj* key = Tcl_NewStringObj("-errorcode", -1);
+      Tcl_IncrRefCount(key);
+      Tcl_Obj* ec = nullptr;
+      int n = 0;
+      Tcl_Obj** elems = nullptr;
+      if (Tcl_DictObjGet(nullptr, opts, key, &ec) == TCL_OK && ec &&
+          Tcl_ListObjGetElements(nullptr, ec, &n, &elems) == TCL_OK) {
+        for (int k = 0; k < n; ++k) r.errorCode.emplace_back(Tcl_GetString(elems[k]));
+      }
+      Tcl_DecrRefCount(key);
+      Tcl_DecrRefCount(opts);
+    }
+    Tcl_ResetResult(interp);
+    return r;
+  };
   s.timeFunction = [interp, st](const std::string& expr, const std::string& what,
                                 double t0) -> sim::TimeFunction {
     auto fn = std::make_shared<ExprFn>(interp, st, expr);

@@ -17,6 +17,7 @@ void registerModuleCommands(Registry& r);    // module: list, integrator, rotati
 void registerQueryCommands(Registry& r);     // energy, contacts, bounds, counts
 void registerHelpCommands(Registry& r);      // help
 void registerSnapshotCommands(Registry& r);  // snapshot: write, every, list, off, read
+void registerStudyCommands(Registry& r);     // study: convergence
 
 // Registers every command group (the table: one row per group). Returns r.
 Registry& registerAllCommands(Registry& r);

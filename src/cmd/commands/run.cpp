@@ -67,6 +67,7 @@ Value reportValue(const sim::RunReport& r) {
   d.emplace_back("simulated", r.simulatedTime);
   d.emplace_back("time", r.time);
   d.emplace_back("wall", r.wallSeconds);
+  d.emplace_back("residual", r.energyResidual);  // the run's error indicator, beside its cost
   d.emplace_back("per_step", r.steps ? r.wallSeconds / double(r.steps) : 0.0);
   Dict mods;
   for (const auto& m : r.modules)
@@ -74,7 +75,6 @@ Value reportValue(const sim::RunReport& r) {
   d.emplace_back("modules", mods);
   d.emplace_back("contacts", r.contacts);
   d.emplace_back("rebuilds", r.neighborRebuilds);
-  d.emplace_back("residual", r.energyResidual);
   d.emplace_back("interrupted", r.interrupted);
   return d;
 }
@@ -83,7 +83,8 @@ std::string reportText(const sim::RunReport& r) {
   double per = r.steps ? r.wallSeconds / double(r.steps) : 0;
   std::string s = "run: " + std::to_string(r.steps) + " steps, " + fmt("%.6g", r.simulatedTime) +
                   " s simulated (t = " + fmt("%.6g", r.time) + " s), wall " +
-                  duration(r.wallSeconds) + " (" + duration(per) + "/step)\n";
+                  duration(r.wallSeconds) + " (" + duration(per) + "/step), energy residual " +
+                  fmt("%.3g", r.energyResidual) + "\n";
   if (!r.modules.empty() && r.steps) {
     s += "  per step:";
     for (std::size_t k = 0; k < r.modules.size(); ++k) {
@@ -93,8 +94,7 @@ std::string reportText(const sim::RunReport& r) {
     s += "\n";
   }
   s += "  contacts " + std::to_string(r.contacts) + ", neighbour searches " +
-       std::to_string(r.neighborRebuilds) + ", energy residual " + fmt("%.3g", r.energyResidual) +
-       "\n";
+       std::to_string(r.neighborRebuilds) + "\n";
   return s;
 }
 
@@ -150,9 +150,11 @@ void registerRunCommands(Registry& r) {
   run.details =
       "Shows a progress bar with rate and ETA when output is a terminal, prints a report at the "
       "end "
-      "(steps, simulated and wall time, time per step by module, energy-balance residual) and "
-      "returns "
-      "it as a dict. Ctrl-C stops the run at a step boundary with an error (code DEMLAB "
+      "(steps, simulated and wall time with beside it the run's error indicator, the "
+      "energy-balance "
+      "residual relative to the scene's energy scale; time per step by module) and returns it as a "
+      "dict (keys steps simulated time wall residual per_step modules contacts rebuilds "
+      "interrupted). Ctrl-C stops the run at a step boundary with an error (code DEMLAB "
       "INTERRUPTED); "
       "the scene stays consistent.";
   run.option("steps", integer().min(0), "number of steps");
