@@ -227,6 +227,8 @@ std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Optio
   m.density = d.densities.empty() ? 2500 : d.densities.front();
   s->addMaterial("wall", m);
   s->setContactLaw(sim::LawKind::HertzMindlin);
+  // LIGGGHTS's Coulomb test (the spring force alone), so the scene is the peers' scene.
+  s->setCoulombCriterion(demlab::physics::CoulombCriterion::Spring);
 
   // Five walls on the box faces, normals pointing into the box; the top stays open.
   const sim::Vec3d lo{d.boxLo.x(), d.boxLo.y(), d.boxLo.z()};

@@ -8,7 +8,9 @@
 //   Fn = kn delta - gamma_n vn, clamped at >= 0 (LIGGGHTS: only with limitForce on)
 //   shear += vt dt, projected onto the tangent plane; Ft = -kt shear - gamma_t vt while
 //   kt |shear| <= mu Fn, else Ft = -mu Fn shear/|shear| with shear rescaled to -Ft/kt.
-// Verified against LIGGGHTS 3.8.0 itself (tests/unit/physics/physics_liggghts_test.cpp): an
+// That Coulomb test is LIGGGHTS's with PairParams::coulomb = Spring; the default, Total, tests
+// the whole sticking force instead, so |Ft| <= mu Fn holds at every step (tangential.hpp).
+// Verified, with Spring, against LIGGGHTS 3.8.0 itself (physics_liggghts_test.cpp): an
 // oblique sphere-sphere and a sliding sphere-wall collision replayed in LIGGGHTS's nve/sphere
 // scheme agree with its dumps to 1e-15 relative. E* and G* are mixed in mixPair. The normal spring
 // stores the Hertz energy (2/5) kn delta^2 = (8/15) E* sqrt(R*) delta^(5/2).
@@ -61,7 +63,7 @@ inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeo
       const Real ktBefore = p.hertzKt * std::sqrt(k.effectiveRadius * before);
       out.springWork = 0.5 * (kt - ktBefore) * history->spring.squaredNorm();
       coulombSpringStep<SpringFrame::Project, D>(n, vt, kt, p.hertzGammaT * sqrtAm, p.friction * fn,
-                                                 dt, *history, out);
+                                                 dt, p.coulomb, *history, out);
     } else {
       history->spring.setZero();
     }

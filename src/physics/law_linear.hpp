@@ -52,8 +52,8 @@ inline ContactForce<D> linearContact(const PairParams& p, const ContactGeometry<
     if (p.friction > 0) {
       const VecD<D> vt = k.relativeVelocity - vn * n;
       const Real kt = p.shearRatio * kn;
-      coulombSpringStep<SpringFrame::Rotate, D>(n, vt, kt, beta * kt, p.friction * fn, dt, *history,
-                                                out);
+      coulombSpringStep<SpringFrame::Rotate, D>(n, vt, kt, beta * kt, p.friction * fn, dt,
+                                                p.coulomb, *history, out);
     } else {
       history->spring.setZero();
     }

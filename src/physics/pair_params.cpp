@@ -17,6 +17,16 @@ std::string_view lawName(LawKind law) {
   return "unknown";
 }
 
+std::string_view coulombCriterionName(CoulombCriterion c) {
+  switch (c) {
+    case CoulombCriterion::Total:
+      return "total";
+    case CoulombCriterion::Spring:
+      return "spring";
+  }
+  return "unknown";
+}
+
 namespace {
 
 // Returns 2 x y / (x + y), the harmonic mean, with a value of 0 meaning "not given": then the

@@ -20,15 +20,23 @@ namespace demlab::physics {
 
 enum class LawKind : uint8_t { Linear, HertzMindlin };
 
+// What the Coulomb limit mu Fn caps (tangential.hpp): the whole tangential force, spring and
+// dashpot (Total, the default), or the spring force alone (Spring: LIGGGHTS's convention).
+enum class CoulombCriterion : uint8_t { Total, Spring };
+
+// Returns the criterion's name as the scripts spell it: "total", "spring".
+std::string_view coulombCriterionName(CoulombCriterion c);
+
 // Returns the law's name as the scripts spell it: "linear", "hertz_mindlin".
 std::string_view lawName(LawKind law);
 
 struct PairParams {
   LawKind law = LawKind::Linear;
-  Real friction = 0;     // Coulomb mu of the pair
-  Real restitution = 1;  // e of the pair
-  Real youngEff = 0;     // E* (Pa)
-  Real shearEff = 0;     // G* (Pa)
+  Real friction = 0;                                   // Coulomb mu of the pair
+  CoulombCriterion coulomb = CoulombCriterion::Total;  // the scene's choice, set at run start
+  Real restitution = 1;                                // e of the pair
+  Real youngEff = 0;                                   // E* (Pa)
+  Real shearEff = 0;                                   // G* (Pa)
 
   // ---- linear law (law_linear.hpp) ----
   // Normal stiffness of a contact: kn = knFixed + knPerRadius * R*, one of the two being 0.

@@ -5,8 +5,20 @@
 // displacement of the step (vt dt), form the spring force -kt s, and if it exceeds the Coulomb
 // limit mu Fn, scale the force down to the limit and the spring with it (the excess elongation
 // is slip; the energy it held goes to frictionLoss). The tangential dashpot -ct vt acts only
-// while sticking: this is the convention of LIGGGHTS's tangential history model (and of PFC),
-// so a sliding contact's force is exactly mu Fn.
+// while sticking, so a sliding contact's force is exactly mu Fn.
+//
+// What "exceeds the limit" means, two ways (PairParams::coulomb, a run-time choice):
+//  - Total (the default): the sticking force -kt s - ct vt, spring and dashpot, is compared
+//    with mu Fn, as LAMMPS's granular history models and MercuryDPM do, so |Ft| <= mu Fn at
+//    every step: a grain launched sliding slides from its first contact step. Sliding, the
+//    dashpot is off and the spring is capped at mu Fn/kt as always; a spring still shorter
+//    than that keeps its length (the force is then its own, below mu Fn, for the few steps
+//    it takes to stretch). Unlike LAMMPS's rule (the spring set to -(Ft + ct vt)/kt), no
+//    spring energy appears that the motion did not supply, and every step's loss is >= 0.
+//  - Spring: only the spring force kt |s| is compared (LIGGGHTS's tangential history, PFC).
+//    Right after a touch the spring is short while vt may be large, so the dashpot can push
+//    |Ft| far above mu Fn while the contact "sticks" (doc/verification.md, findings 1 and 2).
+//    Kept so a run can reproduce LIGGGHTS bit for bit (the settle benchmark, the replay test).
 //
 // Carrying the spring into the new tangent plane, two ways (a template argument):
 //  - Rotate (the linear law): remove the normal component and restore the length, so a rolling
@@ -29,10 +41,12 @@ enum class SpringFrame { Rotate, Project };
 // Returns nothing. Changes h.spring to the spring after this step and adds to out: the
 // tangential force on B (out.force), the spring's energy ½ kt |s|^2 (out.elasticEnergy), and
 // the step's tangential damping and friction losses. n: unit normal; vt: tangential relative
-// velocity (B minus A, orthogonal to n); kt > 0, ct >= 0: spring and dashpot; cap = mu Fn >= 0.
+// velocity (B minus A, orthogonal to n); kt > 0, ct >= 0: spring and dashpot; cap = mu Fn >= 0;
+// criterion: what is compared with the cap (above).
 template <SpringFrame Frame, int D>
 inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt, Real kt, Real ct, Real cap,
-                              Real dt, TangentialHistory<D>& h, ContactForce<D>& out) {
+                              Real dt, CoulombCriterion criterion, TangentialHistory<D>& h,
+                              ContactForce<D>& out) {
   VecD<D> s = h.spring;
   if constexpr (Frame == SpringFrame::Rotate) {
     const Real sn = s.dot(n);
@@ -53,6 +67,20 @@ inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt, Real kt, Real
   }
   const Real s2 = s.squaredNorm();
   const Real f2 = kt * kt * s2;  // |spring force|^2
+  if (criterion == CoulombCriterion::Total && f2 <= cap * cap &&
+      (kt * s + ct * vt).squaredNorm() > cap * cap) {
+    // Spring within the limit, spring and dashpot together beyond it: the contact slides on
+    // a spring shorter than the limit's (just after a touch, or a reversal). The dashpot is
+    // off while sliding, so the force is the spring's alone; the spring keeps the step's
+    // elongation u, and the work the motion did beyond the spring's gain (before + kt s.u
+    // - after = 1/2 kt |u|^2) is the slip's loss.
+    const VecD<D> u = vt * dt;
+    out.force -= kt * s;
+    out.frictionLoss += 0.5 * kt * u.squaredNorm();
+    out.elasticEnergy += 0.5 * kt * s2;
+    h.spring = s;
+    return;
+  }
   if (f2 > cap * cap) {
     // Sliding: the spring force is scaled to the Coulomb limit; the slip |s| - cap/kt
     // dissipates cap per unit length. (LIGGGHTS zeroes the force if |s| = 0 with cap = 0.)

@@ -60,6 +60,8 @@ struct Scene {
   physics::LawKind defaultLaw = physics::LawKind::HertzMindlin;
   // Per material pair law overrides, row-major nMat x nMat (symmetric); -1: default.
   std::vector<int8_t> pairLawOverride;
+  // What the Coulomb limit caps, for every pair (physics/tangential.hpp).
+  physics::CoulombCriterion coulomb = physics::CoulombCriterion::Total;
   // Mixed once per run start (SimulationManager::prepare): row-major nMat x nMat.
   std::vector<physics::PairParams> pairParams;
   std::vector<physics::ContactLawFn<D>> pairLawFn;

@@ -172,6 +172,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   }
   w.u8(static_cast<uint8_t>(s.defaultLaw));
   w.list(s.pairLawOverride, [&](int8_t x) { w.u8(static_cast<uint8_t>(x)); });
+  w.u8(static_cast<uint8_t>(s.coulomb));
   // Options and time.
   w.f64(s.dt);
   w.f64(s.autoFraction);
@@ -306,6 +307,10 @@ void readScene(Reader& r, Scene<D>& s) {
   s.pairLawOverride.resize(r.count(1));
   for (auto& x : s.pairLawOverride) x = static_cast<int8_t>(r.u8());
   if (s.pairLawOverride.size() != nm * nm) Reader::bad("pair law table size");
+  const uint8_t coulomb = r.u8();
+  if (coulomb > static_cast<uint8_t>(physics::CoulombCriterion::Spring))
+    Reader::bad("coulomb criterion");
+  s.coulomb = static_cast<physics::CoulombCriterion>(coulomb);
   s.dt = r.f64();
   s.autoFraction = r.f64();
   s.integrator = static_cast<IntegratorKind>(r.u8());

@@ -123,7 +123,7 @@ class Reader {
 enum class IoMode { Checkpoint, Digest, Clone };
 
 inline constexpr char kMagic[9] = "DEMLABCK";
-inline constexpr uint32_t kFormatVersion = 1;
+inline constexpr uint32_t kFormatVersion = 2;  // 2: the Coulomb criterion
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

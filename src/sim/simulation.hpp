@@ -289,6 +289,11 @@ class Simulation {
   // Sets the law for every pair that has no pair-specific law (default: Hertz-Mindlin).
   virtual void setContactLaw(LawKind law) = 0;
   virtual LawKind contactLaw() const = 0;
+  // Sets what the Coulomb limit caps in every pair's tangential force: Total (spring and
+  // dashpot, the default) or Spring (the spring alone, LIGGGHTS's convention); see
+  // physics/tangential.hpp. Takes effect at the next run; returns nothing.
+  virtual void setCoulombCriterion(physics::CoulombCriterion c) = 0;
+  virtual physics::CoulombCriterion coulombCriterion() const = 0;
   // Sets the law of one pair of materials (order irrelevant). LOOKUP MATERIAL.
   virtual void setPairLaw(const std::string& a, const std::string& b, LawKind law) = 0;
   // Returns the law the pair uses. LOOKUP MATERIAL.

@@ -154,6 +154,15 @@ void SimulationManager<D>::setContactLaw(LawKind law) {
 }
 
 template <int D>
+void SimulationManager<D>::setCoulombCriterion(physics::CoulombCriterion c) {
+  if (c != physics::CoulombCriterion::Total && c != physics::CoulombCriterion::Spring) {
+    throw Error("bad coulomb criterion: must be total or spring", {"VALUE", "COULOMB"});
+  }
+  s_.coulomb = c;
+  touchConfig();
+}
+
+template <int D>
 void SimulationManager<D>::setPairLaw(const std::string& a, const std::string& b, LawKind law) {
   const uint32_t i = materialIndex(a), j = materialIndex(b);
   if (law != LawKind::Linear && law != LawKind::HertzMindlin) {

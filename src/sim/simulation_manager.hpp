@@ -37,6 +37,8 @@ class SimulationManager final : public Simulation {
   std::vector<std::string> materialNames() const override { return s_.materialNames; }
   void setContactLaw(LawKind law) override;
   LawKind contactLaw() const override { return s_.defaultLaw; }
+  void setCoulombCriterion(physics::CoulombCriterion c) override;
+  physics::CoulombCriterion coulombCriterion() const override { return s_.coulomb; }
   void setPairLaw(const std::string& a, const std::string& b, LawKind law) override;
   LawKind pairLaw(const std::string& a, const std::string& b) const override;
 

@@ -59,20 +59,20 @@ const char* kTouchPhase =
     "(0.1 % at mid-step). Reproduce: demlab_verify --cases impact-linear-plane --dims 3 "
     "--integrators synchronized (quantities.csv, phase=0.9)";
 const char* kCoulombDashpot =
-    "the tangential force exceeds the Coulomb limit: physics/tangential.hpp tests only the "
-    "spring (kt |s| <= mu Fn) and then adds the dashpot ct vt, so while the spring loads after "
-    "the touch a fast-sliding contact 'sticks' with a dashpot force several times mu Fn; at "
-    "psi = 3 the tangential impulse is 15 % above mu (1 + e) m v_n for every dt. Reproduce: "
-    "demlab_verify --cases oblique-sliding --dims 3 --integrators synchronized (psi=3.0)";
-
-const char* kFirstKick =
-    "regression of sim commit e9fd698 (forces computed before the first step): a grain "
-    "launched sliding on a floor gets an O(dt) extra tangential impulse at the start (the "
-    "pre-step force pass meets the Coulomb-dashpot defect of oblique-sliding: a dashpot force "
-    "ct v0 far above mu Fn) that the ledger does not book: at tc/50 roll_time is 4 % early, "
-    "dissipated 8-9 % low and the energy residual 2.2 %, all halving with dt (before e9fd698: "
-    "4e-4 and 4e-5). Reproduce: demlab_verify --cases slide-to-roll --dims 3 --integrators "
-    "synchronized";
+    "in 2D the tangential impulse of a gross-sliding impact stays about 1 % off the rigid-body "
+    "Coulomb answer and the error does not fall with dt (1.06 % at tc/50, 1.26 % at tc/800: a "
+    "property of the model, not of the step; not yet explained). The large defect this case "
+    "found (the Coulomb test on the spring alone let the dashpot push the force above mu Fn: "
+    "3.5 % in 2D, 5.4 % in 3D at tc/50) is gone with the default criterion (law coulomb "
+    "total): 3D now errs 0.27 %. Reproduce: demlab_verify --cases oblique-sliding --dims 2 "
+    "--integrators synchronized (psi=3.0)";
+const char* kSweepOrder =
+    "in the mixed stick-slip regime (psi = 0.39 of the sliding threshold) the spin ratio "
+    "converges at first order against the finest run: 2.2 % at tc/50 in 3D (tolerance 2 %), "
+    "1.1 % at tc/200; a contact that switches between sticking and sliding within a step is "
+    "resolved to O(dt), like the touch of impact-linear-plane. The Coulomb-dashpot defect "
+    "this case once showed (15 % above mu (1 + e) m v_n) is gone with law coulomb total. "
+    "Reproduce: demlab_verify --cases oblique-sweep --dims 3 --integrators synchronized";
 const char* kGasDrift =
     "the energy between contacts wanders more than issue 3 allows: 16 grains, 2000 contact "
     "times, at tc/50 the drift is 1.5e-3 (discs) and 1.6e-4 (spheres), falling at about "
@@ -119,6 +119,7 @@ std::vector<CaseDef> makeTable() {
       "to v_t.",
       0.01, 50, 0, "tc", obliqueSliding));
   t.back().knownFailure = kCoulombDashpot;
+  t.back().knownFailureDims = {2};
   t.push_back(
       row("oblique-sweep", "Oblique impact with friction across incidence angles",
           "As oblique-sliding at psi = 0.1 ... 2.5 times the sliding threshold. Above 1.5 times it "
@@ -127,7 +128,7 @@ std::vector<CaseDef> makeTable() {
           "kt/kn and damping, and the finest run is the reference (the rigid-body rolling value "
           "1/(1+k) is given in the note).",
           0.02, 50, 0, "tc", obliqueSweep));
-  t.back().knownFailure = kCoulombDashpot;
+  t.back().knownFailure = kSweepOrder;
   t.push_back(
       row("incline-rolling", "Rolling down an incline",
           "A grain resting on a floor with gravity tilted by 20 degrees, mu = 0.5 (rolling "
@@ -146,7 +147,6 @@ std::vector<CaseDef> makeTable() {
           "v0), having dissipated (1/2) m v0^2 k/(1+k) (the ledger's friction plus damping "
           "losses). Both laws.",
           0.005, 50, 0, "tc", slideToRoll));
-  t.back().knownFailure = kFirstKick;
   t.push_back(
       row("bounce", "A grain bouncing under gravity",
           "Dropped from 0.05 m onto a floor, linear law, e = 0.8, E = 1e7 Pa: the ratios of three "

@@ -119,6 +119,23 @@ void registerMaterialCommands(Registry& r) {
     return Value(lawWord(s.contactLaw()));
   });
 
+  Command& coulomb =
+      r.add("law coulomb", "Sets what the Coulomb limit caps in every pair, or returns it.");
+  coulomb.details =
+      "total (the default): the whole tangential force, spring and dashpot, never exceeds mu Fn, "
+      "as in LAMMPS's granular models and MercuryDPM; spring: only the spring force is compared "
+      "with mu Fn, so the dashpot may exceed it while a contact sticks (LIGGGHTS's tangential "
+      "history, kept to reproduce LIGGGHTS runs).";
+  coulomb.optionalArg("criterion", choice({"total", "spring"}), "total or spring");
+  coulomb.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.given("criterion")) {
+      s.setCoulombCriterion(c.str("criterion") == "total" ? physics::CoulombCriterion::Total
+                                                          : physics::CoulombCriterion::Spring);
+    }
+    return Value(std::string(physics::coulombCriterionName(s.coulombCriterion())));
+  });
+
   Command& pair = r.add("law pair", "Sets the law of one pair of materials, or returns it.");
   pair.arg("a", materialRef(), "a material");
   pair.arg("b", materialRef(), "another (or the same) material");

@@ -17,18 +17,21 @@
 namespace demlab::physics {
 namespace {
 
-PairParams pair(LawKind law, Real e = 0.5, Real mu = 0.5) {
+PairParams pair(LawKind law, Real e = 0.5, Real mu = 0.5,
+                CoulombCriterion coulomb = CoulombCriterion::Total) {
   MaterialDef m;
   m.density = 2500;
   m.young = 5e6;
   m.poisson = 0.3;
   m.restitution = e;
   m.friction = mu;
-  return mixPair(law, m, m);
+  PairParams p = mixPair(law, m, m);
+  p.coulomb = coulomb;
+  return p;
 }
 
 TEST(PhysicsLaw, HertzMatchesLiggghtsFormulas) {
-  const PairParams p = pair(LawKind::HertzMindlin);
+  const PairParams p = pair(LawKind::HertzMindlin, 0.5, 0.5, CoulombCriterion::Spring);
   const Real ystar = 5e6 / (2 * (1 - 0.09)), gstar = 5e6 / (4 * 1.7 * 1.3);
   const Real delta = 3e-6, rstar = 5e-4, mstar = 5e-6, vn = -0.3, dt = 1e-6;
   const Vec3 n(0, 0, 1), vt(0.2, -0.1, 0);
@@ -81,7 +84,9 @@ TEST(PhysicsLaw, LinearStiffnessFromYoungAndExplicit) {
 }
 
 // Holds an overlap and slides B over A at constant tangential speed; after the spring reaches
-// the Coulomb limit the force is mu Fn and each step dissipates mu Fn |vt| dt.
+// the Coulomb limit the force is mu Fn and each step dissipates mu Fn |vt| dt. With the Total
+// criterion |Ft| <= mu Fn at every step and no step loses energy it did not have; with Spring
+// (LIGGGHTS) the first steps stick, with the dashpot's force on top of the spring's.
 template <int D, class Law>
 void coulombCap(Law law, const PairParams& p) {
   const Real delta = 2e-6, rstar = 5e-4, mstar = 5e-6, dt = 1e-7;
@@ -93,12 +98,23 @@ void coulombCap(Law law, const PairParams& p) {
   ContactForce<D> f{};
   const ContactGeometry<D> g{n, delta, VecD<D>::Zero()};
   const ContactKinematics<D> k{vt, mstar, rstar};
-  // While sticking, the tangential force grows as -kt s - ct vt; no friction loss.
   f = law(p, g, k, &h, dt);
-  EXPECT_EQ(f.frictionLoss, 0);
   const Real fn = f.force.dot(n);
+  auto tangential = [&] { return (f.force - f.force.dot(n) * n).norm(); };
+  if (p.coulomb == CoulombCriterion::Spring) {
+    // Sticking: the tangential force -kt s - ct vt, no friction loss, above mu Fn here.
+    EXPECT_EQ(f.frictionLoss, 0);
+    EXPECT_GT(tangential(), p.friction * fn);
+  }
+  const Real limitLoss = p.friction * fn * vt.norm() * dt;
   int steps = 0;
-  while (f.frictionLoss == 0 && steps < 100000) f = law(p, g, k, &h, dt), ++steps;
+  while (std::abs(f.frictionLoss - limitLoss) > 1e-9 * limitLoss && steps < 100000) {
+    if (p.coulomb == CoulombCriterion::Total) {
+      EXPECT_LE(tangential(), p.friction * fn * (1 + 1e-12)) << "step " << steps;
+      EXPECT_GE(f.frictionLoss, 0) << "step " << steps;
+    }
+    f = law(p, g, k, &h, dt), ++steps;
+  }
   ASSERT_LT(steps, 100000);
   for (int i = 0; i < 10; ++i) f = law(p, g, k, &h, dt);
   const VecD<D> ft = f.force - f.force.dot(n) * n;
@@ -113,10 +129,50 @@ void coulombCap(Law law, const PairParams& p) {
 }
 
 TEST(PhysicsLaw, CoulombCapAndSlidingLoss) {
-  coulombCap<3>(&linearContact<3>, pair(LawKind::Linear));
-  coulombCap<2>(&linearContact<2>, pair(LawKind::Linear));
-  coulombCap<3>(&hertzMindlinContact<3>, pair(LawKind::HertzMindlin));
-  coulombCap<2>(&hertzMindlinContact<2>, pair(LawKind::HertzMindlin, 0.9, 0.3));
+  for (CoulombCriterion c : {CoulombCriterion::Total, CoulombCriterion::Spring}) {
+    SCOPED_TRACE(std::string(coulombCriterionName(c)));
+    coulombCap<3>(&linearContact<3>, pair(LawKind::Linear, 0.5, 0.5, c));
+    coulombCap<2>(&linearContact<2>, pair(LawKind::Linear, 0.5, 0.5, c));
+    coulombCap<3>(&hertzMindlinContact<3>, pair(LawKind::HertzMindlin, 0.5, 0.5, c));
+    coulombCap<2>(&hertzMindlinContact<2>, pair(LawKind::HertzMindlin, 0.9, 0.3, c));
+  }
+}
+
+// Random contact states (springs of any length and direction, tangential velocities of any
+// size, approaching and separating): with the Total criterion the tangential force never
+// exceeds mu Fn and no step books a negative loss; with Spring the first can fail.
+TEST(PhysicsLaw, TotalCriterionHoldsCoulombEverywhere) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<Real> u(-1, 1), pos(0, 1);
+  int springExceeded = 0;
+  for (LawKind law : {LawKind::Linear, LawKind::HertzMindlin}) {
+    for (CoulombCriterion c : {CoulombCriterion::Total, CoulombCriterion::Spring}) {
+      const PairParams p = pair(law, 0.3, 0.4, c);
+      for (int trial = 0; trial < 4000; ++trial) {
+        const Vec3 n = Vec3(u(rng), u(rng), u(rng)).normalized();
+        const Real delta = 1e-6 + 1e-5 * pos(rng), rstar = 5e-4, mstar = 5e-6, dt = 1e-6;
+        Vec3 v(u(rng), u(rng), u(rng));
+        v *= std::pow(10.0, 2 * u(rng));  // 0.01 to 100 m/s
+        TangentialHistory<3> h;
+        const Vec3 s0(u(rng), u(rng), u(rng));
+        h.spring = (s0 - s0.dot(n) * n) * 1e-6 * pos(rng);
+        const ContactForce<3> f =
+            law == LawKind::Linear
+                ? linearContact<3>(p, ContactGeometry<3>{n, delta, Vec3::Zero()},
+                                   ContactKinematics<3>{v, mstar, rstar}, &h, dt)
+                : hertzMindlinContact<3>(p, ContactGeometry<3>{n, delta, Vec3::Zero()},
+                                         ContactKinematics<3>{v, mstar, rstar}, &h, dt);
+        const Real fn = f.force.dot(n), ft = (f.force - fn * n).norm();
+        if (c == CoulombCriterion::Total) {
+          ASSERT_LE(ft, p.friction * fn * (1 + 1e-12) + 1e-300) << "trial " << trial;
+          ASSERT_GE(f.frictionLoss, -1e-12 * f.elasticEnergy) << "trial " << trial;
+        } else if (ft > p.friction * fn * (1 + 1e-9)) {
+          ++springExceeded;
+        }
+      }
+    }
+  }
+  EXPECT_GT(springExceeded, 100) << "the states never make the dashpot exceed the limit";
 }
 
 // Turns the normal by `angle` per step about an axis, with no relative velocity: the stored

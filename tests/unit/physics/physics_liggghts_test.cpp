@@ -36,7 +36,9 @@ PairParams liggghtsMaterial() {
   m.poisson = 0.3;
   m.restitution = 0.5;
   m.friction = 0.5;
-  return mixPair(LawKind::HertzMindlin, m, m);
+  PairParams p = mixPair(LawKind::HertzMindlin, m, m);
+  p.coulomb = CoulombCriterion::Spring;  // LIGGGHTS's Coulomb test
+  return p;
 }
 
 // LIGGGHTS's fix nve/sphere, first half: kick, drift, spin kick (I = 0.4 m r^2).
