@@ -32,6 +32,9 @@ struct Session : Context {
       timeFunction;
   // The first error a time function met during a run (it then stops the run).
   std::string callbackError;
+  // The fixed time step and critical estimate last warned about at a run start (run.cpp):
+  // the warning is printed once per pair, not at every run of a loop.
+  double warnedStep = 0, warnedCritical = 0;
 
   int dimension() const override { return sim ? sim->dim() : 3; }
   // Throws demlab::Error {STATE NOSIM}: `no simulation: use "sim new" first`.
