@@ -104,7 +104,7 @@ std::string stepAboveCritical(const sim::Simulation& sim, double& dt, double& cr
   dt = sim.timeStep();
   crit = sim.criticalTimeStep();
   if (!(dt > crit)) return "";  // an automatic step is at most the estimate
-  return "the time step " + formatReal(dt) + " s is " + fmt("%.3g", dt / crit) +
+  return "the time step " + fmt("%.3g", dt) + " s is " + fmt("%.3g", dt / crit) +
          " times the critical estimate " + fmt("%.3g", crit) +
          " s of the scene (stiffest contact against the lightest element)";
 }

@@ -91,8 +91,9 @@ TEST(Stability, StiffnessFrom1e3To1e12WithAutoStep) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "bounded (residual %.2g), restitution %.3f (0.5)",
                   s->energy().residual, e);
-    row("head-on, linear, kn = " + std::to_string(static_cast<int>(std::log10(kn))) + "e N/m", dt,
-        buf);
+    row("head-on, linear, kn = 1e" + std::to_string(static_cast<int>(std::lround(std::log10(kn)))) +
+            " N/m",
+        dt, buf);
   }
 }
 
