@@ -114,8 +114,9 @@ void watchdogCheck(const Scene<D>& s, Real stepLimit, bool placed = false) {
         // overlap > f min(ra, rb)  <=>  distance < ra + rb - f min(ra, rb): no square root.
         const Real ra = a.r[c.a], rb = a.r[c.b];
         const Real t = ra + rb - f * std::min(ra, rb);
+        if (t <= 0) continue;  // no distance is that small (equal radii at the default limit 2)
         const Real d2 = (a.x[c.b] - a.x[c.a]).squaredNorm();
-        if (t <= 0 || d2 >= t * t) continue;  // t <= 0: no distance is that small
+        if (d2 >= t * t) continue;
         const Real ratio = (ra + rb - std::sqrt(d2)) / std::min(ra, rb);
         if (ratio > worstRatio) {
           worstRatio = ratio;
