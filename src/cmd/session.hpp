@@ -33,6 +33,9 @@ struct Session : Context {
       timeFunction;
   // The first error a time function met during a run (it then stops the run).
   std::string callbackError;
+  // The fixed time step and critical estimate last warned about at a run start (run.cpp):
+  // the warning is printed once per pair, not at every run of a loop.
+  double warnedStep = 0, warnedCritical = 0;
 
   // What a script evaluated through evalScript gave: ok (TCL_OK, or a return), its result (the
   // error message when not ok), and its -errorcode words when it failed.

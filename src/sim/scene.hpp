@@ -74,6 +74,7 @@ struct Scene {
   bool rotationEnabled = true;
   double cellFactor = 0;
   double skinOption = -1;
+  WatchdogOptions watchdog;  // sim/watchdog.hpp
 
   // ---- time ----
   double time = 0;

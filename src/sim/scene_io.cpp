@@ -2,6 +2,8 @@
 // and read by mirror-image code.
 #include "sim/scene_io.hpp"
 
+#include <cmath>
+
 namespace demlab::sim {
 
 namespace {
@@ -284,6 +286,17 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.f64(x);
   }
   w.u8(l.started);
+  // The watchdog's options, only when they differ from the defaults: a scene with the default
+  // watchdog writes the bytes it wrote before the watchdog existed (same digest, and older
+  // checkpoints load as scenes with the default watchdog).
+  if (!(s.watchdog == WatchdogOptions{})) {
+    w.bytes.append(kWatchdogTag, 4);
+    w.u8(s.watchdog.enabled);
+    w.f64(s.watchdog.overlap);
+    w.f64(s.watchdog.placed);
+    w.f64(s.watchdog.energy);
+    w.u8(s.watchdog.speed);
+  }
 }
 
 template <int D>
@@ -443,6 +456,20 @@ void readScene(Reader& r, Scene<D>& s) {
     *x = r.f64();
   }
   l.started = r.u8();
+  if (!r.atEnd()) {
+    char tag[4];
+    for (char& c : tag) c = static_cast<char>(r.u8());
+    if (std::memcmp(tag, kWatchdogTag, 4) != 0) Reader::bad("trailing bytes");
+    s.watchdog.enabled = r.u8();
+    s.watchdog.overlap = r.f64();
+    s.watchdog.placed = r.f64();
+    s.watchdog.energy = r.f64();
+    s.watchdog.speed = r.u8();
+    const bool ok = s.watchdog.overlap >= 0 && std::isfinite(s.watchdog.overlap) &&
+                    s.watchdog.placed >= 0 && std::isfinite(s.watchdog.placed) &&
+                    s.watchdog.energy >= 0 && std::isfinite(s.watchdog.energy);
+    if (!ok) Reader::bad("watchdog options");
+  }
   if (!r.atEnd()) Reader::bad("trailing bytes");
 }
 

@@ -124,6 +124,8 @@ enum class IoMode { Checkpoint, Digest, Clone };
 
 inline constexpr char kMagic[9] = "DEMLABCK";
 inline constexpr uint32_t kFormatVersion = 2;  // 2: the Coulomb criterion
+// Starts the optional last section (the watchdog's options when not the defaults).
+inline constexpr char kWatchdogTag[5] = "WDOG";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

@@ -214,6 +214,65 @@ struct RunReport {
   double energyResidual = 0;        // EnergyLedger::residual at the end
 };
 
+// The watchdog (sim/watchdog.hpp): cheap checks after every step of a run (and once at its
+// start, before the first step) that stop the run at that step boundary with RunStopped:
+//   NAN     a position, velocity or angular velocity is not finite;
+//   SPEED   a grain moves more in one step than the larger of half the skin and half the
+//           smallest radius (a contact would begin deep, a thin wall could be crossed);
+//   OVERLAP a contact overlaps by more than `overlap` x the smaller radius (a wall: the grain's),
+//           or, before the scene's first step, by more than `placed` x it (grains placed
+//           overlapping);
+//   ENERGY  the ledger's balance has grown (energy created) by more than `energy` x the energy
+//           scale (EnergyLedger::scale).
+// Part of the scene (digest, clone and checkpoint carry it). Defaults: on, 2, 0.5, 0.5, on.
+struct WatchdogOptions {
+  bool enabled = true;
+  double overlap = 2;   // >= 0, finite; 0: no overlap check during runs. Else VALUE OVERLAP
+  double placed = 0.5;  // >= 0, finite; 0: no check of placed overlaps. Else VALUE PLACED
+  double energy = 0.5;  // > 0 and finite; 0: no energy check. Else VALUE ENERGY
+  bool speed = true;
+  bool operator==(const WatchdogOptions&) const = default;
+};
+
+// What stopped a run: the check that fired (NAN, SPEED, OVERLAP, ENERGY), where and why.
+struct WatchdogTrip {
+  std::string check;
+  uint64_t step = 0;  // the scene's step count at the boundary where the run stopped
+  double time = 0;
+  bool atStart = false;         // found before the first step of the run (the scene as set up)
+  std::vector<GrainId> grains;  // the elements concerned (one or two)
+  WallId wall;                  // the wall concerned, if any
+  std::string what;             // e.g. "overlap by 45% of the smaller radius (limit 20%)"
+  std::string cause, fix;       // the likely cause and the fix, in words
+  // Returns "run stopped at step N (t = T s) by the watchdog: <subject> <what>; likely cause:
+  // ...; fix: ...", naming the elements and the wall with the given functions (the core passes
+  // handles, the Tcl layer its script ids).
+  std::string message(const std::function<std::string(GrainId)>& grainName,
+                      const std::function<std::string(WallId)>& wallName) const;
+};
+
+// Thrown by Simulation::run when the watchdog fires: {WATCHDOG <check>}, the message naming the
+// grains by handle. The scene stays at the step boundary where the run stopped (consistent and
+// inspectable, nothing rolled back); report() covers the steps done up to there.
+class RunStopped : public Error {
+ public:
+  RunStopped(WatchdogTrip trip, RunReport report);
+  const WatchdogTrip& trip() const { return trip_; }
+  const RunReport& report() const { return report_; }
+
+ private:
+  WatchdogTrip trip_;
+  RunReport report_;
+};
+
+// The result of Simulation::relax.
+struct RelaxReport {
+  uint64_t iterations = 0;  // passes made
+  uint64_t moved = 0;       // grains moved at least once
+  double before = 0;        // the largest overlap / smaller radius before
+  double after = 0;         // and after
+};
+
 struct RunOptions {
   uint64_t steps = 0;
   // Checked at every step boundary; when it reads true the run stops there, consistent.
@@ -351,9 +410,13 @@ class Simulation {
   // Sets contact detection options. VALUE CELLFACTOR, VALUE SKIN.
   virtual void setDetection(const DetectionOptions& options) = 0;
   virtual DetectionOptions detection() const = 0;
+  // Sets the watchdog's options (see WatchdogOptions). VALUE OVERLAP, PLACED, ENERGY.
+  virtual void setWatchdog(const WatchdogOptions& options) = 0;
+  virtual WatchdogOptions watchdog() const = 0;
   // Returns the names of the modules the next step runs, in loop order (e.g. "behaviors",
   // "integrate", "rotation", "walls", "detection", "contacts" or "contacts-friction",
-  // "wall-contacts" or "wall-contacts-friction", "gravity", "loads", "integrate-correct").
+  // "wall-contacts" or "wall-contacts-friction", "gravity", "loads", "integrate-correct",
+  // "watchdog" unless it is off).
   virtual std::vector<std::string> listModules() const = 0;
 
   // -- outputs (see OutputDef) --
@@ -368,10 +431,18 @@ class Simulation {
 
   // -- running --
   // Runs options.steps steps (stopping early at a step boundary when *stop reads true).
-  // Throws VALUE TIMESTEP when no step can be chosen; INTEGRATION NAN (state restored to the
-  // start of the failing step is NOT guaranteed: the message names the grain) when a grain's
-  // state stops being finite.
+  // Throws VALUE TIMESTEP when no step can be chosen; RunStopped {WATCHDOG NAN|SPEED|OVERLAP|
+  // ENERGY} when the watchdog fires (at the start, before any step, or after the step where it
+  // fired; the scene stays there). With the watchdog off, INTEGRATION NAN (checked every 1024
+  // steps and at the end; the state is not rolled back) when a grain's state stops being finite.
   virtual RunReport run(const RunOptions& options) = 0;
+  // Moves overlapping grains apart (walls stay) until no contact overlaps by more than
+  // fraction x the smaller radius, or maxIterations passes: each pass pushes every pair
+  // overlapping by more than that back to half of it, shared by inverse mass (a grain on a wall
+  // moves alone). Velocities are kept; the ledger is rebased (the change is an edit). Throws
+  // VALUE FRACTION unless 0 < fraction <= 1, VALUE ITERATIONS unless maxIterations >= 1, VALUE
+  // TIMESTEP as run.
+  virtual RelaxReport relax(double fraction, uint64_t maxIterations) = 0;
   // Runs one step; returns its report.
   virtual RunReport step() = 0;
   // Runs n steps with no stop flag and no progress callback; returns the report.

@@ -65,6 +65,12 @@ double SimulationManager<D>::timeStep() const {
 
 template <int D>
 double SimulationManager<D>::criticalTimeStep() const {
+  // Per material: the smallest grain, which is also the lightest and has the least inertia
+  // (mass ~ density r^D). Each pair of materials in use (walls included) is then taken with
+  // the smallest grain of either side against it: the stiffest contact (the pair's constants)
+  // against the smallest mass and inertia, and the damping's reduction of the stable step
+  // (physics::criticalTimeStep). For Hertz-Mindlin pairs the Rayleigh step of each grain's own
+  // material counts too (a light grain against a heavy, stiff one).
   const size_t nm = s_.nMat();
   const Real inf = std::numeric_limits<Real>::infinity();
   std::vector<Real> rmin(nm, inf);
@@ -80,13 +86,18 @@ double SimulationManager<D>::criticalTimeStep() const {
     if (!std::isfinite(rmin[m])) continue;
     for (size_t k = 0; k < nm; ++k) {
       if (!used[k]) continue;
-      const size_t small = rmin[k] < rmin[m] ? k : m;
-      const Real r = rmin[small];
-      const Real mass = grainMass<D>(s_.materials[small].density, r);
       const int8_t o = s_.pairLawOverride[m * nm + k];
       const LawKind law = o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
       const physics::PairParams p = physics::mixPair(law, s_.materials[m], s_.materials[k]);
-      best = std::min(best, physics::criticalTimeStep(p, mass, r));
+      for (const size_t side : {m, k}) {
+        if (!std::isfinite(rmin[side])) continue;  // a wall's material: no grain of it
+        const Real r = rmin[side];
+        const Real mass = grainMass<D>(s_.materials[side].density, r);
+        best = std::min(best, physics::criticalTimeStep(p, mass, r));
+        if (law == LawKind::HertzMindlin) {
+          best = std::min(best, physics::rayleighTimeStep(s_.materials[side], r));
+        }
+      }
     }
   }
   return best;
@@ -495,6 +506,26 @@ void SimulationManager<D>::setDetection(const DetectionOptions& o) {
   s_.skinOption = o.skin;
   s_.needRebuild = true;
   touchConfig();
+}
+
+template <int D>
+void SimulationManager<D>::setWatchdog(const WatchdogOptions& o) {
+  if (!(o.overlap >= 0 && std::isfinite(o.overlap))) {
+    throwBad("overlap", physics::formatReal(o.overlap),
+             "must be a non-negative number (0: no overlap check)");
+  }
+  if (!(o.placed >= 0 && std::isfinite(o.placed))) {
+    throwBad("placed", physics::formatReal(o.placed),
+             "must be a non-negative number (0: no check)");
+  }
+  if (!(o.energy >= 0 && std::isfinite(o.energy))) {
+    throwBad("energy", physics::formatReal(o.energy),
+             "must be a non-negative number (0: no energy check)");
+  }
+  s_.watchdog = o;
+  // Only the loop is rebuilt (the module comes or goes): the forces of the last step stay, so
+  // turning the watchdog on or off never changes the trajectory.
+  configDirty_ = true;
 }
 
 template class SimulationManager<2>;

@@ -16,6 +16,7 @@ namespace demlab::sim {
 
 template <int D>
 class OutputModule;
+struct WatchdogHit;
 
 template <int D>
 class SimulationManager final : public Simulation {
@@ -78,6 +79,8 @@ class SimulationManager final : public Simulation {
   bool rotation() const override { return s_.rotationEnabled; }
   void setDetection(const DetectionOptions& options) override;
   DetectionOptions detection() const override { return {s_.cellFactor, s_.skinOption}; }
+  void setWatchdog(const WatchdogOptions& options) override;
+  WatchdogOptions watchdog() const override { return s_.watchdog; }
   std::vector<std::string> listModules() const override;
 
   OutputId addOutput(const OutputDef& def) override;
@@ -86,6 +89,7 @@ class SimulationManager final : public Simulation {
 
   RunReport run(const RunOptions& options) override;
   RunReport step() override;
+  RelaxReport relax(double fraction, uint64_t maxIterations) override;
 
   EnergyLedger energy() const override;
   size_t contactCount() const override { return s_.contacts.size(); }
@@ -132,6 +136,13 @@ class SimulationManager final : public Simulation {
   std::vector<std::unique_ptr<SimModule<D>>> makeModules(const Flags& f) const;
   // Throws {INTEGRATION NAN} naming the first grain whose position or velocity is not finite.
   void checkFinite() const;
+  // Returns the watchdog's finding hit as a trip: the elements, the likely cause and the fix.
+  WatchdogTrip describeTrip(const WatchdogHit& hit, bool atStart) const;
+  // Returns the largest overlap / smaller radius over the contacts of the last force pass;
+  // with push, first moves the grains of each contact overlapping by more than fraction x the
+  // smaller radius apart, back to half of that (one relaxation pass), and returns the largest
+  // found before moving. Sets *moved for each grain moved.
+  double worstOverlap(double fraction, bool push, std::vector<bool>* moved = nullptr);
   // Returns the gravitational energy of the grains (0 without gravity).
   double potential() const;
   // Returns the ledger's balance sum now (state terms plus cumulated terms).

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <istream>
 #include <iterator>
+#include <optional>
 #include <ostream>
 #include <vector>
 
+#include "physics/critical_step.hpp"
 #include "physics/narrow_phase.hpp"
 #include "sim/behavior_modules.hpp"
 #include "sim/contacts.hpp"
@@ -15,6 +18,7 @@
 #include "sim/detection.hpp"
 #include "sim/integrator.hpp"
 #include "sim/simulation_manager.hpp"
+#include "sim/watchdog.hpp"
 
 namespace demlab::sim {
 
@@ -66,6 +70,7 @@ std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(con
   if (f.gravity) m.push_back(std::make_unique<GravityModule<D>>());
   if (f.loads) m.push_back(std::make_unique<LoadModule<D>>());
   m.push_back(std::make_unique<CorrectModule<D>>());
+  if (s_.watchdog.enabled) m.push_back(std::make_unique<WatchdogModule<D>>(watchdogStepLimit(s_)));
   for (auto& o : outputModules()) m.push_back(std::move(o));
   return m;
 }
@@ -176,18 +181,26 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   const uint64_t total = options.steps;
   const uint64_t every =
       options.progressEvery ? options.progressEvery : std::max<uint64_t>(1, total / 100);
-  for (uint64_t k = 0; k < total; ++k) {
-    if (options.stop && options.stop->load(std::memory_order_relaxed)) {
-      rep.interrupted = true;
-      break;
+  const bool watched = s_.watchdog.enabled;
+  std::optional<WatchdogTrip> trip;
+  try {
+    // The scene as set up (placed overlaps, initial speeds) before the first step.
+    if (watched) watchdogCheck(s_, watchdogStepLimit(s_), s_.steps == 0);
+    for (uint64_t k = 0; k < total; ++k) {
+      if (options.stop && options.stop->load(std::memory_order_relaxed)) {
+        rep.interrupted = true;
+        break;
+      }
+      loop_.step(s_);
+      if (!watched && (k & 1023) == 1023) checkFinite();
+      if (options.progress && (k + 1) % every == 0 && k + 1 < total) options.progress(k + 1, total);
     }
-    loop_.step(s_);
-    if ((k & 1023) == 1023) checkFinite();
-    if (options.progress && (k + 1) % every == 0 && k + 1 < total) options.progress(k + 1, total);
+  } catch (const WatchdogHit& h) {
+    trip = describeTrip(h, s_.steps == steps0);
   }
-  checkFinite();
+  if (!watched) checkFinite();
   rep.steps = s_.steps - steps0;
-  if (options.progress) options.progress(rep.steps, total);
+  if (options.progress && !trip) options.progress(rep.steps, total);
   rep.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   rep.simulatedTime = s_.time - time0;
   rep.time = s_.time;
@@ -196,8 +209,9 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   rep.contacts = s_.contacts.size();
   rep.neighborRebuilds = s_.rebuilds - rebuilds0;
   const EnergyLedger e = energy();
-  s_.ledger.scale = e.scale;
+  if (!trip) s_.ledger.scale = e.scale;
   rep.energyResidual = e.residual;
+  if (trip) throw RunStopped(std::move(*trip), rep);
   return rep;
 }
 
@@ -206,6 +220,187 @@ RunReport SimulationManager<D>::step() {
   RunOptions o;
   o.steps = 1;
   return run(o);
+}
+
+// ---- the watchdog ---------------------------------------------------------------------------
+
+namespace {
+
+std::string num(double x, const char* f = "%.3g") {
+  char b[48];
+  std::snprintf(b, sizeof b, f, x);
+  return b;
+}
+
+std::string percent(double x) {
+  return num(100 * x, "%.3g") + "%";
+}
+
+}  // namespace
+
+std::string WatchdogTrip::message(const std::function<std::string(GrainId)>& grainName,
+                                  const std::function<std::string(WallId)>& wallName) const {
+  std::string who;
+  if (grains.size() == 1 && wall.isNull()) {
+    who = "element " + grainName(grains[0]);
+  } else if (grains.size() == 2) {
+    who = "elements " + grainName(grains[0]) + " and " + grainName(grains[1]);
+  } else if (grains.size() == 1) {
+    who = "element " + grainName(grains[0]) + " and wall " + wallName(wall);
+  }
+  return "run stopped at step " + std::to_string(step) + " (t = " + physics::formatReal(time) +
+         " s) by the watchdog" + (atStart ? ", before the first step: " : ": ") + who + " " + what +
+         "; likely cause: " + cause + "; fix: " + fix;
+}
+
+RunStopped::RunStopped(WatchdogTrip trip, RunReport report)
+    : Error(
+          trip.message([](GrainId g) { return toString(g); }, [](WallId w) { return toString(w); }),
+          {"WATCHDOG", trip.check}),
+      trip_(std::move(trip)),
+      report_(std::move(report)) {}
+
+template <int D>
+WatchdogTrip SimulationManager<D>::describeTrip(const WatchdogHit& h, bool atStart) const {
+  WatchdogTrip t;
+  t.step = s_.steps;
+  t.time = s_.time;
+  t.atStart = atStart;
+  const auto grainId = [&](uint32_t i) { return s_.grains.pool().handleAt(i); };
+  t.grains.push_back(grainId(h.a));
+  if (h.hasB) {
+    if (h.wall) {
+      t.wall = s_.walls.pool().handleAt(h.b);
+    } else {
+      t.grains.push_back(grainId(h.b));
+    }
+  }
+  const double dt = s_.stepDt;
+  const double crit = criticalTimeStep();
+  const bool fixed = s_.autoFraction == 0;
+  const std::string stepText = "dt = " + num(dt) + " s, critical estimate " + num(crit) + " s";
+  const bool tooLarge = std::isfinite(crit) && dt > crit;
+  const std::string autoFix =
+      "use sim timestep auto (0.2 of the critical estimate), or a smaller fixed step";
+  switch (h.kind) {
+    case WatchdogHit::Nan:
+      t.check = "NAN";
+      t.what = "has a non-finite position or velocity";
+      t.cause = tooLarge ? "the time step is too large for the contacts (" + stepText + ")"
+                         : "the integration blew up (" + stepText +
+                               "), or a load or a wall motion gave a non-finite value";
+      t.fix = autoFix + "; check the loads";
+      break;
+    case WatchdogHit::Speed:
+      t.check = "SPEED";
+      t.what = "moves " + num(h.value) + " m in one step (|v| = " + num(h.extra) +
+               " m/s, dt = " + num(dt) + " s), more than " +
+               (h.limit > 0.5 * s_.skin ? "half the smallest radius" : "half the skin") + " (" +
+               num(h.limit) + " m)";
+      t.cause = tooLarge ? "the time step is too large for the stiffness (" + stepText +
+                               "): contacts blow up and throw elements out"
+                         : "the element is too fast for the time step: a contact can begin "
+                           "already deep, or the element cross a thin wall, within a step";
+      t.fix = (tooLarge || fixed ? autoFix
+                                 : "a smaller fraction (sim timestep auto -fraction below " +
+                                       num(s_.autoFraction) + ")") +
+              "; module watchdog -speed 0 turns this check off";
+      break;
+    case WatchdogHit::Overlap:
+      t.check = "OVERLAP";
+      t.what = std::string("overlap by ") + percent(h.value) + " of the " +
+               (h.wall ? "element's radius" : "smaller radius") + " (limit " + percent(h.limit) +
+               ")";
+      if (h.placed) {
+        t.cause = "the elements were placed overlapping";
+        t.fix =
+            "place them apart, or relax the scene first (sim relax); module watchdog "
+            "-placed sets the limit";
+      } else if (tooLarge) {
+        t.cause = "the time step is too large for the stiffness (" + stepText + ")";
+        t.fix = autoFix;
+      } else {
+        t.cause = "the contact is too soft for the impact speed or the load (" + stepText + ")";
+        t.fix =
+            "a stiffer material (larger young or normalstiffness), slower impacts or "
+            "smaller loads, or a higher limit (module watchdog -overlap)";
+      }
+      break;
+    case WatchdogHit::Energy:
+      t.check = "ENERGY";
+      t.what = "is the fastest element while the energy balance grew by " + num(h.value) + " J, " +
+               percent(h.value / h.extra) + " of the energy scale " + num(h.extra) + " J (limit " +
+               percent(s_.watchdog.energy) + ")";
+      t.cause = "the integration creates energy: the time step is too large (" + stepText + ")";
+      t.fix = autoFix + "; module watchdog -energy sets the bound";
+      break;
+  }
+  return t;
+}
+
+template <int D>
+double SimulationManager<D>::worstOverlap(double fraction, bool push, std::vector<bool>* moved) {
+  GrainArrays<D>& a = s_.grains.a;
+  const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+  double worst = 0;
+  for (const ContactRecord<D>& c : s_.contacts) {
+    const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
+    std::optional<physics::ContactGeometry<D>> g;
+    Real rmin = a.r[c.a];
+    if (c.wall) {
+      const Wall<D>& w = s_.walls.items[c.b];
+      const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
+      g = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
+    } else {
+      rmin = std::min(rmin, a.r[c.b]);
+      g = physics::intersect<D>(sa, physics::SphereShape<D>{a.x[c.b], a.r[c.b]});
+    }
+    if (!g) continue;
+    worst = std::max(worst, g->overlap / rmin);
+    if (!push || g->overlap <= fraction * rmin) continue;
+    // Back to half the allowed overlap, shared by inverse mass; the normal points from a to b.
+    const Real excess = g->overlap - 0.5 * fraction * rmin;
+    if (c.wall) {
+      a.x[c.a] -= excess * g->normal;
+    } else {
+      const Real wa = a.invMass[c.a] / (a.invMass[c.a] + a.invMass[c.b]);
+      a.x[c.a] -= (excess * wa) * g->normal;
+      a.x[c.b] += (excess * (1 - wa)) * g->normal;
+      if (moved) (*moved)[c.b] = true;
+    }
+    if (moved) (*moved)[c.a] = true;
+  }
+  return worst;
+}
+
+template <int D>
+RelaxReport SimulationManager<D>::relax(double fraction, uint64_t maxIterations) {
+  if (!(fraction > 0 && fraction <= 1)) {
+    throw Error("bad fraction \"" + physics::formatReal(fraction) + "\": must be in (0, 1]",
+                {"VALUE", "FRACTION"});
+  }
+  if (maxIterations < 1) {
+    throw Error("bad iterations \"0\": must be at least 1", {"VALUE", "ITERATIONS"});
+  }
+  RelaxReport rep;
+  if (s_.grains.size() == 0) return rep;
+  prepare();  // the contacts at the current positions
+  std::vector<bool> moved(s_.grains.size(), false);
+  rep.before = rep.after = worstOverlap(fraction, false);
+  while (rep.after > fraction && rep.iterations < maxIterations) {
+    const double before = ledgerSum();
+    worstOverlap(fraction, true, &moved);
+    rep.iterations += 1;
+    // An edit: the potential energy the moves changed is the user's, and the next force pass
+    // (in prepare) rebases the elastic energy the same way.
+    s_.ledger.reference += ledgerSum() - before;
+    s_.needRebuild = true;
+    s_.forcesReady = false;
+    prepare();
+    rep.after = worstOverlap(fraction, false);
+  }
+  rep.moved = static_cast<uint64_t>(std::count(moved.begin(), moved.end(), true));
+  return rep;
 }
 
 // ---- the energy ledger ---------------------------------------------------------------------

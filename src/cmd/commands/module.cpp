@@ -53,6 +53,48 @@ void registerModuleCommands(Registry& r) {
     sim::DetectionOptions o = s.detection();
     return Value(Dict{{"cellfactor", o.cellFactor}, {"skin", o.skin}});
   });
+
+  Command& wd = r.add("module watchdog",
+                      "Sets the watchdog's options (on by default); returns them as a dict.");
+  wd.details =
+      "After every step (and before the first step of a run) the watchdog checks that no "
+      "position or velocity is non-finite (NAN), no element moves more in one step than the "
+      "neighbour search tracks, half the skin (SPEED), no contact overlaps by more than a "
+      "fraction of the smaller radius (OVERLAP; another fraction, -placed, for the scene as "
+      "set up, before its first step) and the energy balance has not grown by more "
+      "than a fraction of the energy scale (ENERGY). When one fails the run stops at that step "
+      "with the error DEMLAB WATCHDOG <check>, naming the elements, the likely cause and the "
+      "fix. The options are part of the scene (saved with it).";
+  wd.option("on", boolean(), "run the watchdog (default 1)").to(&sim::WatchdogOptions::enabled);
+  wd.option("overlap", real().nonNegative(),
+            "largest overlap during a run, as a fraction of the smaller radius (default 2: a "
+            "grain gone through another; 0.2 suits stiff materials; 0: no check)")
+      .to(&sim::WatchdogOptions::overlap);
+  wd.option("placed", real().nonNegative(),
+            "largest overlap of the scene as set up, checked before its first step (default "
+            "0.5; 0: no check)")
+      .to(&sim::WatchdogOptions::placed);
+  wd.option("energy", real().nonNegative(),
+            "largest growth of the energy balance as a fraction of the energy scale (default "
+            "0.5; 0: no check)")
+      .to(&sim::WatchdogOptions::energy);
+  wd.option("speed", boolean(), "check that no element outruns the skin (default 1)")
+      .to(&sim::WatchdogOptions::speed);
+  wd.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.given("on") || c.given("overlap") || c.given("placed") || c.given("energy") ||
+        c.given("speed")) {
+      sim::WatchdogOptions o = s.watchdog();
+      c.fill(o);
+      s.setWatchdog(o);
+    }
+    sim::WatchdogOptions o = s.watchdog();
+    return Value(Dict{{"on", o.enabled},
+                      {"overlap", o.overlap},
+                      {"placed", o.placed},
+                      {"energy", o.energy},
+                      {"speed", o.speed}});
+  });
 }
 
 }  // namespace demlab::cmd

@@ -98,10 +98,45 @@ std::string reportText(const sim::RunReport& r) {
   return s;
 }
 
+// Returns the message about a fixed time step above the scene's critical estimate, or "" when
+// the step is automatic or below it.
+std::string stepAboveCritical(const sim::Simulation& sim, double& dt, double& crit) {
+  dt = sim.timeStep();
+  crit = sim.criticalTimeStep();
+  if (!(dt > crit)) return "";  // an automatic step is at most the estimate
+  return "the time step " + fmt("%.3g", dt) + " s is " + fmt("%.3g", dt / crit) +
+         " times the critical estimate " + fmt("%.3g", crit) +
+         " s of the scene (stiffest contact against the lightest element)";
+}
+
+// Prints the warning about a fixed step above the critical estimate, once per step and
+// estimate (a script running in chunks sees it once).
+void warnStep(Session& s) {
+  double dt = 0, crit = 0;
+  const std::string m = stepAboveCritical(s.scene(), dt, crit);
+  if (m.empty() || (dt == s.warnedStep && crit == s.warnedCritical)) return;
+  s.warnedStep = dt;
+  s.warnedCritical = crit;
+  s.write("warning: " + m +
+          "; the run may blow up: use sim timestep auto (0.2 of the estimate), or sim run "
+          "-strict to make this an error\n");
+}
+
+// Returns the watchdog's stop as the Tcl-level error, naming elements and walls by script id.
+Error watchdogError(const sim::RunStopped& e) {
+  const sim::WatchdogTrip& t = e.trip();
+  auto g = [](sim::GrainId id) { return std::to_string(scriptId(id)); };
+  auto w = [](sim::WallId id) { return std::to_string(scriptId(id)); };
+  return Error(t.message(g, w), {"WATCHDOG", t.check});
+}
+
 // Runs `steps` steps on the session's scene; returns the report. Installs the SIGINT hook for
-// the run's duration and draws progress on a terminal. Throws {INTERRUPTED} when stopped.
-sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress) {
+// the run's duration and draws progress on a terminal. Throws {INTERRUPTED} when stopped;
+// {WATCHDOG <check>} when the watchdog stopped the run, after printing the report of the steps
+// done unless quiet.
+sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool quiet) {
   sim::Simulation& sim = s.scene();
+  warnStep(s);
   s.stop = false;
   s.callbackError.clear();
   ProgressBar bar(s);
@@ -116,6 +151,11 @@ sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress) {
   s.beginRun();
   try {
     rep = sim.run(o);
+  } catch (const sim::RunStopped& e) {
+    s.endRun();
+    bar.finish();
+    if (!quiet) s.write(reportText(e.report()));
+    throw watchdogError(e);
   } catch (...) {
     s.endRun();
     bar.finish();
@@ -156,15 +196,29 @@ void registerRunCommands(Registry& r) {
       "dict (keys steps simulated time wall residual per_step modules contacts rebuilds "
       "interrupted). Ctrl-C stops the run at a step boundary with an error (code DEMLAB "
       "INTERRUPTED); "
-      "the scene stays consistent.";
+      "the scene stays consistent. A fixed time step above the scene's critical estimate "
+      "prints a warning once (an error with -strict). The watchdog (module watchdog) stops the "
+      "run at the step where it fires, after printing the report of the steps done, with an "
+      "error DEMLAB WATCHDOG NAN, SPEED, OVERLAP or ENERGY naming the elements, the step, the "
+      "likely cause and the fix; the scene stays at that step, inspectable.";
   run.option("steps", integer().min(0), "number of steps");
   run.option("time", real().positive().withUnit("s"),
              "simulated time to run (rounded up to whole steps)");
   run.oneOf({"steps", "time"}, true);
   run.flag("quiet", "print no report");
   run.option("progress", boolean(), "show a progress bar on a terminal").byDefault("1");
+  run.flag("strict",
+           "a fixed time step above the critical estimate is an error (DEMLAB VALUE TIMESTEP) "
+           "instead of a warning");
   run.onCheck([](Call& c) {
     auto& s = session(c).scene();
+    if (c.flag("strict")) {
+      double dt = 0, crit = 0;
+      const std::string m = stepAboveCritical(s, dt, crit);
+      if (!m.empty())
+        throw Error(m + ": use sim timestep auto, or a fixed step below the estimate",
+                    {"VALUE", "TIMESTEP"});
+    }
     if (c.given("steps")) {
       c.prepared = std::uint64_t(c.integer("steps"));
     } else {
@@ -176,8 +230,8 @@ void registerRunCommands(Registry& r) {
   });
   run.run([](Call& c) {
     Session& s = session(c);
-    sim::RunReport rep =
-        runSteps(s, std::any_cast<std::uint64_t>(c.prepared), c.get<bool>("progress"));
+    sim::RunReport rep = runSteps(s, std::any_cast<std::uint64_t>(c.prepared),
+                                  c.get<bool>("progress"), c.flag("quiet"));
     if (!c.flag("quiet")) s.write(reportText(rep));
     raiseIfStopped(s, rep);
     return reportValue(rep);
@@ -187,7 +241,7 @@ void registerRunCommands(Registry& r) {
   step.optionalArg("n", integer().min(1), "number of steps").byDefault("1");
   step.run([](Call& c) {
     Session& s = session(c);
-    sim::RunReport rep = runSteps(s, std::uint64_t(c.integer("n")), false);
+    sim::RunReport rep = runSteps(s, std::uint64_t(c.integer("n")), false, true);
     raiseIfStopped(s, rep);
     return reportValue(rep);
   });

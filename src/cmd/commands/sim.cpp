@@ -103,9 +103,10 @@ void registerSimCommands(Registry& r) {
 
   Command& ts = r.add("sim timestep", "Sets the time step, or returns the one the next run uses.");
   ts.details =
-      "With a number, the step is fixed; with \"auto\" it follows the scene: fraction x the "
-      "critical "
-      "step, recomputed when grains or materials change.";
+      "With a number, the step is fixed; with \"auto\" (the default of a new scene) it follows "
+      "the scene: fraction x the critical step (sim critical), recomputed when grains or "
+      "materials change. The default fraction 0.2 is the safety factor. A fixed step above the "
+      "critical estimate makes sim run warn (an error with sim run -strict).";
   ts.optionalArg("dt", stepWord(), "the time step in seconds, or auto").type.unit = "s";
   ts.option("fraction", real().positive().max(1), "with auto: the fraction of the critical step")
       .byDefault("0.2");
@@ -120,6 +121,26 @@ void registerSimCommands(Registry& r) {
       return Value();
     }
     return Value(s.timeStep());
+  });
+
+  Command& rel = r.add("sim relax", "Moves overlapping elements apart; returns what it did.");
+  rel.details =
+      "Deep overlaps placed by a script (the watchdog reports them before the first step) are "
+      "relaxed geometrically: each pass pushes every contact overlapping by more than the "
+      "fraction of the smaller radius back to half of it, shared by inverse mass (walls stay), "
+      "until none does or the passes run out. Velocities are kept. Returns a dict: iterations, "
+      "moved (elements), before and after (the largest overlap / smaller radius).";
+  rel.option("overlap", real().positive().max(1),
+             "the largest overlap left, as a fraction of the smaller radius")
+      .byDefault("0.01");
+  rel.option("iterations", integer().min(1), "the most passes").byDefault("1000");
+  rel.run([](Call& c) {
+    auto& s = session(c).scene();
+    sim::RelaxReport r = s.relax(c.real("overlap"), std::uint64_t(c.integer("iterations")));
+    return Value(Dict{{"iterations", r.iterations},
+                      {"moved", r.moved},
+                      {"before", r.before},
+                      {"after", r.after}});
   });
 
   Command& crit = r.add("sim critical", "Returns the critical time step of the scene (s).");

@@ -1,0 +1,230 @@
+// The watchdog module ("watchdog", level Cleanup: after the step's second kick, before the
+// outputs): cheap checks that a run is still physical, after every step. On by default; the
+// options are Scene::watchdog (WatchdogOptions, sim/simulation.hpp).
+//
+// Per step it makes one streaming pass over x, v and w (sums and a maximum, no division), which
+// yields the finiteness of the state and the largest speed, and one pass over the contact
+// records of the step (the pairs' positions and radii; a wall contact asks the wall's narrow
+// phase). Every 16 steps one more pass over the grains computes the energies. Nothing is
+// written: a scene runs bit-identically with the watchdog on or off until it fires.
+//
+// The checks, in the order they are tried:
+//   NAN     x, v or w of some grain is not finite (a sum over the pass is not finite);
+//   SPEED   max |v| dt > the larger of half the skin and half the smallest radius: faster, the
+//           neighbour search runs every step (it never misses a contact: detection.hpp checks
+//           the displacement each step, tests/unit/sim/sim_detection_test.cpp), but a contact
+//           can begin already half a radius deep, and a grain can cross a thin wall (two radii)
+//           within a few steps, which no search can repair;
+//   OVERLAP a contact's overlap > overlap x the smaller radius of the two (a grain's radius on a
+//           wall). The default, 2, catches a grain gone wholly into another or through a wall
+//           (tunnelling): the test scenes and the drum demo use materials so soft that static
+//           beds overlap by up to a radius, so a lower default would stop them; for stiff,
+//           physical materials 0.2 is a good limit (module watchdog -overlap 0.2). Before the
+//           scene's first step the limit is `placed` (default 0.5): grains placed overlapping;
+//   ENERGY  the ledger's balance (energy present + dissipated - work done - the reference) >
+//           energy x the energy scale at two checks in a row, every 16 steps (the pass divides
+//           by the masses): the integration creates energy. Only growth counts; the bound
+//           allows the O(dt) transient of damped contacts (doc/verification.md, finding 6),
+//           a few per cent at 0.2 of the critical step.
+// A hit is thrown as WatchdogHit, which SimulationManager::run turns into RunStopped with the
+// likely cause and the fix (sim/simulation_run.cpp).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "sim/contacts.hpp"
+#include "sim/scene.hpp"
+#include "sim/sim_loop.hpp"
+
+namespace demlab::sim {
+
+// What the watchdog found. a, b: grain dense indices (b a wall index when wall); value and limit
+// in the check's units (NAN: none; SPEED: metres per step; OVERLAP: fraction of the radius;
+// ENERGY: joules), extra: SPEED the speed, ENERGY the scale.
+struct WatchdogHit {
+  enum Kind { Nan, Speed, Overlap, Energy } kind = Nan;
+  uint32_t a = 0, b = 0;
+  bool hasB = false, wall = false, placed = false;
+  double value = 0, limit = 0, extra = 0;
+};
+
+// Returns the largest distance a grain may move in one step: the larger of half the skin and
+// half the smallest radius.
+template <int D>
+Real watchdogStepLimit(const Scene<D>& s) {
+  Real rmin = std::numeric_limits<Real>::infinity();
+  for (Real r : s.grains.a.r) rmin = std::min(rmin, r);
+  return std::max(0.5 * s.skin, 0.5 * rmin);
+}
+
+// Runs every enabled check on the scene as it is; throws WatchdogHit on the first that fails.
+// stepLimit: watchdogStepLimit(s); placed: check the overlaps against the `placed` limit (the
+// scene as set up) instead of `overlap`. Changes nothing.
+template <int D>
+void watchdogCheck(const Scene<D>& s, Real stepLimit, bool placed = false) {
+  const WatchdogOptions& o = s.watchdog;
+  const GrainArrays<D>& a = s.grains.a;
+  const size_t n = a.size();
+  // One streaming pass, no division: a sum that is not finite when some x, v or w is not (NaN
+  // and infinities propagate through sums), and the largest squared speed. As fast as a plain
+  // sum over the positions alone (measured: the pass is bound by the add's latency).
+  double xs = 0;
+  Real v2max = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Real v2 = a.v[i].squaredNorm();
+    xs += a.x[i].sum() + a.v[i].sum() + squaredNorm(a.w[i]);
+    v2max = std::max(v2max, v2);
+  }
+  const Real dt = s.stepDt;
+  const auto fastest = [&] {
+    size_t k = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (a.v[i].squaredNorm() == v2max) k = i;
+    }
+    return k;
+  };
+  if (!std::isfinite(xs)) {
+    WatchdogHit h{WatchdogHit::Nan};
+    for (size_t i = 0; i < n; ++i) {
+      if (!a.x[i].allFinite() || !a.v[i].allFinite() || !std::isfinite(squaredNorm(a.w[i]))) {
+        h.a = static_cast<uint32_t>(i);
+        break;
+      }
+    }
+    throw h;
+  }
+  // A grain with nothing to meet (alone, no walls) may move any distance per step: free
+  // flight is exact for the integrators, and nothing can be tunnelled through.
+  const bool canMeet = n > 1 || !s.walls.items.empty();
+  if (o.speed && canMeet && v2max * dt * dt > stepLimit * stepLimit) {
+    WatchdogHit h{WatchdogHit::Speed};
+    h.a = static_cast<uint32_t>(fastest());
+    h.extra = std::sqrt(v2max);
+    h.value = h.extra * dt;
+    h.limit = stepLimit;
+    throw h;
+  }
+  const Real f = placed ? o.placed : o.overlap;
+  if (f > 0) {
+    const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+    const ContactRecord<D>* worst = nullptr;
+    Real worstRatio = f;
+    for (const ContactRecord<D>& c : s.contacts) {
+      if (!c.wall) {
+        // overlap > f min(ra, rb)  <=>  distance < ra + rb - f min(ra, rb): no square root.
+        const Real ra = a.r[c.a], rb = a.r[c.b];
+        const Real t = ra + rb - f * std::min(ra, rb);
+        if (t <= 0) continue;  // no distance is that small (equal radii at the default limit 2)
+        const Real d2 = (a.x[c.b] - a.x[c.a]).squaredNorm();
+        if (d2 >= t * t) continue;
+        const Real ratio = (ra + rb - std::sqrt(d2)) / std::min(ra, rb);
+        if (ratio > worstRatio) {
+          worstRatio = ratio;
+          worst = &c;
+        }
+      } else {
+        const Wall<D>& w = s.walls.items[c.b];
+        if (const auto* plane = std::get_if<physics::PlaneShape<D>>(&w.shape)) {
+          // A plane: the overlap is r minus the signed distance of the centre.
+          const Real ratio = 1 - (a.x[c.a] - plane->point).dot(plane->normal) / a.r[c.a];
+          if (ratio > worstRatio) {
+            worstRatio = ratio;
+            worst = &c;
+          }
+          continue;
+        }
+        const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
+        const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
+        const auto geo =
+            np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
+        if (!geo) continue;
+        const Real ratio = geo->overlap / a.r[c.a];
+        if (ratio > worstRatio) {
+          worstRatio = ratio;
+          worst = &c;
+        }
+      }
+    }
+    if (worst) {
+      WatchdogHit h{WatchdogHit::Overlap};
+      h.a = worst->a;
+      h.b = worst->b;
+      h.hasB = true;
+      h.wall = worst->wall;
+      h.value = worstRatio;
+      h.limit = f;
+      h.placed = placed;
+      throw h;
+    }
+  }
+}
+
+// Returns true if the ledger's balance exceeds the watchdog's energy bound now: energy x the
+// energy scale (as EnergyLedger computes them; one pass over the grains, with divisions).
+// hit gets the fastest grain, the balance, the bound and the scale.
+template <int D>
+bool watchdogEnergyOver(const Scene<D>& s, WatchdogHit& h) {
+  const WatchdogOptions& o = s.watchdog;
+  const LedgerSums& l = s.ledger;
+  if (!(o.energy > 0) || !l.started) return false;
+  const GrainArrays<D>& a = s.grains.a;
+  const size_t n = a.size();
+  const VecD<D> g = s.behaviors.gravity();
+  double k2 = 0, u = 0;
+  Real v2max = -1;
+  size_t fastest = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Real v2 = a.v[i].squaredNorm();
+    k2 += v2 / a.invMass[i] + squaredNorm(a.w[i]) / a.invInertia[i];
+    u -= g.dot(a.x[i]) / a.invMass[i];
+    if (v2 > v2max) {
+      v2max = v2;
+      fastest = i;
+    }
+  }
+  const double kin = 0.5 * k2;
+  const double balance = kin + u + l.elastic + l.dampingLoss + l.frictionLoss - l.wallWork -
+                         l.behaviorWork - l.springWork - l.reference;
+  const double scale = std::max({l.scale, kin, std::abs(u - l.gravityReference), l.elastic,
+                                 l.dampingLoss + l.frictionLoss, std::abs(l.wallWork),
+                                 std::abs(l.behaviorWork), std::abs(l.reference)});
+  if (!(scale > 0 && balance > o.energy * scale)) return false;
+  h = WatchdogHit{WatchdogHit::Energy};
+  h.a = static_cast<uint32_t>(fastest);
+  h.value = balance;
+  h.limit = o.energy * scale;
+  h.extra = scale;
+  return true;
+}
+
+template <int D>
+class WatchdogModule final : public SimModule<D> {
+ public:
+  // limit: watchdogStepLimit of the scene the loop is built for (radii and skin change only
+  // with the configuration, which rebuilds the loop).
+  explicit WatchdogModule(Real limit) : limit_(limit) {}
+  std::string_view name() const override { return "watchdog"; }
+  SimLevel level() const override { return SimLevel::Cleanup; }
+  void run(Scene<D>& s) override {
+    watchdogCheck(s, limit_);
+    // The energy every kEnergyEvery steps, firing when two checks in a row exceed the bound:
+    // a balance off by O(1) of a still tiny scale in the first steps (a load rising from zero
+    // on a grain at rest) fades, while created energy stays.
+    if (s.steps % kEnergyEvery != 0) return;
+    WatchdogHit h;
+    const bool over = watchdogEnergyOver(s, h);
+    if (over && energyOver_) throw h;
+    energyOver_ = over;
+  }
+
+  static constexpr uint64_t kEnergyEvery = 16;
+
+ private:
+  Real limit_;
+  bool energyOver_ = false;
+};
+
+}  // namespace demlab::sim
