@@ -14,7 +14,8 @@
 // stores the Hertz energy (2/5) kn delta^2 = (8/15) E* sqrt(R*) delta^(5/2).
 //
 // Cost per contact: two sqrt (a, and sqrt(a m*) shared by both dampers), one more with
-// friction (the spring's stiffening), and one while sliding; no pow, no allocation, no call.
+// friction while the spring is loaded (the spring's stiffening), and one while sliding; no pow,
+// no allocation; always inlined into the contact loops.
 #pragma once
 
 #include <algorithm>
@@ -29,9 +30,11 @@ namespace demlab::physics {
 // not null and the pair has friction) to the spring after this step. Requires g.overlap > 0,
 // k.effectiveMass > 0, k.effectiveRadius > 0.
 template <int D>
-inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeometry<D>& g,
-                                           const ContactKinematics<D>& k,
-                                           TangentialHistory<D>* history, Real dt) {
+[[gnu::always_inline]] inline ContactForce<D> hertzMindlinContact(const PairParams& p,
+                                                                  const ContactGeometry<D>& g,
+                                                                  const ContactKinematics<D>& k,
+                                                                  TangentialHistory<D>* history,
+                                                                  Real dt) {
   const Real a = std::sqrt(k.effectiveRadius * g.overlap);
   const Real kn = p.hertzKn * a;
   const Real sqrtAm = std::sqrt(a * k.effectiveMass);
@@ -46,7 +49,9 @@ inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeo
   // force time, vn plus the lagging part of the force's own kick (contact.hpp, velocityLag;
   // fn/m* is the relative normal acceleration of two spheres). Clamped, the damper takes the
   // spring's unworked energy, spring vn dt.
-  out.dampingLoss = (spring - fn) * (vn + k.velocityLag * dt * fn / k.effectiveMass) * dt;
+  // (The lag term is left out, not multiplied by zero, when the velocities are synchronized.)
+  const Real vForce = k.velocityLag != 0 ? vn + k.velocityLag * dt * fn / k.effectiveMass : vn;
+  out.dampingLoss = (spring - fn) * vForce * dt;
   out.force = fn * n;
   out.elasticEnergy = 0.4 * spring * g.overlap;
   out.frictionLoss = 0;
@@ -57,9 +62,13 @@ inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeo
       const Real kt = p.hertzKt * a;
       // kt = 8 G* sqrt(R* delta) changed with the overlap since the last step (the positions
       // moved by vn dt): the stored spring gained 1/2 (kt - kt_before) |s|^2 from no force.
-      const Real before = std::max<Real>(0, g.overlap + vn * dt);
-      const Real ktBefore = p.hertzKt * std::sqrt(k.effectiveRadius * before);
-      out.springWork = 0.5 * (kt - ktBefore) * history->spring.squaredNorm();
+      // (An unloaded spring, as every new contact's, gains nothing: no sqrt for it.)
+      const Real s2 = history->spring.squaredNorm();
+      if (s2 != 0) {
+        const Real before = std::max<Real>(0, g.overlap + vn * dt);
+        const Real ktBefore = p.hertzKt * std::sqrt(k.effectiveRadius * before);
+        out.springWork = 0.5 * (kt - ktBefore) * s2;
+      }
       coulombSpringStep<SpringFrame::Project, D>(n, vt, kt, p.hertzGammaT * sqrtAm, p.friction * fn,
                                                  dt, *history, out);
     } else {

@@ -28,9 +28,11 @@ namespace demlab::physics {
 // not null and the pair has friction) to the spring after this step. Requires g.overlap > 0,
 // k.effectiveMass > 0, k.effectiveRadius > 0.
 template <int D>
-inline ContactForce<D> linearContact(const PairParams& p, const ContactGeometry<D>& g,
-                                     const ContactKinematics<D>& k, TangentialHistory<D>* history,
-                                     Real dt) {
+[[gnu::always_inline]] inline ContactForce<D> linearContact(const PairParams& p,
+                                                            const ContactGeometry<D>& g,
+                                                            const ContactKinematics<D>& k,
+                                                            TangentialHistory<D>* history,
+                                                            Real dt) {
   const Real kn = p.knFixed + p.knPerRadius * k.effectiveRadius;
   const Real beta = 2 * p.dampingRatio * std::sqrt(k.effectiveMass / kn);
   const VecD<D>& n = g.normal;
@@ -43,7 +45,9 @@ inline ContactForce<D> linearContact(const PairParams& p, const ContactGeometry<
   // force time, vn plus the lagging part of the force's own kick (contact.hpp, velocityLag;
   // fn/m* is the relative normal acceleration of two spheres). Clamped, the damper takes the
   // spring's unworked energy, spring vn dt.
-  out.dampingLoss = (spring - fn) * (vn + k.velocityLag * dt * fn / k.effectiveMass) * dt;
+  // (The lag term is left out, not multiplied by zero, when the velocities are synchronized.)
+  const Real vForce = k.velocityLag != 0 ? vn + k.velocityLag * dt * fn / k.effectiveMass : vn;
+  out.dampingLoss = (spring - fn) * vForce * dt;
   out.force = fn * n;
   out.elasticEnergy = 0.5 * spring * g.overlap;
   out.frictionLoss = 0;

@@ -31,8 +31,10 @@ enum class SpringFrame { Rotate, Project };
 // the step's tangential damping and friction losses. n: unit normal; vt: tangential relative
 // velocity (B minus A, orthogonal to n); kt > 0, ct >= 0: spring and dashpot; cap = mu Fn >= 0.
 template <SpringFrame Frame, int D>
-inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt, Real kt, Real ct, Real cap,
-                              Real dt, TangentialHistory<D>& h, ContactForce<D>& out) {
+[[gnu::always_inline]] inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt, Real kt,
+                                                     Real ct, Real cap, Real dt,
+                                                     TangentialHistory<D>& h,
+                                                     ContactForce<D>& out) {
   VecD<D> s = h.spring;
   if constexpr (Frame == SpringFrame::Rotate) {
     const Real sn = s.dot(n);

@@ -23,11 +23,16 @@ namespace demlab::sim {
 // The law a contact loop calls. Law = -1: per-pair function pointer table.
 template <int D, int Law>
 struct LawCall {
-  static physics::ContactForce<D> call(const Scene<D>& s, size_t pair,
-                                       const physics::ContactGeometry<D>& g,
-                                       const physics::ContactKinematics<D>& k,
-                                       physics::TangentialHistory<D>* h, Real dt) {
-    const physics::PairParams& p = s.pairParams[pair];
+  [[gnu::always_inline]] static physics::ContactForce<D> call(
+      const Scene<D>& s, size_t pair, const physics::ContactGeometry<D>& g,
+      const physics::ContactKinematics<D>& k, physics::TangentialHistory<D>* h, Real dt) {
+    return call(s, s.pairParams[pair], pair, g, k, h, dt);
+  }
+  // The same with the pair's parameters given (p = s.pairParams[pair]).
+  [[gnu::always_inline]] static physics::ContactForce<D> call(
+      const Scene<D>& s, const physics::PairParams& p, size_t pair,
+      const physics::ContactGeometry<D>& g, const physics::ContactKinematics<D>& k,
+      physics::TangentialHistory<D>* h, Real dt) {
     if constexpr (Law == static_cast<int>(physics::LawKind::Linear)) {
       return physics::linearContact<D>(p, g, k, h, dt);
     } else if constexpr (Law == static_cast<int>(physics::LawKind::HertzMindlin)) {
@@ -60,51 +65,98 @@ struct PassEnergy {
 template <int D, int Law, bool History, bool Rotation>
 class GrainContactModule final : public SimModule<D> {
  public:
+  // grainPair: the index into s.pairParams of every pair when all grains have one material
+  // (makeContactModules), else -1.
+  explicit GrainContactModule(long grainPair = -1) : grainPair_(grainPair) {}
   std::string_view name() const override { return History ? "contacts-friction" : "contacts"; }
   SimLevel level() const override { return SimLevel::Contacts; }
 
   void run(Scene<D>& s) override {
+    // One material pair for every contact: its parameters are read once, outside the loop.
+    if (grainPair_ >= 0 && static_cast<size_t>(grainPair_) < s.pairParams.size()) {
+      pass<true>(s);
+    } else {
+      pass<false>(s);
+    }
+  }
+
+ private:
+  long grainPair_;
+
+  // The sphere-sphere narrow phase is inline here (physics::intersect's geometry, without the
+  // optional and the contact point): one sqrt and one division per contact, the division
+  // shared by the normal, the effective mass and the effective radius. For spheres the lever
+  // arms are along the normal, (r_i - overlap/2) n from A's centre and -(r_j - overlap/2) n from
+  // B's, so the relative velocity and both torques take one cross product each.
+  template <bool OnePair>
+  void pass(Scene<D>& s) {
     GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
     const Real lag = velocityLag(s);
+    const VecD<D>* __restrict x = a.x.data();
+    const VecD<D>* __restrict v = a.v.data();
+    const AngularD<D>* __restrict w = a.w.data();
+    VecD<D>* __restrict force = a.f.data();
+    AngularD<D>* __restrict torque = a.t.data();
+    const Real* __restrict r = a.r.data();
+    const Real* __restrict invMass = a.invMass.data();
+    const uint32_t* __restrict material = a.material.data();
+    const CandidatePair* __restrict cand = s.candidates.data();
+    physics::TangentialHistory<D>* __restrict springs = nullptr;
+    if constexpr (History) springs = s.pairSprings.data();
     PassEnergy e;
     const size_t nc = s.candidates.size();
+    physics::PairParams one;
+    if constexpr (OnePair) one = s.pairParams[static_cast<size_t>(grainPair_)];
     for (size_t kc = 0; kc < nc; ++kc) {
-      const uint32_t i = s.candidates[kc].i, j = s.candidates[kc].j;
-      const VecD<D> d = a.x[j] - a.x[i];
-      const Real rs = a.r[i] + a.r[j];
-      if (d.squaredNorm() >= rs * rs) {
-        if constexpr (History) s.pairSprings[kc].spring.setZero();  // the contact opened
+      const uint32_t i = cand[kc].i, j = cand[kc].j;
+      const VecD<D> d = x[j] - x[i];
+      const Real ri = r[i], rj = r[j];
+      const Real rs = ri + rj;
+      const Real d2 = d.squaredNorm();
+      if (d2 >= rs * rs) {
+        if constexpr (History) springs[kc].spring.setZero();  // the contact opened
         continue;
       }
       // A (i) is the grain with the lower slot (the search orders each pair so), so a pair's
       // spring keeps one orientation.
-      const auto geom = physics::intersect<D>(physics::SphereShape<D>{a.x[i], a.r[i]},
-                                              physics::SphereShape<D>{a.x[j], a.r[j]});
-      if (!geom) {
-        if constexpr (History) s.pairSprings[kc].spring.setZero();
-        continue;
+      const Real sumInvMass = invMass[i] + invMass[j];
+      physics::ContactGeometry<D> g;
+      Real effMass, effRadius;
+      if (d2 > 0) [[likely]] {
+        const Real dist = std::sqrt(d2);
+        const Real srs = sumInvMass * rs;
+        const Real q = 1 / (dist * srs);
+        g.normal = d * (q * srs);
+        g.overlap = rs - dist;
+        effMass = q * dist * rs;
+        effRadius = ri * rj * sumInvMass * dist * q;
+      } else {
+        // Coincident centres: the first axis, as physics::intersect.
+        g.normal = VecD<D>::Unit(0);
+        g.overlap = rs;
+        effMass = 1 / sumInvMass;
+        effRadius = ri * rj / rs;
       }
-      const physics::ContactGeometry<D>& g = *geom;
-      VecD<D> vrel = a.v[j] - a.v[i];
-      VecD<D> armA, armB;
-      if constexpr (Rotation) {
-        armA = g.point - a.x[i];
-        armB = g.point - a.x[j];
-        vrel += cross(a.w[j], armB) - cross(a.w[i], armA);
-      }
-      const physics::ContactKinematics<D> k{vrel, 1.0 / (a.invMass[i] + a.invMass[j]),
-                                            a.r[i] * a.r[j] / (a.r[i] + a.r[j]), lag};
+      const Real armA = ri - 0.5 * g.overlap, armB = rj - 0.5 * g.overlap;
+      VecD<D> vrel = v[j] - v[i];
+      if constexpr (Rotation) vrel -= cross(armA * w[i] + armB * w[j], g.normal);
+      const physics::ContactKinematics<D> k{vrel, effMass, effRadius, lag};
       physics::TangentialHistory<D>* h = nullptr;
-      if constexpr (History) h = &s.pairSprings[kc];
-      const physics::ContactForce<D> f =
-          LawCall<D, Law>::call(s, a.material[i] * nMat + a.material[j], g, k, h, dt);
-      a.f[j] += f.force;
-      a.f[i] -= f.force;
+      if constexpr (History) h = &springs[kc];
+      physics::ContactForce<D> f;
+      if constexpr (OnePair) {
+        f = LawCall<D, Law>::call(s, one, static_cast<size_t>(grainPair_), g, k, h, dt);
+      } else {
+        f = LawCall<D, Law>::call(s, material[i] * nMat + material[j], g, k, h, dt);
+      }
+      force[j] += f.force;
+      force[i] -= f.force;
       if constexpr (Rotation) {
-        a.t[j] += cross(armB, f.force);
-        a.t[i] -= cross(armA, f.force);
+        const AngularD<D> c = cross(g.normal, f.force);
+        torque[i] -= armA * c;
+        torque[j] -= armB * c;
       }
       e.add(f);
       s.contacts.push_back({i, j, false, f.force});
@@ -209,9 +261,10 @@ class WallContactModule final : public SimModule<D> {
 };
 
 // Returns the grain-grain and grain-wall contact modules for the scene's law set, history and
-// rotation flags. law: the one law of every pair, or -1 for mixed laws.
+// rotation flags. law: the one law of every pair, or -1 for mixed laws; grainPair: the index
+// into Scene::pairParams of every grain-grain pair when all grains have one material, or -1.
 template <int D>
 std::vector<std::unique_ptr<SimModule<D>>> makeContactModules(int law, bool history, bool rotation,
-                                                              bool walls);
+                                                              bool walls, long grainPair = -1);
 
 }  // namespace demlab::sim

@@ -45,6 +45,11 @@ typename SimulationManager<D>::Flags SimulationManager<D>::flags() const {
     }
   }
   f.law = law == -2 ? static_cast<int>(s_.defaultLaw) : law;
+  if (std::count(grainMat.begin(), grainMat.end(), true) == 1) {
+    const auto m =
+        static_cast<long>(std::find(grainMat.begin(), grainMat.end(), true) - grainMat.begin());
+    f.grainPair = m * static_cast<long>(nm) + m;
+  }
   f.rotating = s_.rotationEnabled && (f.anyFriction || s_.behaviors.hasTorqueLoads() || spinning);
   f.walls = s_.walls.size() > 0;
   f.movingWalls = s_.walls.anyMoving();
@@ -60,7 +65,7 @@ std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(con
   if (f.rotating) m.push_back(std::make_unique<PredictRotationModule<D>>());
   if (f.movingWalls) m.push_back(std::make_unique<WallMotionModule<D>>());
   m.push_back(std::make_unique<DetectionModule<D>>(s_.cellFactor));
-  for (auto& c : makeContactModules<D>(f.law, f.anyFriction, f.rotating, f.walls)) {
+  for (auto& c : makeContactModules<D>(f.law, f.anyFriction, f.rotating, f.walls, f.grainPair)) {
     m.push_back(std::move(c));
   }
   if (f.gravity) m.push_back(std::make_unique<GravityModule<D>>());
