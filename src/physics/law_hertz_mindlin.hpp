@@ -26,18 +26,29 @@
 
 namespace demlab::physics {
 
+// The square roots of a contact that depend only on its overlap, effective radius and
+// effective mass, apart so that a contact loop can take them for a batch of contacts first
+// (their latencies then overlap) and the law proper after: a = sqrt(R* delta), sqrt(a m*).
+struct HertzMindlinRoots {
+  Real a, sqrtAm;
+};
+[[gnu::always_inline]] inline HertzMindlinRoots hertzMindlinRoots(Real overlap, Real effectiveMass,
+                                                                  Real effectiveRadius) {
+  const Real a = std::sqrt(effectiveRadius * overlap);
+  return {a, std::sqrt(a * effectiveMass)};
+}
+
 // Returns the force on B and the step's energy figures (contact.hpp); changes *history (when
 // not null and the pair has friction) to the spring after this step. Requires g.overlap > 0,
-// k.effectiveMass > 0, k.effectiveRadius > 0.
+// k.effectiveMass > 0, k.effectiveRadius > 0; roots = hertzMindlinRoots(g.overlap,
+// k.effectiveMass, k.effectiveRadius).
 template <int D>
-[[gnu::always_inline]] inline ContactForce<D> hertzMindlinContact(const PairParams& p,
-                                                                  const ContactGeometry<D>& g,
-                                                                  const ContactKinematics<D>& k,
-                                                                  TangentialHistory<D>* history,
-                                                                  Real dt) {
-  const Real a = std::sqrt(k.effectiveRadius * g.overlap);
+[[gnu::always_inline]] inline ContactForce<D> hertzMindlinContactWith(
+    const PairParams& p, const ContactGeometry<D>& g, const ContactKinematics<D>& k,
+    TangentialHistory<D>* history, Real dt, const HertzMindlinRoots& roots) {
+  const Real a = roots.a;
   const Real kn = p.hertzKn * a;
-  const Real sqrtAm = std::sqrt(a * k.effectiveMass);
+  const Real sqrtAm = roots.sqrtAm;
   const Real gn = p.hertzGammaN * sqrtAm;
   const VecD<D>& n = g.normal;
   const Real vn = k.relativeVelocity.dot(n);
@@ -76,6 +87,17 @@ template <int D>
     }
   }
   return out;
+}
+
+// Returns hertzMindlinContactWith(p, g, k, history, dt, its roots); changes *history as it does.
+template <int D>
+[[gnu::always_inline]] inline ContactForce<D> hertzMindlinContact(const PairParams& p,
+                                                                  const ContactGeometry<D>& g,
+                                                                  const ContactKinematics<D>& k,
+                                                                  TangentialHistory<D>* history,
+                                                                  Real dt) {
+  return hertzMindlinContactWith<D>(
+      p, g, k, history, dt, hertzMindlinRoots(g.overlap, k.effectiveMass, k.effectiveRadius));
 }
 
 }  // namespace demlab::physics

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <type_traits>
 
 #include "core/type_interaction.hpp"
 #include "physics/law_hertz_mindlin.hpp"
@@ -37,6 +38,36 @@ struct LawCall {
       return physics::linearContact<D>(p, g, k, h, dt);
     } else if constexpr (Law == static_cast<int>(physics::LawKind::HertzMindlin)) {
       return physics::hertzMindlinContact<D>(p, g, k, h, dt);
+    } else {
+      return s.pairLawFn[pair](p, g, k, h, dt);
+    }
+  }
+
+  // The law's square roots that depend on the overlap and the effective mass and radius only
+  // (none for the function pointer table), and the law given them.
+  struct NoRoots {};
+  using Roots =
+      std::conditional_t<Law == static_cast<int>(physics::LawKind::Linear), physics::LinearRoots,
+                         std::conditional_t<Law == static_cast<int>(physics::LawKind::HertzMindlin),
+                                            physics::HertzMindlinRoots, NoRoots>>;
+  [[gnu::always_inline]] static Roots roots(const physics::PairParams& p, Real overlap,
+                                            Real effMass, Real effRadius) {
+    if constexpr (Law == static_cast<int>(physics::LawKind::Linear)) {
+      return physics::linearRoots(p, effMass, effRadius);
+    } else if constexpr (Law == static_cast<int>(physics::LawKind::HertzMindlin)) {
+      return physics::hertzMindlinRoots(overlap, effMass, effRadius);
+    } else {
+      return {};
+    }
+  }
+  [[gnu::always_inline]] static physics::ContactForce<D> call(
+      const Scene<D>& s, const physics::PairParams& p, size_t pair,
+      const physics::ContactGeometry<D>& g, const physics::ContactKinematics<D>& k,
+      physics::TangentialHistory<D>* h, Real dt, const Roots& roots) {
+    if constexpr (Law == static_cast<int>(physics::LawKind::Linear)) {
+      return physics::linearContactWith<D>(p, g, k, h, dt, roots);
+    } else if constexpr (Law == static_cast<int>(physics::LawKind::HertzMindlin)) {
+      return physics::hertzMindlinContactWith<D>(p, g, k, h, dt, roots);
     } else {
       return s.pairLawFn[pair](p, g, k, h, dt);
     }
@@ -88,8 +119,18 @@ class GrainContactModule final : public SimModule<D> {
   // shared by the normal, the effective mass and the effective radius. For spheres the lever
   // arms are along the normal, (r_i - overlap/2) n from A's centre and -(r_j - overlap/2) n from
   // B's, so the relative velocity and both torques take one cross product each.
+  //
+  // The candidates go in batches, in two passes: the first finds the touching pairs of the
+  // batch and takes their geometry and the law's square roots (LawCall::roots), the second runs
+  // the law on them in candidate order. The square roots and the division of one contact
+  // depend on each other; taken for many contacts in a row their latencies overlap, where in
+  // one pass over each contact they set its pace. The arithmetic and its order are those of
+  // one pass: the results are the same to the bit.
+  static constexpr size_t kBatch = 64;
+
   template <bool OnePair>
   void pass(Scene<D>& s) {
+    using Call = LawCall<D, Law>;
     GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
@@ -109,57 +150,79 @@ class GrainContactModule final : public SimModule<D> {
     const size_t nc = s.candidates.size();
     physics::PairParams one;
     if constexpr (OnePair) one = s.pairParams[static_cast<size_t>(grainPair_)];
-    for (size_t kc = 0; kc < nc; ++kc) {
-      const uint32_t i = cand[kc].i, j = cand[kc].j;
-      const VecD<D> d = x[j] - x[i];
-      const Real ri = r[i], rj = r[j];
-      const Real rs = ri + rj;
-      const Real d2 = d.squaredNorm();
-      if (d2 >= rs * rs) {
-        if constexpr (History) springs[kc].spring.setZero();  // the contact opened
-        continue;
+    // The batch: candidate index, pair index, geometry, effective mass and radius, roots.
+    uint32_t bk[kBatch];
+    size_t bp[kBatch];
+    physics::ContactGeometry<D> bg[kBatch];
+    Real bm[kBatch], br[kBatch];
+    typename Call::Roots broots[kBatch];
+    size_t kc = 0;
+    while (kc < nc) {
+      size_t m = 0;
+      for (; kc < nc && m < kBatch; ++kc) {
+        const uint32_t i = cand[kc].i, j = cand[kc].j;
+        const VecD<D> d = x[j] - x[i];
+        const Real ri = r[i], rj = r[j];
+        const Real rs = ri + rj;
+        const Real d2 = d.squaredNorm();
+        if (d2 >= rs * rs) {
+          if constexpr (History) springs[kc].spring.setZero();  // the contact opened
+          continue;
+        }
+        const Real sumInvMass = invMass[i] + invMass[j];
+        physics::ContactGeometry<D>& g = bg[m];
+        Real effMass, effRadius;
+        if (d2 > 0) [[likely]] {
+          const Real dist = std::sqrt(d2);
+          const Real srs = sumInvMass * rs;
+          const Real q = 1 / (dist * srs);
+          g.normal = d * (q * srs);
+          g.overlap = rs - dist;
+          effMass = q * dist * rs;
+          effRadius = ri * rj * sumInvMass * dist * q;
+        } else {
+          // Coincident centres: the first axis, as physics::intersect.
+          g.normal = VecD<D>::Unit(0);
+          g.overlap = rs;
+          effMass = 1 / sumInvMass;
+          effRadius = ri * rj / rs;
+        }
+        const size_t pair = OnePair ? 0 : material[i] * nMat + material[j];
+        broots[m] = Call::roots(OnePair ? one : s.pairParams[pair], g.overlap, effMass, effRadius);
+        bk[m] = static_cast<uint32_t>(kc);
+        bp[m] = pair;
+        bm[m] = effMass;
+        br[m] = effRadius;
+        ++m;
       }
-      // A (i) is the grain with the lower slot (the search orders each pair so), so a pair's
-      // spring keeps one orientation.
-      const Real sumInvMass = invMass[i] + invMass[j];
-      physics::ContactGeometry<D> g;
-      Real effMass, effRadius;
-      if (d2 > 0) [[likely]] {
-        const Real dist = std::sqrt(d2);
-        const Real srs = sumInvMass * rs;
-        const Real q = 1 / (dist * srs);
-        g.normal = d * (q * srs);
-        g.overlap = rs - dist;
-        effMass = q * dist * rs;
-        effRadius = ri * rj * sumInvMass * dist * q;
-      } else {
-        // Coincident centres: the first axis, as physics::intersect.
-        g.normal = VecD<D>::Unit(0);
-        g.overlap = rs;
-        effMass = 1 / sumInvMass;
-        effRadius = ri * rj / rs;
+      for (size_t c = 0; c < m; ++c) {
+        const size_t k0 = bk[c];
+        // A (i) is the grain with the lower slot (the search orders each pair so), so a pair's
+        // spring keeps one orientation.
+        const uint32_t i = cand[k0].i, j = cand[k0].j;
+        const physics::ContactGeometry<D>& g = bg[c];
+        const Real armA = r[i] - 0.5 * g.overlap, armB = r[j] - 0.5 * g.overlap;
+        VecD<D> vrel = v[j] - v[i];
+        if constexpr (Rotation) vrel -= cross(armA * w[i] + armB * w[j], g.normal);
+        const physics::ContactKinematics<D> k{vrel, bm[c], br[c], lag};
+        physics::TangentialHistory<D>* h = nullptr;
+        if constexpr (History) h = &springs[k0];
+        physics::ContactForce<D> f;
+        if constexpr (OnePair) {
+          f = Call::call(s, one, static_cast<size_t>(grainPair_), g, k, h, dt, broots[c]);
+        } else {
+          f = Call::call(s, s.pairParams[bp[c]], bp[c], g, k, h, dt, broots[c]);
+        }
+        force[j] += f.force;
+        force[i] -= f.force;
+        if constexpr (Rotation) {
+          const AngularD<D> cn = cross(g.normal, f.force);
+          torque[i] -= armA * cn;
+          torque[j] -= armB * cn;
+        }
+        e.add(f);
+        s.contacts.push_back({i, j, false, f.force});
       }
-      const Real armA = ri - 0.5 * g.overlap, armB = rj - 0.5 * g.overlap;
-      VecD<D> vrel = v[j] - v[i];
-      if constexpr (Rotation) vrel -= cross(armA * w[i] + armB * w[j], g.normal);
-      const physics::ContactKinematics<D> k{vrel, effMass, effRadius, lag};
-      physics::TangentialHistory<D>* h = nullptr;
-      if constexpr (History) h = &springs[kc];
-      physics::ContactForce<D> f;
-      if constexpr (OnePair) {
-        f = LawCall<D, Law>::call(s, one, static_cast<size_t>(grainPair_), g, k, h, dt);
-      } else {
-        f = LawCall<D, Law>::call(s, material[i] * nMat + material[j], g, k, h, dt);
-      }
-      force[j] += f.force;
-      force[i] -= f.force;
-      if constexpr (Rotation) {
-        const AngularD<D> c = cross(g.normal, f.force);
-        torque[i] -= armA * c;
-        torque[j] -= armB * c;
-      }
-      e.add(f);
-      s.contacts.push_back({i, j, false, f.force});
     }
     s.ledger.elastic += e.elastic;
     s.ledger.dampingLoss += e.damping;
