@@ -9,6 +9,8 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <memory>
 #include <type_traits>
 
@@ -81,6 +83,14 @@ Real velocityLag(const Scene<D>& s) {
   return s.integrator == IntegratorKind::Verlet ? 0.5 : 0.0;
 }
 
+// Returns true if every component of v is +0 (bit for bit: -0 is not).
+template <int D>
+inline bool isZeroBits(const VecD<D>& v) {
+  uint64_t bits = 0;
+  for (int k = 0; k < D; ++k) bits |= std::bit_cast<uint64_t>(v[k]);
+  return bits == 0;
+}
+
 // Energy sums of one contact pass.
 struct PassEnergy {
   double elastic = 0, damping = 0, friction = 0, springWork = 0, wallWork = 0;
@@ -120,12 +130,12 @@ class GrainContactModule final : public SimModule<D> {
   // arms are along the normal, (r_i - overlap/2) n from A's centre and -(r_j - overlap/2) n from
   // B's, so the relative velocity and both torques take one cross product each.
   //
-  // The candidates go in batches, in two passes: the first finds the touching pairs of the
-  // batch and takes their geometry and the law's square roots (LawCall::roots), the second runs
-  // the law on them in candidate order. The square roots and the division of one contact
-  // depend on each other; taken for many contacts in a row their latencies overlap, where in
-  // one pass over each contact they set its pace. The arithmetic and its order are those of
-  // one pass: the results are the same to the bit.
+  // The candidates go in batches of kBatch, in three passes: the first finds the touching pairs
+  // of the batch, the second takes their geometry and the law's square roots (LawCall::roots),
+  // the third runs the law on them in candidate order. The square roots and the division of one
+  // contact depend on each other; taken for many contacts in a row their latencies overlap, where
+  // in one pass over each contact they set its pace. The arithmetic and its order are those of one
+  // pass: the results are the same to the bit.
   static constexpr size_t kBatch = 64;
 
   template <bool OnePair>
@@ -156,21 +166,29 @@ class GrainContactModule final : public SimModule<D> {
     physics::ContactGeometry<D> bg[kBatch];
     Real bm[kBatch], br[kBatch];
     typename Call::Roots broots[kBatch];
-    size_t kc = 0;
-    while (kc < nc) {
+    for (size_t k0 = 0; k0 < nc; k0 += kBatch) {
+      const size_t kEnd = std::min(nc, k0 + kBatch);
+      // The touching candidates of the batch, without a branch on each (about half touch, in
+      // no order a predictor could learn); a spring is zeroed where the contact opened.
       size_t m = 0;
-      for (; kc < nc && m < kBatch; ++kc) {
+      for (size_t kc = k0; kc < kEnd; ++kc) {
         const uint32_t i = cand[kc].i, j = cand[kc].j;
+        const Real rs = r[i] + r[j];
+        const bool touch = (x[j] - x[i]).squaredNorm() < rs * rs;
+        bk[m] = static_cast<uint32_t>(kc);
+        m += touch;
+        if constexpr (History) {
+          if (!touch & !isZeroBits(springs[kc].spring)) springs[kc].spring.setZero();
+        }
+      }
+      for (size_t c = 0; c < m; ++c) {
+        const uint32_t i = cand[bk[c]].i, j = cand[bk[c]].j;
         const VecD<D> d = x[j] - x[i];
         const Real ri = r[i], rj = r[j];
         const Real rs = ri + rj;
         const Real d2 = d.squaredNorm();
-        if (d2 >= rs * rs) {
-          if constexpr (History) springs[kc].spring.setZero();  // the contact opened
-          continue;
-        }
         const Real sumInvMass = invMass[i] + invMass[j];
-        physics::ContactGeometry<D>& g = bg[m];
+        physics::ContactGeometry<D>& g = bg[c];
         Real effMass, effRadius;
         if (d2 > 0) [[likely]] {
           const Real dist = std::sqrt(d2);
@@ -188,12 +206,10 @@ class GrainContactModule final : public SimModule<D> {
           effRadius = ri * rj / rs;
         }
         const size_t pair = OnePair ? 0 : material[i] * nMat + material[j];
-        broots[m] = Call::roots(OnePair ? one : s.pairParams[pair], g.overlap, effMass, effRadius);
-        bk[m] = static_cast<uint32_t>(kc);
-        bp[m] = pair;
-        bm[m] = effMass;
-        br[m] = effRadius;
-        ++m;
+        broots[c] = Call::roots(OnePair ? one : s.pairParams[pair], g.overlap, effMass, effRadius);
+        bp[c] = pair;
+        bm[c] = effMass;
+        br[c] = effRadius;
       }
       for (size_t c = 0; c < m; ++c) {
         const size_t k0 = bk[c];
