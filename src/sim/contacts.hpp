@@ -237,7 +237,7 @@ class GrainContactModule final : public SimModule<D> {
           torque[j] -= armB * cn;
         }
         e.add(f);
-        s.contacts.push_back({i, j, false, f.force});
+        if (s.recordContacts) s.contacts.push_back({i, j, false, f.force});
       }
     }
     s.ledger.elastic += e.elastic;
@@ -321,7 +321,7 @@ class WallContactModule final : public SimModule<D> {
         e.add(f);
         // Work done by the moving wall on the grain over the step.
         if (wall.moving) e.wallWork -= f.force.dot(vWall) * dt;
-        s.contacts.push_back({i, static_cast<uint32_t>(w), true, f.force});
+        if (s.recordContacts) s.contacts.push_back({i, static_cast<uint32_t>(w), true, f.force});
       }
       if constexpr (History) {
         while (kc < which.size()) s.wallSprings[w][kc++].spring.setZero();

@@ -180,11 +180,19 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   const uint64_t total = options.steps;
   const uint64_t every =
       options.progressEvery ? options.progressEvery : std::max<uint64_t>(1, total / 100);
+  // The contact records of a step are only seen after the run's last step unless an output,
+  // the progress callback or a stop can look at or end the run in between.
+  const bool watched = !outputs_.empty() || options.progress || options.stop;
+  struct Restore {
+    bool& flag;
+    ~Restore() { flag = true; }
+  } restore{s_.recordContacts};
   for (uint64_t k = 0; k < total; ++k) {
     if (options.stop && options.stop->load(std::memory_order_relaxed)) {
       rep.interrupted = true;
       break;
     }
+    s_.recordContacts = watched || k + 1 == total;
     loop_.step(s_);
     if ((k & 1023) == 1023) checkFinite();
     if (options.progress && (k + 1) % every == 0 && k + 1 < total) options.progress(k + 1, total);
