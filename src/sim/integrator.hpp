@@ -24,6 +24,7 @@
 #pragma once
 
 #include <algorithm>
+#include <type_traits>
 
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
@@ -43,14 +44,37 @@ class PredictModule final : public SimModule<D> {
     const size_t n = a.size();
     Real maxD2 = s.maxDisp2;
     const bool track = a.x.size() == s.xAtBuild.size();
-    for (size_t i = 0; i < n; ++i) {
-      const VecD<D> acc = a.f[i] * a.invMass[i];
-      const VecD<D> vHalf = a.v[i] + h * acc;
-      a.x[i] += dt * vHalf;
-      a.v[i] = sync ? VecD<D>(vHalf + h * acc) : vHalf;
-      a.fPrev[i] = a.f[i];
-      a.f[i].setZero();
-      if (track) maxD2 = std::max(maxD2, (a.x[i] - s.xAtBuild[i]).squaredNorm());
+    // The arrays through restrict pointers: the loop then keeps them in registers instead of
+    // reloading each from the scene after every store.
+    VecD<D>* __restrict x = a.x.data();
+    VecD<D>* __restrict v = a.v.data();
+    VecD<D>* __restrict f = a.f.data();
+    VecD<D>* __restrict fPrev = a.fPrev.data();
+    const Real* __restrict invMass = a.invMass.data();
+    const VecD<D>* __restrict x0 = s.xAtBuild.data();
+    auto pass = [&](auto syncTag, auto trackTag) {
+      for (size_t i = 0; i < n; ++i) {
+        const VecD<D> acc = f[i] * invMass[i];
+        const VecD<D> vHalf = v[i] + h * acc;
+        x[i] += dt * vHalf;
+        if constexpr (decltype(syncTag)::value) {
+          v[i] = vHalf + h * acc;
+        } else {
+          v[i] = vHalf;
+        }
+        fPrev[i] = f[i];
+        f[i].setZero();
+        if constexpr (decltype(trackTag)::value) {
+          maxD2 = std::max(maxD2, (x[i] - x0[i]).squaredNorm());
+        }
+      }
+    };
+    using Yes = std::true_type;
+    using No = std::false_type;
+    if (sync) {
+      track ? pass(Yes{}, Yes{}) : pass(Yes{}, No{});
+    } else {
+      track ? pass(No{}, Yes{}) : pass(No{}, No{});
     }
     s.maxDisp2 = maxD2;
     // The contact passes of this step rebuild the per-step outputs.
@@ -101,21 +125,29 @@ class PredictRotationModule final : public SimModule<D> {
     const Real dt = s.stepDt, h = 0.5 * dt;
     const bool sync = s.integrator == IntegratorKind::Synchronized;
     const size_t n = a.size();
-    for (size_t i = 0; i < n; ++i) {
-      const AngularD<D> alpha = a.t[i] * a.invInertia[i];
-      const AngularD<D> wHalf = a.w[i] + h * alpha;
-      // A grain that does not turn keeps its orientation bit for bit (advance() would
-      // renormalise it by rounding): grains falling freely or resting without friction skip
-      // the quaternion work, as LIGGGHTS's nve/sphere, which keeps no orientation at all.
-      if (!isZeroAngular(wHalf)) a.q[i] = advance(a.q[i], wHalf, dt);
-      if (sync) {
-        a.w[i] = wHalf + h * alpha;
-      } else {
-        a.w[i] = wHalf;
+    RotationD<D>* __restrict q = a.q.data();
+    AngularD<D>* __restrict w = a.w.data();
+    AngularD<D>* __restrict t = a.t.data();
+    AngularD<D>* __restrict tPrev = a.tPrev.data();
+    const Real* __restrict invInertia = a.invInertia.data();
+    auto pass = [&](auto syncTag) {
+      for (size_t i = 0; i < n; ++i) {
+        const AngularD<D> alpha = t[i] * invInertia[i];
+        const AngularD<D> wHalf = w[i] + h * alpha;
+        // A grain that does not turn keeps its orientation bit for bit (advance() would
+        // renormalise it by rounding): grains falling freely or resting without friction skip
+        // the quaternion work, as LIGGGHTS's nve/sphere, which keeps no orientation at all.
+        if (!isZeroAngular(wHalf)) q[i] = advance(q[i], wHalf, dt);
+        if constexpr (decltype(syncTag)::value) {
+          w[i] = wHalf + h * alpha;
+        } else {
+          w[i] = wHalf;
+        }
+        tPrev[i] = t[i];
+        t[i] = GrainArrays<D>::zeroAngular();
       }
-      a.tPrev[i] = a.t[i];
-      a.t[i] = GrainArrays<D>::zeroAngular();
-    }
+    };
+    sync ? pass(std::true_type{}) : pass(std::false_type{});
   }
 };
 
@@ -129,15 +161,23 @@ class CorrectModule final : public SimModule<D> {
     GrainArrays<D>& a = s.grains.a;
     const Real h = 0.5 * s.stepDt;
     const size_t n = a.size();
+    VecD<D>* __restrict v = a.v.data();
+    const VecD<D>* __restrict f = a.f.data();
+    const VecD<D>* __restrict fPrev = a.fPrev.data();
+    const Real* __restrict invMass = a.invMass.data();
+    AngularD<D>* __restrict w = a.w.data();
+    const AngularD<D>* __restrict t = a.t.data();
+    const AngularD<D>* __restrict tPrev = a.tPrev.data();
+    const Real* __restrict invInertia = a.invInertia.data();
     if (s.integrator == IntegratorKind::Synchronized) {
-      for (size_t i = 0; i < n; ++i) a.v[i] += (h * a.invMass[i]) * (a.f[i] - a.fPrev[i]);
+      for (size_t i = 0; i < n; ++i) v[i] += (h * invMass[i]) * (f[i] - fPrev[i]);
       if (s.rotating) {
-        for (size_t i = 0; i < n; ++i) a.w[i] += (h * a.invInertia[i]) * (a.t[i] - a.tPrev[i]);
+        for (size_t i = 0; i < n; ++i) w[i] += (h * invInertia[i]) * (t[i] - tPrev[i]);
       }
     } else {
-      for (size_t i = 0; i < n; ++i) a.v[i] += (h * a.invMass[i]) * a.f[i];
+      for (size_t i = 0; i < n; ++i) v[i] += (h * invMass[i]) * f[i];
       if (s.rotating) {
-        for (size_t i = 0; i < n; ++i) a.w[i] += (h * a.invInertia[i]) * a.t[i];
+        for (size_t i = 0; i < n; ++i) w[i] += (h * invInertia[i]) * t[i];
       }
     }
     s.time = s.time + s.stepDt;
