@@ -275,12 +275,38 @@ class WallContactModule final : public SimModule<D> {
   }
   SimLevel level() const override { return SimLevel::Contacts; }
 
+  // grainPair: as GrainContactModule's (the one grain material m's pair m * nMat + m, or -1).
+  explicit WallContactModule(long grainPair = -1) : grainPair_(grainPair) {}
+
   void run(Scene<D>& s) override {
+    if (grainPair_ >= 0 && static_cast<size_t>(grainPair_) < s.pairParams.size()) {
+      pass<true>(s);
+    } else {
+      pass<false>(s);
+    }
+  }
+
+ private:
+  long grainPair_;
+
+  // OnePair: every grain has one material, so each wall has one PairParams, read once.
+  template <bool OnePair>
+  void pass(Scene<D>& s) {
     GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
     const Real lag = velocityLag(s);
     const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+    const VecD<D>* __restrict x = a.x.data();
+    const VecD<D>* __restrict v = a.v.data();
+    const AngularD<D>* __restrict wv = a.w.data();
+    VecD<D>* __restrict force = a.f.data();
+    AngularD<D>* __restrict torque = a.t.data();
+    const Real* __restrict r = a.r.data();
+    const Real* __restrict invMass = a.invMass.data();
+    const uint32_t* __restrict material = a.material.data();
+    // The grains' one material (grainPair_ = m nMat + m).
+    const size_t grainMat = OnePair ? static_cast<size_t>(grainPair_) / (nMat + 1) : 0;
     PassEnergy e;
     for (size_t w = 0; w < s.walls.size(); ++w) {
       Wall<D>& wall = s.walls.items[w];
@@ -294,29 +320,38 @@ class WallContactModule final : public SimModule<D> {
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
       const size_t m = entry.grains(shape, a.x.data(), a.r.data(), which.data(), which.size(),
                                     geoms_.data(), touched_.data());
+      const size_t wallPair = grainMat * nMat + wall.material;
+      physics::PairParams one;
+      if constexpr (OnePair) one = s.pairParams[wallPair];
+      physics::TangentialHistory<D>* __restrict springs = nullptr;
+      if constexpr (History) springs = s.wallSprings[w].data();
       // touched_ lists the grains in contact in the order of `which`: walk both to find each
       // contact's candidate index (its spring slot), zeroing the springs of those not touched.
       size_t kc = 0;
       for (size_t c = 0; c < m; ++c) {
         const uint32_t i = touched_[c];
         if constexpr (History) {
-          while (which[kc] != i) s.wallSprings[w][kc++].spring.setZero();
+          while (which[kc] != i) springs[kc++].spring.setZero();
         }
         const physics::ContactGeometry<D>& g = geoms_[c];
         const VecD<D> vWall = wall.surfaceVelocity(g.point);
-        VecD<D> vrel = vWall - a.v[i];
+        VecD<D> vrel = vWall - v[i];
         VecD<D> arm;
         if constexpr (Rotation) {
-          arm = g.point - a.x[i];
-          vrel -= cross(a.w[i], arm);
+          arm = g.point - x[i];
+          vrel -= cross(wv[i], arm);
         }
-        const physics::ContactKinematics<D> k{vrel, 1.0 / a.invMass[i], a.r[i], lag};
+        const physics::ContactKinematics<D> k{vrel, 1.0 / invMass[i], r[i], lag};
         physics::TangentialHistory<D>* h = nullptr;
-        if constexpr (History) h = &s.wallSprings[w][kc++];
-        const physics::ContactForce<D> f =
-            LawCall<D, Law>::call(s, a.material[i] * nMat + wall.material, g, k, h, dt);
-        a.f[i] -= f.force;
-        if constexpr (Rotation) a.t[i] -= cross(arm, f.force);
+        if constexpr (History) h = &springs[kc++];
+        physics::ContactForce<D> f;
+        if constexpr (OnePair) {
+          f = LawCall<D, Law>::call(s, one, wallPair, g, k, h, dt);
+        } else {
+          f = LawCall<D, Law>::call(s, material[i] * nMat + wall.material, g, k, h, dt);
+        }
+        force[i] -= f.force;
+        if constexpr (Rotation) torque[i] -= cross(arm, f.force);
         wall.force += f.force;
         e.add(f);
         // Work done by the moving wall on the grain over the step.
@@ -324,7 +359,7 @@ class WallContactModule final : public SimModule<D> {
         if (s.recordContacts) s.contacts.push_back({i, static_cast<uint32_t>(w), true, f.force});
       }
       if constexpr (History) {
-        while (kc < which.size()) s.wallSprings[w][kc++].spring.setZero();
+        while (kc < which.size()) springs[kc++].spring.setZero();
       }
     }
     s.ledger.elastic += e.elastic;
@@ -334,7 +369,6 @@ class WallContactModule final : public SimModule<D> {
     s.ledger.wallWork += e.wallWork;
   }
 
- private:
   std::vector<physics::ContactGeometry<D>> geoms_;
   std::vector<uint32_t> touched_;
 };
