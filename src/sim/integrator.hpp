@@ -24,6 +24,8 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <type_traits>
 
 #include "sim/scene.hpp"
@@ -114,6 +116,15 @@ inline bool isZeroAngular(const Vec3& w) {
   return w.x() == 0 && w.y() == 0 && w.z() == 0;
 }
 
+// Returns true if every component of the angular quantity w is +0 (bit for bit: -0 is not).
+inline bool isZeroBits(Real w) {
+  return std::bit_cast<uint64_t>(w) == 0;
+}
+inline bool isZeroBits(const Vec3& w) {
+  return (std::bit_cast<uint64_t>(w.x()) | std::bit_cast<uint64_t>(w.y()) |
+          std::bit_cast<uint64_t>(w.z())) == 0;
+}
+
 template <int D>
 class PredictRotationModule final : public SimModule<D> {
  public:
@@ -132,6 +143,12 @@ class PredictRotationModule final : public SimModule<D> {
     const Real* __restrict invInertia = a.invInertia.data();
     auto pass = [&](auto syncTag) {
       for (size_t i = 0; i < n; ++i) {
+        // An idle grain (no torque, no spin, both +0 bit for bit, as every grain of a falling
+        // lattice) stays as it is: only its last torque becomes +0. The same bits as the update.
+        if (isZeroBits(t[i]) && isZeroBits(w[i])) {
+          if (!isZeroBits(tPrev[i])) tPrev[i] = GrainArrays<D>::zeroAngular();
+          continue;
+        }
         const AngularD<D> alpha = t[i] * invInertia[i];
         const AngularD<D> wHalf = w[i] + h * alpha;
         // A grain that does not turn keeps its orientation bit for bit (advance() would
