@@ -23,7 +23,8 @@
 // off. Their scene names get the suffix "-nofriction" / "-norotation".
 //
 // On stderr: the modules the scene runs and the wall time of each (RunReport::modules), the
-// contact-search rebuilds and the energy-balance residual. --breakdown FILE appends the module
+// contact-search rebuilds and the energy-balance residual; with --digest the state digest after
+// the run (equal digests: bit-identical runs). --breakdown FILE appends the module
 // times as CSV rows `scene,module,seconds,share` (share of the run's wall time). --cpu FILE
 // appends `demlab,scene,n,steps,cpu_seconds,particle_steps_per_cpu_s,load1`: the process's CPU
 // time (user + system) over the run and the 1-minute load average before it, the steadier
@@ -80,6 +81,7 @@ struct Options {
   std::string breakdown;
   std::string cpu;
   bool header = true;
+  bool digest = false;
 };
 
 void usage(std::FILE* f) {
@@ -97,7 +99,8 @@ void usage(std::FILE* f) {
                "  --breakdown FILE  append per-module times as CSV scene,module,seconds,share\n"
                "  --cpu FILE        append code,scene,n,steps,cpu_seconds,\n"
                "                    particle_steps_per_cpu_s,load1 (CPU time of the run)\n"
-               "  --no-header       leave out the CSV header line\n");
+               "  --no-header       leave out the CSV header line\n"
+               "  --digest          print the state digest after each run on stderr\n");
 }
 
 // Returns the value of a numeric option; exits with status 2 on a bad value.
@@ -139,6 +142,8 @@ Options parse(int argc, char** argv) {
       o.cpu = value();
     } else if (a == "--no-header") {
       o.header = false;
+    } else if (a == "--digest") {
+      o.digest = true;
     } else if (a == "--variant") {
       std::string_view list = value();
       while (!list.empty()) {
@@ -327,6 +332,11 @@ void runOne(const io::SphereData& d, const std::string& scene, const Options& o,
       rss * 1048576.0 / static_cast<double>(std::max<std::size_t>(d.size(), 1)),
       (rss - baselineRssMb) * 1048576.0 / static_cast<double>(std::max<std::size_t>(d.size(), 1)),
       baselineRssMb);
+  // After the peak RSS is read: the digest serializes the whole scene.
+  if (o.digest) {
+    std::fprintf(stderr, "#   state digest %016llx\n",
+                 static_cast<unsigned long long>(s->stateDigest()));
+  }
   std::FILE* bd = o.breakdown.empty() ? nullptr : std::fopen(o.breakdown.c_str(), "a");
   if (!o.breakdown.empty() && bd == nullptr) {
     std::fprintf(stderr, "bench_sim: couldn't open \"%s\" for appending\n", o.breakdown.c_str());

@@ -16,7 +16,8 @@
 // stores the Hertz energy (2/5) kn delta^2 = (8/15) E* sqrt(R*) delta^(5/2).
 //
 // Cost per contact: two sqrt (a, and sqrt(a m*) shared by both dampers), one more with
-// friction (the spring's stiffening), and one while sliding; no pow, no allocation, no call.
+// friction while the spring is loaded (the spring's stiffening), and one while sliding; no pow,
+// no allocation; always inlined into the contact loops.
 #pragma once
 
 #include <algorithm>
@@ -27,16 +28,29 @@
 
 namespace demlab::physics {
 
+// The square roots of a contact that depend only on its overlap, effective radius and
+// effective mass, apart so that a contact loop can take them for a batch of contacts first
+// (their latencies then overlap) and the law proper after: a = sqrt(R* delta), sqrt(a m*).
+struct HertzMindlinRoots {
+  Real a, sqrtAm;
+};
+[[gnu::always_inline]] inline HertzMindlinRoots hertzMindlinRoots(Real overlap, Real effectiveMass,
+                                                                  Real effectiveRadius) {
+  const Real a = std::sqrt(effectiveRadius * overlap);
+  return {a, std::sqrt(a * effectiveMass)};
+}
+
 // Returns the force on B and the step's energy figures (contact.hpp); changes *history (when
 // not null and the pair has friction) to the spring after this step. Requires g.overlap > 0,
-// k.effectiveMass > 0, k.effectiveRadius > 0.
+// k.effectiveMass > 0, k.effectiveRadius > 0; roots = hertzMindlinRoots(g.overlap,
+// k.effectiveMass, k.effectiveRadius).
 template <int D>
-inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeometry<D>& g,
-                                           const ContactKinematics<D>& k,
-                                           TangentialHistory<D>* history, Real dt) {
-  const Real a = std::sqrt(k.effectiveRadius * g.overlap);
+[[gnu::always_inline]] inline ContactForce<D> hertzMindlinContactWith(
+    const PairParams& p, const ContactGeometry<D>& g, const ContactKinematics<D>& k,
+    TangentialHistory<D>* history, Real dt, const HertzMindlinRoots& roots) {
+  const Real a = roots.a;
   const Real kn = p.hertzKn * a;
-  const Real sqrtAm = std::sqrt(a * k.effectiveMass);
+  const Real sqrtAm = roots.sqrtAm;
   const Real gn = p.hertzGammaN * sqrtAm;
   const VecD<D>& n = g.normal;
   const Real vn = k.relativeVelocity.dot(n);
@@ -48,7 +62,9 @@ inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeo
   // force time, vn plus the lagging part of the force's own kick (contact.hpp, velocityLag;
   // fn/m* is the relative normal acceleration of two spheres). Clamped, the damper takes the
   // spring's unworked energy, spring vn dt.
-  out.dampingLoss = (spring - fn) * (vn + k.velocityLag * dt * fn / k.effectiveMass) * dt;
+  // (The lag term is left out, not multiplied by zero, when the velocities are synchronized.)
+  const Real vForce = k.velocityLag != 0 ? vn + k.velocityLag * dt * fn / k.effectiveMass : vn;
+  out.dampingLoss = (spring - fn) * vForce * dt;
   out.force = fn * n;
   out.elasticEnergy = 0.4 * spring * g.overlap;
   out.frictionLoss = 0;
@@ -59,9 +75,13 @@ inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeo
       const Real kt = p.hertzKt * a;
       // kt = 8 G* sqrt(R* delta) changed with the overlap since the last step (the positions
       // moved by vn dt): the stored spring gained 1/2 (kt - kt_before) |s|^2 from no force.
-      const Real before = std::max<Real>(0, g.overlap + vn * dt);
-      const Real ktBefore = p.hertzKt * std::sqrt(k.effectiveRadius * before);
-      out.springWork = 0.5 * (kt - ktBefore) * history->spring.squaredNorm();
+      // (An unloaded spring, as every new contact's, gains nothing: no sqrt for it.)
+      const Real s2 = history->spring.squaredNorm();
+      if (s2 != 0) {
+        const Real before = std::max<Real>(0, g.overlap + vn * dt);
+        const Real ktBefore = p.hertzKt * std::sqrt(k.effectiveRadius * before);
+        out.springWork = 0.5 * (kt - ktBefore) * s2;
+      }
       coulombSpringStep<SpringFrame::Project, D>(n, vt, kt, p.hertzGammaT * sqrtAm, p.friction * fn,
                                                  dt, p.coulomb, *history, out);
     } else {
@@ -69,6 +89,17 @@ inline ContactForce<D> hertzMindlinContact(const PairParams& p, const ContactGeo
     }
   }
   return out;
+}
+
+// Returns hertzMindlinContactWith(p, g, k, history, dt, its roots); changes *history as it does.
+template <int D>
+[[gnu::always_inline]] inline ContactForce<D> hertzMindlinContact(const PairParams& p,
+                                                                  const ContactGeometry<D>& g,
+                                                                  const ContactKinematics<D>& k,
+                                                                  TangentialHistory<D>* history,
+                                                                  Real dt) {
+  return hertzMindlinContactWith<D>(
+      p, g, k, history, dt, hertzMindlinRoots(g.overlap, k.effectiveMass, k.effectiveRadius));
 }
 
 }  // namespace demlab::physics

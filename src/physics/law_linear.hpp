@@ -24,15 +24,30 @@
 
 namespace demlab::physics {
 
+// The stiffness and damping factor of a contact, which depend only on its effective radius
+// and effective mass, apart so that a contact loop can take them (and their sqrt) for a batch
+// of contacts first: kn = knFixed + knPerRadius R*, beta = 2 zeta sqrt(m*/kn).
+struct LinearRoots {
+  Real kn, beta;
+};
+[[gnu::always_inline]] inline LinearRoots linearRoots(const PairParams& p, Real effectiveMass,
+                                                      Real effectiveRadius) {
+  const Real kn = p.knFixed + p.knPerRadius * effectiveRadius;
+  return {kn, 2 * p.dampingRatio * std::sqrt(effectiveMass / kn)};
+}
+
 // Returns the force on B and the step's energy figures (contact.hpp); changes *history (when
 // not null and the pair has friction) to the spring after this step. Requires g.overlap > 0,
-// k.effectiveMass > 0, k.effectiveRadius > 0.
+// k.effectiveMass > 0, k.effectiveRadius > 0; roots = linearRoots(p, k.effectiveMass,
+// k.effectiveRadius).
 template <int D>
-inline ContactForce<D> linearContact(const PairParams& p, const ContactGeometry<D>& g,
-                                     const ContactKinematics<D>& k, TangentialHistory<D>* history,
-                                     Real dt) {
-  const Real kn = p.knFixed + p.knPerRadius * k.effectiveRadius;
-  const Real beta = 2 * p.dampingRatio * std::sqrt(k.effectiveMass / kn);
+[[gnu::always_inline]] inline ContactForce<D> linearContactWith(const PairParams& p,
+                                                                const ContactGeometry<D>& g,
+                                                                const ContactKinematics<D>& k,
+                                                                TangentialHistory<D>* history,
+                                                                Real dt, const LinearRoots& roots) {
+  const Real kn = roots.kn;
+  const Real beta = roots.beta;
   const VecD<D>& n = g.normal;
   const Real vn = k.relativeVelocity.dot(n);
   const Real spring = kn * g.overlap;
@@ -43,7 +58,9 @@ inline ContactForce<D> linearContact(const PairParams& p, const ContactGeometry<
   // force time, vn plus the lagging part of the force's own kick (contact.hpp, velocityLag;
   // fn/m* is the relative normal acceleration of two spheres). Clamped, the damper takes the
   // spring's unworked energy, spring vn dt.
-  out.dampingLoss = (spring - fn) * (vn + k.velocityLag * dt * fn / k.effectiveMass) * dt;
+  // (The lag term is left out, not multiplied by zero, when the velocities are synchronized.)
+  const Real vForce = k.velocityLag != 0 ? vn + k.velocityLag * dt * fn / k.effectiveMass : vn;
+  out.dampingLoss = (spring - fn) * vForce * dt;
   out.force = fn * n;
   out.elasticEnergy = 0.5 * spring * g.overlap;
   out.frictionLoss = 0;
@@ -59,6 +76,17 @@ inline ContactForce<D> linearContact(const PairParams& p, const ContactGeometry<
     }
   }
   return out;
+}
+
+// Returns linearContactWith(p, g, k, history, dt, its roots); changes *history as it does.
+template <int D>
+[[gnu::always_inline]] inline ContactForce<D> linearContact(const PairParams& p,
+                                                            const ContactGeometry<D>& g,
+                                                            const ContactKinematics<D>& k,
+                                                            TangentialHistory<D>* history,
+                                                            Real dt) {
+  return linearContactWith<D>(p, g, k, history, dt,
+                              linearRoots(p, k.effectiveMass, k.effectiveRadius));
 }
 
 }  // namespace demlab::physics

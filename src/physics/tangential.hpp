@@ -44,9 +44,11 @@ enum class SpringFrame { Rotate, Project };
 // velocity (B minus A, orthogonal to n); kt > 0, ct >= 0: spring and dashpot; cap = mu Fn >= 0;
 // criterion: what is compared with the cap (above).
 template <SpringFrame Frame, int D>
-inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt, Real kt, Real ct, Real cap,
-                              Real dt, CoulombCriterion criterion, TangentialHistory<D>& h,
-                              ContactForce<D>& out) {
+[[gnu::always_inline]] inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt, Real kt,
+                                                     Real ct, Real cap, Real dt,
+                                                     CoulombCriterion criterion,
+                                                     TangentialHistory<D>& h,
+                                                     ContactForce<D>& out) {
   VecD<D> s = h.spring;
   if constexpr (Frame == SpringFrame::Rotate) {
     const Real sn = s.dot(n);

@@ -1,6 +1,7 @@
 // The modules that run behaviors and prescribed wall motion.
-//  - "gravity": adds m g to every grain (g: the sum of the gravity behaviors). Its work is the
-//    change of the gravitational potential, which the ledger reads from the state.
+//  - "gravity": adds m g to every grain (g: the sum of the gravity behaviors; only its nonzero
+//    component when it has one). Its work is the change of the gravitational potential, which
+//    the ledger reads from the state.
 //  - "loads": each load behavior adds its force and torque, evaluated at the end-of-step time,
 //    to its grain or to each grain of its tag group; the work it does over the step, F . dx
 //    with dx the step's displacement, goes to the ledger.
@@ -23,6 +24,19 @@ class GravityModule final : public SimModule<D> {
     const VecD<D> g = s.behaviors.gravity();
     GrainArrays<D>& a = s.grains.a;
     const size_t n = a.size();
+    // Gravity along one axis (as usual): one division per grain, not D. Adding the other
+    // components' 0 would change nothing (a force sum is never -0), so this is bit-identical.
+    int axis = -1, nonzero = 0;
+    for (int k = 0; k < D; ++k) {
+      if (g[k] != 0) axis = k, ++nonzero;
+    }
+    if (nonzero == 1) {
+      const Real gk = g[axis];
+      VecD<D>* __restrict f = a.f.data();
+      const Real* __restrict invMass = a.invMass.data();
+      for (size_t i = 0; i < n; ++i) f[i][axis] += gk / invMass[i];
+      return;
+    }
     for (size_t i = 0; i < n; ++i) a.f[i] += g / a.invMass[i];
   }
 };

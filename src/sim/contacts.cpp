@@ -7,18 +7,22 @@ namespace demlab::sim {
 namespace {
 
 template <int D, int Law, bool History, bool Rotation>
-void addPair(std::vector<std::unique_ptr<SimModule<D>>>& out, bool walls) {
-  out.push_back(std::make_unique<GrainContactModule<D, Law, History, Rotation>>());
-  if (walls) out.push_back(std::make_unique<WallContactModule<D, Law, History, Rotation>>());
+void addPair(std::vector<std::unique_ptr<SimModule<D>>>& out, bool walls, long grainPair) {
+  out.push_back(std::make_unique<GrainContactModule<D, Law, History, Rotation>>(grainPair));
+  if (walls) {
+    out.push_back(std::make_unique<WallContactModule<D, Law, History, Rotation>>(grainPair));
+  }
 }
 
 template <int D, int Law>
 void addForLaw(std::vector<std::unique_ptr<SimModule<D>>>& out, bool history, bool rotation,
-               bool walls) {
+               bool walls, long grainPair) {
   if (history) {
-    rotation ? addPair<D, Law, true, true>(out, walls) : addPair<D, Law, true, false>(out, walls);
+    rotation ? addPair<D, Law, true, true>(out, walls, grainPair)
+             : addPair<D, Law, true, false>(out, walls, grainPair);
   } else {
-    rotation ? addPair<D, Law, false, true>(out, walls) : addPair<D, Law, false, false>(out, walls);
+    rotation ? addPair<D, Law, false, true>(out, walls, grainPair)
+             : addPair<D, Law, false, false>(out, walls, grainPair);
   }
 }
 
@@ -26,21 +30,23 @@ void addForLaw(std::vector<std::unique_ptr<SimModule<D>>>& out, bool history, bo
 
 template <int D>
 std::vector<std::unique_ptr<SimModule<D>>> makeContactModules(int law, bool history, bool rotation,
-                                                              bool walls) {
+                                                              bool walls, long grainPair) {
   std::vector<std::unique_ptr<SimModule<D>>> out;
   constexpr int kLinear = static_cast<int>(physics::LawKind::Linear);
   constexpr int kHertz = static_cast<int>(physics::LawKind::HertzMindlin);
   if (law == kLinear) {
-    addForLaw<D, kLinear>(out, history, rotation, walls);
+    addForLaw<D, kLinear>(out, history, rotation, walls, grainPair);
   } else if (law == kHertz) {
-    addForLaw<D, kHertz>(out, history, rotation, walls);
+    addForLaw<D, kHertz>(out, history, rotation, walls, grainPair);
   } else {
-    addForLaw<D, -1>(out, history, rotation, walls);
+    addForLaw<D, -1>(out, history, rotation, walls, grainPair);
   }
   return out;
 }
 
-template std::vector<std::unique_ptr<SimModule<2>>> makeContactModules<2>(int, bool, bool, bool);
-template std::vector<std::unique_ptr<SimModule<3>>> makeContactModules<3>(int, bool, bool, bool);
+template std::vector<std::unique_ptr<SimModule<2>>> makeContactModules<2>(int, bool, bool, bool,
+                                                                          long);
+template std::vector<std::unique_ptr<SimModule<3>>> makeContactModules<3>(int, bool, bool, bool,
+                                                                          long);
 
 }  // namespace demlab::sim

@@ -9,7 +9,10 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <memory>
+#include <type_traits>
 
 #include "core/type_interaction.hpp"
 #include "physics/law_hertz_mindlin.hpp"
@@ -23,15 +26,50 @@ namespace demlab::sim {
 // The law a contact loop calls. Law = -1: per-pair function pointer table.
 template <int D, int Law>
 struct LawCall {
-  static physics::ContactForce<D> call(const Scene<D>& s, size_t pair,
-                                       const physics::ContactGeometry<D>& g,
-                                       const physics::ContactKinematics<D>& k,
-                                       physics::TangentialHistory<D>* h, Real dt) {
-    const physics::PairParams& p = s.pairParams[pair];
+  [[gnu::always_inline]] static physics::ContactForce<D> call(
+      const Scene<D>& s, size_t pair, const physics::ContactGeometry<D>& g,
+      const physics::ContactKinematics<D>& k, physics::TangentialHistory<D>* h, Real dt) {
+    return call(s, s.pairParams[pair], pair, g, k, h, dt);
+  }
+  // The same with the pair's parameters given (p = s.pairParams[pair]).
+  [[gnu::always_inline]] static physics::ContactForce<D> call(
+      const Scene<D>& s, const physics::PairParams& p, size_t pair,
+      const physics::ContactGeometry<D>& g, const physics::ContactKinematics<D>& k,
+      physics::TangentialHistory<D>* h, Real dt) {
     if constexpr (Law == static_cast<int>(physics::LawKind::Linear)) {
       return physics::linearContact<D>(p, g, k, h, dt);
     } else if constexpr (Law == static_cast<int>(physics::LawKind::HertzMindlin)) {
       return physics::hertzMindlinContact<D>(p, g, k, h, dt);
+    } else {
+      return s.pairLawFn[pair](p, g, k, h, dt);
+    }
+  }
+
+  // The law's square roots that depend on the overlap and the effective mass and radius only
+  // (none for the function pointer table), and the law given them.
+  struct NoRoots {};
+  using Roots =
+      std::conditional_t<Law == static_cast<int>(physics::LawKind::Linear), physics::LinearRoots,
+                         std::conditional_t<Law == static_cast<int>(physics::LawKind::HertzMindlin),
+                                            physics::HertzMindlinRoots, NoRoots>>;
+  [[gnu::always_inline]] static Roots roots(const physics::PairParams& p, Real overlap,
+                                            Real effMass, Real effRadius) {
+    if constexpr (Law == static_cast<int>(physics::LawKind::Linear)) {
+      return physics::linearRoots(p, effMass, effRadius);
+    } else if constexpr (Law == static_cast<int>(physics::LawKind::HertzMindlin)) {
+      return physics::hertzMindlinRoots(overlap, effMass, effRadius);
+    } else {
+      return {};
+    }
+  }
+  [[gnu::always_inline]] static physics::ContactForce<D> call(
+      const Scene<D>& s, const physics::PairParams& p, size_t pair,
+      const physics::ContactGeometry<D>& g, const physics::ContactKinematics<D>& k,
+      physics::TangentialHistory<D>* h, Real dt, const Roots& roots) {
+    if constexpr (Law == static_cast<int>(physics::LawKind::Linear)) {
+      return physics::linearContactWith<D>(p, g, k, h, dt, roots);
+    } else if constexpr (Law == static_cast<int>(physics::LawKind::HertzMindlin)) {
+      return physics::hertzMindlinContactWith<D>(p, g, k, h, dt, roots);
     } else {
       return s.pairLawFn[pair](p, g, k, h, dt);
     }
@@ -43,6 +81,14 @@ struct LawCall {
 template <int D>
 Real velocityLag(const Scene<D>& s) {
   return s.integrator == IntegratorKind::Verlet ? 0.5 : 0.0;
+}
+
+// Returns true if every component of v is +0 (bit for bit: -0 is not).
+template <int D>
+inline bool isZeroBits(const VecD<D>& v) {
+  uint64_t bits = 0;
+  for (int k = 0; k < D; ++k) bits |= std::bit_cast<uint64_t>(v[k]);
+  return bits == 0;
 }
 
 // Energy sums of one contact pass.
@@ -60,54 +106,139 @@ struct PassEnergy {
 template <int D, int Law, bool History, bool Rotation>
 class GrainContactModule final : public SimModule<D> {
  public:
+  // grainPair: the index into s.pairParams of every pair when all grains have one material
+  // (makeContactModules), else -1.
+  explicit GrainContactModule(long grainPair = -1) : grainPair_(grainPair) {}
   std::string_view name() const override { return History ? "contacts-friction" : "contacts"; }
   SimLevel level() const override { return SimLevel::Contacts; }
 
   void run(Scene<D>& s) override {
+    // One material pair for every contact: its parameters are read once, outside the loop.
+    if (grainPair_ >= 0 && static_cast<size_t>(grainPair_) < s.pairParams.size()) {
+      pass<true>(s);
+    } else {
+      pass<false>(s);
+    }
+  }
+
+ private:
+  long grainPair_;
+
+  // The sphere-sphere narrow phase is inline here (physics::intersect's geometry, without the
+  // optional and the contact point): one sqrt and one division per contact, the division
+  // shared by the normal, the effective mass and the effective radius. For spheres the lever
+  // arms are along the normal, (r_i - overlap/2) n from A's centre and -(r_j - overlap/2) n from
+  // B's, so the relative velocity and both torques take one cross product each.
+  //
+  // The candidates go in batches of kBatch, in three passes: the first finds the touching pairs
+  // of the batch, the second takes their geometry and the law's square roots (LawCall::roots),
+  // the third runs the law on them in candidate order. The square roots and the division of one
+  // contact depend on each other; taken for many contacts in a row their latencies overlap, where
+  // in one pass over each contact they set its pace. The arithmetic and its order are those of one
+  // pass: the results are the same to the bit.
+  static constexpr size_t kBatch = 64;
+
+  template <bool OnePair>
+  void pass(Scene<D>& s) {
+    using Call = LawCall<D, Law>;
     GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
     const Real lag = velocityLag(s);
+    const VecD<D>* __restrict x = a.x.data();
+    const VecD<D>* __restrict v = a.v.data();
+    const AngularD<D>* __restrict w = a.w.data();
+    VecD<D>* __restrict force = a.f.data();
+    AngularD<D>* __restrict torque = a.t.data();
+    const Real* __restrict r = a.r.data();
+    const Real* __restrict invMass = a.invMass.data();
+    const uint32_t* __restrict material = a.material.data();
+    const CandidatePair* __restrict cand = s.candidates.data();
+    physics::TangentialHistory<D>* __restrict springs = nullptr;
+    if constexpr (History) springs = s.pairSprings.data();
     PassEnergy e;
     const size_t nc = s.candidates.size();
-    for (size_t kc = 0; kc < nc; ++kc) {
-      const uint32_t i = s.candidates[kc].i, j = s.candidates[kc].j;
-      const VecD<D> d = a.x[j] - a.x[i];
-      const Real rs = a.r[i] + a.r[j];
-      if (d.squaredNorm() >= rs * rs) {
-        if constexpr (History) s.pairSprings[kc].spring.setZero();  // the contact opened
-        continue;
+    physics::PairParams one;
+    if constexpr (OnePair) one = s.pairParams[static_cast<size_t>(grainPair_)];
+    // The batch: candidate index, pair index, geometry, effective mass and radius, roots.
+    uint32_t bk[kBatch];
+    size_t bp[kBatch];
+    physics::ContactGeometry<D> bg[kBatch];
+    Real bm[kBatch], br[kBatch];
+    typename Call::Roots broots[kBatch];
+    for (size_t k0 = 0; k0 < nc; k0 += kBatch) {
+      const size_t kEnd = std::min(nc, k0 + kBatch);
+      // The touching candidates of the batch, without a branch on each (about half touch, in
+      // no order a predictor could learn); a spring is zeroed where the contact opened.
+      size_t m = 0;
+      for (size_t kc = k0; kc < kEnd; ++kc) {
+        const uint32_t i = cand[kc].i, j = cand[kc].j;
+        const Real rs = r[i] + r[j];
+        const bool touch = (x[j] - x[i]).squaredNorm() < rs * rs;
+        bk[m] = static_cast<uint32_t>(kc);
+        m += touch;
+        if constexpr (History) {
+          if (!touch & !isZeroBits(springs[kc].spring)) springs[kc].spring.setZero();
+        }
       }
-      // A (i) is the grain with the lower slot (the search orders each pair so), so a pair's
-      // spring keeps one orientation.
-      const auto geom = physics::intersect<D>(physics::SphereShape<D>{a.x[i], a.r[i]},
-                                              physics::SphereShape<D>{a.x[j], a.r[j]});
-      if (!geom) {
-        if constexpr (History) s.pairSprings[kc].spring.setZero();
-        continue;
+      for (size_t c = 0; c < m; ++c) {
+        const uint32_t i = cand[bk[c]].i, j = cand[bk[c]].j;
+        const VecD<D> d = x[j] - x[i];
+        const Real ri = r[i], rj = r[j];
+        const Real rs = ri + rj;
+        const Real d2 = d.squaredNorm();
+        const Real sumInvMass = invMass[i] + invMass[j];
+        physics::ContactGeometry<D>& g = bg[c];
+        Real effMass, effRadius;
+        if (d2 > 0) [[likely]] {
+          const Real dist = std::sqrt(d2);
+          const Real srs = sumInvMass * rs;
+          const Real q = 1 / (dist * srs);
+          g.normal = d * (q * srs);
+          g.overlap = rs - dist;
+          effMass = q * dist * rs;
+          effRadius = ri * rj * sumInvMass * dist * q;
+        } else {
+          // Coincident centres: the first axis, as physics::intersect.
+          g.normal = VecD<D>::Unit(0);
+          g.overlap = rs;
+          effMass = 1 / sumInvMass;
+          effRadius = ri * rj / rs;
+        }
+        const size_t pair = OnePair ? 0 : material[i] * nMat + material[j];
+        broots[c] = Call::roots(OnePair ? one : s.pairParams[pair], g.overlap, effMass, effRadius);
+        bp[c] = pair;
+        bm[c] = effMass;
+        br[c] = effRadius;
       }
-      const physics::ContactGeometry<D>& g = *geom;
-      VecD<D> vrel = a.v[j] - a.v[i];
-      VecD<D> armA, armB;
-      if constexpr (Rotation) {
-        armA = g.point - a.x[i];
-        armB = g.point - a.x[j];
-        vrel += cross(a.w[j], armB) - cross(a.w[i], armA);
+      for (size_t c = 0; c < m; ++c) {
+        const size_t k0 = bk[c];
+        // A (i) is the grain with the lower slot (the search orders each pair so), so a pair's
+        // spring keeps one orientation.
+        const uint32_t i = cand[k0].i, j = cand[k0].j;
+        const physics::ContactGeometry<D>& g = bg[c];
+        const Real armA = r[i] - 0.5 * g.overlap, armB = r[j] - 0.5 * g.overlap;
+        VecD<D> vrel = v[j] - v[i];
+        if constexpr (Rotation) vrel -= cross(armA * w[i] + armB * w[j], g.normal);
+        const physics::ContactKinematics<D> k{vrel, bm[c], br[c], lag};
+        physics::TangentialHistory<D>* h = nullptr;
+        if constexpr (History) h = &springs[k0];
+        physics::ContactForce<D> f;
+        if constexpr (OnePair) {
+          f = Call::call(s, one, static_cast<size_t>(grainPair_), g, k, h, dt, broots[c]);
+        } else {
+          f = Call::call(s, s.pairParams[bp[c]], bp[c], g, k, h, dt, broots[c]);
+        }
+        force[j] += f.force;
+        force[i] -= f.force;
+        if constexpr (Rotation) {
+          const AngularD<D> cn = cross(g.normal, f.force);
+          torque[i] -= armA * cn;
+          torque[j] -= armB * cn;
+        }
+        e.add(f);
+        if (s.recordContacts) s.contacts.push_back({i, j, false, f.force});
       }
-      const physics::ContactKinematics<D> k{vrel, 1.0 / (a.invMass[i] + a.invMass[j]),
-                                            a.r[i] * a.r[j] / (a.r[i] + a.r[j]), lag};
-      physics::TangentialHistory<D>* h = nullptr;
-      if constexpr (History) h = &s.pairSprings[kc];
-      const physics::ContactForce<D> f =
-          LawCall<D, Law>::call(s, a.material[i] * nMat + a.material[j], g, k, h, dt);
-      a.f[j] += f.force;
-      a.f[i] -= f.force;
-      if constexpr (Rotation) {
-        a.t[j] += cross(armB, f.force);
-        a.t[i] -= cross(armA, f.force);
-      }
-      e.add(f);
-      s.contacts.push_back({i, j, false, f.force});
     }
     s.ledger.elastic += e.elastic;
     s.ledger.dampingLoss += e.damping;
@@ -144,12 +275,38 @@ class WallContactModule final : public SimModule<D> {
   }
   SimLevel level() const override { return SimLevel::Contacts; }
 
+  // grainPair: as GrainContactModule's (the one grain material m's pair m * nMat + m, or -1).
+  explicit WallContactModule(long grainPair = -1) : grainPair_(grainPair) {}
+
   void run(Scene<D>& s) override {
+    if (grainPair_ >= 0 && static_cast<size_t>(grainPair_) < s.pairParams.size()) {
+      pass<true>(s);
+    } else {
+      pass<false>(s);
+    }
+  }
+
+ private:
+  long grainPair_;
+
+  // OnePair: every grain has one material, so each wall has one PairParams, read once.
+  template <bool OnePair>
+  void pass(Scene<D>& s) {
     GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
     const Real lag = velocityLag(s);
     const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+    const VecD<D>* __restrict x = a.x.data();
+    const VecD<D>* __restrict v = a.v.data();
+    const AngularD<D>* __restrict wv = a.w.data();
+    VecD<D>* __restrict force = a.f.data();
+    AngularD<D>* __restrict torque = a.t.data();
+    const Real* __restrict r = a.r.data();
+    const Real* __restrict invMass = a.invMass.data();
+    const uint32_t* __restrict material = a.material.data();
+    // The grains' one material (grainPair_ = m nMat + m).
+    const size_t grainMat = OnePair ? static_cast<size_t>(grainPair_) / (nMat + 1) : 0;
     PassEnergy e;
     for (size_t w = 0; w < s.walls.size(); ++w) {
       Wall<D>& wall = s.walls.items[w];
@@ -163,37 +320,46 @@ class WallContactModule final : public SimModule<D> {
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
       const size_t m = entry.grains(shape, a.x.data(), a.r.data(), which.data(), which.size(),
                                     geoms_.data(), touched_.data());
+      const size_t wallPair = grainMat * nMat + wall.material;
+      physics::PairParams one;
+      if constexpr (OnePair) one = s.pairParams[wallPair];
+      physics::TangentialHistory<D>* __restrict springs = nullptr;
+      if constexpr (History) springs = s.wallSprings[w].data();
       // touched_ lists the grains in contact in the order of `which`: walk both to find each
       // contact's candidate index (its spring slot), zeroing the springs of those not touched.
       size_t kc = 0;
       for (size_t c = 0; c < m; ++c) {
         const uint32_t i = touched_[c];
         if constexpr (History) {
-          while (which[kc] != i) s.wallSprings[w][kc++].spring.setZero();
+          while (which[kc] != i) springs[kc++].spring.setZero();
         }
         const physics::ContactGeometry<D>& g = geoms_[c];
         const VecD<D> vWall = wall.surfaceVelocity(g.point);
-        VecD<D> vrel = vWall - a.v[i];
+        VecD<D> vrel = vWall - v[i];
         VecD<D> arm;
         if constexpr (Rotation) {
-          arm = g.point - a.x[i];
-          vrel -= cross(a.w[i], arm);
+          arm = g.point - x[i];
+          vrel -= cross(wv[i], arm);
         }
-        const physics::ContactKinematics<D> k{vrel, 1.0 / a.invMass[i], a.r[i], lag};
+        const physics::ContactKinematics<D> k{vrel, 1.0 / invMass[i], r[i], lag};
         physics::TangentialHistory<D>* h = nullptr;
-        if constexpr (History) h = &s.wallSprings[w][kc++];
-        const physics::ContactForce<D> f =
-            LawCall<D, Law>::call(s, a.material[i] * nMat + wall.material, g, k, h, dt);
-        a.f[i] -= f.force;
-        if constexpr (Rotation) a.t[i] -= cross(arm, f.force);
+        if constexpr (History) h = &springs[kc++];
+        physics::ContactForce<D> f;
+        if constexpr (OnePair) {
+          f = LawCall<D, Law>::call(s, one, wallPair, g, k, h, dt);
+        } else {
+          f = LawCall<D, Law>::call(s, material[i] * nMat + wall.material, g, k, h, dt);
+        }
+        force[i] -= f.force;
+        if constexpr (Rotation) torque[i] -= cross(arm, f.force);
         wall.force += f.force;
         e.add(f);
         // Work done by the moving wall on the grain over the step.
         if (wall.moving) e.wallWork -= f.force.dot(vWall) * dt;
-        s.contacts.push_back({i, static_cast<uint32_t>(w), true, f.force});
+        if (s.recordContacts) s.contacts.push_back({i, static_cast<uint32_t>(w), true, f.force});
       }
       if constexpr (History) {
-        while (kc < which.size()) s.wallSprings[w][kc++].spring.setZero();
+        while (kc < which.size()) springs[kc++].spring.setZero();
       }
     }
     s.ledger.elastic += e.elastic;
@@ -203,15 +369,15 @@ class WallContactModule final : public SimModule<D> {
     s.ledger.wallWork += e.wallWork;
   }
 
- private:
   std::vector<physics::ContactGeometry<D>> geoms_;
   std::vector<uint32_t> touched_;
 };
 
 // Returns the grain-grain and grain-wall contact modules for the scene's law set, history and
-// rotation flags. law: the one law of every pair, or -1 for mixed laws.
+// rotation flags. law: the one law of every pair, or -1 for mixed laws; grainPair: the index
+// into Scene::pairParams of every grain-grain pair when all grains have one material, or -1.
 template <int D>
 std::vector<std::unique_ptr<SimModule<D>>> makeContactModules(int law, bool history, bool rotation,
-                                                              bool walls);
+                                                              bool walls, long grainPair = -1);
 
 }  // namespace demlab::sim

@@ -24,6 +24,9 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <type_traits>
 
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
@@ -43,14 +46,37 @@ class PredictModule final : public SimModule<D> {
     const size_t n = a.size();
     Real maxD2 = s.maxDisp2;
     const bool track = a.x.size() == s.xAtBuild.size();
-    for (size_t i = 0; i < n; ++i) {
-      const VecD<D> acc = a.f[i] * a.invMass[i];
-      const VecD<D> vHalf = a.v[i] + h * acc;
-      a.x[i] += dt * vHalf;
-      a.v[i] = sync ? VecD<D>(vHalf + h * acc) : vHalf;
-      a.fPrev[i] = a.f[i];
-      a.f[i].setZero();
-      if (track) maxD2 = std::max(maxD2, (a.x[i] - s.xAtBuild[i]).squaredNorm());
+    // The arrays through restrict pointers: the loop then keeps them in registers instead of
+    // reloading each from the scene after every store.
+    VecD<D>* __restrict x = a.x.data();
+    VecD<D>* __restrict v = a.v.data();
+    VecD<D>* __restrict f = a.f.data();
+    VecD<D>* __restrict fPrev = a.fPrev.data();
+    const Real* __restrict invMass = a.invMass.data();
+    const VecD<D>* __restrict x0 = s.xAtBuild.data();
+    auto pass = [&](auto syncTag, auto trackTag) {
+      for (size_t i = 0; i < n; ++i) {
+        const VecD<D> acc = f[i] * invMass[i];
+        const VecD<D> vHalf = v[i] + h * acc;
+        x[i] += dt * vHalf;
+        if constexpr (decltype(syncTag)::value) {
+          v[i] = vHalf + h * acc;
+        } else {
+          v[i] = vHalf;
+        }
+        fPrev[i] = f[i];
+        f[i].setZero();
+        if constexpr (decltype(trackTag)::value) {
+          maxD2 = std::max(maxD2, (x[i] - x0[i]).squaredNorm());
+        }
+      }
+    };
+    using Yes = std::true_type;
+    using No = std::false_type;
+    if (sync) {
+      track ? pass(Yes{}, Yes{}) : pass(Yes{}, No{});
+    } else {
+      track ? pass(No{}, Yes{}) : pass(No{}, No{});
     }
     s.maxDisp2 = maxD2;
     // The contact passes of this step rebuild the per-step outputs.
@@ -66,8 +92,12 @@ inline Quat advance(const Quat& q, const Vec3& w, Real dt) {
   const Vec3 phi = w * dt;
   const Real t2 = phi.squaredNorm();
   if (t2 >= 1e-4) return integrate(q, w, dt);
-  const Real c = 1 - t2 / 8 * (1 - t2 / 48 * (1 - t2 / 120));
-  const Real s = 0.5 * (1 - t2 / 24 * (1 - t2 / 80 * (1 - t2 / 168)));
+  // The series' coefficients as reciprocals, multiplied: a division by 48 would cost more than
+  // the rest of the update (they change the terms by an ulp, far below the result's ulp).
+  constexpr Real k24 = 1.0 / 24, k48 = 1.0 / 48, k80 = 1.0 / 80, k120 = 1.0 / 120;
+  constexpr Real k168 = 1.0 / 168;
+  const Real c = 1 - t2 * 0.125 * (1 - t2 * k48 * (1 - t2 * k120));
+  const Real s = 0.5 * (1 - t2 * k24 * (1 - t2 * k80 * (1 - t2 * k168)));
   Quat r = Quat(c, s * phi.x(), s * phi.y(), s * phi.z()) * q;
   // Renormalise by one Newton step for 1/sqrt: |r| differs from 1 by rounding only.
   const Real n2 = r.squaredNorm();
@@ -86,6 +116,15 @@ inline bool isZeroAngular(const Vec3& w) {
   return w.x() == 0 && w.y() == 0 && w.z() == 0;
 }
 
+// Returns true if every component of the angular quantity w is +0 (bit for bit: -0 is not).
+inline bool isZeroBits(Real w) {
+  return std::bit_cast<uint64_t>(w) == 0;
+}
+inline bool isZeroBits(const Vec3& w) {
+  return (std::bit_cast<uint64_t>(w.x()) | std::bit_cast<uint64_t>(w.y()) |
+          std::bit_cast<uint64_t>(w.z())) == 0;
+}
+
 template <int D>
 class PredictRotationModule final : public SimModule<D> {
  public:
@@ -97,21 +136,35 @@ class PredictRotationModule final : public SimModule<D> {
     const Real dt = s.stepDt, h = 0.5 * dt;
     const bool sync = s.integrator == IntegratorKind::Synchronized;
     const size_t n = a.size();
-    for (size_t i = 0; i < n; ++i) {
-      const AngularD<D> alpha = a.t[i] * a.invInertia[i];
-      const AngularD<D> wHalf = a.w[i] + h * alpha;
-      // A grain that does not turn keeps its orientation bit for bit (advance() would
-      // renormalise it by rounding): grains falling freely or resting without friction skip
-      // the quaternion work, as LIGGGHTS's nve/sphere, which keeps no orientation at all.
-      if (!isZeroAngular(wHalf)) a.q[i] = advance(a.q[i], wHalf, dt);
-      if (sync) {
-        a.w[i] = wHalf + h * alpha;
-      } else {
-        a.w[i] = wHalf;
+    RotationD<D>* __restrict q = a.q.data();
+    AngularD<D>* __restrict w = a.w.data();
+    AngularD<D>* __restrict t = a.t.data();
+    AngularD<D>* __restrict tPrev = a.tPrev.data();
+    const Real* __restrict invInertia = a.invInertia.data();
+    auto pass = [&](auto syncTag) {
+      for (size_t i = 0; i < n; ++i) {
+        // An idle grain (no torque, no spin, both +0 bit for bit, as every grain of a falling
+        // lattice) stays as it is: only its last torque becomes +0. The same bits as the update.
+        if (isZeroBits(t[i]) && isZeroBits(w[i])) {
+          if (!isZeroBits(tPrev[i])) tPrev[i] = GrainArrays<D>::zeroAngular();
+          continue;
+        }
+        const AngularD<D> alpha = t[i] * invInertia[i];
+        const AngularD<D> wHalf = w[i] + h * alpha;
+        // A grain that does not turn keeps its orientation bit for bit (advance() would
+        // renormalise it by rounding): grains falling freely or resting without friction skip
+        // the quaternion work, as LIGGGHTS's nve/sphere, which keeps no orientation at all.
+        if (!isZeroAngular(wHalf)) q[i] = advance(q[i], wHalf, dt);
+        if constexpr (decltype(syncTag)::value) {
+          w[i] = wHalf + h * alpha;
+        } else {
+          w[i] = wHalf;
+        }
+        tPrev[i] = t[i];
+        t[i] = GrainArrays<D>::zeroAngular();
       }
-      a.tPrev[i] = a.t[i];
-      a.t[i] = GrainArrays<D>::zeroAngular();
-    }
+    };
+    sync ? pass(std::true_type{}) : pass(std::false_type{});
   }
 };
 
@@ -125,15 +178,23 @@ class CorrectModule final : public SimModule<D> {
     GrainArrays<D>& a = s.grains.a;
     const Real h = 0.5 * s.stepDt;
     const size_t n = a.size();
+    VecD<D>* __restrict v = a.v.data();
+    const VecD<D>* __restrict f = a.f.data();
+    const VecD<D>* __restrict fPrev = a.fPrev.data();
+    const Real* __restrict invMass = a.invMass.data();
+    AngularD<D>* __restrict w = a.w.data();
+    const AngularD<D>* __restrict t = a.t.data();
+    const AngularD<D>* __restrict tPrev = a.tPrev.data();
+    const Real* __restrict invInertia = a.invInertia.data();
     if (s.integrator == IntegratorKind::Synchronized) {
-      for (size_t i = 0; i < n; ++i) a.v[i] += (h * a.invMass[i]) * (a.f[i] - a.fPrev[i]);
+      for (size_t i = 0; i < n; ++i) v[i] += (h * invMass[i]) * (f[i] - fPrev[i]);
       if (s.rotating) {
-        for (size_t i = 0; i < n; ++i) a.w[i] += (h * a.invInertia[i]) * (a.t[i] - a.tPrev[i]);
+        for (size_t i = 0; i < n; ++i) w[i] += (h * invInertia[i]) * (t[i] - tPrev[i]);
       }
     } else {
-      for (size_t i = 0; i < n; ++i) a.v[i] += (h * a.invMass[i]) * a.f[i];
+      for (size_t i = 0; i < n; ++i) v[i] += (h * invMass[i]) * f[i];
       if (s.rotating) {
-        for (size_t i = 0; i < n; ++i) a.w[i] += (h * a.invInertia[i]) * a.t[i];
+        for (size_t i = 0; i < n; ++i) w[i] += (h * invInertia[i]) * t[i];
       }
     }
     s.time = s.time + s.stepDt;

@@ -101,6 +101,10 @@ struct Scene {
 
   // ---- per-step outputs ----
   std::vector<ContactRecord<D>> contacts;
+  // Whether the contact passes record this step's contacts in `contacts`. SimulationManager::run
+  // clears it for the steps nothing can look at (no outputs, progress or stop callbacks: every
+  // step but the last), so the records after a run are the same either way.
+  bool recordContacts = true;
   bool rotating = false;  // the rotation modules run
   LedgerSums ledger;
 

@@ -131,6 +131,9 @@ class SimulationManager final : public Simulation {
     bool anyFriction = false, rotating = false, walls = false, movingWalls = false;
     bool gravity = false, loads = false;
     int law = 0;  // the one law of every pair in use, or -1 when they differ
+    // The material pair (index into Scene::pairParams) of every grain-grain contact when all
+    // grains have one material, else -1.
+    long grainPair = -1;
   };
   Flags flags() const;
   std::vector<std::unique_ptr<SimModule<D>>> makeModules(const Flags& f) const;

@@ -49,6 +49,11 @@ typename SimulationManager<D>::Flags SimulationManager<D>::flags() const {
     }
   }
   f.law = law == -2 ? static_cast<int>(s_.defaultLaw) : law;
+  if (std::count(grainMat.begin(), grainMat.end(), true) == 1) {
+    const auto m =
+        static_cast<long>(std::find(grainMat.begin(), grainMat.end(), true) - grainMat.begin());
+    f.grainPair = m * static_cast<long>(nm) + m;
+  }
   f.rotating = s_.rotationEnabled && (f.anyFriction || s_.behaviors.hasTorqueLoads() || spinning);
   f.walls = s_.walls.size() > 0;
   f.movingWalls = s_.walls.anyMoving();
@@ -64,7 +69,7 @@ std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(con
   if (f.rotating) m.push_back(std::make_unique<PredictRotationModule<D>>());
   if (f.movingWalls) m.push_back(std::make_unique<WallMotionModule<D>>());
   m.push_back(std::make_unique<DetectionModule<D>>(s_.cellFactor));
-  for (auto& c : makeContactModules<D>(f.law, f.anyFriction, f.rotating, f.walls)) {
+  for (auto& c : makeContactModules<D>(f.law, f.anyFriction, f.rotating, f.walls, f.grainPair)) {
     m.push_back(std::move(c));
   }
   if (f.gravity) m.push_back(std::make_unique<GravityModule<D>>());
@@ -182,6 +187,15 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   const uint64_t every =
       options.progressEvery ? options.progressEvery : std::max<uint64_t>(1, total / 100);
   const bool watched = s_.watchdog.enabled;
+  // The contact records of a step are only seen after the run's last step unless an output,
+  // the progress callback, a stop or the watchdog's overlap check (which reads them at every
+  // step: a blow-up's deep overlaps can come and go within a few steps) looks in between.
+  const bool seen =
+      !outputs_.empty() || options.progress || options.stop || (watched && s_.watchdog.overlap > 0);
+  struct Restore {
+    bool& flag;
+    ~Restore() { flag = true; }
+  } restore{s_.recordContacts};
   std::optional<WatchdogTrip> trip;
   try {
     // The scene as set up (placed overlaps, initial speeds) before the first step.
@@ -191,6 +205,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
         rep.interrupted = true;
         break;
       }
+      s_.recordContacts = seen || k + 1 == total;
       loop_.step(s_);
       if (!watched && (k & 1023) == 1023) checkFinite();
       if (options.progress && (k + 1) % every == 0 && k + 1 < total) options.progress(k + 1, total);

@@ -108,7 +108,8 @@ void watchdogCheck(const Scene<D>& s, Real stepLimit, bool placed = false) {
     throw h;
   }
   const Real f = placed ? o.placed : o.overlap;
-  if (f > 0) {
+  // The run records the contacts at every step while this check is on (SimulationManager::run).
+  if (f > 0 && s.recordContacts) {
     const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
     const ContactRecord<D>* worst = nullptr;
     Real worstRatio = f;
