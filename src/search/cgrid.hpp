@@ -24,8 +24,14 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
+#include <type_traits>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "search/broad_phase.hpp"
 #include "search/cell_size.hpp"
@@ -80,9 +86,17 @@ class CGrid final : public BroadPhase<D, T> {
     }
     stats_ = {};
     if (boxes.size() < 2) return;
-    out_ = &out;
     discretize(boxes);
+    // The output is sized ahead (to the last search's count, within its capacity) and cut
+    // back at the end, so reporting writes without checks per pair.
+    out_ = &out;
+    const std::size_t want = lastPairs_ + lastPairs_ / 8 + 1024;
+    out.resize(out.capacity() >= 1024 ? std::min(out.capacity(), want) : want);
+    outNext_ = out.data();
+    outEnd_ = out.data() + out.size();
     subdivideFirstAxis();
+    lastPairs_ = static_cast<std::size_t>(outNext_ - out.data());
+    out.resize(lastPairs_);
     out_ = nullptr;
   }
 
@@ -124,15 +138,17 @@ class CGrid final : public BroadPhase<D, T> {
   std::size_t maskBytes() const {
     std::size_t bytes = 0;
     for (const auto& cell : maskCells_) bytes += cell.capacity() * sizeof(MaskEntry);
-    return bytes;
+    return bytes + maskUnion_.capacity() * sizeof(MaskEntry);
   }
 
-  // One entry of the contact mask's row, with its bounds inline.
+  // One entry of the contact mask's row: its bounds inline and its index in the caller's
+  // order, so a sweep touches nothing else.
   struct MaskEntry {
     T lastLo, lastHi;
-    uint32_t index;
     std::array<T, (D > 1 ? D - 1 : 1)> lo, hi;
+    uint32_t index;
   };
+  static_assert(std::numeric_limits<T>::has_infinity, "mask sentinels need an infinity");
   // Labels of entries reaching the contact mask use the bits of axes 0..D-2 only.
   static constexpr uint32_t kMaskCells = uint32_t{1} << (D - 1);
 
@@ -260,11 +276,12 @@ class CGrid final : public BroadPhase<D, T> {
       std::size_t kept = 0;
       uint32_t common = kLabelMask;
       for (uint32_t e : s.held) {
-        if (cells_[e & kIndexMask].hi[K] >= c) {
-          e |= labelBit(K);
-          common &= e;
-          s.held[kept++] = e;
-        }
+        // Branch-free: every entry is written, and kept if it still reaches c.
+        const bool stays = cells_[e & kIndexMask].hi[K] >= c;
+        e |= labelBit(K);
+        common &= stays ? e : kLabelMask;
+        s.held[kept] = e;
+        kept += stays;
       }
       s.held.resize(kept);
       for (uint32_t e : s.current) common &= e;
@@ -320,75 +337,137 @@ class CGrid final : public BroadPhase<D, T> {
   // mask's 2^(D-1) cells by label (which earlier axes they are lower-adjacent on), each cell
   // keeping that order, and the cells are cross-checked by the NAND rule: cell s against
   // cell t only if s & t == 0, cell 0 against itself. So every pair met here is a pair that
-  // meets nowhere else, and no pair is looked at only to be rejected. Appends the
-  // overlapping pairs to *out_.
+  // meets nowhere else, and no pair is looked at only to be rejected. Cell 0 passes the rule
+  // with every cell, so it is checked once against the union of the other cells (kept in
+  // the same order) rather than once per cell. Appends the overlapping pairs to the output.
   void contactMask(const uint32_t* in, std::size_t m) {
     constexpr int L = D - 1;
     stats_.maskEntries += m;
-    std::array<MaskEntry*, kMaskCells> fill;
     std::array<std::size_t, kMaskCells> count{};
     for (std::size_t i = 0; i < m; ++i) ++count[in[i] >> kLabelShift];
+    // Every array gets one more entry, a sentinel that starts after everything ends, so the
+    // sweeps stop on the coordinate alone. The union is written at every entry and advanced
+    // past the nonzero ones, so it needs room for all m.
+    auto fit = [](std::vector<MaskEntry>& v, std::size_t size) {
+      if (v.size() < size) v.resize(size);
+      return v.data();
+    };
+    std::array<MaskEntry*, kMaskCells> fill;
     for (uint32_t c = 0; c < kMaskCells; ++c) {
-      if (maskCells_[c].size() < count[c]) maskCells_[c].resize(count[c]);
-      fill[c] = maskCells_[c].data();
+      fill[c] = kOwnCell[c] ? fit(maskCells_[c], count[c] + 1) : &spare_;
     }
+    MaskEntry* const cell0 = fill[0];
+    MaskEntry* const others = D > 1 ? fit(maskUnion_, m + 1) : &spare_;
+    MaskEntry* u = others;
     for (std::size_t i = 0; i < m; ++i) {
       const uint32_t e = in[i];
-      const Box<D, T>& b = boxes_[e & kIndexMask];
-      MaskEntry& entry = *fill[e >> kLabelShift]++;
-      entry.lastLo = b.lo[L];
-      entry.lastHi = b.hi[L];
-      entry.index = e & kIndexMask;
+      const uint32_t label = e >> kLabelShift;
+      const uint32_t j = e & kIndexMask;
+      const Box<D, T>& b = boxes_[j];
+      MaskEntry x;
+      x.lastLo = b.lo[L];
+      x.lastHi = b.hi[L];
+      x.index = order_[j];
       for (int k = 0; k < L; ++k) {
-        entry.lo[k] = b.lo[k];
-        entry.hi[k] = b.hi[k];
+        x.lo[k] = b.lo[k];
+        x.hi[k] = b.hi[k];
+      }
+      *fill[label] = x;
+      fill[label] += kOwnCell[label];
+      if constexpr (D > 1) {
+        *u = x;
+        u += label != 0;
       }
     }
-    std::array<std::span<const MaskEntry>, kMaskCells> cells;
-    for (uint32_t c = 0; c < kMaskCells; ++c) {
-      cells[c] = {maskCells_[c].data(), static_cast<std::size_t>(fill[c] - maskCells_[c].data())};
-    }
-    sweepWithin(cells[0]);
-    for (uint32_t s = 0; s < kMaskCells; ++s) {
-      if (cells[s].empty()) continue;
-      for (uint32_t t = s + 1; t < kMaskCells; ++t) {
-        if ((s & t) == 0 && !cells[t].empty()) sweepBetween(cells[s], cells[t]);
+    constexpr T kAfterAll = std::numeric_limits<T>::infinity();
+    for (uint32_t c = 0; c < kMaskCells; ++c) fill[c]->lastLo = kAfterAll;
+    u->lastLo = kAfterAll;
+    const std::size_t n0 = count[0];
+    sweepWithin(cell0, n0);
+    if constexpr (D > 1) {
+      sweepBetween(cell0, n0, others, m - n0);
+      for (uint32_t s = 1; s < kMaskCells; ++s) {
+        if (!kOwnCell[s] || count[s] == 0) continue;
+        for (uint32_t t = s + 1; t < kMaskCells; ++t) {
+          if ((s & t) == 0 && count[t] != 0) {
+            sweepBetween(maskCells_[s].data(), count[s], maskCells_[t].data(), count[t]);
+          }
+        }
       }
     }
   }
 
-  // Appends to *out_ the pair (a, b) if they overlap on the axes before the last; the caller
-  // has established that they overlap on the last.
+  // Cells that are kept as arrays of their own: cell 0, and every nonzero cell that the NAND
+  // rule pairs with another nonzero cell (all but the all-ones cell).
+  static constexpr std::array<bool, kMaskCells> kOwnCell = [] {
+    std::array<bool, kMaskCells> own{};
+    for (uint32_t c = 0; c < kMaskCells; ++c) own[c] = c == 0 || c != kMaskCells - 1;
+    return own;
+  }();
+
+  // Makes room for `need` more pairs in the output. Within the vector's capacity first, so a
+  // warm object allocates nothing.
+  void reserveOut(std::size_t need) {
+    if (static_cast<std::size_t>(outEnd_ - outNext_) >= need) return;
+    const std::size_t used = static_cast<std::size_t>(outNext_ - out_->data());
+    std::size_t size = std::max(out_->capacity(), used + need);
+    if (size == out_->size()) size = std::max(2 * size, used + need);
+    out_->resize(size);
+    outNext_ = out_->data() + used;
+    outEnd_ = out_->data() + out_->size();
+  }
+
+  // Writes the pair (a, b) to the output if they overlap on the axes before the last; the
+  // caller has established that they overlap on the last and made room. Branch-free: the
+  // pair is always written and kept only on a hit.
   void report(const MaskEntry& a, const MaskEntry& b) {
-    bool hit = true;
-    for (int k = 0; k < D - 1; ++k) hit &= (a.lo[k] <= b.hi[k]) & (b.lo[k] <= a.hi[k]);
-    if (hit) out_->push_back(makePair(order_[a.index], order_[b.index]));
+    bool hit;
+#if defined(__SSE2__)
+    if constexpr (std::is_same_v<T, double> && D == 3) {
+      // Both earlier axes at once: lo_a <= hi_b and lo_b <= hi_a, lane by lane.
+      const __m128d le =
+          _mm_and_pd(_mm_cmple_pd(_mm_loadu_pd(a.lo.data()), _mm_loadu_pd(b.hi.data())),
+                     _mm_cmple_pd(_mm_loadu_pd(b.lo.data()), _mm_loadu_pd(a.hi.data())));
+      hit = _mm_movemask_pd(le) == 3;
+    } else
+#endif
+    {
+      hit = true;
+      for (int k = 0; k < D - 1; ++k) hit &= (a.lo[k] <= b.hi[k]) & (b.lo[k] <= a.hi[k]);
+    }
+    // The pair in increasing order, without a branch on the comparison.
+    const uint32_t x = a.index, y = b.index;
+    const uint32_t first = x < y ? x : y;
+    *outNext_ = IndexPair{first, x ^ y ^ first};
+    outNext_ += hit;
   }
 
-  // Checks every pair within one mask cell, sorted by lastLo: each entry meets the later
-  // entries that start before it ends.
-  void sweepWithin(std::span<const MaskEntry> cell) {
-    const std::size_t m = cell.size();
+  // Checks every pair within one mask cell of m entries (plus sentinel), sorted by lastLo:
+  // each entry meets the later entries that start before it ends.
+  void sweepWithin(const MaskEntry* cell, std::size_t m) {
     for (std::size_t i = 0; i < m; ++i) {
       const MaskEntry& a = cell[i];
-      for (std::size_t j = i + 1; j < m && cell[j].lastLo <= a.lastHi; ++j) report(a, cell[j]);
+      reserveOut(m - i);
+      for (const MaskEntry* b = cell + i + 1; b->lastLo <= a.lastHi; ++b) report(a, *b);
     }
   }
 
-  // Checks every pair across two mask cells, both sorted by lastLo: walking the two in
-  // merged order, the entry that starts first meets the other cell's entries that start
-  // before it ends, so each overlapping pair is met once.
-  void sweepBetween(std::span<const MaskEntry> p, std::span<const MaskEntry> q) {
-    std::size_t i = 0, j = 0;
-    const std::size_t np = p.size(), nq = q.size();
-    while (i < np && j < nq) {
-      if (p[i].lastLo <= q[j].lastLo) {
-        const MaskEntry& a = p[i++];
-        for (std::size_t k = j; k < nq && q[k].lastLo <= a.lastHi; ++k) report(a, q[k]);
-      } else {
-        const MaskEntry& b = q[j++];
-        for (std::size_t k = i; k < np && p[k].lastLo <= b.lastHi; ++k) report(b, p[k]);
-      }
+  // Checks every pair across two mask cells of np and nq entries (each plus sentinel), both
+  // sorted by lastLo: walking the two in merged order, the entry that starts first meets the
+  // other cell's entries that start before it ends, so each overlapping pair is met once.
+  // The walk picks its side without a branch.
+  void sweepBetween(const MaskEntry* p, std::size_t np, const MaskEntry* q, std::size_t nq) {
+    const MaskEntry* const pEnd = p + np;
+    const MaskEntry* const qEnd = q + nq;
+    // side[0] walks p, side[1] walks q; the side taken is an index, not a branch.
+    std::array<const MaskEntry*, 2> side = {p, q};
+    while (side[0] < pEnd && side[1] < qEnd) {
+      const int take = side[0]->lastLo <= side[1]->lastLo ? 0 : 1;
+      const MaskEntry* const a = side[take];
+      const MaskEntry* b = side[1 - take];
+      ++side[take];
+      reserveOut(static_cast<std::size_t>((take == 0 ? qEnd : pEnd) - b));
+      for (; b->lastLo <= a->lastHi; ++b) report(*a, *b);
     }
   }
 
@@ -405,7 +484,12 @@ class CGrid final : public BroadPhase<D, T> {
   std::array<Subdivider, D> subdividers_;
   KeySortScratch scratch_;
   std::array<std::vector<MaskEntry>, kMaskCells> maskCells_;
+  std::vector<MaskEntry> maskUnion_;  // the mask's nonzero cells together, in lastLo order
+  MaskEntry spare_;                   // where entries of a cell kept in no array of its own go
   std::vector<IndexPair>* out_ = nullptr;
+  IndexPair* outNext_ = nullptr;  // the output is written ahead of its size, from here
+  IndexPair* outEnd_ = nullptr;
+  std::size_t lastPairs_ = 0;  // pairs of the last search, to size the next one's output
 };
 
 }  // namespace demlab::search
