@@ -227,16 +227,34 @@ class CGrid final : public BroadPhase<D, T> {
     // The gather below reads the caller's boxes in random order; asking for them a few
     // iterations ahead overlaps the cache misses, which dominate at a million objects.
     constexpr std::size_t kAhead = 16;
+    // In lexicographic order, objects of the same bucket are also put in order of their
+    // minimum on the last axis (insertion: they only move within their bucket). Then every
+    // run of a Subdivider's input is already in the order the next Subdivider needs, down to
+    // the last axis's coordinates, and no Subdivider sorts.
+    constexpr int L = D - 1;
     for (std::size_t j = 0; j < n; ++j) {
       if (j + kAhead < n) __builtin_prefetch(&boxes[order_[j + kAhead]]);
-      const Box<D, T>& b = boxes[order_[j]];
-      boxes_[j] = b;
-      CellRange& c = cells_[j];
+      const uint32_t original = order_[j];
+      const Box<D, T> b = boxes[original];
+      CellRange c;
       for (int k = 0; k < D; ++k) {
         c.lo[k] = bucket(b.lo[k], k);
         c.hi[k] = extents_ == Extents::Fixed ? c.lo[k] + 1 : bucket(b.hi[k], k);
       }
+      std::size_t i = j;
+      if (lexicographic) {
+        while (i > 0 && boxes_[i - 1].lo[L] > b.lo[L] && sameBucket(cells_[i - 1], c)) {
+          boxes_[i] = boxes_[i - 1];
+          cells_[i] = cells_[i - 1];
+          order_[i] = order_[i - 1];
+          --i;
+        }
+      }
+      boxes_[i] = b;
+      cells_[i] = c;
+      order_[i] = original;
     }
+    presorted_ = lexicographic;
   }
 
   // Runs the Subdivider chain over all objects, which discretize() left in bucket order on
@@ -269,9 +287,15 @@ class CGrid final : public BroadPhase<D, T> {
       std::size_t end = begin + 1;
       while (end < m && cells_[in[end] & kIndexMask].lo[K] == c) ++end;
 
-      s.current.resize(end - begin);
-      sortByKey(in + begin, s.current.data(), end - begin, nextKey, scratch_);
-      if constexpr (K + 1 == D - 1) refineOnLastAxis(s.current.data(), s.current.size());
+      // The current array: the run itself when discretize() left it in order.
+      const uint32_t* current = in + begin;
+      const std::size_t entering = end - begin;
+      if (!presorted_) {
+        s.current.resize(entering);
+        sortByKey(in + begin, s.current.data(), entering, nextKey, scratch_);
+        if constexpr (K + 1 == D - 1) refineOnLastAxis(s.current.data(), entering);
+        current = s.current.data();
+      }
       // Held-over objects that still reach bucket c become lower-adjacent on axis K.
       std::size_t kept = 0;
       uint32_t common = kLabelMask;
@@ -284,14 +308,17 @@ class CGrid final : public BroadPhase<D, T> {
         kept += stays;
       }
       s.held.resize(kept);
-      for (uint32_t e : s.current) common &= e;
-      s.merged.resize(kept + s.current.size());
+      for (std::size_t i = 0; i < entering; ++i) common &= current[i];
+      s.merged.resize(kept + entering);
       if constexpr (K + 1 == D - 1) {
-        std::merge(s.held.begin(), s.held.end(), s.current.begin(), s.current.end(),
-                   s.merged.begin(), [&](uint32_t a, uint32_t b) { return lastLo(a) < lastLo(b); });
+        std::merge(s.held.begin(), s.held.end(), current, current + entering, s.merged.begin(),
+                   [&](uint32_t a, uint32_t b) { return lastLo(a) < lastLo(b); });
+      } else if (presorted_) {
+        // Kept in the full order of the later axes, so that Subdivider K+1's runs are too.
+        std::merge(s.held.begin(), s.held.end(), current, current + entering, s.merged.begin(),
+                   [&](uint32_t a, uint32_t b) { return laterBefore<K + 1>(a, b); });
       } else {
-        std::merge(s.held.begin(), s.held.end(), s.current.begin(), s.current.end(),
-                   s.merged.begin(),
+        std::merge(s.held.begin(), s.held.end(), current, current + entering, s.merged.begin(),
                    [&](uint32_t a, uint32_t b) { return nextKey(a) < nextKey(b); });
       }
       s.held.swap(s.merged);
@@ -312,6 +339,25 @@ class CGrid final : public BroadPhase<D, T> {
     const std::size_t room = std::max(s.held.capacity(), s.merged.capacity());
     s.held.reserve(room);
     s.merged.reserve(room);
+  }
+
+  // Returns true if a and b start in the same bucket on every axis.
+  static bool sameBucket(const CellRange& a, const CellRange& b) {
+    bool same = true;
+    for (int k = 0; k < D; ++k) same &= a.lo[k] == b.lo[k];
+    return same;
+  }
+
+  // Returns true if entry a comes before entry b in the order of discretize() restricted to
+  // axes K..D-1: by bucket on axes K..D-2, then by minimum coordinate on the last axis.
+  template <int K>
+  bool laterBefore(uint32_t a, uint32_t b) const {
+    const CellRange& ca = cells_[a & kIndexMask];
+    const CellRange& cb = cells_[b & kIndexMask];
+    for (int k = K; k < D - 1; ++k) {
+      if (ca.lo[k] != cb.lo[k]) return ca.lo[k] < cb.lo[k];
+    }
+    return lastLo(a) < lastLo(b);
   }
 
   // Returns the minimum coordinate of entry e on the last axis.
@@ -417,29 +463,42 @@ class CGrid final : public BroadPhase<D, T> {
     outEnd_ = out_->data() + out_->size();
   }
 
-  // Writes the pair (a, b) to the output if they overlap on the axes before the last; the
-  // caller has established that they overlap on the last and made room. Branch-free: the
-  // pair is always written and kept only on a hit.
-  void report(const MaskEntry& a, const MaskEntry& b) {
-    bool hit;
+  // Reports the pairs of entry a with b, b + 1, ... up to the first entry that starts after a
+  // ends on the last axis (a cell's sentinel stops it at the end), where they overlap on the
+  // axes before the last; the caller has made room. Branch-free: every pair is written and
+  // kept only on a hit, in increasing order without a branch on the comparison.
+  void scan(const MaskEntry& a, const MaskEntry* b) {
+    IndexPair* o = outNext_;
+    const T end = a.lastHi;
+    const uint32_t x = a.index;
 #if defined(__SSE2__)
     if constexpr (std::is_same_v<T, double> && D == 3) {
       // Both earlier axes at once: lo_a <= hi_b and lo_b <= hi_a, lane by lane.
-      const __m128d le =
-          _mm_and_pd(_mm_cmple_pd(_mm_loadu_pd(a.lo.data()), _mm_loadu_pd(b.hi.data())),
-                     _mm_cmple_pd(_mm_loadu_pd(b.lo.data()), _mm_loadu_pd(a.hi.data())));
-      hit = _mm_movemask_pd(le) == 3;
-    } else
-#endif
-    {
-      hit = true;
-      for (int k = 0; k < D - 1; ++k) hit &= (a.lo[k] <= b.hi[k]) & (b.lo[k] <= a.hi[k]);
+      const __m128d lo = _mm_loadu_pd(a.lo.data());
+      const __m128d hi = _mm_loadu_pd(a.hi.data());
+      for (; b->lastLo <= end; ++b) {
+        const __m128d le = _mm_and_pd(_mm_cmple_pd(lo, _mm_loadu_pd(b->hi.data())),
+                                      _mm_cmple_pd(_mm_loadu_pd(b->lo.data()), hi));
+        const uint32_t y = b->index;
+        const uint32_t first = x < y ? x : y;
+        *o = IndexPair{first, x ^ y ^ first};
+        o += _mm_movemask_pd(le) == 3;
+      }
+      outNext_ = o;
+      return;
     }
-    // The pair in increasing order, without a branch on the comparison.
-    const uint32_t x = a.index, y = b.index;
-    const uint32_t first = x < y ? x : y;
-    *outNext_ = IndexPair{first, x ^ y ^ first};
-    outNext_ += hit;
+#endif
+    const auto lo = a.lo;
+    const auto hi = a.hi;
+    for (; b->lastLo <= end; ++b) {
+      bool hit = true;
+      for (int k = 0; k < D - 1; ++k) hit &= (lo[k] <= b->hi[k]) & (b->lo[k] <= hi[k]);
+      const uint32_t y = b->index;
+      const uint32_t first = x < y ? x : y;
+      *o = IndexPair{first, x ^ y ^ first};
+      o += hit;
+    }
+    outNext_ = o;
   }
 
   // Checks every pair within one mask cell of m entries (plus sentinel), sorted by lastLo:
@@ -448,7 +507,7 @@ class CGrid final : public BroadPhase<D, T> {
     for (std::size_t i = 0; i < m; ++i) {
       const MaskEntry& a = cell[i];
       reserveOut(m - i);
-      for (const MaskEntry* b = cell + i + 1; b->lastLo <= a.lastHi; ++b) report(a, *b);
+      scan(a, cell + i + 1);
     }
   }
 
@@ -467,7 +526,7 @@ class CGrid final : public BroadPhase<D, T> {
       const MaskEntry* b = side[1 - take];
       ++side[take];
       reserveOut(static_cast<std::size_t>((take == 0 ? qEnd : pEnd) - b));
-      for (; b->lastLo <= a->lastHi; ++b) report(*a, *b);
+      scan(*a, b);
     }
   }
 
@@ -481,6 +540,7 @@ class CGrid final : public BroadPhase<D, T> {
   std::vector<uint32_t> order_;   // sorted position -> caller's index
   std::vector<Box<D, T>> boxes_;  // boxes in sorted order (hot for the contact mask)
   std::vector<CellRange> cells_;  // bucket ranges in sorted order
+  bool presorted_ = false;        // sorted over all axes: Subdividers' runs arrive in order
   std::array<Subdivider, D> subdividers_;
   KeySortScratch scratch_;
   std::array<std::vector<MaskEntry>, kMaskCells> maskCells_;
