@@ -78,15 +78,18 @@ class CGrid final : public BroadPhase<D, T> {
 
   void findPairs(std::span<const Box<D, T>> boxes, std::vector<IndexPair>& out) override {
     out.clear();
-    validateBoxes<D, T>(boxes);
-    if (boxes.size() > kIndexMask) {
-      throw Error("too many boxes: " + std::to_string(boxes.size()) + " exceeds " +
-                      std::to_string(kIndexMask),
-                  {"LIMIT", "COUNT"});
+    if (boxes.size() < 2 || boxes.size() > kIndexMask) {
+      validateBoxes<D, T>(boxes);
+      if (boxes.size() > kIndexMask) {
+        throw Error("too many boxes: " + std::to_string(boxes.size()) + " exceeds " +
+                        std::to_string(kIndexMask),
+                    {"LIMIT", "COUNT"});
+      }
+      stats_ = {};
+      return;
     }
+    discretize(boxes);  // validates the boxes on its first pass
     stats_ = {};
-    if (boxes.size() < 2) return;
-    discretize(boxes);
     // The output is sized ahead (to the last search's count, within its capacity) and cut
     // back at the end, so reporting writes without checks per pair.
     out_ = &out;
@@ -166,19 +169,27 @@ class CGrid final : public BroadPhase<D, T> {
   // order, their boxes and bucket ranges. Changes every buffer.
   void discretize(std::span<const Box<D, T>> boxes) {
     const std::size_t n = boxes.size();
-    std::array<double, D> top{};
+    // One pass over the input checks it, finds its bounds and sums its sizes.
+    std::array<double, D> origin, top;
     for (int k = 0; k < D; ++k) {
-      origin_[k] = static_cast<double>(boxes[0].lo[k]);
+      origin[k] = static_cast<double>(boxes[0].lo[k]);
       top[k] = static_cast<double>(boxes[0].hi[k]);
     }
+    SizeSums<D, T> sizes;
+    bool valid = true;
     for (const auto& b : boxes) {
       for (int k = 0; k < D; ++k) {
-        origin_[k] = std::min(origin_[k], static_cast<double>(b.lo[k]));
+        origin[k] = std::min(origin[k], static_cast<double>(b.lo[k]));
         top[k] = std::max(top[k], static_cast<double>(b.hi[k]));
       }
+      valid &= sizes.add(b);
     }
+    // Every bad box fails the quick check; validateBoxes decides exactly and throws, naming
+    // the first bad box, before anything is changed.
+    if (!valid) validateBoxes<D, T>(boxes);
+    origin_ = origin;
     const double statistic =
-        extents_ == Extents::Fixed ? largestExtent<D, T>(boxes) : volumeSizeStatistic<D, T>(boxes);
+        extents_ == Extents::Fixed ? sizes.largestExtent() : sizes.volumeStatistic();
     // Fixed extents need a cell at least as wide as every box; wider than the largest double
     // cannot be bucketed, so say so rather than miss pairs.
     if (!std::isfinite(statistic)) {
