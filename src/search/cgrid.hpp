@@ -216,6 +216,43 @@ class CGrid final : public BroadPhase<D, T> {
       if (cellsInGrid > UINT32_MAX) break;
     }
     const bool lexicographic = cellsInGrid <= UINT32_MAX;
+    // Returns the bucket ranges of box b, bucket() for every coordinate (Fixed: hi = lo + 1).
+    const bool fixed = extents_ == Extents::Fixed;
+#if defined(__SSE2__)
+    // 3D doubles: the six coordinates two at a time, (lo0 lo1) (lo2 hi0) (hi1 hi2), by the
+    // same arithmetic as bucket(), so the values are the same.
+    const __m128d o01 = _mm_set_pd(origin_[1], origin_[0]);
+    const __m128d o20 = _mm_set_pd(origin_[0], origin_[D > 2 ? 2 : 0]);
+    const __m128d o12 = _mm_set_pd(origin_[D > 2 ? 2 : 0], origin_[D > 1 ? 1 : 0]);
+    const __m128d scale = _mm_set1_pd(inverseCell_);
+    const __m128d most = _mm_set1_pd(kMaxBucket);
+#endif
+    auto rangeOf = [&](const Box<D, T>& b) {
+      CellRange c;
+#if defined(__SSE2__)
+      if constexpr (D == 3 && std::is_same_v<T, double>) {
+        auto scaled = [&](__m128d x, __m128d o) {
+          return _mm_cvttpd_epi32(_mm_min_pd(_mm_mul_pd(_mm_sub_pd(x, o), scale), most));
+        };
+        const __m128i lo01 = scaled(_mm_loadu_pd(b.lo.data()), o01);
+        const __m128i x20 = scaled(_mm_loadh_pd(_mm_load_sd(&b.lo[2]), &b.hi[0]), o20);
+        const __m128i hi12 = scaled(_mm_loadu_pd(&b.hi[1]), o12);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(c.lo.data()), lo01);
+        c.lo[2] = static_cast<uint32_t>(_mm_cvtsi128_si32(x20));
+        c.hi[0] = static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(x20, 1)));
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(&c.hi[1]), hi12);
+        if (fixed) {
+          for (int k = 0; k < D; ++k) c.hi[k] = c.lo[k] + 1;
+        }
+        return c;
+      }
+#endif
+      for (int k = 0; k < D; ++k) {
+        c.lo[k] = bucket(b.lo[k], k);
+        c.hi[k] = fixed ? c.lo[k] + 1 : bucket(b.hi[k], k);
+      }
+      return c;
+    };
     auto& identity = subdividers_[0].input;
     identity.resize(n);
     std::iota(identity.begin(), identity.end(), 0u);
@@ -223,8 +260,9 @@ class CGrid final : public BroadPhase<D, T> {
     keys_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       if (lexicographic) {
+        const CellRange c = rangeOf(boxes[i]);
         uint64_t key = 0;
-        for (int k = 0; k < D; ++k) key += ranks[k] * bucket(boxes[i].lo[k], k);
+        for (int k = 0; k < D; ++k) key += ranks[k] * c.lo[k];
         keys_[i] = static_cast<uint32_t>(key);
       } else {
         keys_[i] = bucket(boxes[i].lo[0], 0);
@@ -247,11 +285,7 @@ class CGrid final : public BroadPhase<D, T> {
       if (j + kAhead < n) __builtin_prefetch(&boxes[order_[j + kAhead]]);
       const uint32_t original = order_[j];
       const Box<D, T> b = boxes[original];
-      CellRange c;
-      for (int k = 0; k < D; ++k) {
-        c.lo[k] = bucket(b.lo[k], k);
-        c.hi[k] = extents_ == Extents::Fixed ? c.lo[k] + 1 : bucket(b.hi[k], k);
-      }
+      const CellRange c = rangeOf(b);
       std::size_t i = j;
       if (lexicographic) {
         while (i > 0 && boxes_[i - 1].lo[L] > b.lo[L] && sameBucket(cells_[i - 1], c)) {
@@ -372,7 +406,9 @@ class CGrid final : public BroadPhase<D, T> {
   }
 
   // Returns the minimum coordinate of entry e on the last axis.
-  T lastLo(uint32_t e) const { return boxes_[e & kIndexMask].lo[D - 1]; }
+  T lastLo(uint32_t e) const {
+    return boxes_[e & kIndexMask].lo[D - 1];
+  }
 
   // Sorts entries a[0..m), already in bucket order on the last axis, by their minimum
   // coordinate there. Insertion sort: entries only move within their bucket.
