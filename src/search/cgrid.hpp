@@ -498,24 +498,24 @@ class CGrid final : public BroadPhase<D, T> {
     return own;
   }();
 
-  // Makes room for `need` more pairs in the output. Within the vector's capacity first, so a
-  // warm object allocates nothing.
-  void reserveOut(std::size_t need) {
-    if (static_cast<std::size_t>(outEnd_ - outNext_) >= need) return;
-    const std::size_t used = static_cast<std::size_t>(outNext_ - out_->data());
+  // Makes room for `need` more pairs in the output, which is written up to o (and may have
+  // ended at end). Within the vector's capacity first, so a warm object allocates nothing.
+  // Changes o and end when the output moves.
+  void reserveOut(IndexPair*& o, IndexPair*& end, std::size_t need) {
+    if (static_cast<std::size_t>(end - o) >= need) return;
+    const std::size_t used = static_cast<std::size_t>(o - out_->data());
     std::size_t size = std::max(out_->capacity(), used + need);
     if (size == out_->size()) size = std::max(2 * size, used + need);
     out_->resize(size);
-    outNext_ = out_->data() + used;
-    outEnd_ = out_->data() + out_->size();
+    o = out_->data() + used;
+    end = out_->data() + out_->size();
   }
 
   // Reports the pairs of entry a with b, b + 1, ... up to the first entry that starts after a
   // ends on the last axis (a cell's sentinel stops it at the end), where they overlap on the
   // axes before the last; the caller has made room. Branch-free: every pair is written and
   // kept only on a hit, in increasing order without a branch on the comparison.
-  void scan(const MaskEntry& a, const MaskEntry* b) {
-    IndexPair* o = outNext_;
+  static IndexPair* scan(const MaskEntry& a, const MaskEntry* b, IndexPair* o) {
     const T end = a.lastHi;
     const uint32_t x = a.index;
 #if defined(__SSE2__)
@@ -531,8 +531,7 @@ class CGrid final : public BroadPhase<D, T> {
         *o = IndexPair{first, x ^ y ^ first};
         o += _mm_movemask_pd(le) == 3;
       }
-      outNext_ = o;
-      return;
+      return o;
     }
 #endif
     const auto lo = a.lo;
@@ -545,17 +544,20 @@ class CGrid final : public BroadPhase<D, T> {
       *o = IndexPair{first, x ^ y ^ first};
       o += hit;
     }
-    outNext_ = o;
+    return o;
   }
 
   // Checks every pair within one mask cell of m entries (plus sentinel), sorted by lastLo:
   // each entry meets the later entries that start before it ends.
   void sweepWithin(const MaskEntry* cell, std::size_t m) {
+    IndexPair* o = outNext_;
+    IndexPair* end = outEnd_;
     for (std::size_t i = 0; i < m; ++i) {
-      const MaskEntry& a = cell[i];
-      reserveOut(m - i);
-      scan(a, cell + i + 1);
+      reserveOut(o, end, m - i);
+      o = scan(cell[i], cell + i + 1, o);
     }
+    outNext_ = o;
+    outEnd_ = end;
   }
 
   // Checks every pair across two mask cells of np and nq entries (each plus sentinel), both
@@ -563,18 +565,23 @@ class CGrid final : public BroadPhase<D, T> {
   // other cell's entries that start before it ends, so each overlapping pair is met once.
   // The walk picks its side without a branch.
   void sweepBetween(const MaskEntry* p, std::size_t np, const MaskEntry* q, std::size_t nq) {
+    IndexPair* o = outNext_;
+    IndexPair* end = outEnd_;
     const MaskEntry* const pEnd = p + np;
     const MaskEntry* const qEnd = q + nq;
     // side[0] walks p, side[1] walks q; the side taken is an index, not a branch.
     std::array<const MaskEntry*, 2> side = {p, q};
+    const std::array<const MaskEntry*, 2> sideEnd = {pEnd, qEnd};
     while (side[0] < pEnd && side[1] < qEnd) {
       const int take = side[0]->lastLo <= side[1]->lastLo ? 0 : 1;
       const MaskEntry* const a = side[take];
-      const MaskEntry* b = side[1 - take];
+      const MaskEntry* const b = side[1 - take];
       ++side[take];
-      reserveOut(static_cast<std::size_t>((take == 0 ? qEnd : pEnd) - b));
-      scan(*a, b);
+      reserveOut(o, end, static_cast<std::size_t>(sideEnd[1 - take] - b));
+      o = scan(*a, b, o);
     }
+    outNext_ = o;
+    outEnd_ = end;
   }
 
   double cellFactor_;
