@@ -104,7 +104,7 @@ class CGrid final : public BroadPhase<D, T> {
   }
 
   std::size_t workingBytes() const override {
-    std::size_t bytes = (keys_.capacity() + order_.capacity()) * sizeof(uint32_t) +
+    std::size_t bytes = order_.capacity() * sizeof(uint32_t) +
                         boxes_.capacity() * sizeof(Box<D, T>) +
                         cells_.capacity() * sizeof(CellRange) + scratch_.bytes() + maskBytes();
     for (const auto& s : subdividers_) {
@@ -253,23 +253,21 @@ class CGrid final : public BroadPhase<D, T> {
       }
       return c;
     };
-    auto& identity = subdividers_[0].input;
-    identity.resize(n);
-    std::iota(identity.begin(), identity.end(), 0u);
+    // The keys go in Subdivider 0's input array, which subdivideFirstAxis() refills.
+    auto& keys = subdividers_[0].input;
+    keys.resize(n);
     order_.resize(n);
-    keys_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       if (lexicographic) {
         const CellRange c = rangeOf(boxes[i]);
         uint64_t key = 0;
         for (int k = 0; k < D; ++k) key += ranks[k] * c.lo[k];
-        keys_[i] = static_cast<uint32_t>(key);
+        keys[i] = static_cast<uint32_t>(key);
       } else {
-        keys_[i] = bucket(boxes[i].lo[0], 0);
+        keys[i] = bucket(boxes[i].lo[0], 0);
       }
     }
-    sortByKey(
-        identity.data(), order_.data(), n, [&](uint32_t i) { return keys_[i]; }, scratch_);
+    sortIndicesByKey(keys.data(), n, order_.data(), scratch_);
 
     boxes_.resize(n);
     cells_.resize(n);
@@ -590,7 +588,6 @@ class CGrid final : public BroadPhase<D, T> {
   Stats stats_;
   double inverseCell_ = 1.0;
   std::array<double, D> origin_{};
-  std::vector<uint32_t> keys_;    // bucket key of each object, in the caller's order
   std::vector<uint32_t> order_;   // sorted position -> caller's index
   std::vector<Box<D, T>> boxes_;  // boxes in sorted order (hot for the contact mask)
   std::vector<CellRange> cells_;  // bucket ranges in sorted order
