@@ -141,9 +141,7 @@ class CGrid final : public BroadPhase<D, T> {
 
   // Returns the bytes held by the contact mask's cells.
   std::size_t maskBytes() const {
-    std::size_t bytes = 0;
-    for (const auto& cell : maskCells_) bytes += cell.capacity() * sizeof(MaskEntry);
-    return bytes + maskUnion_.capacity() * sizeof(MaskEntry);
+    return (maskLead_.capacity() + maskRest_.capacity()) * sizeof(MaskEntry);
   }
 
   // One entry of the contact mask's row: its bounds inline and its index in the caller's
@@ -438,19 +436,24 @@ class CGrid final : public BroadPhase<D, T> {
     stats_.maskEntries += m;
     std::array<std::size_t, kMaskCells> count{};
     for (std::size_t i = 0; i < m; ++i) ++count[in[i] >> kLabelShift];
-    // Every array gets one more entry, a sentinel that starts after everything ends, so the
-    // sweeps stop on the coordinate alone. The union is written at every entry and advanced
-    // past the nonzero ones, so it needs room for all m.
-    auto fit = [](std::vector<MaskEntry>& v, std::size_t size) {
-      if (v.size() < size) v.resize(size);
-      return v.data();
-    };
-    std::array<MaskEntry*, kMaskCells> fill;
-    for (uint32_t c = 0; c < kMaskCells; ++c) {
-      fill[c] = kOwnCell[c] ? fit(maskCells_[c], count[c] + 1) : &spare_;
+    // Every cell ends in one more entry, a sentinel that starts after everything ends, so the
+    // sweeps stop on the coordinate alone. Two arrays hold them: cell 0 then the union of the
+    // nonzero cells (written at every entry and advanced past the nonzero ones, so it may
+    // write one slot past its last entry: the sentinel's), and the other cells kept apart.
+    std::array<MaskEntry*, kMaskCells> begin;
+    std::size_t rest = 0;
+    for (uint32_t c = 1; c < kMaskCells; ++c) rest += kOwnCell[c] ? count[c] + 1 : 0;
+    const std::size_t leadSize = D > 1 ? m + 2 : m + 1;
+    if (maskLead_.size() < leadSize) maskLead_.resize(leadSize);
+    if (maskRest_.size() < rest) maskRest_.resize(rest);
+    begin[0] = maskLead_.data();
+    for (uint32_t c = 1, at = 0; c < kMaskCells; ++c) {
+      begin[c] = kOwnCell[c] ? maskRest_.data() + at : &spare_;
+      at += kOwnCell[c] ? static_cast<uint32_t>(count[c] + 1) : 0;
     }
-    MaskEntry* const cell0 = fill[0];
-    MaskEntry* const others = D > 1 ? fit(maskUnion_, m + 1) : &spare_;
+    std::array<MaskEntry*, kMaskCells> fill = begin;
+    MaskEntry* const cell0 = begin[0];
+    MaskEntry* const others = D > 1 ? cell0 + count[0] + 1 : &spare_;
     MaskEntry* u = others;
     for (std::size_t i = 0; i < m; ++i) {
       const uint32_t e = in[i];
@@ -483,7 +486,7 @@ class CGrid final : public BroadPhase<D, T> {
         if (!kOwnCell[s] || count[s] == 0) continue;
         for (uint32_t t = s + 1; t < kMaskCells; ++t) {
           if ((s & t) == 0 && count[t] != 0) {
-            sweepBetween(maskCells_[s].data(), count[s], maskCells_[t].data(), count[t]);
+            sweepBetween(begin[s], count[s], begin[t], count[t]);
           }
         }
       }
@@ -596,9 +599,9 @@ class CGrid final : public BroadPhase<D, T> {
   bool presorted_ = false;        // sorted over all axes: Subdividers' runs arrive in order
   std::array<Subdivider, D> subdividers_;
   KeySortScratch scratch_;
-  std::array<std::vector<MaskEntry>, kMaskCells> maskCells_;
-  std::vector<MaskEntry> maskUnion_;  // the mask's nonzero cells together, in lastLo order
-  MaskEntry spare_;                   // where entries of a cell kept in no array of its own go
+  std::vector<MaskEntry> maskLead_;  // mask cell 0, then the nonzero cells together
+  std::vector<MaskEntry> maskRest_;  // the nonzero cells crossed among themselves
+  MaskEntry spare_;                  // where entries of a cell kept in no array of its own go
   std::vector<IndexPair>* out_ = nullptr;
   IndexPair* outNext_ = nullptr;  // the output is written ahead of its size, from here
   IndexPair* outEnd_ = nullptr;
