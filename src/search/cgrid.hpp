@@ -442,18 +442,18 @@ class CGrid final : public BroadPhase<D, T> {
     // write one slot past its last entry: the sentinel's), and the other cells kept apart.
     std::array<MaskEntry*, kMaskCells> begin;
     std::size_t rest = 0;
-    for (uint32_t c = 1; c < kMaskCells; ++c) rest += kOwnCell[c] ? count[c] + 1 : 0;
-    const std::size_t leadSize = D > 1 ? m + 2 : m + 1;
+    for (uint32_t c = 1; c < kMaskCells; ++c) rest += kOwnCell[c] ? count[c] + kPad : 0;
+    const std::size_t leadSize = D > 1 ? m + 2 * kPad : m + kPad;
     if (maskLead_.size() < leadSize) maskLead_.resize(leadSize);
     if (maskRest_.size() < rest) maskRest_.resize(rest);
     begin[0] = maskLead_.data();
     for (uint32_t c = 1, at = 0; c < kMaskCells; ++c) {
-      begin[c] = kOwnCell[c] ? maskRest_.data() + at : &spare_;
-      at += kOwnCell[c] ? static_cast<uint32_t>(count[c] + 1) : 0;
+      begin[c] = kOwnCell[c] ? maskRest_.data() + at : spare_.data();
+      at += kOwnCell[c] ? static_cast<uint32_t>(count[c] + kPad) : 0;
     }
     std::array<MaskEntry*, kMaskCells> fill = begin;
     MaskEntry* const cell0 = begin[0];
-    MaskEntry* const others = D > 1 ? cell0 + count[0] + 1 : &spare_;
+    MaskEntry* const others = D > 1 ? cell0 + count[0] + kPad : spare_.data();
     MaskEntry* u = others;
     for (std::size_t i = 0; i < m; ++i) {
       const uint32_t e = in[i];
@@ -476,8 +476,10 @@ class CGrid final : public BroadPhase<D, T> {
       }
     }
     constexpr T kAfterAll = std::numeric_limits<T>::infinity();
-    for (uint32_t c = 0; c < kMaskCells; ++c) fill[c]->lastLo = kAfterAll;
-    u->lastLo = kAfterAll;
+    for (std::size_t p = 0; p < kPad; ++p) {
+      for (uint32_t c = 0; c < kMaskCells; ++c) fill[c][p].lastLo = kAfterAll;
+      u[p].lastLo = kAfterAll;
+    }
     const std::size_t n0 = count[0];
     sweepWithin(cell0, n0);
     if constexpr (D > 1) {
@@ -492,6 +494,9 @@ class CGrid final : public BroadPhase<D, T> {
       }
     }
   }
+
+  // Sentinels at the end of every mask cell: the scans read this many entries at a time.
+  static constexpr std::size_t kPad = 4;
 
   // Cells that are kept as arrays of their own: cell 0, and every nonzero cell that the NAND
   // rule pairs with another nonzero cell (all but the all-ones cell).
@@ -526,14 +531,22 @@ class CGrid final : public BroadPhase<D, T> {
       // Both earlier axes at once: lo_a <= hi_b and lo_b <= hi_a, lane by lane.
       const __m128d lo = _mm_loadu_pd(a.lo.data());
       const __m128d hi = _mm_loadu_pd(a.hi.data());
-      for (; b->lastLo <= end; ++b) {
-        const __m128d le = _mm_and_pd(_mm_cmple_pd(lo, _mm_loadu_pd(b->hi.data())),
-                                      _mm_cmple_pd(_mm_loadu_pd(b->lo.data()), hi));
-        const uint32_t y = b->index;
-        const uint32_t first = x < y ? x : y;
-        *o = IndexPair{first, x ^ y ^ first};
-        o += _mm_movemask_pd(le) == 3;
-      }
+      // kPad candidates at a time, the end folded into the hit: most scans end within the
+      // first block, so the loop's branch is rarely taken and rarely mispredicted.
+      bool more;
+      do {
+        for (std::size_t l = 0; l < kPad; ++l) {
+          const MaskEntry& c = b[l];
+          const __m128d le = _mm_and_pd(_mm_cmple_pd(lo, _mm_loadu_pd(c.hi.data())),
+                                        _mm_cmple_pd(_mm_loadu_pd(c.lo.data()), hi));
+          const uint32_t y = c.index;
+          const uint32_t first = x < y ? x : y;
+          *o = IndexPair{first, x ^ y ^ first};
+          o += (_mm_movemask_pd(le) == 3) & (c.lastLo <= end);
+        }
+        more = b[kPad - 1].lastLo <= end;
+        b += kPad;
+      } while (more);
       return o;
     }
 #endif
@@ -556,7 +569,7 @@ class CGrid final : public BroadPhase<D, T> {
     IndexPair* o = outNext_;
     IndexPair* end = outEnd_;
     for (std::size_t i = 0; i < m; ++i) {
-      reserveOut(o, end, m - i);
+      reserveOut(o, end, m - i + kPad);
       o = scan(cell[i], cell + i + 1, o);
     }
     outNext_ = o;
@@ -580,7 +593,7 @@ class CGrid final : public BroadPhase<D, T> {
       const MaskEntry* const a = side[take];
       const MaskEntry* const b = side[1 - take];
       ++side[take];
-      reserveOut(o, end, static_cast<std::size_t>(sideEnd[1 - take] - b));
+      reserveOut(o, end, static_cast<std::size_t>(sideEnd[1 - take] - b) + kPad);
       o = scan(*a, b, o);
     }
     outNext_ = o;
@@ -599,9 +612,9 @@ class CGrid final : public BroadPhase<D, T> {
   bool presorted_ = false;        // sorted over all axes: Subdividers' runs arrive in order
   std::array<Subdivider, D> subdividers_;
   KeySortScratch scratch_;
-  std::vector<MaskEntry> maskLead_;  // mask cell 0, then the nonzero cells together
-  std::vector<MaskEntry> maskRest_;  // the nonzero cells crossed among themselves
-  MaskEntry spare_;                  // where entries of a cell kept in no array of its own go
+  std::vector<MaskEntry> maskLead_;    // mask cell 0, then the nonzero cells together
+  std::vector<MaskEntry> maskRest_;    // the nonzero cells crossed among themselves
+  std::array<MaskEntry, kPad> spare_;  // entries of cells kept in no array of their own
   std::vector<IndexPair>* out_ = nullptr;
   IndexPair* outNext_ = nullptr;  // the output is written ahead of its size, from here
   IndexPair* outEnd_ = nullptr;
