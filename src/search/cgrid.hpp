@@ -444,8 +444,17 @@ class CGrid final : public BroadPhase<D, T> {
     std::size_t rest = 0;
     for (uint32_t c = 1; c < kMaskCells; ++c) rest += kOwnCell[c] ? count[c] + kPad : 0;
     const std::size_t leadSize = D > 1 ? m + 2 * kPad : m + kPad;
-    if (maskLead_.size() < leadSize) maskLead_.resize(leadSize);
-    if (maskRest_.size() < rest) maskRest_.resize(rest);
+    // Grown to the largest column seen plus an eighth, not geometrically: the mask is a large
+    // part of the working memory of small scenes, and the slack keeps moved boxes from
+    // reallocating it.
+    auto fit = [](std::vector<MaskEntry>& v, std::size_t size) {
+      if (v.size() < size) {
+        if (v.capacity() < size) v.reserve(size + size / 8 + 16);
+        v.resize(size);
+      }
+    };
+    fit(maskLead_, leadSize);
+    fit(maskRest_, rest);
     begin[0] = maskLead_.data();
     for (uint32_t c = 1, at = 0; c < kMaskCells; ++c) {
       begin[c] = kOwnCell[c] ? maskRest_.data() + at : spare_.data();
