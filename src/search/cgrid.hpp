@@ -436,10 +436,11 @@ class CGrid final : public BroadPhase<D, T> {
     stats_.maskEntries += m;
     std::array<std::size_t, kMaskCells> count{};
     for (std::size_t i = 0; i < m; ++i) ++count[in[i] >> kLabelShift];
-    // Every cell ends in one more entry, a sentinel that starts after everything ends, so the
-    // sweeps stop on the coordinate alone. Two arrays hold them: cell 0 then the union of the
-    // nonzero cells (written at every entry and advanced past the nonzero ones, so it may
-    // write one slot past its last entry: the sentinel's), and the other cells kept apart.
+    // Every cell ends in kPad more entries, sentinels that start after everything ends, so the
+    // sweeps stop on the coordinate alone and a scan may read kPad entries at a time. Two
+    // arrays hold them: cell 0 then the union of the nonzero cells (written at every entry and
+    // advanced past the nonzero ones, so it may write one slot past its last entry: the first
+    // sentinel's), and the other cells kept apart.
     std::array<MaskEntry*, kMaskCells> begin;
     std::size_t rest = 0;
     for (uint32_t c = 1; c < kMaskCells; ++c) rest += kOwnCell[c] ? count[c] + kPad : 0;
@@ -572,7 +573,7 @@ class CGrid final : public BroadPhase<D, T> {
     return o;
   }
 
-  // Checks every pair within one mask cell of m entries (plus sentinel), sorted by lastLo:
+  // Checks every pair within one mask cell of m entries (plus sentinels), sorted by lastLo:
   // each entry meets the later entries that start before it ends.
   void sweepWithin(const MaskEntry* cell, std::size_t m) {
     IndexPair* o = outNext_;
@@ -585,7 +586,7 @@ class CGrid final : public BroadPhase<D, T> {
     outEnd_ = end;
   }
 
-  // Checks every pair across two mask cells of np and nq entries (each plus sentinel), both
+  // Checks every pair across two mask cells of np and nq entries (each plus sentinels), both
   // sorted by lastLo: walking the two in merged order, the entry that starts first meets the
   // other cell's entries that start before it ends, so each overlapping pair is met once.
   // The walk picks its side without a branch.
