@@ -24,8 +24,14 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
+#include <type_traits>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "search/broad_phase.hpp"
 #include "search/cell_size.hpp"
@@ -43,8 +49,10 @@ class CGrid final : public BroadPhase<D, T> {
 
   // The default cell factor: cell = factor x volumeSizeStatistic (Arbitrary; 1 for Fixed,
   // where cell = factor x largest extent). Chosen from the cell-factor sweep in
-  // doc/performance.md: the optimum is flat between 1.25 and 2 on every distribution.
-  static constexpr double kDefaultCellFactor = 1.5;
+  // doc/performance.md: the optimum is flat between 1.5 and 2.5 on every distribution, the
+  // time lowest near 2 (the instruction count near 1.5: fewer entries cost less memory
+  // traffic than the extra candidate pairs cost instructions).
+  static constexpr double kDefaultCellFactor = 2.0;
 
   explicit CGrid(const SearchOptions& options = {}, Extents extents = Extents::Arbitrary)
       : cellFactor_(options.cellFactor > 0 ? options.cellFactor : kDefaultCellFactor),
@@ -72,22 +80,33 @@ class CGrid final : public BroadPhase<D, T> {
 
   void findPairs(std::span<const Box<D, T>> boxes, std::vector<IndexPair>& out) override {
     out.clear();
-    validateBoxes<D, T>(boxes);
-    if (boxes.size() > kIndexMask) {
-      throw Error("too many boxes: " + std::to_string(boxes.size()) + " exceeds " +
-                      std::to_string(kIndexMask),
-                  {"LIMIT", "COUNT"});
+    if (boxes.size() < 2 || boxes.size() > kIndexMask) {
+      validateBoxes<D, T>(boxes);
+      if (boxes.size() > kIndexMask) {
+        throw Error("too many boxes: " + std::to_string(boxes.size()) + " exceeds " +
+                        std::to_string(kIndexMask),
+                    {"LIMIT", "COUNT"});
+      }
+      stats_ = {};
+      return;
     }
+    discretize(boxes);  // validates the boxes on its first pass
     stats_ = {};
-    if (boxes.size() < 2) return;
+    // The output is sized ahead (to the last search's count, within its capacity) and cut
+    // back at the end, so reporting writes without checks per pair.
     out_ = &out;
-    discretize(boxes);
+    const std::size_t want = lastPairs_ + lastPairs_ / 8 + 1024;
+    out.resize(out.capacity() >= 1024 ? std::min(out.capacity(), want) : want);
+    outNext_ = out.data();
+    outEnd_ = out.data() + out.size();
     subdivideFirstAxis();
+    lastPairs_ = static_cast<std::size_t>(outNext_ - out.data());
+    out.resize(lastPairs_);
     out_ = nullptr;
   }
 
   std::size_t workingBytes() const override {
-    std::size_t bytes = (keys_.capacity() + order_.capacity()) * sizeof(uint32_t) +
+    std::size_t bytes = order_.capacity() * sizeof(uint32_t) +
                         boxes_.capacity() * sizeof(Box<D, T>) +
                         cells_.capacity() * sizeof(CellRange) + scratch_.bytes() + maskBytes();
     for (const auto& s : subdividers_) {
@@ -122,17 +141,17 @@ class CGrid final : public BroadPhase<D, T> {
 
   // Returns the bytes held by the contact mask's cells.
   std::size_t maskBytes() const {
-    std::size_t bytes = 0;
-    for (const auto& cell : maskCells_) bytes += cell.capacity() * sizeof(MaskEntry);
-    return bytes;
+    return (maskLead_.capacity() + maskRest_.capacity()) * sizeof(MaskEntry);
   }
 
-  // One entry of the contact mask's row, with its bounds inline.
+  // One entry of the contact mask's row: its bounds inline and its index in the caller's
+  // order, so a sweep touches nothing else.
   struct MaskEntry {
     T lastLo, lastHi;
-    uint32_t index;
     std::array<T, (D > 1 ? D - 1 : 1)> lo, hi;
+    uint32_t index;
   };
+  static_assert(std::numeric_limits<T>::has_infinity, "mask sentinels need an infinity");
   // Labels of entries reaching the contact mask use the bits of axes 0..D-2 only.
   static constexpr uint32_t kMaskCells = uint32_t{1} << (D - 1);
 
@@ -150,19 +169,27 @@ class CGrid final : public BroadPhase<D, T> {
   // order, their boxes and bucket ranges. Changes every buffer.
   void discretize(std::span<const Box<D, T>> boxes) {
     const std::size_t n = boxes.size();
-    std::array<double, D> top{};
+    // One pass over the input checks it, finds its bounds and sums its sizes.
+    std::array<double, D> origin, top;
     for (int k = 0; k < D; ++k) {
-      origin_[k] = static_cast<double>(boxes[0].lo[k]);
+      origin[k] = static_cast<double>(boxes[0].lo[k]);
       top[k] = static_cast<double>(boxes[0].hi[k]);
     }
+    SizeSums<D, T> sizes;
+    bool valid = true;
     for (const auto& b : boxes) {
       for (int k = 0; k < D; ++k) {
-        origin_[k] = std::min(origin_[k], static_cast<double>(b.lo[k]));
+        origin[k] = std::min(origin[k], static_cast<double>(b.lo[k]));
         top[k] = std::max(top[k], static_cast<double>(b.hi[k]));
       }
+      valid &= sizes.add(b);
     }
+    // Every bad box fails the quick check; validateBoxes decides exactly and throws, naming
+    // the first bad box, before anything is changed.
+    if (!valid) validateBoxes<D, T>(boxes);
+    origin_ = origin;
     const double statistic =
-        extents_ == Extents::Fixed ? largestExtent<D, T>(boxes) : volumeSizeStatistic<D, T>(boxes);
+        extents_ == Extents::Fixed ? sizes.largestExtent() : sizes.volumeStatistic();
     // Fixed extents need a cell at least as wide as every box; wider than the largest double
     // cannot be bucketed, so say so rather than miss pairs.
     if (!std::isfinite(statistic)) {
@@ -189,38 +216,88 @@ class CGrid final : public BroadPhase<D, T> {
       if (cellsInGrid > UINT32_MAX) break;
     }
     const bool lexicographic = cellsInGrid <= UINT32_MAX;
-    auto& identity = subdividers_[0].input;
-    identity.resize(n);
-    std::iota(identity.begin(), identity.end(), 0u);
+    // Returns the bucket ranges of box b, bucket() for every coordinate (Fixed: hi = lo + 1).
+    const bool fixed = extents_ == Extents::Fixed;
+#if defined(__SSE2__)
+    // 3D doubles: the six coordinates two at a time, (lo0 lo1) (lo2 hi0) (hi1 hi2), by the
+    // same arithmetic as bucket(), so the values are the same.
+    const __m128d o01 = _mm_set_pd(origin_[1], origin_[0]);
+    const __m128d o20 = _mm_set_pd(origin_[0], origin_[D > 2 ? 2 : 0]);
+    const __m128d o12 = _mm_set_pd(origin_[D > 2 ? 2 : 0], origin_[D > 1 ? 1 : 0]);
+    const __m128d scale = _mm_set1_pd(inverseCell_);
+    const __m128d most = _mm_set1_pd(kMaxBucket);
+#endif
+    auto rangeOf = [&](const Box<D, T>& b) {
+      CellRange c;
+#if defined(__SSE2__)
+      if constexpr (D == 3 && std::is_same_v<T, double>) {
+        auto scaled = [&](__m128d x, __m128d o) {
+          return _mm_cvttpd_epi32(_mm_min_pd(_mm_mul_pd(_mm_sub_pd(x, o), scale), most));
+        };
+        const __m128i lo01 = scaled(_mm_loadu_pd(b.lo.data()), o01);
+        const __m128i x20 = scaled(_mm_loadh_pd(_mm_load_sd(&b.lo[2]), &b.hi[0]), o20);
+        const __m128i hi12 = scaled(_mm_loadu_pd(&b.hi[1]), o12);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(c.lo.data()), lo01);
+        c.lo[2] = static_cast<uint32_t>(_mm_cvtsi128_si32(x20));
+        c.hi[0] = static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(x20, 1)));
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(&c.hi[1]), hi12);
+        if (fixed) {
+          for (int k = 0; k < D; ++k) c.hi[k] = c.lo[k] + 1;
+        }
+        return c;
+      }
+#endif
+      for (int k = 0; k < D; ++k) {
+        c.lo[k] = bucket(b.lo[k], k);
+        c.hi[k] = fixed ? c.lo[k] + 1 : bucket(b.hi[k], k);
+      }
+      return c;
+    };
+    // The keys go in Subdivider 0's input array, which subdivideFirstAxis() refills.
+    auto& keys = subdividers_[0].input;
+    keys.resize(n);
     order_.resize(n);
-    keys_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       if (lexicographic) {
+        const CellRange c = rangeOf(boxes[i]);
         uint64_t key = 0;
-        for (int k = 0; k < D; ++k) key += ranks[k] * bucket(boxes[i].lo[k], k);
-        keys_[i] = static_cast<uint32_t>(key);
+        for (int k = 0; k < D; ++k) key += ranks[k] * c.lo[k];
+        keys[i] = static_cast<uint32_t>(key);
       } else {
-        keys_[i] = bucket(boxes[i].lo[0], 0);
+        keys[i] = bucket(boxes[i].lo[0], 0);
       }
     }
-    sortByKey(
-        identity.data(), order_.data(), n, [&](uint32_t i) { return keys_[i]; }, scratch_);
+    sortIndicesByKey(keys.data(), n, order_.data(), scratch_);
 
     boxes_.resize(n);
     cells_.resize(n);
     // The gather below reads the caller's boxes in random order; asking for them a few
     // iterations ahead overlaps the cache misses, which dominate at a million objects.
     constexpr std::size_t kAhead = 16;
+    // In lexicographic order, objects of the same bucket are also put in order of their
+    // minimum on the last axis (insertion: they only move within their bucket). Then every
+    // run of a Subdivider's input is already in the order the next Subdivider needs, down to
+    // the last axis's coordinates, and no Subdivider sorts.
+    constexpr int L = D - 1;
     for (std::size_t j = 0; j < n; ++j) {
       if (j + kAhead < n) __builtin_prefetch(&boxes[order_[j + kAhead]]);
-      const Box<D, T>& b = boxes[order_[j]];
-      boxes_[j] = b;
-      CellRange& c = cells_[j];
-      for (int k = 0; k < D; ++k) {
-        c.lo[k] = bucket(b.lo[k], k);
-        c.hi[k] = extents_ == Extents::Fixed ? c.lo[k] + 1 : bucket(b.hi[k], k);
+      const uint32_t original = order_[j];
+      const Box<D, T> b = boxes[original];
+      const CellRange c = rangeOf(b);
+      std::size_t i = j;
+      if (lexicographic) {
+        while (i > 0 && boxes_[i - 1].lo[L] > b.lo[L] && sameBucket(cells_[i - 1], c)) {
+          boxes_[i] = boxes_[i - 1];
+          cells_[i] = cells_[i - 1];
+          order_[i] = order_[i - 1];
+          --i;
+        }
       }
+      boxes_[i] = b;
+      cells_[i] = c;
+      order_[i] = original;
     }
+    presorted_ = lexicographic;
   }
 
   // Runs the Subdivider chain over all objects, which discretize() left in bucket order on
@@ -253,28 +330,38 @@ class CGrid final : public BroadPhase<D, T> {
       std::size_t end = begin + 1;
       while (end < m && cells_[in[end] & kIndexMask].lo[K] == c) ++end;
 
-      s.current.resize(end - begin);
-      sortByKey(in + begin, s.current.data(), end - begin, nextKey, scratch_);
-      if constexpr (K + 1 == D - 1) refineOnLastAxis(s.current.data(), s.current.size());
+      // The current array: the run itself when discretize() left it in order.
+      const uint32_t* current = in + begin;
+      const std::size_t entering = end - begin;
+      if (!presorted_) {
+        s.current.resize(entering);
+        sortByKey(in + begin, s.current.data(), entering, nextKey, scratch_);
+        if constexpr (K + 1 == D - 1) refineOnLastAxis(s.current.data(), entering);
+        current = s.current.data();
+      }
       // Held-over objects that still reach bucket c become lower-adjacent on axis K.
       std::size_t kept = 0;
       uint32_t common = kLabelMask;
       for (uint32_t e : s.held) {
-        if (cells_[e & kIndexMask].hi[K] >= c) {
-          e |= labelBit(K);
-          common &= e;
-          s.held[kept++] = e;
-        }
+        // Branch-free: every entry is written, and kept if it still reaches c.
+        const bool stays = cells_[e & kIndexMask].hi[K] >= c;
+        e |= labelBit(K);
+        common &= stays ? e : kLabelMask;
+        s.held[kept] = e;
+        kept += stays;
       }
       s.held.resize(kept);
-      for (uint32_t e : s.current) common &= e;
-      s.merged.resize(kept + s.current.size());
+      for (std::size_t i = 0; i < entering; ++i) common &= current[i];
+      s.merged.resize(kept + entering);
       if constexpr (K + 1 == D - 1) {
-        std::merge(s.held.begin(), s.held.end(), s.current.begin(), s.current.end(),
-                   s.merged.begin(), [&](uint32_t a, uint32_t b) { return lastLo(a) < lastLo(b); });
+        std::merge(s.held.begin(), s.held.end(), current, current + entering, s.merged.begin(),
+                   [&](uint32_t a, uint32_t b) { return lastLo(a) < lastLo(b); });
+      } else if (presorted_) {
+        // Kept in the full order of the later axes, so that Subdivider K+1's runs are too.
+        std::merge(s.held.begin(), s.held.end(), current, current + entering, s.merged.begin(),
+                   [&](uint32_t a, uint32_t b) { return laterBefore<K + 1>(a, b); });
       } else {
-        std::merge(s.held.begin(), s.held.end(), s.current.begin(), s.current.end(),
-                   s.merged.begin(),
+        std::merge(s.held.begin(), s.held.end(), current, current + entering, s.merged.begin(),
                    [&](uint32_t a, uint32_t b) { return nextKey(a) < nextKey(b); });
       }
       s.held.swap(s.merged);
@@ -297,8 +384,29 @@ class CGrid final : public BroadPhase<D, T> {
     s.merged.reserve(room);
   }
 
+  // Returns true if a and b start in the same bucket on every axis.
+  static bool sameBucket(const CellRange& a, const CellRange& b) {
+    bool same = true;
+    for (int k = 0; k < D; ++k) same &= a.lo[k] == b.lo[k];
+    return same;
+  }
+
+  // Returns true if entry a comes before entry b in the order of discretize() restricted to
+  // axes K..D-1: by bucket on axes K..D-2, then by minimum coordinate on the last axis.
+  template <int K>
+  bool laterBefore(uint32_t a, uint32_t b) const {
+    const CellRange& ca = cells_[a & kIndexMask];
+    const CellRange& cb = cells_[b & kIndexMask];
+    for (int k = K; k < D - 1; ++k) {
+      if (ca.lo[k] != cb.lo[k]) return ca.lo[k] < cb.lo[k];
+    }
+    return lastLo(a) < lastLo(b);
+  }
+
   // Returns the minimum coordinate of entry e on the last axis.
-  T lastLo(uint32_t e) const { return boxes_[e & kIndexMask].lo[D - 1]; }
+  T lastLo(uint32_t e) const {
+    return boxes_[e & kIndexMask].lo[D - 1];
+  }
 
   // Sorts entries a[0..m), already in bucket order on the last axis, by their minimum
   // coordinate there. Insertion sort: entries only move within their bucket.
@@ -320,76 +428,186 @@ class CGrid final : public BroadPhase<D, T> {
   // mask's 2^(D-1) cells by label (which earlier axes they are lower-adjacent on), each cell
   // keeping that order, and the cells are cross-checked by the NAND rule: cell s against
   // cell t only if s & t == 0, cell 0 against itself. So every pair met here is a pair that
-  // meets nowhere else, and no pair is looked at only to be rejected. Appends the
-  // overlapping pairs to *out_.
+  // meets nowhere else, and no pair is looked at only to be rejected. Cell 0 passes the rule
+  // with every cell, so it is checked once against the union of the other cells (kept in
+  // the same order) rather than once per cell. Appends the overlapping pairs to the output.
   void contactMask(const uint32_t* in, std::size_t m) {
     constexpr int L = D - 1;
     stats_.maskEntries += m;
-    std::array<MaskEntry*, kMaskCells> fill;
     std::array<std::size_t, kMaskCells> count{};
     for (std::size_t i = 0; i < m; ++i) ++count[in[i] >> kLabelShift];
-    for (uint32_t c = 0; c < kMaskCells; ++c) {
-      if (maskCells_[c].size() < count[c]) maskCells_[c].resize(count[c]);
-      fill[c] = maskCells_[c].data();
+    // Every cell ends in kPad more entries, sentinels that start after everything ends, so the
+    // sweeps stop on the coordinate alone and a scan may read kPad entries at a time. Two
+    // arrays hold them: cell 0 then the union of the nonzero cells (written at every entry and
+    // advanced past the nonzero ones, so it may write one slot past its last entry: the first
+    // sentinel's), and the other cells kept apart.
+    std::array<MaskEntry*, kMaskCells> begin;
+    std::size_t rest = 0;
+    for (uint32_t c = 1; c < kMaskCells; ++c) rest += kOwnCell[c] ? count[c] + kPad : 0;
+    const std::size_t leadSize = D > 1 ? m + 2 * kPad : m + kPad;
+    // Grown to the largest column seen plus an eighth, not geometrically: the mask is a large
+    // part of the working memory of small scenes, and the slack keeps moved boxes from
+    // reallocating it.
+    auto fit = [](std::vector<MaskEntry>& v, std::size_t size) {
+      if (v.size() < size) {
+        if (v.capacity() < size) v.reserve(size + size / 8 + 16);
+        v.resize(size);
+      }
+    };
+    fit(maskLead_, leadSize);
+    fit(maskRest_, rest);
+    begin[0] = maskLead_.data();
+    for (uint32_t c = 1, at = 0; c < kMaskCells; ++c) {
+      begin[c] = kOwnCell[c] ? maskRest_.data() + at : spare_.data();
+      at += kOwnCell[c] ? static_cast<uint32_t>(count[c] + kPad) : 0;
     }
+    std::array<MaskEntry*, kMaskCells> fill = begin;
+    MaskEntry* const cell0 = begin[0];
+    MaskEntry* const others = D > 1 ? cell0 + count[0] + kPad : spare_.data();
+    MaskEntry* u = others;
     for (std::size_t i = 0; i < m; ++i) {
       const uint32_t e = in[i];
-      const Box<D, T>& b = boxes_[e & kIndexMask];
-      MaskEntry& entry = *fill[e >> kLabelShift]++;
-      entry.lastLo = b.lo[L];
-      entry.lastHi = b.hi[L];
-      entry.index = e & kIndexMask;
+      const uint32_t label = e >> kLabelShift;
+      const uint32_t j = e & kIndexMask;
+      const Box<D, T>& b = boxes_[j];
+      MaskEntry x;
+      x.lastLo = b.lo[L];
+      x.lastHi = b.hi[L];
+      x.index = order_[j];
       for (int k = 0; k < L; ++k) {
-        entry.lo[k] = b.lo[k];
-        entry.hi[k] = b.hi[k];
+        x.lo[k] = b.lo[k];
+        x.hi[k] = b.hi[k];
+      }
+      *fill[label] = x;
+      fill[label] += kOwnCell[label];
+      if constexpr (D > 1) {
+        *u = x;
+        u += label != 0;
       }
     }
-    std::array<std::span<const MaskEntry>, kMaskCells> cells;
-    for (uint32_t c = 0; c < kMaskCells; ++c) {
-      cells[c] = {maskCells_[c].data(), static_cast<std::size_t>(fill[c] - maskCells_[c].data())};
+    constexpr T kAfterAll = std::numeric_limits<T>::infinity();
+    for (std::size_t p = 0; p < kPad; ++p) {
+      for (uint32_t c = 0; c < kMaskCells; ++c) fill[c][p].lastLo = kAfterAll;
+      u[p].lastLo = kAfterAll;
     }
-    sweepWithin(cells[0]);
-    for (uint32_t s = 0; s < kMaskCells; ++s) {
-      if (cells[s].empty()) continue;
-      for (uint32_t t = s + 1; t < kMaskCells; ++t) {
-        if ((s & t) == 0 && !cells[t].empty()) sweepBetween(cells[s], cells[t]);
+    const std::size_t n0 = count[0];
+    sweepWithin(cell0, n0);
+    if constexpr (D > 1) {
+      sweepBetween(cell0, n0, others, m - n0);
+      for (uint32_t s = 1; s < kMaskCells; ++s) {
+        if (!kOwnCell[s] || count[s] == 0) continue;
+        for (uint32_t t = s + 1; t < kMaskCells; ++t) {
+          if ((s & t) == 0 && count[t] != 0) {
+            sweepBetween(begin[s], count[s], begin[t], count[t]);
+          }
+        }
       }
     }
   }
 
-  // Appends to *out_ the pair (a, b) if they overlap on the axes before the last; the caller
-  // has established that they overlap on the last.
-  void report(const MaskEntry& a, const MaskEntry& b) {
-    bool hit = true;
-    for (int k = 0; k < D - 1; ++k) hit &= (a.lo[k] <= b.hi[k]) & (b.lo[k] <= a.hi[k]);
-    if (hit) out_->push_back(makePair(order_[a.index], order_[b.index]));
+  // Sentinels at the end of every mask cell: the scans read this many entries at a time.
+  static constexpr std::size_t kPad = 4;
+
+  // Cells that are kept as arrays of their own: cell 0, and every nonzero cell that the NAND
+  // rule pairs with another nonzero cell (all but the all-ones cell).
+  static constexpr std::array<bool, kMaskCells> kOwnCell = [] {
+    std::array<bool, kMaskCells> own{};
+    for (uint32_t c = 0; c < kMaskCells; ++c) own[c] = c == 0 || c != kMaskCells - 1;
+    return own;
+  }();
+
+  // Makes room for `need` more pairs in the output, which is written up to o (and may have
+  // ended at end). Within the vector's capacity first, so a warm object allocates nothing.
+  // Changes o and end when the output moves.
+  void reserveOut(IndexPair*& o, IndexPair*& end, std::size_t need) {
+    if (static_cast<std::size_t>(end - o) >= need) return;
+    const std::size_t used = static_cast<std::size_t>(o - out_->data());
+    std::size_t size = std::max(out_->capacity(), used + need);
+    if (size == out_->size()) size = std::max(2 * size, used + need);
+    out_->resize(size);
+    o = out_->data() + used;
+    end = out_->data() + out_->size();
   }
 
-  // Checks every pair within one mask cell, sorted by lastLo: each entry meets the later
-  // entries that start before it ends.
-  void sweepWithin(std::span<const MaskEntry> cell) {
-    const std::size_t m = cell.size();
+  // Reports the pairs of entry a with b, b + 1, ... up to the first entry that starts after a
+  // ends on the last axis (a cell's sentinel stops it at the end), where they overlap on the
+  // axes before the last; the caller has made room. Branch-free: every pair is written and
+  // kept only on a hit, in increasing order without a branch on the comparison.
+  static IndexPair* scan(const MaskEntry& a, const MaskEntry* b, IndexPair* o) {
+    const T end = a.lastHi;
+    const uint32_t x = a.index;
+#if defined(__SSE2__)
+    if constexpr (std::is_same_v<T, double> && D == 3) {
+      // Both earlier axes at once: lo_a <= hi_b and lo_b <= hi_a, lane by lane.
+      const __m128d lo = _mm_loadu_pd(a.lo.data());
+      const __m128d hi = _mm_loadu_pd(a.hi.data());
+      // kPad candidates at a time, the end folded into the hit: most scans end within the
+      // first block, so the loop's branch is rarely taken and rarely mispredicted.
+      bool more;
+      do {
+        for (std::size_t l = 0; l < kPad; ++l) {
+          const MaskEntry& c = b[l];
+          const __m128d le = _mm_and_pd(_mm_cmple_pd(lo, _mm_loadu_pd(c.hi.data())),
+                                        _mm_cmple_pd(_mm_loadu_pd(c.lo.data()), hi));
+          const uint32_t y = c.index;
+          const uint32_t first = x < y ? x : y;
+          *o = IndexPair{first, x ^ y ^ first};
+          o += (_mm_movemask_pd(le) == 3) & (c.lastLo <= end);
+        }
+        more = b[kPad - 1].lastLo <= end;
+        b += kPad;
+      } while (more);
+      return o;
+    }
+#endif
+    const auto lo = a.lo;
+    const auto hi = a.hi;
+    for (; b->lastLo <= end; ++b) {
+      bool hit = true;
+      for (int k = 0; k < D - 1; ++k) hit &= (lo[k] <= b->hi[k]) & (b->lo[k] <= hi[k]);
+      const uint32_t y = b->index;
+      const uint32_t first = x < y ? x : y;
+      *o = IndexPair{first, x ^ y ^ first};
+      o += hit;
+    }
+    return o;
+  }
+
+  // Checks every pair within one mask cell of m entries (plus sentinels), sorted by lastLo:
+  // each entry meets the later entries that start before it ends.
+  void sweepWithin(const MaskEntry* cell, std::size_t m) {
+    IndexPair* o = outNext_;
+    IndexPair* end = outEnd_;
     for (std::size_t i = 0; i < m; ++i) {
-      const MaskEntry& a = cell[i];
-      for (std::size_t j = i + 1; j < m && cell[j].lastLo <= a.lastHi; ++j) report(a, cell[j]);
+      reserveOut(o, end, m - i + kPad);
+      o = scan(cell[i], cell + i + 1, o);
     }
+    outNext_ = o;
+    outEnd_ = end;
   }
 
-  // Checks every pair across two mask cells, both sorted by lastLo: walking the two in
-  // merged order, the entry that starts first meets the other cell's entries that start
-  // before it ends, so each overlapping pair is met once.
-  void sweepBetween(std::span<const MaskEntry> p, std::span<const MaskEntry> q) {
-    std::size_t i = 0, j = 0;
-    const std::size_t np = p.size(), nq = q.size();
-    while (i < np && j < nq) {
-      if (p[i].lastLo <= q[j].lastLo) {
-        const MaskEntry& a = p[i++];
-        for (std::size_t k = j; k < nq && q[k].lastLo <= a.lastHi; ++k) report(a, q[k]);
-      } else {
-        const MaskEntry& b = q[j++];
-        for (std::size_t k = i; k < np && p[k].lastLo <= b.lastHi; ++k) report(b, p[k]);
-      }
+  // Checks every pair across two mask cells of np and nq entries (each plus sentinels), both
+  // sorted by lastLo: walking the two in merged order, the entry that starts first meets the
+  // other cell's entries that start before it ends, so each overlapping pair is met once.
+  // The walk picks its side without a branch.
+  void sweepBetween(const MaskEntry* p, std::size_t np, const MaskEntry* q, std::size_t nq) {
+    IndexPair* o = outNext_;
+    IndexPair* end = outEnd_;
+    const MaskEntry* const pEnd = p + np;
+    const MaskEntry* const qEnd = q + nq;
+    // side[0] walks p, side[1] walks q; the side taken is an index, not a branch.
+    std::array<const MaskEntry*, 2> side = {p, q};
+    const std::array<const MaskEntry*, 2> sideEnd = {pEnd, qEnd};
+    while (side[0] < pEnd && side[1] < qEnd) {
+      const int take = side[0]->lastLo <= side[1]->lastLo ? 0 : 1;
+      const MaskEntry* const a = side[take];
+      const MaskEntry* const b = side[1 - take];
+      ++side[take];
+      reserveOut(o, end, static_cast<std::size_t>(sideEnd[1 - take] - b) + kPad);
+      o = scan(*a, b, o);
     }
+    outNext_ = o;
+    outEnd_ = end;
   }
 
   double cellFactor_;
@@ -398,14 +616,19 @@ class CGrid final : public BroadPhase<D, T> {
   Stats stats_;
   double inverseCell_ = 1.0;
   std::array<double, D> origin_{};
-  std::vector<uint32_t> keys_;    // bucket key of each object, in the caller's order
   std::vector<uint32_t> order_;   // sorted position -> caller's index
   std::vector<Box<D, T>> boxes_;  // boxes in sorted order (hot for the contact mask)
   std::vector<CellRange> cells_;  // bucket ranges in sorted order
+  bool presorted_ = false;        // sorted over all axes: Subdividers' runs arrive in order
   std::array<Subdivider, D> subdividers_;
   KeySortScratch scratch_;
-  std::array<std::vector<MaskEntry>, kMaskCells> maskCells_;
+  std::vector<MaskEntry> maskLead_;    // mask cell 0, then the nonzero cells together
+  std::vector<MaskEntry> maskRest_;    // the nonzero cells crossed among themselves
+  std::array<MaskEntry, kPad> spare_;  // entries of cells kept in no array of their own
   std::vector<IndexPair>* out_ = nullptr;
+  IndexPair* outNext_ = nullptr;  // the output is written ahead of its size, from here
+  IndexPair* outEnd_ = nullptr;
+  std::size_t lastPairs_ = 0;  // pairs of the last search, to size the next one's output
 };
 
 }  // namespace demlab::search

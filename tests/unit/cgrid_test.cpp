@@ -24,8 +24,12 @@ void* operator new(std::size_t size) {
   if (void* p = std::malloc(size ? size : 1)) return p;
   throw std::bad_alloc();
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
 
 namespace demlab::search {
 namespace {
@@ -36,13 +40,12 @@ using testing::randomBoxes;
 std::vector<Box<3, double>> bed(std::size_t n, uint64_t seed, double offset = 0.0) {
   std::mt19937_64 rng(seed);
   const double side = std::cbrt(static_cast<double>(n) * 4.18879 / 0.6);
-  return randomBoxes<3, double>(rng, n, side, [](std::mt19937_64&) { return 1.0; }, 0.0,
-                                offset);
+  return randomBoxes<3, double>(
+      rng, n, side, [](std::mt19937_64&) { return 1.0; }, 0.0, offset);
 }
 
 // Returns `boxes` with every box moved by up to `step` on each axis.
-std::vector<Box<3, double>> jitter(std::vector<Box<3, double>> boxes, double step,
-                                   uint64_t seed) {
+std::vector<Box<3, double>> jitter(std::vector<Box<3, double>> boxes, double step, uint64_t seed) {
   std::mt19937_64 rng(seed);
   for (auto& b : boxes) {
     for (int k = 0; k < 3; ++k) {
@@ -77,8 +80,9 @@ TEST(CGrid, CellFollowsTheVolumeOfTheObjects) {
   CGrid<3, double> grid;
   std::vector<IndexPair> out;
   grid.findPairs(bed(1000, 3), out);
-  // 1.5 x the cube root of the mean box volume, 2^3.
-  EXPECT_NEAR(grid.cellSize(), 1.5 * 2.0, 1e-12);
+  // The default factor x the cube root of the mean box volume, 2^3.
+  constexpr double f = CGrid<3, double>::kDefaultCellFactor;
+  EXPECT_NEAR(grid.cellSize(), f * 2.0, 1e-12);
 
   CGrid<3, double> coarse(SearchOptions{2.5});
   coarse.findPairs(bed(1000, 3), out);
@@ -90,8 +94,8 @@ TEST(CGrid, CellFollowsTheVolumeOfTheObjects) {
     return testing::uniform(r, 0, 1) < 0.1 ? 10.0 : 1.0;
   });
   grid.findPairs(mixed, out);
-  EXPECT_GT(grid.cellSize(), 1.5 * 2.0);
-  EXPECT_LT(grid.cellSize(), 1.5 * 20.0 / 2);
+  EXPECT_GT(grid.cellSize(), f * 2.0);
+  EXPECT_LT(grid.cellSize(), f * 20.0 / 2);
 
   // SGrid needs the largest extent.
   CGrid<3, double> sgrid({}, CGrid<3, double>::Extents::Fixed);
@@ -106,11 +110,12 @@ TEST(CGrid, PointsAndFlatBoxesGetAUsableCell) {
   std::vector<IndexPair> out;
   grid.findPairs(points, out);
   EXPECT_EQ(out.size(), 45u);
-  EXPECT_EQ(grid.cellSize(), 1.5);
+  constexpr double f = CGrid<2, double>::kDefaultCellFactor;
+  EXPECT_EQ(grid.cellSize(), f);
   std::vector<Box<2, double>> flat = {{{0, 0}, {4, 0}}, {{2, 0}, {6, 0}}, {{5, 1}, {9, 1}}};
   grid.findPairs(flat, out);
   EXPECT_EQ(out.size(), 1u);
-  EXPECT_EQ(grid.cellSize(), 1.5 * 4.0);  // the mean largest extent
+  EXPECT_EQ(grid.cellSize(), f * 4.0);  // the mean largest extent
 }
 
 TEST(CGrid, WorkPerObjectDoesNotGrowWithN) {
@@ -123,7 +128,8 @@ TEST(CGrid, WorkPerObjectDoesNotGrowWithN) {
     perObject[i] = static_cast<double>(grid.stats().maskEntries) / sizes[i];
   }
   EXPECT_NEAR(perObject[1] / perObject[0], 1.0, 0.1);
-  // Each object spans 1 + d/h buckets per axis: (1 + 2/3)^2 ~ 2.8 rows, plus the edges.
+  // Each object spans 1 + d/h buckets per axis: (1 + 2/4)^2 ~ 2.3 rows at the default cell
+  // (2 diameters), plus the edges.
   EXPECT_LT(perObject[1], 3.5);
 }
 
