@@ -6,8 +6,8 @@
 #
 #   build/demlab examples/drum.tcl ?folder? ?-short?
 #
-# folder: where the frames go (default: frames). -short: a few frames only (the test suite's
-# form). Turn the frames into a film with, for example,
+# folder: where the frames go (default: frames). -short: the same fill, then a few frames
+# only (the test suite's form, so it runs the demo's own setup). Turn the frames into a film with, for example,
 #   ffmpeg -framerate 25 -i frames/frame_%06d.png -pix_fmt yuv420p drum.mp4
 
 set dir frames
@@ -30,25 +30,20 @@ set drum [wall add drum -radius $R -name drum]
 sim timestep auto -fraction 0.25
 
 # Fill in layers: large grains first, then small ones on top, each layer dropped into the
-# lower part of the drum and let settle before the next. Each layer is a box inside the drum.
+# lower part of the drum and let settle before the next. Each layer is a box inside the drum:
+# its corners lie within R - r of the centre (pack random keeps grains apart from each other,
+# not from walls; the watchdog stops a run whose grains start deep in a wall).
 proc layer {tag radius count lo hi seed} {
     pack random -region [list box $lo $hi] -radius [list uniform [expr {0.95 * $radius}] $radius] \
         -count $count -tags $tag -seed $seed -tries 5000
     sim run -time 0.12 -quiet -progress 0
 }
-set nLarge 0
-set nSmall 0
-if {$short} {
-    layer large $rLarge 30 {-0.03 -0.04} {0.03 -0.01} 1
-    layer small $rSmall 120 {-0.03 -0.01} {0.03 0.02} 2
-} else {
-    layer large $rLarge 45 {-0.035 -0.042} {0.035 -0.012} 1
-    layer large $rLarge 45 {-0.035 -0.03} {0.035 0.0} 2
-    layer large $rLarge 30 {-0.035 -0.02} {0.035 0.01} 3
-    layer small $rSmall 170 {-0.035 -0.01} {0.035 0.02} 4
-    layer small $rSmall 170 {-0.035 -0.005} {0.035 0.025} 5
-    layer small $rSmall 140 {-0.035 0.0} {0.035 0.03} 6
-}
+layer large $rLarge 32 {-0.03 -0.036} {0.03 -0.012} 1
+layer large $rLarge 45 {-0.035 -0.03} {0.035 0.0} 2
+layer large $rLarge 43 {-0.035 -0.02} {0.035 0.01} 3
+layer small $rSmall 170 {-0.035 -0.01} {0.035 0.02} 4
+layer small $rSmall 170 {-0.035 -0.005} {0.035 0.025} 5
+layer small $rSmall 140 {-0.035 0.0} {0.035 0.03} 6
 sim run -time [expr {$short ? 0.05 : 0.3}] -quiet -progress 0  ;# the last layer comes to rest
 puts "[element count] grains ([llength [element list -tag large]] large, [llength [element list -tag small]] small), dt = [sim timestep] s"
 
