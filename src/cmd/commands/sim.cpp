@@ -6,6 +6,7 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "io/atomic_file.hpp"
 
 namespace demlab::cmd {
 
@@ -162,21 +163,7 @@ void registerSimCommands(Registry& r) {
     auto& s = session(c).scene();
     std::ostringstream out(std::ios::binary);
     std::vector<std::string> skipped = s.save(out, c.flag("skipcallbacks"));
-    const std::string& path = c.str("file");
-    std::string tmp = path + ".tmp";
-    {
-      std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-      if (!f) throw Error("couldn't open \"" + path + "\" for writing", {"IO", "OPEN"});
-      f << out.str();
-      if (!f.flush()) {
-        std::remove(tmp.c_str());
-        throw Error("error writing \"" + path + "\"", {"IO", "WRITE"});
-      }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-      std::remove(tmp.c_str());
-      throw Error("couldn't rename \"" + tmp + "\" to \"" + path + "\"", {"IO", "WRITE"});
-    }
+    io::writeFileAtomically(c.str("file"), out.str());
     List l;
     for (auto& d : skipped) l.emplace_back(d);
     return Value(l);

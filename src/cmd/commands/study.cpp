@@ -23,6 +23,7 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "io/atomic_file.hpp"
 
 namespace demlab::cmd {
 
@@ -231,24 +232,6 @@ double fitOrder(const std::vector<const Row*>& rows) {
     sxx += (q.first - mx) * (q.first - mx);
   }
   return sxy / sxx;
-}
-
-// Writes text to path through a temporary file in the same folder and a rename.
-void writeFileAtomically(const std::string& path, const std::string& text) {
-  std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw Error("couldn't open \"" + path + "\" for writing", {"IO", "OPEN"});
-    f << text;
-    if (!f.flush()) {
-      std::remove(tmp.c_str());
-      throw Error("error writing \"" + path + "\"", {"IO", "WRITE"});
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw Error("couldn't rename \"" + tmp + "\" to \"" + path + "\"", {"IO", "WRITE"});
-  }
 }
 
 std::string num(double x) {
@@ -726,7 +709,7 @@ Value execute(Call& c) {
     orders.emplace_back(integ, fitOrder(fit));
   }
 
-  if (!p.csv.empty()) writeFileAtomically(p.csv, csvText(rows));
+  if (!p.csv.empty()) io::writeFileAtomically(p.csv, csvText(rows));
   if (!c.flag("quiet")) s.write(tableText(p, rows, orders));
   if (!p.plot.empty()) plot(p, rows, orders);
 
