@@ -103,6 +103,13 @@ struct PassEnergy {
   }
 };
 
+// Returns true when grainPair (makeContactModules: the pair index of the grains' one material,
+// or -1) names a pair of the scene's mixed table. Changes nothing.
+template <int D>
+bool isOnePair(long grainPair, const Scene<D>& s) {
+  return grainPair >= 0 && static_cast<size_t>(grainPair) < s.pairParams.size();
+}
+
 template <int D, int Law, bool History, bool Rotation>
 class GrainContactModule final : public SimModule<D> {
  public:
@@ -114,7 +121,7 @@ class GrainContactModule final : public SimModule<D> {
 
   void run(Scene<D>& s) override {
     // One material pair for every contact: its parameters are read once, outside the loop.
-    if (grainPair_ >= 0 && static_cast<size_t>(grainPair_) < s.pairParams.size()) {
+    if (isOnePair(grainPair_, s)) {
       pass<true>(s);
     } else {
       pass<false>(s);
@@ -279,7 +286,7 @@ class WallContactModule final : public SimModule<D> {
   explicit WallContactModule(long grainPair = -1) : grainPair_(grainPair) {}
 
   void run(Scene<D>& s) override {
-    if (grainPair_ >= 0 && static_cast<size_t>(grainPair_) < s.pairParams.size()) {
+    if (isOnePair(grainPair_, s)) {
       pass<true>(s);
     } else {
       pass<false>(s);

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/order_fit.hpp"
 
 namespace demlab::verify {
 
@@ -21,21 +22,9 @@ namespace {
 double fitOrder(const std::vector<StudyRow>& rows) {
   std::vector<std::pair<double, double>> pts;
   for (auto it = rows.rbegin(); it != rows.rend() && pts.size() < 3; ++it) {
-    if (it->error > 0 && std::isfinite(it->error)) {
-      pts.emplace_back(std::log(it->dt), std::log(it->error));
-    }
+    if (it->error > 0 && std::isfinite(it->error)) pts.emplace_back(it->dt, it->error);
   }
-  if (pts.size() < 2) return std::numeric_limits<double>::quiet_NaN();
-  double mx = 0, my = 0;
-  for (auto& p : pts) mx += p.first, my += p.second;
-  mx /= pts.size();
-  my /= pts.size();
-  double sxy = 0, sxx = 0;
-  for (auto& p : pts) {
-    sxy += (p.first - mx) * (p.second - my);
-    sxx += (p.first - mx) * (p.first - mx);
-  }
-  return sxy / sxx;
+  return logLogSlope(pts);
 }
 
 std::string num(double x) {

@@ -23,6 +23,7 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/order_fit.hpp"
 #include "io/atomic_file.hpp"
 
 namespace demlab::cmd {
@@ -217,21 +218,9 @@ std::string gnuplotQuote(const std::string& s) {
 double fitOrder(const std::vector<const Row*>& rows) {
   std::vector<std::pair<double, double>> pts;
   for (const Row* r : rows) {
-    if (r->error > 0 && std::isfinite(r->error)) {
-      pts.emplace_back(std::log(r->dt), std::log(r->error));
-    }
+    if (r->error > 0 && std::isfinite(r->error)) pts.emplace_back(r->dt, r->error);
   }
-  if (pts.size() < 2) return kNaN;
-  double mx = 0, my = 0;
-  for (auto& q : pts) mx += q.first, my += q.second;
-  mx /= double(pts.size());
-  my /= double(pts.size());
-  double sxy = 0, sxx = 0;
-  for (auto& q : pts) {
-    sxy += (q.first - mx) * (q.second - my);
-    sxx += (q.first - mx) * (q.first - mx);
-  }
-  return sxy / sxx;
+  return logLogSlope(pts);
 }
 
 std::string num(double x) {

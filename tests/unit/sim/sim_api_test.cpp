@@ -12,22 +12,11 @@ namespace demlab::sim {
 namespace {
 
 using testing::addBox;
+using testing::codeOf;
 using testing::grain;
 using testing::latticeGrains;
 using testing::material;
 using testing::plane;
-
-// Returns the error code words after DEMLAB of the Error f throws; fails if it does not throw.
-template <class F>
-std::vector<std::string> codeOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return {e.code().begin() + 1, e.code().end()};
-  }
-  ADD_FAILURE() << "no error thrown";
-  return {};
-}
 
 class SimApi : public ::testing::TestWithParam<int> {};
 

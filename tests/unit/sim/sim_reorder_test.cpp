@@ -88,11 +88,19 @@ double radius(int d) {
   return d == 3 ? 0.004 : 0.002;
 }
 
-// A frictional, rotating 3D or 2D bed in a box under gravity, grains added in lattice order.
-std::unique_ptr<Simulation> bed(int d) {
+// A frictional, rotating 3D or 2D bed in a box under gravity, grains added in lattice order;
+// polydisperse: radii spread over 0.6-1 of radius(d) (a golden-ratio sequence).
+std::unique_ptr<Simulation> bed(int d, bool polydisperse = false) {
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e7, 0.5, 0.5));
-  s->addGrains(latticeGrains(d, d == 3 ? 300 : 200, radius(d), 0.08, 0.3, "glass", 17));
+  auto grains =
+      latticeGrains(d, d == 3 ? 300 : 200, radius(d), 0.08, 0.3, "glass", polydisperse ? 23 : 17);
+  if (polydisperse) {
+    for (size_t k = 0; k < grains.size(); ++k) {
+      grains[k].radius *= 0.6 + 0.4 * std::fmod(0.6180339887 * static_cast<double>(k), 1.0);
+    }
+  }
+  s->addGrains(grains);
   addBox(*s, 0.08, "glass");
   s->addGravity({0, -9.81, 0});
   s->setAutoTimeStep(0.2);
@@ -182,16 +190,7 @@ TEST_P(SimReorderScene, ReorderingRunsAreDeterministicAndContinueAfterLoad) {
 TEST_P(SimReorderScene, PolydisperseAutoSkinContinuesAfterLoad) {
   const int d = GetParam();
   auto make = [&] {
-    auto s = makeSimulation(d);
-    s->addMaterial("glass", material(1e7, 0.5, 0.5));
-    auto grains = latticeGrains(d, d == 3 ? 300 : 200, radius(d), 0.08, 0.3, "glass", 23);
-    for (size_t k = 0; k < grains.size(); ++k) {
-      grains[k].radius *= 0.6 + 0.4 * std::fmod(0.6180339887 * static_cast<double>(k), 1.0);
-    }
-    s->addGrains(grains);
-    addBox(*s, 0.08, "glass");
-    s->addGravity({0, -9.81, 0});
-    s->setAutoTimeStep(0.2);
+    auto s = bed(d, true);
     setReorderEvery(*s, 1);
     return s;
   };

@@ -19,6 +19,7 @@
 namespace demlab::sim {
 namespace {
 
+using testing::codeOf;
 using testing::grain;
 using testing::material;
 using testing::plane;
@@ -43,17 +44,6 @@ std::string tripOf(F&& f, WatchdogTrip* out = nullptr) {
   }
   ADD_FAILURE() << "the watchdog did not stop the run";
   return "";
-}
-
-template <class F>
-std::vector<std::string> codeOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return {e.code().begin() + 1, e.code().end()};
-  }
-  ADD_FAILURE() << "no error thrown";
-  return {};
 }
 
 MaterialDef linearMaterial(double kn, double restitution, double friction, double density) {

@@ -10,9 +10,22 @@
 
 #include <gtest/gtest.h>
 
+#include "core/error.hpp"
 #include "sim/simulation.hpp"
 
 namespace demlab::sim::testing {
+
+// Returns the error code words after DEMLAB of the Error f throws; fails if it does not throw.
+template <class F>
+std::vector<std::string> codeOf(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return {e.code().begin() + 1, e.code().end()};
+  }
+  ADD_FAILURE() << "no error thrown";
+  return {};
+}
 
 inline MaterialDef material(double young, double restitution, double friction,
                             double density = 2500) {
