@@ -9,9 +9,13 @@
 
 namespace demlab::render {
 
-inline constexpr int kGlyphWidth = 5, kGlyphHeight = 7, kGlyphAdvance = 6;
+// kGlyphHeight rows from the top of the cell to the baseline; descenders (g, p, q, y) reach
+// kGlyphDescent rows further, so a line of text covers kGlyphCellHeight rows.
+inline constexpr int kGlyphWidth = 5, kGlyphHeight = 7, kGlyphAdvance = 6, kGlyphDescent = 2;
+inline constexpr int kGlyphCellHeight = kGlyphHeight + kGlyphDescent;
 
-// Returns whether pixel (col, row) of character ch's glyph is set (unknown characters: '?').
+// Returns whether pixel (col, row) of character ch's cell is set (unknown characters: '?');
+// row runs over the kGlyphCellHeight rows of the cell.
 bool glyphPixel(char ch, int col, int row);
 
 // Returns the width in pixels of s drawn at scale.

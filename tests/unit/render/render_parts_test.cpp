@@ -171,17 +171,32 @@ TEST(RenderFont, GlyphsAreDistinct) {
   std::set<std::vector<bool>> shapes;
   for (char ch : chars) {
     std::vector<bool> bits;
-    for (int r = 0; r < kGlyphHeight; ++r)
+    for (int r = 0; r < kGlyphCellHeight; ++r)
       for (int c = 0; c < kGlyphWidth; ++c) bits.push_back(glyphPixel(ch, c, r));
     shapes.insert(bits);
   }
   EXPECT_EQ(shapes.size(), chars.size());
-  for (int r = 0; r < kGlyphHeight; ++r)
+  for (int r = 0; r < kGlyphCellHeight; ++r)
     for (int c = 0; c < kGlyphWidth; ++c) {
       EXPECT_EQ(glyphPixel('~', c, r), glyphPixel('?', c, r));
       EXPECT_FALSE(glyphPixel(' ', c, r));
     }
   EXPECT_EQ(textWidth("t = 1", 2), (5 * 6 - 1) * 2);
+  // g, p, q and y hang below the baseline, the rest of the lower case sits on it, and the
+  // bodies of "speed" share one x-height.
+  const auto inkRows = [](char ch, int r0, int r1) {
+    int n = 0;
+    for (int r = r0; r < r1; ++r)
+      for (int c = 0; c < kGlyphWidth; ++c) n += glyphPixel(ch, c, r);
+    return n;
+  };
+  for (char ch : std::string("gpqy")) {
+    EXPECT_GT(inkRows(ch, kGlyphHeight, kGlyphCellHeight), 0) << ch;
+    EXPECT_EQ(inkRows(ch, 0, 2), 0) << ch;  // nothing above the x-height
+  }
+  for (char ch : std::string("aceosbdhkt0A."))
+    EXPECT_EQ(inkRows(ch, kGlyphHeight, kGlyphCellHeight), 0) << ch;
+  for (char ch : std::string("sped")) EXPECT_GT(inkRows(ch, 2, 3), 0) << ch;  // x-height row
   EXPECT_EQ(timeStampText(0.0125), "t = 0.0125 s");
   // Drawn text lands where asked, at the asked scale.
   Image img(40, 20);
