@@ -115,6 +115,12 @@ int runConsole(Tcl_Interp* interp, const char* argv0) {
   el_set(el, EL_ADDFN, "demlab-cancel", "drop the input", cancelLine);
   el_set(el, EL_BIND, "^C", "demlab-cancel", nullptr);
   el_source(el, nullptr);  // ~/.editrc
+  // Tcl gives terminal channels "-translation crlf" (for raw-mode ttys); commands run with the
+  // terminal cooked, where the tty's own onlcr already makes \n a line end, so crlf printed
+  // every line of `puts` as "\r\r\n".
+  for (int which : {TCL_STDOUT, TCL_STDERR})
+    if (Tcl_Channel ch = Tcl_GetStdChannel(which))
+      Tcl_SetChannelOption(nullptr, ch, "-translation", "lf");
 
   std::printf("demlab %s: type help for the commands, exit or Ctrl-D to leave\n",
               Tcl_GetVar(interp, "::demlab::version", TCL_GLOBAL_ONLY)
