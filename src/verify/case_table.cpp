@@ -58,21 +58,12 @@ const char* kTouchPhase =
     "touch at 0.1 or 0.9 of a step errs 1.0-1.2 % in restitution, peak overlap and peak force "
     "(0.1 % at mid-step). Reproduce: demlab_verify --cases impact-linear-plane --dims 3 "
     "--integrators synchronized (quantities.csv, phase=0.9)";
-const char* kCoulombDashpot =
-    "in 2D the tangential impulse of a gross-sliding impact stays about 1 % off the rigid-body "
-    "Coulomb answer and the error does not fall with dt (1.06 % at tc/50, 1.26 % at tc/800: a "
-    "property of the model, not of the step; not yet explained). The large defect this case "
-    "found (the Coulomb test on the spring alone let the dashpot push the force above mu Fn: "
-    "3.5 % in 2D, 5.4 % in 3D at tc/50) is gone with the default criterion (law coulomb "
-    "total): 3D now errs 0.27 %. Reproduce: demlab_verify --cases oblique-sliding --dims 2 "
-    "--integrators synchronized (psi=3.0)";
 const char* kSweepOrder =
-    "in the mixed stick-slip regime (psi = 0.39 of the sliding threshold) the spin ratio "
-    "converges at first order against the finest run: 2.2 % at tc/50 in 3D (tolerance 2 %), "
-    "1.1 % at tc/200; a contact that switches between sticking and sliding within a step is "
-    "resolved to O(dt), like the touch of impact-linear-plane. The Coulomb-dashpot defect "
-    "this case once showed (15 % above mu (1 + e) m v_n) is gone with law coulomb total. "
-    "Reproduce: demlab_verify --cases oblique-sweep --dims 3 --integrators synchronized";
+    "in the mixed stick-slip regime (psi = 0.25 of the sliding threshold) the result converges "
+    "at first order to the compliant reference: 2.6 % at tc/50 in 3D (tolerance 2 %), 0.65 % "
+    "at tc/400; a contact that switches between sticking and sliding within a step is resolved "
+    "to O(dt), like the touch of impact-linear-plane. Reproduce: demlab_verify --cases "
+    "oblique-sweep --dims 3 --integrators synchronized (psi=0.394)";
 const char* kGasDrift =
     "the energy between contacts wanders more than issue 3 allows: 16 grains, 2000 contact "
     "times, at tc/50 the drift is 1.5e-3 (discs) and 1.6e-4 (spheres), falling at about "
@@ -113,20 +104,22 @@ std::vector<CaseDef> makeTable() {
   t.push_back(row(
       "oblique-sliding", "Oblique impact with friction, gross sliding",
       "A grain hits a floor at v_n = 1 m/s with v_t = psi v_n (psi = 3 and 6: incidence 71.6 "
-      "and 80.5 degrees), no spin, linear law, e = 0.5, mu = 0.3. Above psi = mu (1+e)(1+1/k) "
-      "(1.575 sphere, 1.35 disc) the contact slides throughout and the rigid-body Coulomb "
-      "impulse is exact: v_t'/v_t = 1 - mu(1+e)/psi, w'r/v_t = mu(1+e)/(k psi). Errors relative "
-      "to v_t.",
+      "and 80.5 degrees), no spin, linear law, e = 0.5, mu = 0.3, sliding throughout (above psi "
+      "= mu (1+e)(1+1/k): 1.575 sphere, 1.35 disc). The reference is the compliant model in "
+      "continuous time (the normal law, the shear spring with its Coulomb cap and the spin "
+      "integrated by RK4, reference_oblique.hpp): the rigid-body impulses (v_t'/v_t = 1 - "
+      "mu(1+e)/psi, w'r/v_t = mu(1+e)/(k psi), given in the note) leave out the shear spring's "
+      "stretching after the touch (1 % of the tangential impulse at psi = 3) and the torque arm "
+      "r - delta/2 (3.5 % of the disc's spin), which no time step removes. Errors relative to "
+      "v_t.",
       0.01, 50, 0, "tc", obliqueSliding));
-  t.back().knownFailure = kCoulombDashpot;
-  t.back().knownFailureDims = {2};
   t.push_back(
       row("oblique-sweep", "Oblique impact with friction across incidence angles",
-          "As oblique-sliding at psi = 0.1 ... 2.5 times the sliding threshold. Above 1.5 times it "
-          "the gross-sliding formulas are the reference; below it (the sticking and mixed regimes "
-          "of Maw, Barber and Fawcett) the tangential spring's rebound makes the answer depend on "
-          "kt/kn and damping, and the finest run is the reference (the rigid-body rolling value "
-          "1/(1+k) is given in the note).",
+          "As oblique-sliding at psi = 0.1 ... 2.5 times the sliding threshold, against the same "
+          "compliant reference, which also covers the sticking and mixed regimes of Maw, Barber "
+          "and Fawcett (the shear spring's stored energy comes back as reverse slip, so the "
+          "answer depends on kt/kn and damping; the rigid-body values, rolling 1/(1+k) below "
+          "the threshold, are given in the note).",
           0.02, 50, 0, "tc", obliqueSweep));
   t.back().knownFailure = kSweepOrder;
   t.push_back(

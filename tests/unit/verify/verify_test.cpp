@@ -11,6 +11,7 @@
 #include "physics/pair_params.hpp"
 #include "verify/case_common.hpp"
 #include "verify/convergence.hpp"
+#include "verify/reference_oblique.hpp"
 #include "verify/reference_ode.hpp"
 #include "verify/verify.hpp"
 
@@ -59,6 +60,39 @@ TEST(VerifyReference, RK4MatchesHertz) {
   const double e2 = solveImpact(law, 3.0).exitSpeed / 3.0;
   EXPECT_NEAR(e1, e2, 1e-6);
   EXPECT_GT(e1, 0.5);  // LIGGGHTS's coefficient rebounds above the material's e
+}
+
+// The oblique reference: frictionless, nothing tangential changes and the normal motion is the
+// head-on one. Gross sliding gives Walton's rigid-body impulses in the limit of a stiff normal
+// spring (the arm's shortening vanishes) and a shear spring much stiffer still (the ramp of the
+// shear force takes mu Fn / (kt w) seconds, a fraction ~ mu (kn/kt) v_n / (pi w) of the
+// contact that does not vanish with kn alone); the soft contact of the suite gives less
+// tangential impulse and less spin.
+TEST(VerifyReference, ObliqueReferenceLimits) {
+  const double e = 0.5, mu = 0.3, k = 0.4, psi = 3;
+  auto oblique = [&](double kn, double shearRatio, double friction) {
+    ObliqueLaw law;
+    law.normal = linearLaw(e);
+    law.normal.kn = kn;
+    law.normal.cn = 2 * physics::linearDampingRatio(e) * std::sqrt(law.normal.mass * kn);
+    law.kt = shearRatio * kn;
+    law.ct = law.normal.cn / kn * law.kt;
+    law.friction = friction;
+    law.inertia = k * law.normal.mass * law.normal.radius * law.normal.radius;
+    return std::pair{law, solveOblique(law, 1.0, psi)};
+  };
+  const auto [free, frictionless] = oblique(5e5, 0.8, 0);
+  EXPECT_EQ(frictionless.tangential, psi);
+  EXPECT_EQ(frictionless.spin, 0);
+  EXPECT_NEAR(frictionless.normal.exitSpeed, linearDamped(free.normal, 1.0).exitSpeed, 1e-9);
+  const double tRigid = 1 - mu * (1 + e) / psi, wRigid = mu * (1 + e) / (k * psi);
+  const auto [stiffLaw, stiff] = oblique(5e9, 1e3, mu);
+  EXPECT_NEAR(stiff.tangential / psi, tRigid, 1e-4);
+  EXPECT_NEAR(stiff.spin / psi, wRigid, 1e-4);
+  EXPECT_EQ(stiff.stuckTime, 0);  // gross sliding: never sticks
+  const auto [softLaw, soft] = oblique(5e5, 0.8, mu);
+  EXPECT_GT(soft.tangential / psi, tRigid + 1e-3);
+  EXPECT_LT(soft.spin / psi, wRigid - 1e-3);
 }
 
 TEST(VerifyReference, ParabolicPeakIsExactOnAParabola) {
