@@ -1,6 +1,7 @@
 #include "app/console.hpp"
 
 #include <histedit.h>
+#include <poll.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -71,6 +72,65 @@ unsigned char cancelLine(EditLine*, int) {
   return CC_NEWLINE;
 }
 
+// Returns 1 and the next byte of the console's input in *b (a Ctrl-C key, 0x03, when a SIGINT
+// met the prompt), 0 at end of input, or -1 on an error. libedit's own reader blocks in
+// read(): a SIGINT that arrives after the prompt is printed but before libedit puts the
+// terminal in raw mode (so ^C is still a signal, not a key) and before read() starts would
+// leave the console waiting with no new prompt. Waiting on the interrupt's wake-up pipe as
+// well closes that gap; the signal becomes the key, so both take the same path (cancelLine).
+int readByte(unsigned char* b) {
+  while (true) {
+    pollfd fds[2] = {{STDIN_FILENO, POLLIN, 0}, {tcl::promptWakeFd(), POLLIN, 0}};
+    if (poll(fds, fds[1].fd >= 0 ? 2 : 1, -1) < 0) {
+      if (errno == EINTR) continue;  // the handler wrote the pipe if it was for the prompt
+      return -1;
+    }
+    if (fds[1].fd >= 0 && (fds[1].revents & POLLIN)) {
+      tcl::takePromptInterrupt();  // clears the flag and drains the pipe
+      *b = 0x03;
+      return 1;
+    }
+    const ssize_t r = read(STDIN_FILENO, b, 1);
+    if (r >= 0) return int(r);
+    if (errno != EINTR && errno != EAGAIN) return -1;
+  }
+}
+
+// Returns the length of the UTF-8 sequence that lead starts (1 for ASCII, and for a byte that
+// starts none).
+int sequenceLength(unsigned char lead) {
+  if ((lead >> 5) == 0x6) return 2;
+  if ((lead >> 4) == 0xe) return 3;
+  if ((lead >> 3) == 0x1e) return 4;
+  return 1;
+}
+
+// libedit's character reader (EL_GETCFN): returns 1 and the next character in *out, UTF-8
+// decoded (a broken sequence gives its first byte as is), 0 at end of input, -1 on an error.
+int readChar(EditLine*, wchar_t* out) {
+  static int pending = -1;  // the byte that broke the last sequence: the next one's start
+  unsigned char seq[4];
+  if (pending >= 0) {
+    seq[0] = static_cast<unsigned char>(pending);
+    pending = -1;
+  } else if (const int r = readByte(&seq[0]); r != 1) {
+    return r;
+  }
+  const int need = sequenceLength(seq[0]);
+  for (int have = 1; have < need; ++have) {
+    if (const int r = readByte(&seq[have]); r != 1) return r;
+    if ((seq[have] & 0xc0) != 0x80) {
+      pending = seq[have];
+      *out = wchar_t(seq[0]);
+      return 1;
+    }
+  }
+  unsigned cp = need == 1 ? seq[0] : seq[0] & (0x7f >> need);
+  for (int k = 1; k < need; ++k) cp = (cp << 6) | (seq[k] & 0x3f);
+  *out = wchar_t(cp);
+  return 1;
+}
+
 void printResult(Tcl_Interp* interp, int code) {
   const char* r = Tcl_GetStringResult(interp);
   if (code == TCL_OK) {
@@ -112,6 +172,7 @@ int runConsole(Tcl_Interp* interp, const char* argv0) {
   el_set(el, EL_ADDFN, "demlab-complete", "complete a command, option or value", complete);
   el_set(el, EL_BIND, "^I", "demlab-complete", nullptr);
   el_set(el, EL_SETTY, "-d", "-isig", nullptr);
+  el_set(el, EL_GETCFN, readChar);
   el_set(el, EL_ADDFN, "demlab-cancel", "drop the input", cancelLine);
   el_set(el, EL_BIND, "^C", "demlab-cancel", nullptr);
   el_source(el, nullptr);  // ~/.editrc
@@ -133,7 +194,8 @@ int runConsole(Tcl_Interp* interp, const char* argv0) {
     errno = 0;
     const char* line = el_gets(el, &count);
     if (g_cancelLine || tcl::takePromptInterrupt()) {
-      // Ctrl-C at the prompt: drop what was typed and start again.
+      // Ctrl-C at the prompt (the key, or a signal readByte turned into it): drop what was
+      // typed and start again.
       g_cancelLine = false;
       buffer.clear();
       continue;

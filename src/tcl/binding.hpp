@@ -41,6 +41,12 @@ std::vector<std::string> completions(Tcl_Interp* interp, const std::string& line
 // the duration of each run, so tclsh keeps its own behaviour otherwise.
 void installInterruptHandler(Tcl_Interp* interp);
 void setEvaluating(bool evaluating);
+// Returns whether a SIGINT met the prompt since the last call, and clears that (and drains the
+// wake-up pipe).
 bool takePromptInterrupt();
+// Returns the read end of a pipe that becomes readable when a SIGINT meets the prompt (after
+// installInterruptHandler; -1 before or if no pipe could be made). A console waits on it with
+// its input: a signal that arrives before the console's read begins cannot interrupt that read.
+int promptWakeFd();
 
 }  // namespace demlab::tcl

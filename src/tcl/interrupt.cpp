@@ -1,6 +1,8 @@
 // SIGINT handling for runs and scripts (see binding.hpp). Only async-signal-safe work happens
 // in the handler: atomic stores and Tcl_AsyncMark.
+#include <fcntl.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include "tcl/binding.hpp"
 
@@ -15,6 +17,10 @@ Tcl_AsyncHandler g_async = nullptr;
 bool g_permanent = false;
 struct sigaction g_saved;
 int g_runDepth = 0;
+// The prompt's wake-up pipe: the handler writes a byte when a SIGINT meets the prompt, so a
+// console polling it with its input (promptWakeFd) wakes even when the signal came before the
+// console's read started.
+int g_wake[2] = {-1, -1};
 
 extern "C" void onSigint(int) {
   if (std::atomic<bool>* f = g_stop.load()) {
@@ -23,6 +29,10 @@ extern "C" void onSigint(int) {
     Tcl_AsyncMark(g_async);
   } else {
     g_promptInterrupt.store(true);
+    if (g_wake[1] >= 0) {
+      const char byte = 1;
+      [[maybe_unused]] const ssize_t n = write(g_wake[1], &byte, 1);  // full pipe: already woken
+    }
   }
 }
 
@@ -46,7 +56,12 @@ extern "C" int asyncProc(ClientData, Tcl_Interp* interp, int code) {
 void installInterruptHandler(Tcl_Interp*) {
   if (!g_async) g_async = Tcl_AsyncCreate(asyncProc, nullptr);
   g_permanent = true;
+  if (g_wake[0] < 0 && pipe2(g_wake, O_NONBLOCK | O_CLOEXEC) != 0) g_wake[0] = g_wake[1] = -1;
   install(nullptr);
+}
+
+int promptWakeFd() {
+  return g_wake[0];
 }
 
 void setEvaluating(bool evaluating) {
@@ -54,7 +69,13 @@ void setEvaluating(bool evaluating) {
 }
 
 bool takePromptInterrupt() {
-  return g_promptInterrupt.exchange(false);
+  const bool taken = g_promptInterrupt.exchange(false);
+  if (taken && g_wake[0] >= 0) {
+    char drain[64];
+    while (read(g_wake[0], drain, sizeof drain) > 0) {
+    }
+  }
+  return taken;
 }
 
 // The Session hooks around a run (used by binding.cpp).
