@@ -250,23 +250,8 @@ void registerElementCommands(Registry& r) {
     return Value(Reals{std::move(data), (c.flag("flat") || stride == 1) ? 0 : stride});
   });
 
-  Command& tag = r.add("element tag", "Gives elements a tag (idempotent).");
-  tag.arg("tag", tagName(), "the tag");
-  tag.variadicArg("element", elementRef(), "element ids or names");
-  tag.run([](Call& c) {
-    auto& s = session(c).scene();
-    for (GrainId g : c.all<GrainId>("element")) s.tagGrain(g, c.str("tag"));
-    return Value();
-  });
-
-  Command& untag = r.add("element untag", "Takes a tag away from elements.");
-  untag.arg("tag", tagName(), "the tag");
-  untag.variadicArg("element", elementRef(), "element ids or names");
-  untag.run([](Call& c) {
-    auto& s = session(c).scene();
-    for (GrainId g : c.all<GrainId>("element")) s.untagGrain(g, c.str("tag"));
-    return Value();
-  });
+  addTagCommands<GrainId>(r, "element", "elements", elementRef(), &sim::Simulation::tagGrain,
+                          &sim::Simulation::untagGrain);
 }
 
 }  // namespace demlab::cmd

@@ -223,23 +223,8 @@ void registerWallCommands(Registry& r) {
   count.changesScene = false;
   count.run([](Call& c) { return Value(session(c).scene().wallCount()); });
 
-  Command& tag = r.add("wall tag", "Gives walls a tag (idempotent).");
-  tag.arg("tag", tagName(), "the tag");
-  tag.variadicArg("wall", wallRef(), "wall ids or names");
-  tag.run([](Call& c) {
-    auto& s = session(c).scene();
-    for (WallId w : c.all<WallId>("wall")) s.tagWall(w, c.str("tag"));
-    return Value();
-  });
-
-  Command& untag = r.add("wall untag", "Takes a tag away from walls.");
-  untag.arg("tag", tagName(), "the tag");
-  untag.variadicArg("wall", wallRef(), "wall ids or names");
-  untag.run([](Call& c) {
-    auto& s = session(c).scene();
-    for (WallId w : c.all<WallId>("wall")) s.untagWall(w, c.str("tag"));
-    return Value();
-  });
+  addTagCommands<WallId>(r, "wall", "walls", wallRef(), &sim::Simulation::tagWall,
+                         &sim::Simulation::untagWall);
 }
 
 }  // namespace demlab::cmd
