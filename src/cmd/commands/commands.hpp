@@ -1,6 +1,9 @@
 // The command groups, one file each, and the one table that registers them all.
 #pragma once
 
+#include <string>
+#include <utility>
+
 #include "cmd/registry.hpp"
 #include "cmd/session.hpp"
 
@@ -26,23 +29,19 @@ template <class Id>
 void addTagCommands(Registry& r, const std::string& group, const std::string& objects, PipeType ref,
                     void (sim::Simulation::*tag)(Id, const std::string&),
                     void (sim::Simulation::*untag)(Id, const std::string&)) {
-  const std::string what = group + " ids or names";
-  Command& add = r.add(group + " tag", "Gives " + objects + " a tag (idempotent).");
-  add.arg("tag", tagName(), "the tag");
-  add.variadicArg(group, ref, what);
-  add.run([group, tag](Call& c) {
-    auto& s = session(c).scene();
-    for (Id id : c.all<Id>(group)) (s.*tag)(id, c.str("tag"));
-    return Value();
-  });
-  Command& remove = r.add(group + " untag", "Takes a tag away from " + objects + ".");
-  remove.arg("tag", tagName(), "the tag");
-  remove.variadicArg(group, ref, what);
-  remove.run([group, untag](Call& c) {
-    auto& s = session(c).scene();
-    for (Id id : c.all<Id>(group)) (s.*untag)(id, c.str("tag"));
-    return Value();
-  });
+  using Change = void (sim::Simulation::*)(Id, const std::string&);
+  const std::pair<std::string, Change> verbs[] = {{" tag", tag}, {" untag", untag}};
+  for (const auto& [verb, change] : verbs) {
+    Command& cmd = r.add(group + verb, change == tag ? "Gives " + objects + " a tag (idempotent)."
+                                                     : "Takes a tag away from " + objects + ".");
+    cmd.arg("tag", tagName(), "the tag");
+    cmd.variadicArg(group, ref, group + " ids or names");
+    cmd.run([group, change](Call& c) {
+      auto& s = session(c).scene();
+      for (Id id : c.all<Id>(group)) (s.*change)(id, c.str("tag"));
+      return Value();
+    });
+  }
 }
 
 // Registers every command group (the table: one row per group). Returns r.
