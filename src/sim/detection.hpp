@@ -56,10 +56,12 @@ class DetectionModule final : public SimModule<D> {
   void rebuild(Scene<D>& s) {
     using Box = search::Box<D, Real>;
     springs_.collect(s);
-    // The old candidates and the contact records' room are not needed through the search: freed,
-    // the search's scratch reuses their memory instead of adding to the run's peak.
+    // The old candidates, the positions at the last search and the contact records' room are
+    // not needed through the search: freed, the search's scratch reuses their memory instead
+    // of adding to the run's peak.
     std::vector<CandidatePair>().swap(s.candidates);
     std::vector<ContactRecord<D>>().swap(s.contacts);
+    std::vector<VecD<D>>().swap(s.xAtBuild);
     const uint32_t every = s.grains.reorderEvery;
     if (every > 0 && s.rebuilds % every == 0) reorderGrains(s);
     const GrainArrays<D>& a = s.grains.a;
@@ -112,6 +114,12 @@ class DetectionModule final : public SimModule<D> {
     pairs_.reserve(lastPairs_ + lastPairs_ / 8);
     grid_.findPairs(boxes_, pairs_);
     lastPairs_ = pairs_.size();
+    // The search's scratch goes back to the heap between searches (searches are rare in a
+    // dense bed, and the grid's arrays are the largest after the grains'), the grid's and the
+    // boxes' before the pairs are sorted out; the next search reserves room for about as many
+    // pairs as this one found.
+    std::vector<search::Box<D, Real>>().swap(boxes_);
+    grid_ = search::CGrid<D, Real>(search::SearchOptions{cellFactor_});
     s.wallCandidates.assign(nw, {});
     // The grain pairs kept are compacted to the front of pairs_ and then copied once into a
     // candidate array of exactly their number (grown by doubling it would hold up to twice).
@@ -135,13 +143,8 @@ class DetectionModule final : public SimModule<D> {
     s.candidates.resize(kept);
     for (size_t k = 0; k < kept; ++k) s.candidates[k] = {pairs_[k].first, pairs_[k].second};
     for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
-    // The search's scratch goes back to the heap between searches (searches are rare in a
-    // dense bed, and the grid's arrays are the largest after the grains'); the next search
-    // reserves room for about as many pairs as this one found.
     std::vector<search::IndexPair>().swap(pairs_);
-    std::vector<search::Box<D, Real>>().swap(boxes_);
     std::vector<uint32_t>().swap(wallOfBox_);
-    grid_ = search::CGrid<D, Real>(search::SearchOptions{cellFactor_});
     // Room for the contact records of the coming steps: about the pairs touching now. Grown
     // by doubling from empty instead, the records' array would leave its smaller copies
     // resident (a tenth of a dense bed's peak memory).
