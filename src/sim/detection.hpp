@@ -114,12 +114,18 @@ class DetectionModule final : public SimModule<D> {
     pairs_.reserve(lastPairs_ + lastPairs_ / 8);
     grid_.findPairs(boxes_, pairs_);
     lastPairs_ = pairs_.size();
-    // The search's scratch goes back to the heap between searches (searches are rare in a
-    // dense bed, and the grid's arrays are the largest after the grains'), the grid's and the
-    // boxes' before the pairs are sorted out; the next search reserves room for about as many
-    // pairs as this one found.
+    // The search's scratch goes back to the heap between searches, the grid's and the boxes'
+    // before the pairs are sorted out; the next search reserves room for about as many pairs
+    // as this one found. The grid's arrays are the largest after the grains', but grown again
+    // from empty they cost about another search (page faults): they are kept when the searches
+    // come at least every kKeepGridSteps steps, where the search's moment is the run's peak
+    // anyway, and freed when searches are rare, as in a settled bed, where the records and
+    // springs of the steps between set the peak.
     std::vector<search::Box<D, Real>>().swap(boxes_);
-    grid_ = search::CGrid<D, Real>(search::SearchOptions{cellFactor_});
+    const bool frequent = searchedBefore_ && s.steps - lastSearchStep_ <= kKeepGridSteps;
+    if (!frequent) grid_ = search::CGrid<D, Real>(search::SearchOptions{cellFactor_});
+    searchedBefore_ = true;
+    lastSearchStep_ = s.steps;
     s.wallCandidates.assign(nw, {});
     // The grain pairs kept are compacted to the front of pairs_ and then copied once into a
     // candidate array of exactly their number (grown by doubling it would hold up to twice).
@@ -162,7 +168,8 @@ class DetectionModule final : public SimModule<D> {
     s.rebuilds += 1;
   }
 
-  // Returns the bytes this module holds between searches (its scratch is freed after each).
+  // Returns the bytes this module holds between searches (the grid's scratch when searches are
+  // frequent, else none).
   size_t workingBytes() const override {
     return grid_.workingBytes() + boxes_.capacity() * sizeof(search::Box<D, Real>) +
            wallOfBox_.capacity() * sizeof(uint32_t) +
@@ -170,7 +177,11 @@ class DetectionModule final : public SimModule<D> {
   }
 
  private:
+  static constexpr uint64_t kKeepGridSteps = 1000;
+
   double cellFactor_;
+  bool searchedBefore_ = false;
+  uint64_t lastSearchStep_ = 0;  // s.steps at the last search
   search::CGrid<D, Real> grid_;
   std::vector<search::Box<D, Real>> boxes_;
   std::vector<uint32_t> wallOfBox_;
