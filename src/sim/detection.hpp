@@ -52,7 +52,8 @@ class DetectionModule final : public SimModule<D> {
   // Searches anew: fills s.candidates and s.wallCandidates, resets the skin bookkeeping; at
   // every s.grains.reorderEvery-th search (counting from the first) first sorts the grains'
   // dense order spatially (sim/reorder.hpp), which renumbers every dense index. Changes
-  // s.contacts' capacity (sized for the coming steps); leaves no search scratch allocated.
+  // s.contacts' capacity (sized for the coming steps); of its scratch keeps only the grid's
+  // arrays, and those only when searches are frequent.
   void rebuild(Scene<D>& s) {
     using Box = search::Box<D, Real>;
     springs_.collect(s);
