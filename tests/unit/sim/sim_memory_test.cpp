@@ -1,7 +1,8 @@
 // What a scene holds per grain (Simulation::memory(), issue 3's memory target): exact per-grain
-// arrays, no search scratch kept between searches, contact records and candidate lists sized to
-// what the run needs. Counted from capacities, so the figures are deterministic (the settle
-// benchmark's peak RSS is the noisy, whole-process view of the same arrays).
+// arrays, no search scratch kept between rare searches (only the grid's between frequent ones),
+// contact records and candidate lists sized to what the run needs. Counted from capacities, so the
+// figures are deterministic (the settle benchmark's peak RSS is the noisy, whole-process view of
+// the same arrays).
 #include <gtest/gtest.h>
 
 #include "sim/scene.hpp"
@@ -17,12 +18,14 @@ double bytesPerGrain() {
   return static_cast<double>(s->memory().grains) / 1000;
 }
 
-// Returns defs for a frictional bed of side^3 grains of radius r on a cubic lattice whose pitch
-// is 1% short of a diameter, in the box [0, boxSide(side, r)]^3: every grain presses on its face
-// neighbours and the outer ones on the walls.
+// Returns the side of the box that holds pressedBed(side, r).
 double boxSide(int side, double r) {
   return 1.98 * r * side;
 }
+
+// Returns defs for a frictional bed of side^3 grains of radius r on a cubic lattice whose pitch
+// is 1% short of a diameter, in the box [0, boxSide(side, r)]^3: every grain presses on its face
+// neighbours and the outer ones on the walls.
 std::vector<GrainDef> pressedBed(int side, double r) {
   std::vector<GrainDef> defs;
   const double pitch = 1.98 * r;
