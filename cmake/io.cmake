@@ -2,9 +2,32 @@
 # settle benchmark, which reads the shared benchmark's data files into a Simulation.
 find_package(ZLIB REQUIRED)
 
+# bench_sim is linked statically where the static C and C++ runtimes and zlib are installed
+# (libc6-dev, libstdc++-dev and zlib1g-dev have them): a static program maps only the library
+# code it calls, with no dynamic loader and no symbol tables to relocate, which is 2 MB of the
+# 10k beds' peak memory (doc/performance.md, "Memory"). -DDEMLAB_STATIC_BENCH_SIM=OFF links it
+# as the other programs are.
+option(DEMLAB_STATIC_BENCH_SIM "Link bench_sim statically where the static libraries exist" ON)
+set(DEMLAB_STATIC_BENCH_SIM_OK OFF)
+if(DEMLAB_STATIC_BENCH_SIM)
+  find_library(DEMLAB_ZLIB_STATIC NAMES libz.a)
+  include(CheckCXXSourceCompiles)
+  set(CMAKE_REQUIRED_LINK_OPTIONS -static)
+  check_cxx_source_compiles("#include <string>\nint main() { return std::string(\"x\").size() == 1 ? 0 : 1; }"
+    DEMLAB_CXX_LINKS_STATIC)
+  unset(CMAKE_REQUIRED_LINK_OPTIONS)
+  if(DEMLAB_ZLIB_STATIC AND DEMLAB_CXX_LINKS_STATIC)
+    set(DEMLAB_STATIC_BENCH_SIM_OK ON)
+  else()
+    message(STATUS "bench_sim: linked dynamically (no static libz.a or C++ runtime)")
+  endif()
+endif()
+
 file(GLOB DEMLAB_IO_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/io/*.cpp)
 add_library(demlab_io STATIC ${DEMLAB_IO_SOURCES})
-target_link_libraries(demlab_io PUBLIC demlab_core ZLIB::ZLIB)
+# A program with the target property DEMLAB_STATIC_LINK gets zlib's static archive.
+target_link_libraries(demlab_io PUBLIC demlab_core
+  $<IF:$<BOOL:$<TARGET_PROPERTY:DEMLAB_STATIC_LINK>>,${DEMLAB_ZLIB_STATIC},ZLIB::ZLIB>)
 
 file(GLOB DEMLAB_IO_TESTS CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tests/unit/io/*.cpp)
 add_executable(demlab_io_tests ${DEMLAB_IO_TESTS})
@@ -22,4 +45,8 @@ add_test(NAME io COMMAND demlab_io_tests --gtest_brief=1)
 if(TARGET demlab_sim)
   add_executable(bench_sim bench/bench_sim.cpp)
   target_link_libraries(bench_sim PRIVATE demlab_io demlab_sim)
+  if(DEMLAB_STATIC_BENCH_SIM_OK)
+    set_target_properties(bench_sim PROPERTIES DEMLAB_STATIC_LINK ON)
+    target_link_options(bench_sim PRIVATE -static)
+  endif()
 endif()

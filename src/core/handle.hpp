@@ -161,6 +161,12 @@ class HandlePool {
     dense_.reserve(n);
   }
 
+  // Returns the bytes of heap the pool's tables hold (their capacity).
+  std::size_t heapBytes() const noexcept {
+    return slots_.capacity() * sizeof(Slot) + freeSlots_.capacity() * sizeof(uint32_t) +
+           dense_.capacity() * sizeof(HandleT);
+  }
+
   // Removes every object. Generations are kept and bumped, so handles issued before stay stale.
   void clear() {
     while (!dense_.empty()) free(dense_.back());

@@ -144,6 +144,8 @@ class InstanceInteractionManager {
 
   // Returns the number of buckets (a power of two; it only grows).
   size_t bucketCount() const noexcept { return table_.size(); }
+  // Returns the bytes of heap the table holds.
+  size_t heapBytes() const noexcept { return table_.capacity() * sizeof(Bucket); }
 
   // Makes room for n pairs, so that reaching n pairs allocates nothing more.
   void reserve(size_t n) { reserveBuckets(bucketsFor(n)); }

@@ -6,7 +6,6 @@
 #include <cstdlib>
 #include <sstream>
 #include <string_view>
-#include <unordered_map>
 
 #include "core/error.hpp"
 #include "io/line_reader.hpp"
@@ -74,6 +73,53 @@ bool allWords(const Tokens& t, std::size_t from) {
   return true;
 }
 
+// The dense index of every atom id read so far: an open-addressing table of (index + 1) over
+// the ids array, sized once for the header's count. One block of 8 to 16 bytes per atom, where
+// a node-based hash map took a small block per atom (40-odd bytes each, freed into holes of
+// the heap that stay resident through the run that follows).
+class IdIndex {
+ public:
+  static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+
+  // Makes room for n ids; forgets any recorded.
+  void reset(std::size_t n) {
+    std::size_t size = 16;
+    while (size < 2 * n) size *= 2;
+    table_.assign(size, 0);
+    mask_ = size - 1;
+  }
+
+  // Records that ids[index] is at index, unless that id is recorded already; returns whether it
+  // was new. ids[index] must be set; at most the reset() count may be recorded.
+  bool insert(const std::vector<std::int64_t>& ids, std::size_t index) {
+    for (std::size_t b = bucket(ids[index]);; b = (b + 1) & mask_) {
+      if (table_[b] == 0) {
+        table_[b] = static_cast<uint32_t>(index + 1);
+        return true;
+      }
+      if (ids[table_[b] - 1] == ids[index]) return false;
+    }
+  }
+
+  // Returns the index of id, or kNone.
+  std::size_t find(const std::vector<std::int64_t>& ids, std::int64_t id) const {
+    for (std::size_t b = bucket(id);; b = (b + 1) & mask_) {
+      if (table_[b] == 0) return kNone;
+      if (ids[table_[b] - 1] == id) return table_[b] - 1;
+    }
+  }
+
+ private:
+  // Returns the first bucket of id (a multiplicative hash: ids are often consecutive).
+  std::size_t bucket(std::int64_t id) const {
+    return static_cast<std::size_t>((static_cast<uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> 20) &
+           mask_;
+  }
+
+  std::vector<uint32_t> table_;
+  std::size_t mask_ = 0;
+};
+
 // Parses the file line by line; one instance per readLammpsData call.
 class Parser {
  public:
@@ -110,7 +156,7 @@ class Parser {
   bool haveTypes_ = false;
   bool haveAtoms_ = false;
   bool haveVelocities_ = false;
-  std::unordered_map<std::int64_t, std::size_t> index_;
+  IdIndex index_;
 };
 
 bool Parser::nextContent(std::string_view& line, std::string_view& comment) {
@@ -229,12 +275,17 @@ void Parser::atoms(std::string_view comment) {
   }
   haveAtoms_ = true;
   const auto n = static_cast<std::size_t>(atomCount_);
+  if (atomCount_ >= INT32_MAX) {
+    fail("bad atom count " + std::to_string(atomCount_) + ": at most " +
+             std::to_string(INT32_MAX - 1),
+         {"VALUE", "COUNT"});
+  }
   d_.ids.reserve(n);
   d_.types.reserve(n);
   d_.diameters.reserve(n);
   d_.densities.reserve(n);
   d_.positions.reserve(n);
-  index_.reserve(n);
+  index_.reset(n);
   std::string_view line, c;
   for (std::size_t i = 0; i < n; ++i) {
     if (!nextContent(line, c)) {
@@ -287,10 +338,10 @@ void Parser::atoms(std::string_view comment) {
         fail(os.str(), {"VALUE", "POSITION"});
       }
     }
-    if (!index_.emplace(id, d_.ids.size()).second) {
+    d_.ids.push_back(id);
+    if (!index_.insert(d_.ids, d_.ids.size() - 1)) {
       fail("duplicate atom id \"" + std::string(t[0]) + "\"", {"VALUE", "ID"});
     }
-    d_.ids.push_back(id);
     d_.types.push_back(static_cast<int>(type));
     d_.diameters.push_back(diameter);
     d_.densities.push_back(density);
@@ -320,20 +371,20 @@ void Parser::velocities() {
       fail(os.str(), {"IO", "FORMAT"});
     }
     const std::int64_t id = integer(t[0]);
-    const auto it = index_.find(id);
-    if (it == index_.end()) {
+    const std::size_t at = index_.find(d_.ids, id);
+    if (at == IdIndex::kNone) {
       fail("bad atom id \"" + std::string(t[0]) + "\" in Velocities: no such atom",
            {"VALUE", "ID"});
     }
-    if (seen[it->second]) {
+    if (seen[at]) {
       fail("duplicate atom id \"" + std::string(t[0]) + "\" in Velocities", {"VALUE", "ID"});
     }
-    seen[it->second] = true;
+    seen[at] = true;
     Vec3 v, w;
     for (int k = 0; k < 3; ++k) v[k] = real(t[1 + k], "velocity");
     for (int k = 0; k < 3; ++k) w[k] = real(t[4 + k], "angular velocity");
-    d_.velocities[it->second] = v;
-    d_.angularVelocities[it->second] = w;
+    d_.velocities[at] = v;
+    d_.angularVelocities[at] = w;
   }
 }
 

@@ -26,7 +26,8 @@ namespace demlab::sim {
 template <int D>
 class DetectionModule final : public SimModule<D> {
  public:
-  explicit DetectionModule(double cellFactor) : grid_(search::SearchOptions{cellFactor}) {}
+  explicit DetectionModule(double cellFactor)
+      : cellFactor_(cellFactor), grid_(search::SearchOptions{cellFactor}) {}
 
   std::string_view name() const override { return "detection"; }
   SimLevel level() const override { return SimLevel::Detection; }
@@ -50,10 +51,18 @@ class DetectionModule final : public SimModule<D> {
 
   // Searches anew: fills s.candidates and s.wallCandidates, resets the skin bookkeeping; at
   // every s.grains.reorderEvery-th search (counting from the first) first sorts the grains'
-  // dense order spatially (sim/reorder.hpp), which renumbers every dense index.
+  // dense order spatially (sim/reorder.hpp), which renumbers every dense index. Changes
+  // s.contacts' capacity (sized for the coming steps); of its scratch keeps only the grid's
+  // arrays, and those only when searches are frequent.
   void rebuild(Scene<D>& s) {
     using Box = search::Box<D, Real>;
     springs_.collect(s);
+    // The old candidates, the positions at the last search and the contact records' room are
+    // not needed through the search: freed, the search's scratch reuses their memory instead
+    // of adding to the run's peak.
+    std::vector<CandidatePair>().swap(s.candidates);
+    std::vector<ContactRecord<D>>().swap(s.contacts);
+    std::vector<VecD<D>>().swap(s.xAtBuild);
     const uint32_t every = s.grains.reorderEvery;
     if (every > 0 && s.rebuilds % every == 0) reorderGrains(s);
     const GrainArrays<D>& a = s.grains.a;
@@ -105,9 +114,23 @@ class DetectionModule final : public SimModule<D> {
     }
     pairs_.reserve(lastPairs_ + lastPairs_ / 8);
     grid_.findPairs(boxes_, pairs_);
-    s.candidates.clear();
+    lastPairs_ = pairs_.size();
+    // The search's scratch goes back to the heap between searches, the grid's and the boxes'
+    // before the pairs are sorted out; the next search reserves room for about as many pairs
+    // as this one found. The grid's arrays are the largest after the grains', but grown again
+    // from empty they cost about another search (page faults): they are kept when the searches
+    // come at least every kKeepGridSteps steps, where the search's moment is the run's peak
+    // anyway, and freed when searches are rare, as in a settled bed, where the records and
+    // springs of the steps between set the peak.
+    std::vector<search::Box<D, Real>>().swap(boxes_);
+    const bool frequent = searchedBefore_ && s.steps - lastSearchStep_ <= kKeepGridSteps;
+    if (!frequent) grid_ = search::CGrid<D, Real>(search::SearchOptions{cellFactor_});
+    searchedBefore_ = true;
+    lastSearchStep_ = s.steps;
     s.wallCandidates.assign(nw, {});
-    size_t touching = 0, wallPairs = 0;
+    // The grain pairs kept are compacted to the front of pairs_ and then copied once into a
+    // candidate array of exactly their number (grown by doubling it would hold up to twice).
+    size_t kept = 0, touching = 0, wallPairs = 0;
     for (const search::IndexPair& p : pairs_) {
       if (p.second < n) {
         // Boxes overlap for pairs up to sqrt(D) times farther apart than spheres can come
@@ -117,28 +140,23 @@ class DetectionModule final : public SimModule<D> {
         if (d2 > reach * reach) continue;
         if (d2 < rs * rs) touching += 1;
         // The lower slot first: the contact loop keeps each spring in that orientation.
-        if (a.slot[p.first] < a.slot[p.second]) {
-          s.candidates.push_back({p.first, p.second});
-        } else {
-          s.candidates.push_back({p.second, p.first});
-        }
+        pairs_[kept++] =
+            a.slot[p.first] < a.slot[p.second] ? p : search::IndexPair{p.second, p.first};
       } else if (p.first < n) {
         s.wallCandidates[wallOfBox_[p.second - n]].push_back(p.first);
         wallPairs += 1;
       }
     }
+    s.candidates.resize(kept);
+    for (size_t k = 0; k < kept; ++k) s.candidates[k] = {pairs_[k].first, pairs_[k].second};
+    for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
+    std::vector<search::IndexPair>().swap(pairs_);
+    std::vector<uint32_t>().swap(wallOfBox_);
     // Room for the contact records of the coming steps: about the pairs touching now. Grown
     // by doubling from empty instead, the records' array would leave its smaller copies
     // resident (a tenth of a dense bed's peak memory).
     const size_t expect = touching + touching / 16 + wallPairs;
-    if (s.contacts.capacity() < expect) s.contacts.reserve(expect + expect / 8);
-    for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
-    // The search's scratch goes back to the heap between searches (searches are rare in a
-    // dense bed, and these are the largest arrays after the grains'); the next search
-    // reserves room for about as many pairs as this one found.
-    lastPairs_ = pairs_.size();
-    std::vector<search::IndexPair>().swap(pairs_);
-    std::vector<search::Box<D, Real>>().swap(boxes_);
+    s.contacts.reserve(expect + expect / 8);
     springs_.give(s);
     s.xAtBuild = a.x;
     s.maxDisp2 = 0;
@@ -151,7 +169,20 @@ class DetectionModule final : public SimModule<D> {
     s.rebuilds += 1;
   }
 
+  // Returns the bytes this module holds between searches (the grid's scratch when searches are
+  // frequent, else none).
+  size_t workingBytes() const override {
+    return grid_.workingBytes() + boxes_.capacity() * sizeof(search::Box<D, Real>) +
+           wallOfBox_.capacity() * sizeof(uint32_t) +
+           pairs_.capacity() * sizeof(search::IndexPair) + springs_.workingBytes();
+  }
+
  private:
+  static constexpr uint64_t kKeepGridSteps = 1000;
+
+  double cellFactor_;
+  bool searchedBefore_ = false;
+  uint64_t lastSearchStep_ = 0;  // s.steps at the last search
   search::CGrid<D, Real> grid_;
   std::vector<search::Box<D, Real>> boxes_;
   std::vector<uint32_t> wallOfBox_;

@@ -169,6 +169,11 @@ class SpringTransfer {
     std::vector<uint32_t>().swap(rowStart_);
   }
 
+  // Returns the bytes of the table (none between searches: give() frees it).
+  size_t workingBytes() const {
+    return entries_.capacity() * sizeof(Entry) + rowStart_.capacity() * sizeof(uint32_t);
+  }
+
  private:
   struct Entry {
     uint32_t partner;  // the higher slot, or the wall's pair id

@@ -46,22 +46,31 @@ struct GrainArrays {
 
   // Applies a swap-remove to every array.
   void remove(SwapRemove m) {
-    applySwapRemove(x, m);
-    applySwapRemove(v, m);
-    applySwapRemove(f, m);
-    applySwapRemove(fPrev, m);
-    applySwapRemove(q, m);
-    applySwapRemove(w, m);
-    applySwapRemove(t, m);
-    applySwapRemove(tPrev, m);
-    applySwapRemove(r, m);
-    applySwapRemove(invMass, m);
-    applySwapRemove(invInertia, m);
-    applySwapRemove(material, m);
-    applySwapRemove(slot, m);
+    forEachArray(*this, [m](auto& arr) { applySwapRemove(arr, m); });
   }
 
   size_t size() const { return x.size(); }
+
+  // Makes room for n grains in every array, exactly: adding up to n grains then reallocates
+  // nothing (grown one by one the arrays would double, holding up to twice their size).
+  void reserve(size_t n) {
+    forEachArray(*this, [n](auto& arr) { arr.reserve(n); });
+  }
+
+  // Returns the bytes of heap the arrays hold (their capacity).
+  size_t heapBytes() const {
+    size_t bytes = 0;
+    forEachArray(*this, [&](const auto& arr) { bytes += arr.capacity() * sizeof(arr[0]); });
+    return bytes;
+  }
+
+  // Applies fn to every array of self (a GrainArrays, const or not).
+  template <class Self, class F>
+  static void forEachArray(Self& self, F&& fn) {
+    fn(self.x), fn(self.v), fn(self.f), fn(self.fPrev), fn(self.q), fn(self.w), fn(self.t);
+    fn(self.tPrev), fn(self.r), fn(self.invMass), fn(self.invInertia), fn(self.material);
+    fn(self.slot);
+  }
 
   static RotationD<D> identityRotation() {
     if constexpr (D == 2) {

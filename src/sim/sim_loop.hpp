@@ -34,6 +34,9 @@ class SimModule {
   virtual SimLevel level() const = 0;
   // Runs the module's part of one step on the scene; changes what the module owns.
   virtual void run(Scene<D>& scene) = 0;
+  // Returns the bytes of heap the module holds for itself (scratch kept between steps), for
+  // Simulation::memory(); 0 for a module that keeps none.
+  virtual size_t workingBytes() const { return 0; }
 };
 
 template <int D>
@@ -104,6 +107,12 @@ class SimLoop {
   const std::vector<double>& seconds() const { return seconds_; }
   void resetTimers() { seconds_.assign(modules_.size(), 0.0); }
   bool empty() const { return modules_.empty(); }
+  // Returns the bytes the modules hold for themselves (SimModule::workingBytes), summed.
+  size_t workingBytes() const {
+    size_t bytes = 0;
+    for (const auto& m : modules_) bytes += m->workingBytes();
+    return bytes;
+  }
 
  private:
   std::vector<std::unique_ptr<SimModule<D>>> modules_;

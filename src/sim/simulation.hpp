@@ -175,6 +175,18 @@ struct WallState {
   double radius = 0, halfLength = 0;
 };
 
+// The heap a scene holds, in bytes, by part (capacities, so room reserved counts): what grows
+// with the grains and contacts, for the memory per grain of a run (issue 3). Names, tags,
+// materials, walls and behaviors (a few hundred bytes in a benchmark scene) are left out.
+struct MemoryReport {
+  size_t grains = 0;     // the per-grain state arrays and the grain handle pool
+  size_t detection = 0;  // candidate pairs (grain and wall), positions at the last search
+  size_t search = 0;     // the neighbor search's scratch kept between searches (0: freed)
+  size_t springs = 0;    // tangential springs: per candidate pair, per wall candidate, parked
+  size_t contacts = 0;   // the contact records of the last step
+  size_t total() const { return grains + detection + search + springs + contacts; }
+};
+
 struct ContactInfo {
   GrainId a;  // always a grain
   GrainId b;  // the other grain, or null when the contact is with wall
@@ -362,6 +374,10 @@ class Simulation {
   virtual GrainId addGrain(const GrainDef& def) = 0;
   // Adds all or none: every Def is checked (and names checked against each other) first.
   virtual std::vector<GrainId> addGrains(const std::vector<GrainDef>& defs) = 0;
+  // Makes room for n grains in all (those present included), exactly: adding them then, in
+  // batches or one by one, reallocates no per-grain array (grown as they come, the arrays
+  // would hold up to half as much again as they use). Changes nothing observable.
+  virtual void reserveGrains(size_t n) = 0;
   // Removes a grain (its tags, name and contact histories go with it). LOOKUP HANDLE.
   virtual void removeGrain(GrainId id) = 0;
   // Removes every grain carrying tag; returns how many.
@@ -456,6 +472,8 @@ class Simulation {
   virtual EnergyLedger energy() const = 0;
   virtual size_t contactCount() const = 0;  // contacts found in the last step
   virtual std::vector<ContactInfo> contacts() const = 0;
+  // Returns the heap the scene holds now, by part (see MemoryReport).
+  virtual MemoryReport memory() const = 0;
   // Returns the box holding every grain and finite wall {lo, hi}; empty scene: zeros.
   virtual std::array<Vec3d, 2> bounds() const = 0;
   virtual std::vector<GrainId> grainIds() const = 0;  // dense order

@@ -247,8 +247,9 @@ std::vector<GrainId> SimulationManager<D>::addGrains(const std::vector<GrainDef>
   GrainArrays<D>& a = s_.grains.a;
   const size_t n0 = a.size();
   const size_t n1 = n0 + defs.size();
-  for (auto* v : {&a.x, &a.v, &a.f, &a.fPrev}) v->reserve(n1);
-  s_.grains.pool().reserve(static_cast<uint32_t>(n1));
+  // Batches after the first grow the arrays by half (not to exactly n1: a reallocation per
+  // batch would copy every grain each time); reserveGrains() sizes them exactly.
+  if (a.x.capacity() < n1) reserveGrains(n0 == 0 ? n1 : std::max(n1, n0 + n0 / 2));
   for (size_t k = 0; k < defs.size(); ++k) {
     const CheckedGrain& c = checked[k];
     ids.push_back(s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
@@ -258,6 +259,12 @@ std::vector<GrainId> SimulationManager<D>::addGrains(const std::vector<GrainDef>
   s_.needRebuild = true;
   touchConfig();
   return ids;
+}
+
+template <int D>
+void SimulationManager<D>::reserveGrains(size_t n) {
+  s_.grains.a.reserve(n);
+  s_.grains.pool().reserve(static_cast<uint32_t>(std::min<size_t>(n, UINT32_MAX)));
 }
 
 template <int D>

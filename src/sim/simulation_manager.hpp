@@ -45,6 +45,7 @@ class SimulationManager final : public Simulation {
 
   GrainId addGrain(const GrainDef& def) override;
   std::vector<GrainId> addGrains(const std::vector<GrainDef>& defs) override;
+  void reserveGrains(size_t n) override;
   void removeGrain(GrainId id) override;
   size_t removeGrains(const std::string& tag) override;
   GrainState grain(GrainId id) const override;
@@ -94,6 +95,7 @@ class SimulationManager final : public Simulation {
   EnergyLedger energy() const override;
   size_t contactCount() const override { return s_.contacts.size(); }
   std::vector<ContactInfo> contacts() const override;
+  MemoryReport memory() const override;
   std::array<Vec3d, 2> bounds() const override;
   std::vector<GrainId> grainIds() const override;
   std::vector<double> positions() const override;

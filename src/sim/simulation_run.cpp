@@ -472,6 +472,21 @@ EnergyLedger SimulationManager<D>::energy() const {
 // ---- queries -------------------------------------------------------------------------------
 
 template <int D>
+MemoryReport SimulationManager<D>::memory() const {
+  // Returns the bytes a vector's capacity holds.
+  auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  MemoryReport m;
+  m.grains = s_.grains.a.heapBytes() + s_.grains.pool().heapBytes();
+  m.detection = bytes(s_.candidates) + bytes(s_.wallCandidates) + bytes(s_.xAtBuild);
+  for (const auto& list : s_.wallCandidates) m.detection += bytes(list);
+  m.search = loop_.workingBytes();
+  m.springs = bytes(s_.pairSprings) + bytes(s_.wallSprings) + s_.histories.heapBytes();
+  for (const auto& list : s_.wallSprings) m.springs += bytes(list);
+  m.contacts = bytes(s_.contacts);
+  return m;
+}
+
+template <int D>
 std::vector<ContactInfo> SimulationManager<D>::contacts() const {
   std::vector<ContactInfo> out;
   out.reserve(s_.contacts.size());

@@ -277,6 +277,9 @@ TEST_F(LammpsDataTest, OutOfRangeValues) {
   expectError(writePlain("vid.data", goodWith("5 0 0 -1", "9 0 0 -1")), {"VALUE", "ID"},
               {"bad atom id \"9\" in Velocities: no such atom"});
   expectError(writePlain("count.data", goodWith("3 atoms", "-3 atoms")), {"VALUE", "COUNT"}, {});
+  // The id index holds 32-bit entries; the count is refused before anything is sized for it.
+  expectError(writePlain("huge.data", goodWith("3 atoms", "3000000000 atoms")), {"VALUE", "COUNT"},
+              {"bad atom count 3000000000: at most 2147483646"});
 }
 
 TEST_F(LammpsDataTest, FormatErrors) {
