@@ -29,7 +29,8 @@ bool CaseDef::knownToFail(int dim) const {
 }
 
 const std::vector<std::string>& integrators() {
-  static const std::vector<std::string> names{"synchronized", "verlet"};
+  static const std::vector<std::string> names{"synchronized", "verlet", "synchronized+touch",
+                                              "verlet+touch"};
   return names;
 }
 

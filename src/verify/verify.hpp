@@ -57,7 +57,7 @@ struct CaseResult {
 // How to run a case.
 struct RunSpec {
   int dim = 3;                              // 2 or 3
-  std::string integrator = "synchronized";  // Simulation::setIntegrator names
+  std::string integrator = "synchronized";  // integrators() names
   double stepsPerTime = 50;                 // dt = timeScale / stepsPerTime
   bool shortRun = false;  // the short form (gas: fewer grains and steps); must still be adequate
 };
@@ -94,7 +94,9 @@ const std::vector<CaseDef>& caseTable();
 // `bad case "x": must be a, b, or c`.
 const CaseDef& findCase(const std::string& name);
 
-// The integrators the Simulation API offers (Simulation::setIntegrator).
+// The integrators the suite runs: those the Simulation API offers (Simulation::setIntegrator),
+// the default first, then each with "+touch": the sub-step touch correction on
+// (Simulation::setTouchCorrection).
 const std::vector<std::string>& integrators();
 
 }  // namespace demlab::verify

@@ -1,0 +1,169 @@
+// The sub-step treatment of contact onset and release (doc/design.md, "Touch and release"):
+// the per-contact formulas, apart from the sim module that applies them (sim/touch.hpp), so
+// the tests can check them against closed forms.
+//
+// Velocity Verlet's kicks are the trapezoidal rule on the force: over a step [t0, t1] the
+// velocity receives dt/2 (F(t0) + F(t1)). A contact's normal force is not smooth where it
+// begins or ends: the spring rises from zero with a kink, the damper of a damped law jumps to
+// c |vn| at the touch, and a damped force that is cut off at zero (contact.hpp) ends with a
+// kink while the grains still overlap. A kink inside a step leaves an O(dt^2) impulse error per
+// event, a jump O(dt), so the energy of an elastic gas wanders by O(dt^2) per collision and the
+// restitution of damped impacts converges at first order (doc/verification.md, findings 3, 7).
+//
+// The correction replaces the trapezoid's share of the event step by the integral of the force
+// over the part of the step the force existed. A term ~ g^p of a "gap" g that is linear in time
+// over the step and vanishes at the event, worth F at the step end where it exists, has the
+// partial-step impulse F T / (p + 1), T the time it existed; the kick gave F dt / 2. So:
+//  - touch (no overlap at t0, overlap at t1): T = dt delta1 / (delta1 - delta0) from the
+//    signed overlaps; the spring term (linear p = 1, Hertz 3/2) and the damper term (linear
+//    p = 0, the jump; Hertz 1/4, gamma_n ~ a^(1/2)) each get F (T/(p+1) - dt/2), from the
+//    force at t1. The damper's power, booked by the laws as P(t1) dt per step (a sum that is
+//    the trapezoid of P once the endpoints are zero), gets the same correction in the ledger.
+//  - release (force positive at t0, zero at t1: the overlap ended, or the damped force reached
+//    its cut-off): T' from the zero of the gap between the two ends; the impulse gets
+//    F(t0) (T'/(p+1) - dt/2). The gap is the unclamped force kn delta - cn vn for the linear
+//    law (p = 1, extended to delta < 0 as it stands), delta for the elastic Hertz law
+//    (p = 3/2), and F / delta^(1/4) = K delta^(5/4) - G vn for the damped Hertz law (p = 1).
+//    The damper's power is continuous at a cut-off (kn delta = cn vn there, and the clamped
+//    law books the spring's unworked energy at the same rate), so the ledger needs nothing.
+//  - re-engagement (touching at both ends, the damped force cut off at t0 and positive at
+//    t1): as release, mirrored, from the force at t1.
+// What is left per event is O(dt^3), the scheme's own local order: the trajectories' kinks
+// are then resolved to second order globally. The positions are not corrected: the drift of the
+// event step moves by dt^2/2 a(t0), whose error is O(dt^3) since the force is O(dt) at an
+// event. The tangential force is not corrected (the spring's first increment stays vt dt):
+// the frictional cases stay at the order they had (doc/design.md says why).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "physics/pair_params.hpp"
+
+namespace demlab::physics {
+
+// The normal force of one contact split into its spring and damper terms: the force is
+// max(0, spring + damper), and near zero overlap spring ~ delta^springPower, damper ~
+// delta^damperPower. Linear: kn delta and -cn vn; Hertz-Mindlin: (4/3) E* a delta and
+// -hertzGammaN sqrt(a m*) vn, a = sqrt(R* delta).
+struct NormalTerms {
+  Real spring = 0, damper = 0;
+  Real springPower = 1, damperPower = 0;
+  Real force() const { return std::max<Real>(0, spring + damper); }
+};
+
+// Returns the normal terms at overlap delta > 0 and normal velocity vn (B minus A along the
+// normal, < 0 approaching) for the pair p and the contact's effective mass and radius, exactly
+// as law_linear.hpp and law_hertz_mindlin.hpp form them. Changes nothing.
+inline NormalTerms normalTerms(const PairParams& p, Real delta, Real vn, Real effMass,
+                               Real effRadius) {
+  NormalTerms t;
+  if (p.law == LawKind::Linear) {
+    const Real kn = p.knFixed + p.knPerRadius * effRadius;
+    const Real beta = 2 * p.dampingRatio * std::sqrt(effMass / kn);
+    t.spring = kn * delta;
+    t.damper = -beta * kn * vn;
+  } else {
+    const Real a = std::sqrt(effRadius * delta);
+    t.spring = p.hertzKn * a * delta;
+    t.damper = -p.hertzGammaN * std::sqrt(a * effMass) * vn;
+    t.springPower = 1.5;
+    t.damperPower = 0.25;
+  }
+  return t;
+}
+
+// A gap of the release and re-engagement rule: value (> 0 while the force acts, linear in time
+// near its zero) and the power p of the force in it.
+struct ReleaseGap {
+  Real value = 0, power = 1;
+};
+
+// Returns the gap at signed overlap delta (< 0: apart) and normal velocity vn (as normalTerms).
+// Changes nothing.
+inline ReleaseGap releaseGap(const PairParams& p, Real delta, Real vn, Real effMass,
+                             Real effRadius) {
+  if (p.law == LawKind::Linear) {
+    const Real kn = p.knFixed + p.knPerRadius * effRadius;
+    const Real beta = 2 * p.dampingRatio * std::sqrt(effMass / kn);
+    return {kn * delta - beta * kn * vn, 1};
+  }
+  if (p.hertzGammaN == 0) return {delta, 1.5};
+  // F = delta^(1/4) (hertzKn sqrt(R*) delta^(5/4) - hertzGammaN sqrt(m*) R*^(1/4) vn).
+  const Real d = std::max<Real>(0, delta);
+  const Real r4 = std::sqrt(std::sqrt(effRadius));
+  return {p.hertzKn * r4 * r4 * d * std::sqrt(std::sqrt(d)) -
+              p.hertzGammaN * std::sqrt(effMass) * r4 * vn,
+          1};
+}
+
+// One end of a step for one contact: whether it touches, its signed overlap (> 0 touching) and
+// the normal velocity the law sees there, along that end's normal.
+struct ContactEnd {
+  bool touch = false;
+  Real overlap = 0, vn = 0;
+};
+
+// What the correction does to one contact over one step: an impulse on B along the normal of
+// the end named by atEnd (A receives its opposite), and the damping loss to add to the ledger.
+struct TouchCorrection {
+  Real impulse = 0;
+  bool atEnd = true;  // along the normal at t1 (touch, re-engagement); else at t0 (release)
+  Real loss = 0;
+  bool any() const { return impulse != 0 || loss != 0; }
+};
+
+// Returns the fraction of the step from the zero of a quantity linear in time to the step's
+// end (rising: before <= 0 < after) or from its start to the zero (falling: before > 0 >=
+// after), clamped to [0, 1] (estimated ends that do not bracket a zero give 1 or 0). Changes
+// nothing.
+inline Real zeroFraction(Real before, Real after) {
+  const Real span = before - after;
+  if (span == 0) return 1;
+  const Real f = after > before ? after / (after - before) : before / span;
+  return std::clamp<Real>(f, 0, 1);
+}
+
+// Returns the correction for one contact over one step of length dt > 0 from its two ends (as
+// above), the pair's parameters, its effective mass and radius, and the lag of the law's
+// velocities (ContactKinematics::velocityLag: 0.5 plain Verlet, 0 synchronized), which the
+// damping loss is charged at as the laws do. Changes nothing.
+inline TouchCorrection touchCorrection(const PairParams& p, Real effMass, Real effRadius, Real dt,
+                                       Real lag, const ContactEnd& e0, const ContactEnd& e1) {
+  TouchCorrection c;
+  if (!e0.touch && !e1.touch) return c;
+  if (!e0.touch) {
+    // Touch within the step.
+    const NormalTerms t = normalTerms(p, e1.overlap, e1.vn, effMass, effRadius);
+    const Real fn = t.force();
+    if (fn == 0) return c;
+    const Real T = dt * zeroFraction(e0.overlap, e1.overlap);
+    const Real ws = T / (t.springPower + 1) - 0.5 * dt;
+    const Real wd = T / (t.damperPower + 1) - 0.5 * dt;
+    c.impulse = t.spring * ws + t.damper * wd;
+    // The damper's power at t1, charged at the force time (contact.hpp, velocityLag).
+    const Real vForce = e1.vn + lag * dt * fn / effMass;
+    c.loss = -(fn - t.spring) * vForce * wd;
+    return c;
+  }
+  const NormalTerms t0 = normalTerms(p, e0.overlap, e0.vn, effMass, effRadius);
+  const ReleaseGap g0 = releaseGap(p, e0.overlap, e0.vn, effMass, effRadius);
+  const ReleaseGap g1 = releaseGap(p, e1.overlap, e1.vn, effMass, effRadius);
+  if (t0.force() > 0 && g0.value > 0 && g1.value <= 0) {
+    // Release within the step.
+    const Real T = dt * zeroFraction(g0.value, g1.value);
+    c.impulse = t0.force() * (T / (g0.power + 1) - 0.5 * dt);
+    c.atEnd = false;
+    return c;
+  }
+  if (e1.touch && t0.force() == 0 && g0.value <= 0 && g1.value > 0) {
+    // Re-engagement of a force cut off at t0.
+    const Real f1 = normalTerms(p, e1.overlap, e1.vn, effMass, effRadius).force();
+    if (f1 == 0) return c;
+    const Real T = dt * zeroFraction(g0.value, g1.value);
+    c.impulse = f1 * (T / (g1.power + 1) - 0.5 * dt);
+  }
+  return c;
+}
+
+}  // namespace demlab::physics
