@@ -10,29 +10,39 @@
 // event, a jump O(dt), so the energy of an elastic gas wanders by O(dt^2) per collision and the
 // restitution of damped impacts converges at first order (doc/verification.md, findings 3, 7).
 //
-// The correction replaces the trapezoid's share of the event step by the integral of the force
-// over the part of the step the force existed. A term ~ g^p of a "gap" g that is linear in time
-// over the step and vanishes at the event, worth F at the step end where it exists, has the
-// partial-step impulse F T / (p + 1), T the time it existed; the kick gave F dt / 2. So:
-//  - touch (no overlap at t0, overlap at t1): T = dt delta1 / (delta1 - delta0) from the
-//    signed overlaps; the spring term (linear p = 1, Hertz 3/2) and the damper term (linear
-//    p = 0, the jump; Hertz 1/4, gamma_n ~ a^(1/2)) each get F (T/(p+1) - dt/2), from the
-//    force at t1. The damper's power, booked by the laws as P(t1) dt per step (a sum that is
-//    the trapezoid of P once the endpoints are zero), gets the same correction in the ledger.
+// The correction makes the sum of the kicks over a contact's life the integral of its force.
+// Near an event a force term is F(t) = A |t - te|^p (te the event, p its power: the linear
+// spring p = 1, the Hertz spring 3/2, the linear damper 0 (the jump), the Hertz damper 1/4,
+// gamma_n ~ a^(1/2) ~ delta^(1/4)). The kicks weigh the grid points t_k by dt, and the
+// generalised Euler-Maclaurin formula for a power singularity at an offset theta dt from the
+// grid (Navot 1961) gives their sum minus the integral as A dt^(p+1) zeta(-p, theta) plus the
+// smooth terms the scheme's own O(dt^2) already holds, zeta the Hurwitz zeta function. So the
+// step next to the event gets the impulse -F dt zeta(-p, theta) / theta^p, F the term's value
+// at the grid point nearest the event, theta dt its distance from it (eventImpulse). For p = 0
+// that is F (theta dt - dt/2): the force over the part of the step it acted, less the kick's
+// dt/2; for p = 1, F (theta dt/2 - dt/2) + F dt / (12 theta): the partial step's F T / 2 and
+// the trapezoid's end term dt^2 F' / 12 of the kink (without it, an elastic gas's energy still
+// wanders by dt^2 kn vn^2 / 12 per collision where many collide at once: in a binary impact
+// the touch's and the release's end terms cancel). For p = 3/2 the error of a Hertz touch is
+// spread over the following steps (the force's curvature is singular), which the zeta
+// function sums; a correction of the partial step alone would be five times too large.
+//  - touch (no overlap at t0, overlap at t1): theta = delta1 / (delta1 - delta0) from the
+//    signed overlaps; the spring and the damper terms at t1 each get their impulse. The
+//    damper's power, booked by the laws as P(t1) dt per step, gets the same correction in the
+//    ledger's damping loss (power p of the damper).
 //  - release (force positive at t0, zero at t1: the overlap ended, or the damped force reached
-//    its cut-off): T' from the zero of the gap between the two ends; the impulse gets
-//    F(t0) (T'/(p+1) - dt/2). The gap is the unclamped force kn delta - cn vn for the linear
-//    law (p = 1, extended to delta < 0 as it stands), delta for the elastic Hertz law
-//    (p = 3/2), and F / delta^(1/4) = K delta^(5/4) - G vn for the damped Hertz law (p = 1).
-//    The damper's power is continuous at a cut-off (kn delta = cn vn there, and the clamped
-//    law books the spring's unworked energy at the same rate), so the ledger needs nothing.
+//    its cut-off): theta from the zero of a gap between the two ends, the impulse from F(t0).
+//    The gap is the unclamped force kn delta - cn vn for the linear law (p = 1, extended to
+//    delta < 0 as it stands), delta for the elastic Hertz law (p = 3/2), and F / delta^(1/4) =
+//    K delta^(5/4) - G vn for the damped Hertz law (p = 1). The damper's power is continuous
+//    at a cut-off (kn delta = cn vn there, and the clamped law books the spring's unworked
+//    energy at the same rate), so the ledger needs nothing.
 //  - re-engagement (touching at both ends, the damped force cut off at t0 and positive at
 //    t1): as release, mirrored, from the force at t1.
-// What is left per event is O(dt^3), the scheme's own local order: the trajectories' kinks
-// are then resolved to second order globally. The positions are not corrected: the drift of the
-// event step moves by dt^2/2 a(t0), whose error is O(dt^3) since the force is O(dt) at an
-// event. The tangential force is not corrected (the spring's first increment stays vt dt):
-// the frictional cases stay at the order they had (doc/design.md says why).
+// What is left per event is O(dt^3). The positions are not corrected: the drift of the event
+// step moves by dt^2/2 a(t0), whose error is O(dt^3) since the force is O(dt) at an event. The
+// tangential force is not corrected (the spring's first increment stays vt dt): the frictional
+// cases keep the order they had (doc/design.md says why).
 #pragma once
 
 #include <algorithm>
@@ -124,6 +134,36 @@ inline Real zeroFraction(Real before, Real after) {
   return std::clamp<Real>(f, 0, 1);
 }
 
+// Returns the Hurwitz zeta function zeta(s, a) = sum_{k >= 0} (k + a)^-s (continued
+// analytically) for s <= 0 and 0 < a <= 1, by Euler-Maclaurin summation from k = 10 with five
+// Bernoulli terms (error below 1e-12 for s >= -2). Changes nothing.
+inline Real hurwitzZeta(Real s, Real a) {
+  constexpr int kTerms = 10;
+  Real sum = 0;
+  for (int k = 0; k < kTerms; ++k) sum += std::pow(k + a, -s);
+  const Real x = kTerms + a;
+  sum += std::pow(x, 1 - s) / (s - 1) + 0.5 * std::pow(x, -s);
+  constexpr Real kBernoulli[] = {1.0 / 6, -1.0 / 30, 1.0 / 42, -1.0 / 30, 5.0 / 66};
+  Real factorial = 1, rising = s, power = std::pow(x, -s - 1);
+  for (int j = 1; j <= 5; ++j) {
+    factorial *= (2 * j - 1) * (2 * j);
+    sum += kBernoulli[j - 1] / factorial * rising * power;
+    rising *= (s + 2 * j - 1) * (s + 2 * j);
+    power /= x * x;
+  }
+  return sum;
+}
+
+// Returns the impulse to add for a force term ~ (time since the event)^p that is worth F at the
+// grid point nearest the event, a fraction theta (0 < theta <= 1) of a step dt away from it:
+// -F dt zeta(-p, theta) / theta^p (see the file's comment). p = 0: F (theta dt - dt/2), the
+// partial step; p = 1: F (theta dt/2 - dt/2) + F dt / (12 theta), the partial step and the
+// kink's end term. Changes nothing.
+inline Real eventImpulse(Real F, Real p, Real theta, Real dt) {
+  if (!(theta > 0) || F == 0) return 0;
+  return -F * dt * hurwitzZeta(-p, theta) / std::pow(theta, p);
+}
+
 // Returns the correction for one contact over one step of length dt > 0 from its two ends (as
 // above), the pair's parameters, its effective mass and radius, and the lag of the law's
 // velocities (ContactKinematics::velocityLag: 0.5 plain Verlet, 0 synchronized), which the
@@ -133,17 +173,17 @@ inline TouchCorrection touchCorrection(const PairParams& p, Real effMass, Real e
   TouchCorrection c;
   if (!e0.touch && !e1.touch) return c;
   if (!e0.touch) {
-    // Touch within the step.
+    // Touch within the step: the spring and the damper terms, each with its power.
     const NormalTerms t = normalTerms(p, e1.overlap, e1.vn, effMass, effRadius);
     const Real fn = t.force();
     if (fn == 0) return c;
-    const Real T = dt * zeroFraction(e0.overlap, e1.overlap);
-    const Real ws = T / (t.springPower + 1) - 0.5 * dt;
-    const Real wd = T / (t.damperPower + 1) - 0.5 * dt;
-    c.impulse = t.spring * ws + t.damper * wd;
-    // The damper's power at t1, charged at the force time (contact.hpp, velocityLag).
+    const Real theta = zeroFraction(e0.overlap, e1.overlap);
+    c.impulse = eventImpulse(t.spring, t.springPower, theta, dt) +
+                eventImpulse(t.damper, t.damperPower, theta, dt);
+    // The damper's power at t1, charged at the force time (contact.hpp, velocityLag), ~ the
+    // damper's coefficient, so of the damper's power in time.
     const Real vForce = e1.vn + lag * dt * fn / effMass;
-    c.loss = -(fn - t.spring) * vForce * wd;
+    c.loss = eventImpulse((t.spring - fn) * vForce, t.damperPower, theta, dt);
     return c;
   }
   const NormalTerms t0 = normalTerms(p, e0.overlap, e0.vn, effMass, effRadius);
@@ -151,17 +191,14 @@ inline TouchCorrection touchCorrection(const PairParams& p, Real effMass, Real e
   const ReleaseGap g1 = releaseGap(p, e1.overlap, e1.vn, effMass, effRadius);
   if (t0.force() > 0 && g0.value > 0 && g1.value <= 0) {
     // Release within the step.
-    const Real T = dt * zeroFraction(g0.value, g1.value);
-    c.impulse = t0.force() * (T / (g0.power + 1) - 0.5 * dt);
+    c.impulse = eventImpulse(t0.force(), g0.power, zeroFraction(g0.value, g1.value), dt);
     c.atEnd = false;
     return c;
   }
   if (e1.touch && t0.force() == 0 && g0.value <= 0 && g1.value > 0) {
     // Re-engagement of a force cut off at t0.
     const Real f1 = normalTerms(p, e1.overlap, e1.vn, effMass, effRadius).force();
-    if (f1 == 0) return c;
-    const Real T = dt * zeroFraction(g0.value, g1.value);
-    c.impulse = f1 * (T / (g1.power + 1) - 0.5 * dt);
+    c.impulse = eventImpulse(f1, g1.power, zeroFraction(g0.value, g1.value), dt);
   }
   return c;
 }

@@ -73,6 +73,28 @@ class TouchModule final : public SimModule<D> {
     return vHalf - (back * a.invMass[i]) * a.fPrev[i];
   }
 
+  // The drift moves both grains on straight lines: the step's touch (or release) is where
+  // |d0 + f (d1 - d0)| = rs, a quadratic in the fraction f of the step. Sets the overlap of the
+  // end that does not touch to the value whose linear interpolation gives that f (what
+  // physics::touchCorrection interpolates), which removes the error of interpolating the
+  // overlap linearly where the grains pass each other obliquely (the overlap is concave in
+  // time there). Changes e0 or e1.
+  static void straightLineEnds(const VecD<D>& d0, const VecD<D>& d1, Real rs,
+                               physics::ContactEnd& e0, physics::ContactEnd& e1) {
+    const VecD<D> u = d1 - d0;
+    const Real qa = u.squaredNorm(), qb = d0.dot(u), qc = d0.squaredNorm() - rs * rs;
+    const Real disc = qb * qb - qa * qc;
+    if (!(qa > 0 && disc >= 0)) return;
+    // Touch: the first root (qc > 0 apart at the start); release: the second (qc < 0).
+    const Real f = e1.touch ? (-qb - std::sqrt(disc)) / qa : (-qb + std::sqrt(disc)) / qa;
+    if (!(f > 0 && f < 1)) return;
+    if (e1.touch) {
+      e0.overlap = -e1.overlap * f / (1 - f);  // e1.overlap / (e1.overlap - e0.overlap) = 1 - f
+    } else {
+      e1.overlap = -e0.overlap * (1 - f) / f;  // e0.overlap / (e0.overlap - e1.overlap) = f
+    }
+  }
+
   void grainPairs(const Scene<D>& s, double& loss) {
     const GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt, lag = velocityLag(s);
@@ -97,10 +119,11 @@ class TouchModule final : public SimModule<D> {
       const VecD<D> n1 = d1 / dist1, n0 = d0 / dist0;
       const Real sumInv = a.invMass[i] + a.invMass[j];
       if (!(sumInv > 0)) continue;  // two fixed grains: nothing moves
-      const physics::ContactEnd e0{touch0, rs - dist0, v0.dot(n0)};
-      const physics::ContactEnd e1{touch1, rs - dist1, v1.dot(n1)};
-      const physics::TouchCorrection k = physics::touchCorrection(
-          p, 1 / sumInv, a.r[i] * a.r[j] / rs, dt, lag, e0, e1);
+      physics::ContactEnd e0{touch0, rs - dist0, v0.dot(n0)};
+      physics::ContactEnd e1{touch1, rs - dist1, v1.dot(n1)};
+      if (touch0 != touch1) straightLineEnds(d0, d1, rs, e0, e1);
+      const physics::TouchCorrection k =
+          physics::touchCorrection(p, 1 / sumInv, a.r[i] * a.r[j] / rs, dt, lag, e0, e1);
       if (!k.any()) continue;
       const VecD<D> J = k.impulse * (k.atEnd ? n1 : n0);
       kicks_.emplace_back(i, -a.invMass[i] * J);
@@ -140,8 +163,7 @@ class TouchModule final : public SimModule<D> {
         const physics::ContactEnd e0{bool(g0), o0, v0.dot(n0)};
         const physics::ContactEnd e1{bool(g1), o1, v1.dot(n1)};
         const Real m = 1 / a.invMass[i];
-        const physics::TouchCorrection k =
-            physics::touchCorrection(p, m, a.r[i], dt, lag, e0, e1);
+        const physics::TouchCorrection k = physics::touchCorrection(p, m, a.r[i], dt, lag, e0, e1);
         if (!k.any()) continue;
         // The impulse acts on the wall (B); the grain receives its opposite.
         const VecD<D> J = k.impulse * (k.atEnd ? n1 : n0);
