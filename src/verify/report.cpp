@@ -109,8 +109,9 @@ void writeReport(std::ostream& out, const std::vector<Study>& studies, const Rep
       }
     }
     if (!c.knownFailure.empty()) {
-      notes.insert(notes.begin(),
-                   "**Known failure** (default integrator): " + c.knownFailure + ".");
+      notes.insert(notes.begin(), std::string("**Known failure** (default integrator") +
+                                      (c.touchFixes ? "; synchronized+touch passes" : "") +
+                                      "): " + c.knownFailure + ".");
     }
     if (!notes.empty()) {
       out << "\nNotes:\n\n";
