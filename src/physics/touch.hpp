@@ -114,6 +114,24 @@ struct ContactEnd {
   Real overlap = 0, vn = 0;
 };
 
+// Returns true if the damped normal force at end e (touching) is cut off at zero, by the law's
+// own comparison squared (no square root; the same as normalTerms(...).force() == 0 but for
+// rounding at the boundary, where the correction is continuous). Changes nothing.
+inline bool cutOff(const PairParams& p, const ContactEnd& e, Real effMass, Real effRadius) {
+  if (!(e.vn > 0)) return false;  // approaching: the damper pushes too
+  if (p.law == LawKind::Linear) {
+    // kn delta <= beta kn vn, beta = 2 zeta sqrt(m*/kn): kn delta^2 <= 4 zeta^2 m* vn^2.
+    const Real kn = p.knFixed + p.knPerRadius * effRadius;
+    return kn * e.overlap * e.overlap <=
+           4 * p.dampingRatio * p.dampingRatio * effMass * e.vn * e.vn;
+  }
+  // hertzKn a delta <= gammaN sqrt(a m*) vn, a = sqrt(R* delta): hertzKn^4 R* delta^5 <=
+  // gammaN^4 m*^2 vn^4.
+  const Real d2 = e.overlap * e.overlap, k2 = p.hertzKn * p.hertzKn;
+  const Real g2 = p.hertzGammaN * p.hertzGammaN, mv2 = effMass * e.vn * e.vn;
+  return k2 * k2 * effRadius * d2 * d2 * e.overlap <= g2 * g2 * mv2 * mv2;
+}
+
 // What the correction does to one contact over one step: an impulse on B along the normal of
 // the end named by atEnd (A receives its opposite), and the damping loss to add to the ledger.
 struct TouchCorrection {
@@ -138,6 +156,9 @@ inline Real zeroFraction(Real before, Real after) {
 // analytically) for s <= 0 and 0 < a <= 1, by Euler-Maclaurin summation from k = 10 with five
 // Bernoulli terms (error below 1e-12 for s >= -2). Changes nothing.
 inline Real hurwitzZeta(Real s, Real a) {
+  // The linear law's powers in closed form: zeta(0, a) = 1/2 - a, zeta(-1, a) = -B2(a) / 2.
+  if (s == 0) return 0.5 - a;
+  if (s == -1) return -0.5 * (a * a - a + 1.0 / 6);
   constexpr int kTerms = 10;
   Real sum = 0;
   for (int k = 0; k < kTerms; ++k) sum += std::pow(k + a, -s);
@@ -154,6 +175,11 @@ inline Real hurwitzZeta(Real s, Real a) {
   return sum;
 }
 
+// Returns zeta(-p, theta) / theta^p, the weight of eventImpulse (theta > 0). Changes nothing.
+inline Real eventWeight(Real p, Real theta) {
+  return p == 0 ? hurwitzZeta(0, theta) : hurwitzZeta(-p, theta) / std::pow(theta, p);
+}
+
 // Returns the impulse to add for a force term ~ (time since the event)^p that is worth F at the
 // grid point nearest the event, a fraction theta (0 < theta <= 1) of a step dt away from it:
 // -F dt zeta(-p, theta) / theta^p (see the file's comment). p = 0: F (theta dt - dt/2), the
@@ -161,7 +187,7 @@ inline Real hurwitzZeta(Real s, Real a) {
 // kink's end term. Changes nothing.
 inline Real eventImpulse(Real F, Real p, Real theta, Real dt) {
   if (!(theta > 0) || F == 0) return 0;
-  return -F * dt * hurwitzZeta(-p, theta) / std::pow(theta, p);
+  return -F * dt * eventWeight(p, theta);
 }
 
 // Returns the correction for one contact over one step of length dt > 0 from its two ends (as
@@ -178,12 +204,13 @@ inline TouchCorrection touchCorrection(const PairParams& p, Real effMass, Real e
     const Real fn = t.force();
     if (fn == 0) return c;
     const Real theta = zeroFraction(e0.overlap, e1.overlap);
-    c.impulse = eventImpulse(t.spring, t.springPower, theta, dt) +
-                eventImpulse(t.damper, t.damperPower, theta, dt);
+    if (!(theta > 0)) return c;
+    const Real wd = t.damper != 0 ? eventWeight(t.damperPower, theta) : 0;
+    c.impulse = -dt * (t.spring * eventWeight(t.springPower, theta) + t.damper * wd);
     // The damper's power at t1, charged at the force time (contact.hpp, velocityLag), ~ the
-    // damper's coefficient, so of the damper's power in time.
+    // damper's coefficient, so of the damper's power in time: the damper's weight.
     const Real vForce = e1.vn + lag * dt * fn / effMass;
-    c.loss = eventImpulse((t.spring - fn) * vForce, t.damperPower, theta, dt);
+    c.loss = -dt * (t.spring - fn) * vForce * wd;
     return c;
   }
   const NormalTerms t0 = normalTerms(p, e0.overlap, e0.vn, effMass, effRadius);

@@ -51,6 +51,7 @@ class TouchModule final : public SimModule<D> {
     const Real dt = s.stepDt;
     if (!(dt > 0)) return;  // the force pass before a run: no step, no event
     kicks_.clear();
+    velocities(s);
     double loss = 0, wallWork = 0;
     grainPairs(s, loss);
     walls(s, loss, wallWork);
@@ -66,11 +67,23 @@ class TouchModule final : public SimModule<D> {
   uint64_t events() const { return events_; }
 
  private:
-  // The velocity the laws saw at the step's start (see the file's comment).
-  static VecD<D> lawVelocityBefore(const Scene<D>& s, size_t i, const VecD<D>& vHalf) {
+  // Fills vHalf_ with the grains' half-step velocities (the drift's), xBefore_ with their
+  // positions at the step's start and vBefore_ with the velocities the laws saw there (see the
+  // file's comment), once per step rather than once per candidate.
+  void velocities(const Scene<D>& s) {
     const GrainArrays<D>& a = s.grains.a;
-    const Real back = s.integrator == IntegratorKind::Verlet ? s.stepDt : 0.5 * s.stepDt;
-    return vHalf - (back * a.invMass[i]) * a.fPrev[i];
+    const size_t n = a.size();
+    const Real h = 0.5 * s.stepDt;
+    const bool sync = s.integrator == IntegratorKind::Synchronized;
+    vHalf_.resize(n);
+    vBefore_.resize(n);
+    xBefore_.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      const VecD<D> kick = (h * a.invMass[i]) * a.fPrev[i];
+      vHalf_[i] = sync ? VecD<D>(a.v[i] - kick) : a.v[i];
+      xBefore_[i] = a.x[i] - s.stepDt * vHalf_[i];
+      vBefore_[i] = sync ? VecD<D>(vHalf_[i] - kick) : VecD<D>(vHalf_[i] - 2 * kick);
+    }
   }
 
   // The drift moves both grains on straight lines: the step's touch (or release) is where
@@ -99,31 +112,41 @@ class TouchModule final : public SimModule<D> {
     const GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
+    const VecD<D>* __restrict x = a.x.data();
+    const VecD<D>* __restrict x0 = xBefore_.data();
+    const Real* __restrict r = a.r.data();
     for (const CandidatePair& c : s.candidates) {
       const uint32_t i = c.i, j = c.j;
-      const Real rs = a.r[i] + a.r[j];
-      const VecD<D> d1 = a.x[j] - a.x[i];
-      const VecD<D> vhi = halfStepVelocity(s, i), vhj = halfStepVelocity(s, j);
-      const VecD<D> d0 = d1 - dt * (vhj - vhi);
+      const Real rs = r[i] + r[j];
+      const VecD<D> d1 = x[j] - x[i];
+      const VecD<D> d0 = x0[j] - x0[i];
       const Real q1 = d1.squaredNorm(), q0 = d0.squaredNorm();
       // The contact module's test (contacts.hpp), at both ends.
       const bool touch1 = q1 < rs * rs, touch0 = q0 < rs * rs;
       if (!touch0 && !touch1) continue;
       const physics::PairParams& p = s.pairParams[a.material[i] * nMat + a.material[j]];
+      const bool both = touch0 && touch1;
+      // Touching at both ends: only a damped force separating at one end can be cut off.
+      if (both && !dampsNormal(p)) continue;
       const VecD<D> v1 = a.v[j] - a.v[i];
-      const VecD<D> v0 = lawVelocityBefore(s, j, vhj) - lawVelocityBefore(s, i, vhi);
-      // Touching at both ends: only a damped force separating at one end can switch.
-      if (touch0 && touch1 && (!dampsNormal(p) || (v1.dot(d1) <= 0 && v0.dot(d0) <= 0))) continue;
+      const VecD<D> v0 = vBefore_[j] - vBefore_[i];
+      if (both && v1.dot(d1) <= 0 && v0.dot(d0) <= 0) continue;
       const Real dist1 = std::sqrt(q1), dist0 = std::sqrt(q0);
       if (!(dist1 > 0 && dist0 > 0)) continue;  // coincident centres: no normal to speak of
-      const VecD<D> n1 = d1 / dist1, n0 = d0 / dist0;
+      const VecD<D> n1 = d1 * (1 / dist1), n0 = d0 * (1 / dist0);
       const Real sumInv = a.invMass[i] + a.invMass[j];
       if (!(sumInv > 0)) continue;  // two fixed grains: nothing moves
+      const Real effMass = 1 / sumInv, effRadius = r[i] * r[j] / rs;
       physics::ContactEnd e0{touch0, rs - dist0, v0.dot(n0)};
       physics::ContactEnd e1{touch1, rs - dist1, v1.dot(n1)};
+      // A contact separating in a bed is far from its cut-off at both ends (most are).
+      if (both && !physics::cutOff(p, e0, effMass, effRadius) &&
+          !physics::cutOff(p, e1, effMass, effRadius)) {
+        continue;
+      }
       if (touch0 != touch1) straightLineEnds(d0, d1, rs, e0, e1);
       const physics::TouchCorrection k =
-          physics::touchCorrection(p, 1 / sumInv, a.r[i] * a.r[j] / rs, dt, lag, e0, e1);
+          physics::touchCorrection(p, effMass, effRadius, dt, lag, e0, e1);
       if (!k.any()) continue;
       const VecD<D> J = k.impulse * (k.atEnd ? n1 : n0);
       kicks_.emplace_back(i, -a.invMass[i] * J);
@@ -146,23 +169,27 @@ class TouchModule final : public SimModule<D> {
         const physics::SphereShape<D> now{a.x[i], a.r[i]};
         const auto g1 = entry.one(&now, shape);
         const VecD<D> vWall = wall.surfaceVelocity(g1 ? g1->point : a.x[i]);
-        const VecD<D> vh = halfStepVelocity(s, i);
+        const VecD<D>& vh = vHalf_[i];
         // The grain at the step's start, relative to the wall where it is now.
         const physics::SphereShape<D> before{a.x[i] + dt * (vWall - vh), a.r[i]};
         const auto g0 = entry.one(&before, shape);
         if (!g0 && !g1) continue;
         const physics::PairParams& p = s.pairParams[a.material[i] * nMat + wall.material];
+        const Real m = 1 / a.invMass[i];
         const VecD<D> v1 = vWall - a.v[i];
-        const VecD<D> v0 = vWall - lawVelocityBefore(s, i, vh);
+        const VecD<D> v0 = vWall - vBefore_[i];
         const VecD<D> n1 = g1 ? g1->normal : g0->normal, n0 = g0 ? g0->normal : g1->normal;
         if (g0 && g1 && (!dampsNormal(p) || (v1.dot(n1) <= 0 && v0.dot(n0) <= 0))) continue;
+        if (g0 && g1 && !physics::cutOff(p, {true, g0->overlap, v0.dot(n0)}, m, a.r[i]) &&
+            !physics::cutOff(p, {true, g1->overlap, v1.dot(n1)}, m, a.r[i])) {
+          continue;
+        }
         // The missing end's signed overlap from the relative half-step velocity.
         const Real rate = (vWall - vh).dot(g1 ? n1 : n0);  // > 0 separating
         const Real o1 = g1 ? g1->overlap : g0->overlap - dt * rate;
         const Real o0 = g0 ? g0->overlap : o1 + dt * rate;
         const physics::ContactEnd e0{bool(g0), o0, v0.dot(n0)};
         const physics::ContactEnd e1{bool(g1), o1, v1.dot(n1)};
-        const Real m = 1 / a.invMass[i];
         const physics::TouchCorrection k = physics::touchCorrection(p, m, a.r[i], dt, lag, e0, e1);
         if (!k.any()) continue;
         // The impulse acts on the wall (B); the grain receives its opposite.
@@ -175,6 +202,7 @@ class TouchModule final : public SimModule<D> {
   }
 
   std::vector<std::pair<uint32_t, VecD<D>>> kicks_;  // grain, velocity change: applied last
+  std::vector<VecD<D>> vHalf_, vBefore_, xBefore_;   // per grain, this step (velocities())
   uint64_t events_ = 0;
 };
 
