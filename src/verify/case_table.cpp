@@ -91,8 +91,8 @@ const char* kGasDrift =
     "collision's touch and release (kinks in the force) leave an O(dt^2) energy error of "
     "random sign, which adds up over collisions. Reproduce: demlab_verify --cases "
     "elastic-gas --integrators synchronized. The touch correction (module touch on: the "
-    "synchronized+touch rows) meets issue 3: 1.0e-5 (discs) and 7.1e-7 (spheres) at tc/50, "
-    "falling at order 3 to 4 (finding 7)";
+    "synchronized+touch rows) meets issue 3: 1.5e-5 (discs) and 7.0e-7 (spheres) at tc/50, "
+    "falling at order 3 (finding 7)";
 
 std::vector<CaseDef> makeTable() {
   std::vector<CaseDef> t;
