@@ -59,12 +59,7 @@ class TouchModule final : public SimModule<D> {
     for (const auto& [i, dv] : kicks_) v[i] += dv;
     s.ledger.dampingLoss += loss;
     s.ledger.wallWork += wallWork;
-    events_ += kicks_.size();
   }
-
-  // Returns the number of grain velocity corrections made since the module was built (two per
-  // grain-grain event, one per wall event).
-  uint64_t events() const { return events_; }
 
  private:
   // Fills vHalf_ with the grains' half-step velocities (the drift's), xBefore_ with their
@@ -203,7 +198,6 @@ class TouchModule final : public SimModule<D> {
 
   std::vector<std::pair<uint32_t, VecD<D>>> kicks_;  // grain, velocity change: applied last
   std::vector<VecD<D>> vHalf_, vBefore_, xBefore_;   // per grain, this step (velocities())
-  uint64_t events_ = 0;
 };
 
 }  // namespace demlab::sim
