@@ -23,7 +23,9 @@
 // candidate; nothing when the scene leaves it off (Scene::touch, the default).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -49,12 +51,23 @@ class TouchModule final : public SimModule<D> {
 
   void run(Scene<D>& s) override {
     const Real dt = s.stepDt;
-    if (!(dt > 0)) return;  // the force pass before a run: no step, no event
+    if (!(dt > 0)) {
+      // The force pass before a run, after an edit: no step, no event, and the states kept
+      // from the last step may no longer be the scene's.
+      pairTouched_.clear();
+      wallTouched_.clear();
+      return;
+    }
     kicks_.clear();
     velocities(s);
+    // The states kept from the last step are the contact modules' own tests at this step's
+    // start while the candidate lists are those of that step (no search since).
+    const bool kept = s.steps == keptStep_ + 1 && s.rebuilds == keptRebuilds_;
+    keptStep_ = s.steps;
+    keptRebuilds_ = s.rebuilds;
     double loss = 0, wallWork = 0;
-    grainPairs(s, loss);
-    walls(s, loss, wallWork);
+    grainPairs(s, kept && pairTouched_.size() == s.candidates.size(), loss);
+    walls(s, kept && wallTouched_.size() == s.wallCandidates.size(), loss, wallWork);
     VecD<D>* v = s.grains.a.v.data();
     for (const auto& [i, dv] : kicks_) v[i] += dv;
     s.ledger.dampingLoss += loss;
@@ -62,23 +75,38 @@ class TouchModule final : public SimModule<D> {
   }
 
  private:
-  // Fills vHalf_ with the grains' half-step velocities (the drift's), xBefore_ with their
-  // positions at the step's start and vBefore_ with the velocities the laws saw there (see the
-  // file's comment), once per step rather than once per candidate.
+  // Fills vHalf_ with the grains' half-step velocities (the drift's) and xBefore_ with their
+  // positions at the step's start, once per step rather than once per candidate.
   void velocities(const Scene<D>& s) {
     const GrainArrays<D>& a = s.grains.a;
     const size_t n = a.size();
-    const Real h = 0.5 * s.stepDt;
-    const bool sync = s.integrator == IntegratorKind::Synchronized;
+    const Real dt = s.stepDt, h = 0.5 * dt;
     vHalf_.resize(n);
-    vBefore_.resize(n);
     xBefore_.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-      const VecD<D> kick = (h * a.invMass[i]) * a.fPrev[i];
-      vHalf_[i] = sync ? VecD<D>(a.v[i] - kick) : a.v[i];
-      xBefore_[i] = a.x[i] - s.stepDt * vHalf_[i];
-      vBefore_[i] = sync ? VecD<D>(vHalf_[i] - kick) : VecD<D>(vHalf_[i] - 2 * kick);
+    const VecD<D>* __restrict x = a.x.data();
+    const VecD<D>* __restrict v = a.v.data();
+    const VecD<D>* __restrict f = a.fPrev.data();
+    const Real* __restrict invMass = a.invMass.data();
+    VecD<D>* __restrict vh = vHalf_.data();
+    VecD<D>* __restrict x0 = xBefore_.data();
+    if (s.integrator == IntegratorKind::Synchronized) {
+      for (size_t i = 0; i < n; ++i) {
+        vh[i] = v[i] - (h * invMass[i]) * f[i];
+        x0[i] = x[i] - dt * vh[i];
+      }
+    } else {
+      for (size_t i = 0; i < n; ++i) {
+        vh[i] = v[i];
+        x0[i] = x[i] - dt * v[i];
+      }
     }
+  }
+
+  // Returns the velocity the laws saw at the step's start (see the file's comment).
+  VecD<D> lawVelocityBefore(const Scene<D>& s, size_t i) const {
+    const GrainArrays<D>& a = s.grains.a;
+    const Real back = s.integrator == IntegratorKind::Verlet ? s.stepDt : 0.5 * s.stepDt;
+    return vHalf_[i] - (back * a.invMass[i]) * a.fPrev[i];
   }
 
   // The drift moves both grains on straight lines: the step's touch (or release) is where
@@ -103,28 +131,44 @@ class TouchModule final : public SimModule<D> {
     }
   }
 
-  void grainPairs(const Scene<D>& s, double& loss) {
+  // kept: pairTouched_ holds each candidate's touch state at the step's start.
+  void grainPairs(const Scene<D>& s, bool kept, double& loss) {
     const GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
     const VecD<D>* __restrict x = a.x.data();
     const VecD<D>* __restrict x0 = xBefore_.data();
     const Real* __restrict r = a.r.data();
-    for (const CandidatePair& c : s.candidates) {
+    const size_t nc = s.candidates.size();
+    if (!kept) pairTouched_.assign(nc, 0);
+    uint8_t* __restrict touched = pairTouched_.data();
+    for (size_t kc = 0; kc < nc; ++kc) {
+      const CandidatePair& c = s.candidates[kc];
       const uint32_t i = c.i, j = c.j;
       const Real rs = r[i] + r[j];
       const VecD<D> d1 = x[j] - x[i];
-      const VecD<D> d0 = x0[j] - x0[i];
-      const Real q1 = d1.squaredNorm(), q0 = d0.squaredNorm();
-      // The contact module's test (contacts.hpp), at both ends.
-      const bool touch1 = q1 < rs * rs, touch0 = q0 < rs * rs;
+      const Real q1 = d1.squaredNorm();
+      // The contact module's test (contacts.hpp), at both ends: at the start, the one it made
+      // at the last step when kept, else on the positions with the drift undone.
+      const bool touch1 = q1 < rs * rs;
+      VecD<D> d0;
+      bool touch0;
+      if (kept) {
+        touch0 = touched[kc] != 0;
+      } else {
+        d0 = x0[j] - x0[i];
+        touch0 = d0.squaredNorm() < rs * rs;
+      }
+      touched[kc] = touch1;
       if (!touch0 && !touch1) continue;
+      if (kept) d0 = x0[j] - x0[i];
+      const Real q0 = d0.squaredNorm();
       const physics::PairParams& p = s.pairParams[a.material[i] * nMat + a.material[j]];
       const bool both = touch0 && touch1;
       // Touching at both ends: only a damped force separating at one end can be cut off.
       if (both && !dampsNormal(p)) continue;
       const VecD<D> v1 = a.v[j] - a.v[i];
-      const VecD<D> v0 = vBefore_[j] - vBefore_[i];
+      const VecD<D> v0 = lawVelocityBefore(s, j) - lawVelocityBefore(s, i);
       if (both && v1.dot(d1) <= 0 && v0.dot(d0) <= 0) continue;
       const Real dist1 = std::sqrt(q1), dist0 = std::sqrt(q0);
       if (!(dist1 > 0 && dist0 > 0)) continue;  // coincident centres: no normal to speak of
@@ -150,31 +194,49 @@ class TouchModule final : public SimModule<D> {
     }
   }
 
-  void walls(const Scene<D>& s, double& loss, double& wallWork) {
+  // kept: wallTouched_ holds each wall candidate's touch state at the step's start.
+  void walls(const Scene<D>& s, bool kept, double& loss, double& wallWork) {
     const GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
     const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
-    for (size_t w = 0; w < s.walls.size() && w < s.wallCandidates.size(); ++w) {
+    const size_t nw = std::min(s.walls.size(), s.wallCandidates.size());
+    if (!kept) wallTouched_.assign(s.wallCandidates.size(), {});
+    for (size_t w = 0; w < nw; ++w) {
       const Wall<D>& wall = s.walls.items[w];
       const auto& entry = np.table.get(np.sphere, np.byShape[static_cast<int>(wall.kind)]).fn;
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
-      for (const uint32_t i : s.wallCandidates[w]) {
-        if (!(a.invMass[i] > 0)) continue;  // a fixed grain: nothing moves
+      const std::vector<uint32_t>& which = s.wallCandidates[w];
+      std::vector<uint8_t>& touched = wallTouched_[w];
+      const bool keptHere = kept && touched.size() == which.size();
+      if (!keptHere) touched.assign(which.size(), 0);
+      for (size_t kc = 0; kc < which.size(); ++kc) {
+        const uint32_t i = which[kc];
         const physics::SphereShape<D> now{a.x[i], a.r[i]};
         const auto g1 = entry.one(&now, shape);
         const VecD<D> vWall = wall.surfaceVelocity(g1 ? g1->point : a.x[i]);
         const VecD<D>& vh = vHalf_[i];
         // The grain at the step's start, relative to the wall where it is now.
         const physics::SphereShape<D> before{a.x[i] + dt * (vWall - vh), a.r[i]};
-        const auto g0 = entry.one(&before, shape);
-        if (!g0 && !g1) continue;
+        const bool wasTouching =
+            keptHere ? touched[kc] != 0 : entry.one(&before, shape).has_value();
+        touched[kc] = g1.has_value();
+        if (!wasTouching && !g1) continue;
+        if (!(a.invMass[i] > 0)) continue;  // a fixed grain: nothing moves
         const physics::PairParams& p = s.pairParams[a.material[i] * nMat + wall.material];
-        const Real m = 1 / a.invMass[i];
         const VecD<D> v1 = vWall - a.v[i];
-        const VecD<D> v0 = vWall - vBefore_[i];
+        const VecD<D> v0 = vWall - lawVelocityBefore(s, i);
+        // Touching at both ends: only a damped force separating at one end can be cut off.
+        if (wasTouching && g1 &&
+            (!dampsNormal(p) || (v1.dot(g1->normal) <= 0 && v0.dot(g1->normal) <= 0))) {
+          continue;
+        }
+        // The start's geometry, where a release or a cut-off needs it (a touch does not).
+        std::optional<physics::ContactGeometry<D>> g0;
+        if (wasTouching) g0 = entry.one(&before, shape);
+        if (!g0 && !g1) continue;  // rounding at the edge: kept as touching, found apart
+        const Real m = 1 / a.invMass[i];
         const VecD<D> n1 = g1 ? g1->normal : g0->normal, n0 = g0 ? g0->normal : g1->normal;
-        if (g0 && g1 && (!dampsNormal(p) || (v1.dot(n1) <= 0 && v0.dot(n0) <= 0))) continue;
         if (g0 && g1 && !physics::cutOff(p, {true, g0->overlap, v0.dot(n0)}, m, a.r[i]) &&
             !physics::cutOff(p, {true, g1->overlap, v1.dot(n1)}, m, a.r[i])) {
           continue;
@@ -197,7 +259,12 @@ class TouchModule final : public SimModule<D> {
   }
 
   std::vector<std::pair<uint32_t, VecD<D>>> kicks_;  // grain, velocity change: applied last
-  std::vector<VecD<D>> vHalf_, vBefore_, xBefore_;   // per grain, this step (velocities())
+  std::vector<VecD<D>> vHalf_, xBefore_;             // per grain, this step (velocities())
+  // The touch states at the end of the last step, per grain-grain candidate and per wall
+  // candidate (the contact modules' tests), valid for the step after it with no search between.
+  std::vector<uint8_t> pairTouched_;
+  std::vector<std::vector<uint8_t>> wallTouched_;
+  uint64_t keptStep_ = ~uint64_t{0}, keptRebuilds_ = ~uint64_t{0};
 };
 
 }  // namespace demlab::sim
