@@ -25,7 +25,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -51,23 +50,12 @@ class TouchModule final : public SimModule<D> {
 
   void run(Scene<D>& s) override {
     const Real dt = s.stepDt;
-    if (!(dt > 0)) {
-      // The force pass before a run, after an edit: no step, no event, and the states kept
-      // from the last step may no longer be the scene's.
-      pairTouched_.clear();
-      wallTouched_.clear();
-      return;
-    }
+    if (!(dt > 0)) return;  // the force pass before a run: no step, no event
     kicks_.clear();
     velocities(s);
-    // The states kept from the last step are the contact modules' own tests at this step's
-    // start while the candidate lists are those of that step (no search since).
-    const bool kept = s.steps == keptStep_ + 1 && s.rebuilds == keptRebuilds_;
-    keptStep_ = s.steps;
-    keptRebuilds_ = s.rebuilds;
     double loss = 0, wallWork = 0;
-    grainPairs(s, kept && pairTouched_.size() == s.candidates.size(), loss);
-    walls(s, kept && wallTouched_.size() == s.wallCandidates.size(), loss, wallWork);
+    grainPairs(s, loss);
+    walls(s, loss, wallWork);
     VecD<D>* v = s.grains.a.v.data();
     for (const auto& [i, dv] : kicks_) v[i] += dv;
     s.ledger.dampingLoss += loss;
@@ -131,38 +119,24 @@ class TouchModule final : public SimModule<D> {
     }
   }
 
-  // kept: pairTouched_ holds each candidate's touch state at the step's start.
-  void grainPairs(const Scene<D>& s, bool kept, double& loss) {
+  void grainPairs(const Scene<D>& s, double& loss) {
     const GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
     const VecD<D>* __restrict x = a.x.data();
     const VecD<D>* __restrict x0 = xBefore_.data();
     const Real* __restrict r = a.r.data();
-    const size_t nc = s.candidates.size();
-    if (!kept) pairTouched_.assign(nc, 0);
-    uint8_t* __restrict touched = pairTouched_.data();
-    for (size_t kc = 0; kc < nc; ++kc) {
-      const CandidatePair& c = s.candidates[kc];
+    for (const CandidatePair& c : s.candidates) {
       const uint32_t i = c.i, j = c.j;
       const Real rs = r[i] + r[j];
       const VecD<D> d1 = x[j] - x[i];
-      const Real q1 = d1.squaredNorm();
-      // The contact module's test (contacts.hpp), at both ends: at the start, the one it made
-      // at the last step when kept, else on the positions with the drift undone.
-      const bool touch1 = q1 < rs * rs;
-      VecD<D> d0;
-      bool touch0;
-      if (kept) {
-        touch0 = touched[kc] != 0;
-      } else {
-        d0 = x0[j] - x0[i];
-        touch0 = d0.squaredNorm() < rs * rs;
-      }
-      touched[kc] = touch1;
+      const VecD<D> d0 = x0[j] - x0[i];
+      const Real q1 = d1.squaredNorm(), q0 = d0.squaredNorm();
+      // The contact module's test (contacts.hpp), at both ends. (Keeping the test of the last
+      // step instead would save the start's distance, but a scene loaded from a checkpoint has
+      // no last step: its run would not stay bit-identical to one that never stopped.)
+      const bool touch1 = q1 < rs * rs, touch0 = q0 < rs * rs;
       if (!touch0 && !touch1) continue;
-      if (kept) d0 = x0[j] - x0[i];
-      const Real q0 = d0.squaredNorm();
       const physics::PairParams& p = s.pairParams[a.material[i] * nMat + a.material[j]];
       const bool both = touch0 && touch1;
       // Touching at both ends: only a damped force separating at one end can be cut off.
@@ -194,47 +168,33 @@ class TouchModule final : public SimModule<D> {
     }
   }
 
-  // kept: wallTouched_ holds each wall candidate's touch state at the step's start.
-  void walls(const Scene<D>& s, bool kept, double& loss, double& wallWork) {
+  void walls(const Scene<D>& s, double& loss, double& wallWork) {
     const GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
     const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
     const size_t nw = std::min(s.walls.size(), s.wallCandidates.size());
-    if (!kept) wallTouched_.assign(s.wallCandidates.size(), {});
     for (size_t w = 0; w < nw; ++w) {
       const Wall<D>& wall = s.walls.items[w];
       const auto& entry = np.table.get(np.sphere, np.byShape[static_cast<int>(wall.kind)]).fn;
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
-      const std::vector<uint32_t>& which = s.wallCandidates[w];
-      std::vector<uint8_t>& touched = wallTouched_[w];
-      const bool keptHere = kept && touched.size() == which.size();
-      if (!keptHere) touched.assign(which.size(), 0);
-      for (size_t kc = 0; kc < which.size(); ++kc) {
-        const uint32_t i = which[kc];
+      for (const uint32_t i : s.wallCandidates[w]) {
         const physics::SphereShape<D> now{a.x[i], a.r[i]};
         const auto g1 = entry.one(&now, shape);
         const VecD<D> vWall = wall.surfaceVelocity(g1 ? g1->point : a.x[i]);
         const VecD<D>& vh = vHalf_[i];
         // The grain at the step's start, relative to the wall where it is now.
         const physics::SphereShape<D> before{a.x[i] + dt * (vWall - vh), a.r[i]};
-        const bool wasTouching =
-            keptHere ? touched[kc] != 0 : entry.one(&before, shape).has_value();
-        touched[kc] = g1.has_value();
-        if (!wasTouching && !g1) continue;
+        const auto g0 = entry.one(&before, shape);
+        if (!g0 && !g1) continue;
         if (!(a.invMass[i] > 0)) continue;  // a fixed grain: nothing moves
         const physics::PairParams& p = s.pairParams[a.material[i] * nMat + wall.material];
         const VecD<D> v1 = vWall - a.v[i];
         const VecD<D> v0 = vWall - lawVelocityBefore(s, i);
         // Touching at both ends: only a damped force separating at one end can be cut off.
-        if (wasTouching && g1 &&
-            (!dampsNormal(p) || (v1.dot(g1->normal) <= 0 && v0.dot(g1->normal) <= 0))) {
+        if (g0 && g1 && (!dampsNormal(p) || (v1.dot(g1->normal) <= 0 && v0.dot(g1->normal) <= 0))) {
           continue;
         }
-        // The start's geometry, where a release or a cut-off needs it (a touch does not).
-        std::optional<physics::ContactGeometry<D>> g0;
-        if (wasTouching) g0 = entry.one(&before, shape);
-        if (!g0 && !g1) continue;  // rounding at the edge: kept as touching, found apart
         const Real m = 1 / a.invMass[i];
         const VecD<D> n1 = g1 ? g1->normal : g0->normal, n0 = g0 ? g0->normal : g1->normal;
         if (g0 && g1 && !physics::cutOff(p, {true, g0->overlap, v0.dot(n0)}, m, a.r[i]) &&
@@ -260,11 +220,6 @@ class TouchModule final : public SimModule<D> {
 
   std::vector<std::pair<uint32_t, VecD<D>>> kicks_;  // grain, velocity change: applied last
   std::vector<VecD<D>> vHalf_, xBefore_;             // per grain, this step (velocities())
-  // The touch states at the end of the last step, per grain-grain candidate and per wall
-  // candidate (the contact modules' tests), valid for the step after it with no search between.
-  std::vector<uint8_t> pairTouched_;
-  std::vector<std::vector<uint8_t>> wallTouched_;
-  uint64_t keptStep_ = ~uint64_t{0}, keptRebuilds_ = ~uint64_t{0};
 };
 
 }  // namespace demlab::sim
