@@ -72,6 +72,8 @@ struct Scene {
   double autoFraction = 0.2;  // > 0: dt = autoFraction x critical step
   IntegratorKind integrator = IntegratorKind::Synchronized;
   bool rotationEnabled = true;
+  // The sub-step treatment of contact onset and release (sim/touch.hpp); off by default.
+  bool touchCorrection = false;
   double cellFactor = 0;
   double skinOption = -1;
   WatchdogOptions watchdog;  // sim/watchdog.hpp

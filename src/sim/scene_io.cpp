@@ -297,6 +297,8 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.f64(s.watchdog.energy);
     w.u8(s.watchdog.speed);
   }
+  // The touch correction likewise, only when on.
+  if (s.touchCorrection) w.bytes.append(kTouchTag, 4);
 }
 
 template <int D>
@@ -456,10 +458,14 @@ void readScene(Reader& r, Scene<D>& s) {
     *x = r.f64();
   }
   l.started = r.u8();
-  if (!r.atEnd()) {
-    char tag[4];
+  char tag[4] = {};
+  const auto readTag = [&] {
+    if (r.atEnd()) return false;
     for (char& c : tag) c = static_cast<char>(r.u8());
-    if (std::memcmp(tag, kWatchdogTag, 4) != 0) Reader::bad("trailing bytes");
+    return true;
+  };
+  bool tagged = readTag();
+  if (tagged && std::memcmp(tag, kWatchdogTag, 4) == 0) {
     s.watchdog.enabled = r.u8();
     s.watchdog.overlap = r.f64();
     s.watchdog.placed = r.f64();
@@ -469,7 +475,10 @@ void readScene(Reader& r, Scene<D>& s) {
                     s.watchdog.placed >= 0 && std::isfinite(s.watchdog.placed) &&
                     s.watchdog.energy >= 0 && std::isfinite(s.watchdog.energy);
     if (!ok) Reader::bad("watchdog options");
+    tagged = readTag();
   }
+  s.touchCorrection = tagged && std::memcmp(tag, kTouchTag, 4) == 0;
+  if (tagged && !s.touchCorrection) Reader::bad("trailing bytes");
   if (!r.atEnd()) Reader::bad("trailing bytes");
 }
 

@@ -126,6 +126,8 @@ inline constexpr char kMagic[9] = "DEMLABCK";
 inline constexpr uint32_t kFormatVersion = 2;  // 2: the Coulomb criterion
 // Starts the optional last section (the watchdog's options when not the defaults).
 inline constexpr char kWatchdogTag[5] = "WDOG";
+// Starts the optional section after it: the touch correction, when on (sim/touch.hpp).
+inline constexpr char kTouchTag[5] = "TUCH";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

@@ -423,6 +423,13 @@ class Simulation {
   // benchmark's "rotation off" bed).
   virtual void setRotation(bool enabled) = 0;
   virtual bool rotation() const = 0;
+  // Turns the sub-step treatment of contact onset and release on or off (off by default): the
+  // "touch" module (sim/touch.hpp) corrects the impulse of each step in which a contact's
+  // normal force begins or ends to the integral over the part of the step it acted, which
+  // makes impacts second order in dt at any touch phase and keeps an elastic gas's energy from
+  // wandering (doc/design.md, "Touch and release"). LIGGGHTS has no such correction.
+  virtual void setTouchCorrection(bool enabled) = 0;
+  virtual bool touchCorrection() const = 0;
   // Sets contact detection options. VALUE CELLFACTOR, VALUE SKIN.
   virtual void setDetection(const DetectionOptions& options) = 0;
   virtual DetectionOptions detection() const = 0;
@@ -431,7 +438,8 @@ class Simulation {
   virtual WatchdogOptions watchdog() const = 0;
   // Returns the names of the modules the next step runs, in loop order (e.g. "behaviors",
   // "integrate", "rotation", "walls", "detection", "contacts" or "contacts-friction",
-  // "wall-contacts" or "wall-contacts-friction", "gravity", "loads", "integrate-correct",
+  // "wall-contacts" or "wall-contacts-friction", "gravity", "loads", "touch" when the touch
+  // correction is on, "integrate-correct",
   // "watchdog" unless it is off).
   virtual std::vector<std::string> listModules() const = 0;
 

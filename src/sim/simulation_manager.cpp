@@ -504,6 +504,12 @@ void SimulationManager<D>::setRotation(bool enabled) {
 }
 
 template <int D>
+void SimulationManager<D>::setTouchCorrection(bool enabled) {
+  s_.touchCorrection = enabled;
+  touchConfig();
+}
+
+template <int D>
 void SimulationManager<D>::setDetection(const DetectionOptions& o) {
   if (!(std::isfinite(o.cellFactor) && o.cellFactor >= 0)) {
     throwBad("cell factor", physics::formatReal(o.cellFactor), "must be a non-negative number");

@@ -78,6 +78,8 @@ class SimulationManager final : public Simulation {
   std::string integrator() const override;
   void setRotation(bool enabled) override;
   bool rotation() const override { return s_.rotationEnabled; }
+  void setTouchCorrection(bool enabled) override;
+  bool touchCorrection() const override { return s_.touchCorrection; }
   void setDetection(const DetectionOptions& options) override;
   DetectionOptions detection() const override { return {s_.cellFactor, s_.skinOption}; }
   void setWatchdog(const WatchdogOptions& options) override;

@@ -18,6 +18,7 @@
 #include "sim/detection.hpp"
 #include "sim/integrator.hpp"
 #include "sim/simulation_manager.hpp"
+#include "sim/touch.hpp"
 #include "sim/watchdog.hpp"
 
 namespace demlab::sim {
@@ -74,6 +75,8 @@ std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(con
   }
   if (f.gravity) m.push_back(std::make_unique<GravityModule<D>>());
   if (f.loads) m.push_back(std::make_unique<LoadModule<D>>());
+  // Last of the force stages: it reads the velocities the forces and loads were computed with.
+  if (s_.touchCorrection) m.push_back(std::make_unique<TouchModule<D>>());
   m.push_back(std::make_unique<CorrectModule<D>>());
   if (s_.watchdog.enabled) m.push_back(std::make_unique<WatchdogModule<D>>(watchdogStepLimit(s_)));
   for (auto& o : outputModules()) m.push_back(std::move(o));

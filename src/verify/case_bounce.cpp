@@ -21,7 +21,7 @@ CaseResult bounce(const RunSpec& spec) {
   const int d = spec.dim, up = upAxis(d);
   const double r = 0.01, h0 = 0.05, e = 0.8;
   auto s = sim::makeSimulation(d);
-  s->setIntegrator(spec.integrator);
+  setIntegrator(*s, spec.integrator);
   const sim::MaterialDef mat = material(1e7, e, 0);
   s->addMaterial("m", mat);
   s->setContactLaw(sim::LawKind::Linear);

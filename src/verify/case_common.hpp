@@ -7,6 +7,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <string_view>
 
 #include "sim/simulation.hpp"
 #include "verify/verify.hpp"
@@ -102,6 +103,15 @@ class Runner {
   CaseResult& out_;
   double last_ = 0;
 };
+
+// Sets the scene's integrator from a suite integrator name (integrators(): a Simulation
+// integrator, with "+touch" for the sub-step touch correction on). Changes the scene.
+inline void setIntegrator(sim::Simulation& s, const std::string& name) {
+  constexpr std::string_view kTouch = "+touch";
+  const bool touch = name.size() > kTouch.size() && name.ends_with(kTouch);
+  s.setIntegrator(touch ? name.substr(0, name.size() - kTouch.size()) : name);
+  s.setTouchCorrection(touch);
+}
 
 // Returns a Quantity.
 inline Quantity quantity(std::string name, double measured, double reference, std::string source,

@@ -25,7 +25,7 @@ CaseResult elasticGas(const RunSpec& spec) {
   const int n = 16;
   const double contactTimes = spec.shortRun ? 300 : 2000;
   auto s = sim::makeSimulation(d);
-  s->setIntegrator(spec.integrator);
+  setIntegrator(*s, spec.integrator);
   sim::MaterialDef m = material(1e8, 1.0, 0.0);
   m.normalStiffness = kn;
   s->addMaterial("m", m);

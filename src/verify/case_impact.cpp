@@ -35,7 +35,7 @@ ImpactLaw impactLaw(const ImpactSetup& setup, double massA, double massB) {
 ImpactMeasure measureImpact(const ImpactSetup& setup, const RunSpec& spec, CaseResult& out) {
   const int d = spec.dim, up = upAxis(d);
   auto s = sim::makeSimulation(d);
-  s->setIntegrator(spec.integrator);
+  setIntegrator(*s, spec.integrator);
   s->addMaterial("m", material(kYoung, setup.restitution, setup.friction));
   s->setContactLaw(setup.law);
   const double rA = kRadius, rB = setup.radiusRatio * kRadius;

@@ -36,7 +36,7 @@ Resting resting(const RunSpec& spec, sim::LawKind law, double theta, double mu, 
   Resting r;
   const int d = spec.dim, up = upAxis(d);
   r.s = sim::makeSimulation(d);
-  r.s->setIntegrator(spec.integrator);
+  setIntegrator(*r.s, spec.integrator);
   // Discs of 25 kg/m^2 weigh about what spheres of 2500 kg/m^3 do at this radius, so the
   // static overlap (the compliance error against the rigid answer) is alike in 2D and 3D.
   const sim::MaterialDef m = material(kYoung, 0.5, mu, d == 2 ? 25 : 2500);

@@ -52,7 +52,11 @@ void writeReport(std::ostream& out, const std::vector<Study>& studies, const Rep
          "log dt over the three finest runs with a non-zero error; the column `order` is "
          "the slope between consecutive rows. A case passes when its error at the checked "
          "time step is within the stated tolerance (and, where one is asserted, its observed "
-         "order reaches the stated minimum). Sources and plots: src/verify/, "
+         "order reaches the stated minimum). The integrators are the Simulation's two, "
+         "\"synchronized\" (the default) and \"verlet\", and each again with the sub-step "
+         "treatment of contact onset and release on (\"+touch\": `module touch on`, "
+         "doc/design.md \"Touch and release\"), which is off by default. Sources and plots: "
+         "src/verify/, "
          "bench/results-verify/ (CSV: verification.csv, quantities.csv).\n\n";
   // Summary.
   out << "## Summary\n\n| case | tolerance | dim | integrator | error at check | observed order "
@@ -109,8 +113,9 @@ void writeReport(std::ostream& out, const std::vector<Study>& studies, const Rep
       }
     }
     if (!c.knownFailure.empty()) {
-      notes.insert(notes.begin(),
-                   "**Known failure** (default integrator): " + c.knownFailure + ".");
+      notes.insert(notes.begin(), std::string("**Known failure** (default integrator") +
+                                      (c.touchFixes ? "; synchronized+touch passes" : "") +
+                                      "): " + c.knownFailure + ".");
     }
     if (!notes.empty()) {
       out << "\nNotes:\n\n";

@@ -57,7 +57,7 @@ struct CaseResult {
 // How to run a case.
 struct RunSpec {
   int dim = 3;                              // 2 or 3
-  std::string integrator = "synchronized";  // Simulation::setIntegrator names
+  std::string integrator = "synchronized";  // integrators() names
   double stepsPerTime = 50;                 // dt = timeScale / stepsPerTime
   bool shortRun = false;  // the short form (gas: fewer grains and steps); must still be adequate
 };
@@ -81,9 +81,15 @@ struct CaseDef {
   // says FAIL; demlab_verify's exit status and the unit tests do not count it as a regression.
   std::string knownFailure;
   std::vector<int> knownFailureDims;  // the dimensions it applies to (empty: all)
+  // True when the sub-step touch correction (the "+touch" integrators) removes the known
+  // failure: with "synchronized+touch" the case must then pass like any other.
+  bool touchFixes = false;
 
   // Returns true when knownFailure applies in dimension dim. Changes nothing.
   bool knownToFail(int dim) const;
+  // Returns true when knownFailure applies in dimension dim to the named integrator (a
+  // "+touch" integrator escapes it when touchFixes). Changes nothing.
+  bool knownToFail(int dim, const std::string& integrator) const;
   std::function<CaseResult(const RunSpec&)> run;
 };
 
@@ -94,7 +100,14 @@ const std::vector<CaseDef>& caseTable();
 // `bad case "x": must be a, b, or c`.
 const CaseDef& findCase(const std::string& name);
 
-// The integrators the Simulation API offers (Simulation::setIntegrator).
+// The integrators the suite runs: those the Simulation API offers (Simulation::setIntegrator),
+// the default first, then each with "+touch": the sub-step touch correction on
+// (Simulation::setTouchCorrection).
 const std::vector<std::string>& integrators();
+
+// Returns true when a failure of the named integrator counts against the suite (demlab_verify's
+// exit status): the default one, and the default one with the touch correction. Changes
+// nothing.
+bool assertedIntegrator(const std::string& integrator);
 
 }  // namespace demlab::verify

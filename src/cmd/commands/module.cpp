@@ -35,6 +35,25 @@ void registerModuleCommands(Registry& r) {
     return Value(s.rotation());
   });
 
+  Command& touch = r.add("module touch",
+                         "Turns the sub-step treatment of contact onset and release on or off, or "
+                         "returns whether it is on.");
+  touch.details =
+      "Off by default. On, the step in which a contact's normal force begins or ends (a touch, "
+      "a release, a damped force reaching its cut-off) receives the integral of the force over "
+      "the part of the step the force acted instead of the trapezoid's half step, and the energy "
+      "ledger books the damper's loss to match: impacts become second order in the time step "
+      "whatever the phase of the touch, and the energy of an elastic gas stops wandering by "
+      "O(dt^2) per collision (doc/design.md, \"Touch and release\"). The tangential force is "
+      "not corrected. LIGGGHTS has no such correction: leave it off to reproduce LIGGGHTS. "
+      "Part of the scene (saved with it).";
+  touch.optionalArg("on", boolean(), "a boolean");
+  touch.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.given("on")) s.setTouchCorrection(c.get<bool>("on"));
+    return Value(s.touchCorrection());
+  });
+
   Command& det =
       r.add("module detection", "Sets contact detection (CGrid) options; returns them as a dict.");
   det.option("cellfactor", real().nonNegative(),

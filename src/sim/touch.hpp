@@ -1,0 +1,225 @@
+// The "touch" module: the sub-step treatment of contact onset and release
+// (physics/touch.hpp has the formulas and why; doc/design.md, "Touch and release").
+//
+// Level Behaviors, after every force module (makeModules adds it last in its level): it reads
+// the velocities the force modules saw and the loads' work was booked with, and changes them
+// only after. Per step it goes over the grain-grain candidates and each wall's candidates,
+// finds the contacts whose normal force began or ended during the step, and adds the impulse
+// correction of each to the velocities of its grains (before the second kick, which is then
+// the trapezoid of the other contacts and of the body forces only), and the damping-loss and
+// wall-work corrections to the ledger. The forces f at t+dt are left as they are: they are the
+// true forces at the step's end, which the next step's first kick needs.
+//
+// Each end of the step is known exactly for grain pairs: the positions at t are x - dt v(t+dt/2)
+// (the drift undone), the velocities the laws saw at t are v(t+dt/2) - dt a(t) for plain
+// Verlet, and v(t+dt/2) - a(t) dt/2 for synchronized (Verlet's full-step velocity, which differs
+// from the law's by (a(t) - a(t-dt)) dt/2 = O(dt^2) where the force is near zero: enough for
+// the O(dt^3) the correction leaves). For a wall the grain is moved back by its displacement
+// relative to the wall's surface velocity, which is exact for walls that translate during the
+// step and approximate for turning ones (drums, rotating plates: O(dt^2) in the gap).
+//
+// Cost: one more pass over the candidates (two squared distances each, no sqrt unless a
+// contact changes state or a damped one separates) and two narrow-phase calls per wall
+// candidate; nothing when the scene leaves it off (Scene::touch, the default).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "physics/touch.hpp"
+#include "sim/contacts.hpp"
+#include "sim/integrator.hpp"
+#include "sim/scene.hpp"
+#include "sim/sim_loop.hpp"
+
+namespace demlab::sim {
+
+// Returns true if the pair's law damps the normal force (so its force can be cut off while
+// the grains overlap). Changes nothing.
+inline bool dampsNormal(const physics::PairParams& p) {
+  return p.law == physics::LawKind::Linear ? p.dampingRatio != 0 : p.hertzGammaN != 0;
+}
+
+template <int D>
+class TouchModule final : public SimModule<D> {
+ public:
+  std::string_view name() const override { return "touch"; }
+  SimLevel level() const override { return SimLevel::Behaviors; }
+
+  void run(Scene<D>& s) override {
+    const Real dt = s.stepDt;
+    if (!(dt > 0)) return;  // the force pass before a run: no step, no event
+    kicks_.clear();
+    velocities(s);
+    double loss = 0, wallWork = 0;
+    grainPairs(s, loss);
+    walls(s, loss, wallWork);
+    VecD<D>* v = s.grains.a.v.data();
+    for (const auto& [i, dv] : kicks_) v[i] += dv;
+    s.ledger.dampingLoss += loss;
+    s.ledger.wallWork += wallWork;
+  }
+
+ private:
+  // Fills vHalf_ with the grains' half-step velocities (the drift's) and xBefore_ with their
+  // positions at the step's start, once per step rather than once per candidate.
+  void velocities(const Scene<D>& s) {
+    const GrainArrays<D>& a = s.grains.a;
+    const size_t n = a.size();
+    const Real dt = s.stepDt, h = 0.5 * dt;
+    vHalf_.resize(n);
+    xBefore_.resize(n);
+    const VecD<D>* __restrict x = a.x.data();
+    const VecD<D>* __restrict v = a.v.data();
+    const VecD<D>* __restrict f = a.fPrev.data();
+    const Real* __restrict invMass = a.invMass.data();
+    VecD<D>* __restrict vh = vHalf_.data();
+    VecD<D>* __restrict x0 = xBefore_.data();
+    if (s.integrator == IntegratorKind::Synchronized) {
+      for (size_t i = 0; i < n; ++i) {
+        vh[i] = v[i] - (h * invMass[i]) * f[i];
+        x0[i] = x[i] - dt * vh[i];
+      }
+    } else {
+      for (size_t i = 0; i < n; ++i) {
+        vh[i] = v[i];
+        x0[i] = x[i] - dt * v[i];
+      }
+    }
+  }
+
+  // Returns the velocity the laws saw at the step's start (see the file's comment).
+  VecD<D> lawVelocityBefore(const Scene<D>& s, size_t i) const {
+    const GrainArrays<D>& a = s.grains.a;
+    const Real back = s.integrator == IntegratorKind::Verlet ? s.stepDt : 0.5 * s.stepDt;
+    return vHalf_[i] - (back * a.invMass[i]) * a.fPrev[i];
+  }
+
+  // The drift moves both grains on straight lines: the step's touch (or release) is where
+  // |d0 + f (d1 - d0)| = rs, a quadratic in the fraction f of the step. Sets the overlap of the
+  // end that does not touch to the value whose linear interpolation gives that f (what
+  // physics::touchCorrection interpolates), which removes the error of interpolating the
+  // overlap linearly where the grains pass each other obliquely (the overlap is concave in
+  // time there). Changes e0 or e1.
+  static void straightLineEnds(const VecD<D>& d0, const VecD<D>& d1, Real rs,
+                               physics::ContactEnd& e0, physics::ContactEnd& e1) {
+    const VecD<D> u = d1 - d0;
+    const Real qa = u.squaredNorm(), qb = d0.dot(u), qc = d0.squaredNorm() - rs * rs;
+    const Real disc = qb * qb - qa * qc;
+    if (!(qa > 0 && disc >= 0)) return;
+    // Touch: the first root (qc > 0 apart at the start); release: the second (qc < 0).
+    const Real f = e1.touch ? (-qb - std::sqrt(disc)) / qa : (-qb + std::sqrt(disc)) / qa;
+    if (!(f > 0 && f < 1)) return;
+    if (e1.touch) {
+      e0.overlap = -e1.overlap * f / (1 - f);  // e1.overlap / (e1.overlap - e0.overlap) = 1 - f
+    } else {
+      e1.overlap = -e0.overlap * (1 - f) / f;  // e0.overlap / (e0.overlap - e1.overlap) = f
+    }
+  }
+
+  void grainPairs(const Scene<D>& s, double& loss) {
+    const GrainArrays<D>& a = s.grains.a;
+    const Real dt = s.stepDt, lag = velocityLag(s);
+    const size_t nMat = s.nMat();
+    const VecD<D>* __restrict x = a.x.data();
+    const VecD<D>* __restrict x0 = xBefore_.data();
+    const Real* __restrict r = a.r.data();
+    for (const CandidatePair& c : s.candidates) {
+      const uint32_t i = c.i, j = c.j;
+      const Real rs = r[i] + r[j];
+      const VecD<D> d1 = x[j] - x[i];
+      const VecD<D> d0 = x0[j] - x0[i];
+      const Real q1 = d1.squaredNorm(), q0 = d0.squaredNorm();
+      // The contact module's test (contacts.hpp), at both ends. (Keeping the test of the last
+      // step instead would save the start's distance, but a scene loaded from a checkpoint has
+      // no last step: its run would not stay bit-identical to one that never stopped.)
+      const bool touch1 = q1 < rs * rs, touch0 = q0 < rs * rs;
+      if (!touch0 && !touch1) continue;
+      const physics::PairParams& p = s.pairParams[a.material[i] * nMat + a.material[j]];
+      const bool both = touch0 && touch1;
+      // Touching at both ends: only a damped force separating at one end can be cut off.
+      if (both && !dampsNormal(p)) continue;
+      const VecD<D> v1 = a.v[j] - a.v[i];
+      const VecD<D> v0 = lawVelocityBefore(s, j) - lawVelocityBefore(s, i);
+      if (both && v1.dot(d1) <= 0 && v0.dot(d0) <= 0) continue;
+      const Real dist1 = std::sqrt(q1), dist0 = std::sqrt(q0);
+      if (!(dist1 > 0 && dist0 > 0)) continue;  // coincident centres: no normal to speak of
+      const VecD<D> n1 = d1 * (1 / dist1), n0 = d0 * (1 / dist0);
+      const Real sumInv = a.invMass[i] + a.invMass[j];
+      if (!(sumInv > 0)) continue;  // two fixed grains: nothing moves
+      const Real effMass = 1 / sumInv, effRadius = r[i] * r[j] / rs;
+      physics::ContactEnd e0{touch0, rs - dist0, v0.dot(n0)};
+      physics::ContactEnd e1{touch1, rs - dist1, v1.dot(n1)};
+      // A contact separating in a bed is far from its cut-off at both ends (most are).
+      if (both && !physics::cutOff(p, e0, effMass, effRadius) &&
+          !physics::cutOff(p, e1, effMass, effRadius)) {
+        continue;
+      }
+      if (touch0 != touch1) straightLineEnds(d0, d1, rs, e0, e1);
+      const physics::TouchCorrection k =
+          physics::touchCorrection(p, effMass, effRadius, dt, lag, e0, e1);
+      if (!k.any()) continue;
+      const VecD<D> J = k.impulse * (k.atEnd ? n1 : n0);
+      kicks_.emplace_back(i, -a.invMass[i] * J);
+      kicks_.emplace_back(j, a.invMass[j] * J);
+      loss += k.loss;
+    }
+  }
+
+  void walls(const Scene<D>& s, double& loss, double& wallWork) {
+    const GrainArrays<D>& a = s.grains.a;
+    const Real dt = s.stepDt, lag = velocityLag(s);
+    const size_t nMat = s.nMat();
+    const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+    const size_t nw = std::min(s.walls.size(), s.wallCandidates.size());
+    for (size_t w = 0; w < nw; ++w) {
+      const Wall<D>& wall = s.walls.items[w];
+      const auto& entry = np.table.get(np.sphere, np.byShape[static_cast<int>(wall.kind)]).fn;
+      const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
+      for (const uint32_t i : s.wallCandidates[w]) {
+        const physics::SphereShape<D> now{a.x[i], a.r[i]};
+        const auto g1 = entry.one(&now, shape);
+        const VecD<D> vWall = wall.surfaceVelocity(g1 ? g1->point : a.x[i]);
+        const VecD<D>& vh = vHalf_[i];
+        // The grain at the step's start, relative to the wall where it is now.
+        const physics::SphereShape<D> before{a.x[i] + dt * (vWall - vh), a.r[i]};
+        const auto g0 = entry.one(&before, shape);
+        if (!g0 && !g1) continue;
+        if (!(a.invMass[i] > 0)) continue;  // a fixed grain: nothing moves
+        const physics::PairParams& p = s.pairParams[a.material[i] * nMat + wall.material];
+        const VecD<D> v1 = vWall - a.v[i];
+        const VecD<D> v0 = vWall - lawVelocityBefore(s, i);
+        // Touching at both ends: only a damped force separating at one end can be cut off.
+        if (g0 && g1 && (!dampsNormal(p) || (v1.dot(g1->normal) <= 0 && v0.dot(g1->normal) <= 0))) {
+          continue;
+        }
+        const Real m = 1 / a.invMass[i];
+        const VecD<D> n1 = g1 ? g1->normal : g0->normal, n0 = g0 ? g0->normal : g1->normal;
+        if (g0 && g1 && !physics::cutOff(p, {true, g0->overlap, v0.dot(n0)}, m, a.r[i]) &&
+            !physics::cutOff(p, {true, g1->overlap, v1.dot(n1)}, m, a.r[i])) {
+          continue;
+        }
+        // The missing end's signed overlap from the relative half-step velocity.
+        const Real rate = (vWall - vh).dot(g1 ? n1 : n0);  // > 0 separating
+        const Real o1 = g1 ? g1->overlap : g0->overlap - dt * rate;
+        const Real o0 = g0 ? g0->overlap : o1 + dt * rate;
+        const physics::ContactEnd e0{bool(g0), o0, v0.dot(n0)};
+        const physics::ContactEnd e1{bool(g1), o1, v1.dot(n1)};
+        const physics::TouchCorrection k = physics::touchCorrection(p, m, a.r[i], dt, lag, e0, e1);
+        if (!k.any()) continue;
+        // The impulse acts on the wall (B); the grain receives its opposite.
+        const VecD<D> J = k.impulse * (k.atEnd ? n1 : n0);
+        kicks_.emplace_back(i, -a.invMass[i] * J);
+        loss += k.loss;
+        if (wall.moving) wallWork -= J.dot(vWall);
+      }
+    }
+  }
+
+  std::vector<std::pair<uint32_t, VecD<D>>> kicks_;  // grain, velocity change: applied last
+  std::vector<VecD<D>> vHalf_, xBefore_;             // per grain, this step (velocities())
+};
+
+}  // namespace demlab::sim
