@@ -225,12 +225,13 @@ class CGrid final : public BroadPhase<D, T> {
     }
     const bool lexicographic = cellsInGrid <= UINT32_MAX;
     // In lexicographic order the key also says where in its bucket an object starts on the
-    // last axis, in 2^fine steps, as long as the keys stay in the range of one counting pass:
-    // a bucket of a granular bed holds about 9 objects at the default cell, and ordering them
-    // by an insertion alone costs a mispredicted branch per object.
+    // last axis, in 2^fine steps, as long as there are no more keys than objects (the counting
+    // sort's array stays within 4 bytes an object): a bucket of a granular bed holds about 9
+    // objects at the default cell, and ordering them by an insertion alone costs a
+    // mispredicted branch per object.
     int fine = 0;
     while (lexicographic && fine < kFineBits &&
-           (cellsInGrid << (fine + 1)) <= std::min<uint64_t>(UINT32_MAX, 4 * uint64_t{n} + 256)) {
+           (cellsInGrid << (fine + 1)) <= std::min<uint64_t>(UINT32_MAX, uint64_t{n} + 256)) {
       ++fine;
     }
     constexpr int L = D - 1;
