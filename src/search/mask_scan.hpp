@@ -140,9 +140,15 @@ inline IndexPair* scanPortable(const Probe<D, T>& a, const Columns<D, T>& c, std
 #if defined(DEMLAB_MASK_AVX2)
 #define DEMLAB_AVX2_TARGET __attribute__((target("avx2,popcnt")))
 
-// Returns true if this CPU (and its operating system) runs AVX2 code.
+// Returns true if this CPU (and its operating system) runs AVX2 code; decided once. The
+// detection is initialized here because a search may be built before the constructors that
+// would otherwise do it have run.
 inline bool avx2Available() {
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
+  static const bool available = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
+  }();
+  return available;
 }
 
 // For each 4-bit hit mask, the permutation of 8 dwords (4 pairs) that packs the hit pairs

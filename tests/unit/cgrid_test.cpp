@@ -174,7 +174,7 @@ TEST(CGrid, DomainSizedWallsBarelyAddWork) {
 }
 
 // Returns the scenes the two builds of the mask's scans are compared on: beds, mixed sizes,
-// domain-sized walls, touching faces and a sparse scene, in D dimensions.
+// domain-sized walls, touching faces, a sparse and a dense scene, in D dimensions.
 template <int D>
 std::vector<std::vector<Box<D, double>>> scanScenes(uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -196,6 +196,11 @@ std::vector<std::vector<Box<D, double>>> scanScenes(uint64_t seed) {
     walls.push_back(wall);
   }
   scenes.push_back(walls);
+  // Dense enough (about 8 objects a cell) that the sort keys of discretization order objects
+  // within their buckets too.
+  const double denseSide = 3.6 * std::pow(3000.0 / 8, 1.0 / D);
+  scenes.push_back(
+      randomBoxes<D, double>(rng, 3000, denseSide, [](std::mt19937_64&) { return 1.0; }));
   return scenes;
 }
 
