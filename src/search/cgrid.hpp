@@ -298,8 +298,9 @@ class CGrid final : public BroadPhase<D, T> {
     cells_.resize(n);
     // The gather below reads the caller's boxes in random order; asking for them a few
     // iterations ahead overlaps the cache misses, which dominate at a million objects. Both
-    // ends of the box: half of them straddle two cache lines.
-    constexpr std::size_t kAhead = 16;
+    // ends of the box: half of them straddle two cache lines. 32 ahead: the gather at 1e6
+    // took 21 ns an object against 25 at 16 (48: the same as 32).
+    constexpr std::size_t kAhead = 32;
     // In lexicographic order, objects of the same bucket are also put in order of their
     // minimum on the last axis (insertion: they only move within their bucket). Then every
     // run of a Subdivider's input is already in the order the next Subdivider needs, down to
