@@ -12,7 +12,8 @@
 //   - a warm-up call on the base workload comes first and is left out of the median, so
 //     buffers are grown once, as in the first step of a simulation;
 //   - `seconds` is the median of the timed calls, each one full findPairs (binning plus
-//     reporting every pair into the output vector).
+//     reporting every pair into the output vector), by the wall clock or, with --cpu-time,
+//     by the CPU time of the calling thread.
 // Every algorithm must report the same number of pairs on every input it ran; if not, the
 // program says so on stderr and exits with status 1 after finishing the group.
 #include <poll.h>
@@ -27,6 +28,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <exception>
 #include <map>
 #include <memory>
@@ -57,6 +59,17 @@ constexpr int kCopies = 3;
 // Largest move of a centre per axis, as a fraction of its radius.
 constexpr double kJitter = 0.01;
 
+// Returns the current time in seconds: the calling thread's CPU time if `cpu`, else the
+// steady wall clock's.
+double now(bool cpu) {
+  if (cpu) {
+    timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 struct Options {
   std::vector<int> dims = {3};
   std::vector<std::size_t> ns = {10000};
@@ -66,6 +79,7 @@ struct Options {
   std::set<std::string, std::less<>> algorithms;  // empty: every algorithm of the table
   bool cellFactorOnly = false;
   int reps = 5;
+  bool cpuTime = false;  // time calls by the thread's CPU time instead of wall time
   std::uint64_t seed = 1;
   double maxSeconds = 0.0;  // 0: no limit
   double killSeconds = -1;  // 0: never kill; negative: 10 x maxSeconds
@@ -91,6 +105,9 @@ void usage(std::FILE* f) {
       "  --algorithms LIST     names from the registry (default: all)\n"
       "  --cell-factor-only    run only the algorithms that use the cell factor\n"
       "  --reps N              timed repetitions, median reported (default 5)\n"
+      "  --cpu-time            time each call by the CPU time of its thread, not wall time:\n"
+      "                        steadier on a shared machine (it leaves out the time spent\n"
+      "                        waiting for a core, not the cost of sharing the caches)\n"
       "  --seed N              workload seed (default 1)\n"
       "  --max-seconds S       once one call of an algorithm takes longer than S, report that\n"
       "                        call alone and skip the algorithm for larger n of the same\n"
@@ -192,6 +209,8 @@ Options parseOptions(int argc, char** argv) {
       }
     } else if (flag == "--cell-factor-only") {
       o.cellFactorOnly = true;
+    } else if (flag == "--cpu-time") {
+      o.cpuTime = true;
     } else if (flag == "--reps") {
       const double r = parseNumber(value(), "--reps");
       if (r < 1 || r != std::floor(r)) die("--reps must be a whole number >= 1");
@@ -374,16 +393,15 @@ class Runner {
   template <int D, class AfterWarmUp>
   Measurement measure(const Entry<D>& e, const std::vector<std::vector<Box<D, double>>>& inputs,
                       AfterWarmUp afterWarmUp) const {
-    using Clock = std::chrono::steady_clock;
     Measurement m;
     std::fill(std::begin(m.counts), std::end(m.counts), -1);
     try {
       auto algo = e.row->make(search::SearchOptions{e.cellFactor});
       std::vector<IndexPair> pairs;
       const auto call = [&](std::size_t input) {
-        const auto t0 = Clock::now();
+        const double t0 = now(o_.cpuTime);
         algo->findPairs(inputs[input], pairs);
-        const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+        const double s = now(o_.cpuTime) - t0;
         m.counts[input] = static_cast<long long>(pairs.size());
         return s;
       };

@@ -36,6 +36,7 @@
 #include "search/broad_phase.hpp"
 #include "search/cell_size.hpp"
 #include "search/key_sort.hpp"
+#include "search/mask_scan.hpp"
 #include "search/validate.hpp"
 
 namespace demlab::search {
@@ -78,6 +79,14 @@ class CGrid final : public BroadPhase<D, T> {
   // Returns the work counters of the last search.
   const Stats& stats() const { return stats_; }
 
+  // Returns true if the contact mask scans with its AVX2 build (doubles, on CPUs that run it:
+  // the default there), false if with the portable one.
+  bool wideScans() const { return wide_; }
+
+  // Selects the AVX2 scans (on: where wideScans() could be true) or the portable ones (off),
+  // which report the same pairs in the same order; for the tests that compare the two.
+  void useWideScans(bool on) { wide_ = on && wideAvailable(); }
+
   void findPairs(std::span<const Box<D, T>> boxes, std::vector<IndexPair>& out) override {
     out.clear();
     if (boxes.size() < 2 || boxes.size() > kIndexMask) {
@@ -94,21 +103,19 @@ class CGrid final : public BroadPhase<D, T> {
     stats_ = {};
     // The output is sized ahead (to the last search's count, within its capacity) and cut
     // back at the end, so reporting writes without checks per pair.
-    out_ = &out;
     const std::size_t want = lastPairs_ + lastPairs_ / 8 + 1024;
     out.resize(out.capacity() >= 1024 ? std::min(out.capacity(), want) : want);
-    outNext_ = out.data();
-    outEnd_ = out.data() + out.size();
+    sink_ = {&out, out.data(), out.data() + out.size()};
     subdivideFirstAxis();
-    lastPairs_ = static_cast<std::size_t>(outNext_ - out.data());
+    lastPairs_ = static_cast<std::size_t>(sink_.next - out.data());
     out.resize(lastPairs_);
-    out_ = nullptr;
+    sink_ = {};
   }
 
   std::size_t workingBytes() const override {
     std::size_t bytes = order_.capacity() * sizeof(uint32_t) +
                         boxes_.capacity() * sizeof(Box<D, T>) +
-                        cells_.capacity() * sizeof(CellRange) + scratch_.bytes() + maskBytes();
+                        cells_.capacity() * sizeof(CellRange) + scratch_.bytes() + mask_.bytes();
     for (const auto& s : subdividers_) {
       bytes +=
           (s.input.capacity() + s.current.capacity() + s.held.capacity() + s.merged.capacity()) * 4;
@@ -124,6 +131,8 @@ class CGrid final : public BroadPhase<D, T> {
   static constexpr uint32_t kLabelMask = ~kIndexMask;
   // Bucket indices stay below 2^30 so that lo + 1 and differences never overflow.
   static constexpr double kMaxBucket = 1073741823.0;
+  // Most steps within a bucket the sort key of discretize() may order the objects by.
+  static constexpr int kFineBits = 3;
 
   struct CellRange {
     std::array<uint32_t, D> lo;
@@ -139,23 +148,22 @@ class CGrid final : public BroadPhase<D, T> {
     std::vector<uint32_t> merged;   // scratch for merging the two
   };
 
-  // Returns the bytes held by the contact mask's cells.
-  std::size_t maskBytes() const {
-    return (maskLead_.capacity() + maskRest_.capacity()) * sizeof(MaskEntry);
-  }
-
-  // One entry of the contact mask's row: its bounds inline and its index in the caller's
-  // order, so a sweep touches nothing else.
-  struct MaskEntry {
-    T lastLo, lastHi;
-    std::array<T, (D > 1 ? D - 1 : 1)> lo, hi;
-    uint32_t index;
-  };
   static_assert(std::numeric_limits<T>::has_infinity, "mask sentinels need an infinity");
-  // Labels of entries reaching the contact mask use the bits of axes 0..D-2 only.
-  static constexpr uint32_t kMaskCells = uint32_t{1} << (D - 1);
+  static constexpr std::size_t kPad = mask::kPad;
 
-  static constexpr uint32_t labelBit(int k) { return uint32_t{1} << (kLabelShift + k); }
+  // Returns true if this build and CPU have the AVX2 scans for this T.
+  static bool wideAvailable() {
+#if defined(DEMLAB_MASK_AVX2)
+    if constexpr (std::is_same_v<T, double>) return mask::avx2Available();
+#endif
+    return false;
+  }
+  static_assert(mask::Columns<D, T>::kLabels == ~((uint32_t{1} << (32 - D)) - 1),
+                "the mask's entries carry the labels where CGrid's do");
+
+  static constexpr uint32_t labelBit(int k) {
+    return uint32_t{1} << (kLabelShift + k);
+  }
 
   // Returns the bucket of coordinate x on axis k: floor((x - origin) / cell), clamped to
   // [0, kMaxBucket]. Monotone in x in floating point, which is all correctness needs.
@@ -216,6 +224,19 @@ class CGrid final : public BroadPhase<D, T> {
       if (cellsInGrid > UINT32_MAX) break;
     }
     const bool lexicographic = cellsInGrid <= UINT32_MAX;
+    // In lexicographic order the key also says where in its bucket an object starts on the
+    // last axis, in 2^fine steps, as long as there are no more keys than objects (the counting
+    // sort's array stays within 4 bytes an object): a bucket of a granular bed holds about 9
+    // objects at the default cell, and ordering them by an insertion alone costs a
+    // mispredicted branch per object.
+    int fine = 0;
+    while (lexicographic && fine < kFineBits &&
+           (cellsInGrid << (fine + 1)) <= std::min<uint64_t>(UINT32_MAX, uint64_t{n} + 256)) {
+      ++fine;
+    }
+    constexpr int L = D - 1;
+    const double fineScale = inverseCell_ * static_cast<double>(uint64_t{1} << fine);
+    const uint64_t fineMask = (uint64_t{1} << fine) - 1;
     // Returns the bucket ranges of box b, bucket() for every coordinate (Fixed: hi = lo + 1).
     const bool fixed = extents_ == Extents::Fixed;
 #if defined(__SSE2__)
@@ -262,6 +283,10 @@ class CGrid final : public BroadPhase<D, T> {
         const CellRange c = rangeOf(boxes[i]);
         uint64_t key = 0;
         for (int k = 0; k < D; ++k) key += ranks[k] * c.lo[k];
+        // lo >= origin, so the scaled value is >= 0; any value would do, the insertion below
+        // deciding the order within a bucket, but this one leaves it little to do.
+        const double within = (static_cast<double>(boxes[i].lo[L]) - origin_[L]) * fineScale;
+        key = key << fine | (static_cast<uint64_t>(within) & fineMask);
         keys[i] = static_cast<uint32_t>(key);
       } else {
         keys[i] = bucket(boxes[i].lo[0], 0);
@@ -272,15 +297,20 @@ class CGrid final : public BroadPhase<D, T> {
     boxes_.resize(n);
     cells_.resize(n);
     // The gather below reads the caller's boxes in random order; asking for them a few
-    // iterations ahead overlaps the cache misses, which dominate at a million objects.
-    constexpr std::size_t kAhead = 16;
+    // iterations ahead overlaps the cache misses, which dominate at a million objects. Both
+    // ends of the box: half of them straddle two cache lines. 32 ahead: the gather at 1e6
+    // took 21 ns an object against 25 at 16 (48: the same as 32).
+    constexpr std::size_t kAhead = 32;
     // In lexicographic order, objects of the same bucket are also put in order of their
     // minimum on the last axis (insertion: they only move within their bucket). Then every
     // run of a Subdivider's input is already in the order the next Subdivider needs, down to
     // the last axis's coordinates, and no Subdivider sorts.
-    constexpr int L = D - 1;
     for (std::size_t j = 0; j < n; ++j) {
-      if (j + kAhead < n) __builtin_prefetch(&boxes[order_[j + kAhead]]);
+      if (j + kAhead < n) {
+        const char* ahead = reinterpret_cast<const char*>(&boxes[order_[j + kAhead]]);
+        __builtin_prefetch(ahead);
+        __builtin_prefetch(ahead + sizeof(Box<D, T>) - 1);
+      }
       const uint32_t original = order_[j];
       const Box<D, T> b = boxes[original];
       const CellRange c = rangeOf(b);
@@ -424,190 +454,29 @@ class CGrid final : public BroadPhase<D, T> {
   }
 
   // The contact mask. `in` holds m entries sorted by minimum coordinate on the last axis,
-  // where the buckets shrink to the objects' own extents. The entries are split into the
-  // mask's 2^(D-1) cells by label (which earlier axes they are lower-adjacent on), each cell
-  // keeping that order, and the cells are cross-checked by the NAND rule: cell s against
-  // cell t only if s & t == 0, cell 0 against itself. So every pair met here is a pair that
-  // meets nowhere else, and no pair is looked at only to be rejected. Cell 0 passes the rule
-  // with every cell, so it is checked once against the union of the other cells (kept in
-  // the same order) rather than once per cell. Appends the overlapping pairs to the output.
+  // where the buckets shrink to the objects' own extents. Each entry meets the later entries
+  // that start before it ends (a sweep) and checks those whose label passes the NAND rule (no
+  // axis on which both are lower-adjacent), so every pair met here is a pair that meets
+  // nowhere else. The rule is one more lane of the vector test rather than a split of the run
+  // into cells by label walked pairwise: a walk of two cells in merged order is a chain of
+  // dependent loads, and the rule rejects only about a fifth of the candidates of a granular
+  // bed (doc/design.md). Appends the overlapping pairs to the output.
   void contactMask(const uint32_t* in, std::size_t m) {
-    constexpr int L = D - 1;
     stats_.maskEntries += m;
-    std::array<std::size_t, kMaskCells> count{};
-    for (std::size_t i = 0; i < m; ++i) ++count[in[i] >> kLabelShift];
-    // Every cell ends in kPad more entries, sentinels that start after everything ends, so the
-    // sweeps stop on the coordinate alone and a scan may read kPad entries at a time. Two
-    // arrays hold them: cell 0 then the union of the nonzero cells (written at every entry and
-    // advanced past the nonzero ones, so it may write one slot past its last entry: the first
-    // sentinel's), and the other cells kept apart.
-    std::array<MaskEntry*, kMaskCells> begin;
-    std::size_t rest = 0;
-    for (uint32_t c = 1; c < kMaskCells; ++c) rest += kOwnCell[c] ? count[c] + kPad : 0;
-    const std::size_t leadSize = D > 1 ? m + 2 * kPad : m + kPad;
-    // Grown to the largest column seen plus an eighth, not geometrically: the mask is a large
-    // part of the working memory of small scenes, and the slack keeps moved boxes from
-    // reallocating it.
-    auto fit = [](std::vector<MaskEntry>& v, std::size_t size) {
-      if (v.size() < size) {
-        if (v.capacity() < size) v.reserve(size + size / 8 + 16);
-        v.resize(size);
-      }
-    };
-    fit(maskLead_, leadSize);
-    fit(maskRest_, rest);
-    begin[0] = maskLead_.data();
-    for (uint32_t c = 1, at = 0; c < kMaskCells; ++c) {
-      begin[c] = kOwnCell[c] ? maskRest_.data() + at : spare_.data();
-      at += kOwnCell[c] ? static_cast<uint32_t>(count[c] + kPad) : 0;
-    }
-    std::array<MaskEntry*, kMaskCells> fill = begin;
-    MaskEntry* const cell0 = begin[0];
-    MaskEntry* const others = D > 1 ? cell0 + count[0] + kPad : spare_.data();
-    MaskEntry* u = others;
+    // The run ends in kPad sentinels that start after everything ends, so the scans stop on
+    // the coordinate alone and may read kPad entries at a time.
+    mask_.fit(m + kPad);
     for (std::size_t i = 0; i < m; ++i) {
-      const uint32_t e = in[i];
-      const uint32_t label = e >> kLabelShift;
-      const uint32_t j = e & kIndexMask;
-      const Box<D, T>& b = boxes_[j];
-      MaskEntry x;
-      x.lastLo = b.lo[L];
-      x.lastHi = b.hi[L];
-      x.index = order_[j];
-      for (int k = 0; k < L; ++k) {
-        x.lo[k] = b.lo[k];
-        x.hi[k] = b.hi[k];
-      }
-      *fill[label] = x;
-      fill[label] += kOwnCell[label];
-      if constexpr (D > 1) {
-        *u = x;
-        u += label != 0;
-      }
+      const uint32_t j = in[i] & kIndexMask;
+      mask_.put(i, boxes_[j], order_[j], in[i] & kLabelMask);
     }
-    constexpr T kAfterAll = std::numeric_limits<T>::infinity();
-    for (std::size_t p = 0; p < kPad; ++p) {
-      for (uint32_t c = 0; c < kMaskCells; ++c) fill[c][p].lastLo = kAfterAll;
-      u[p].lastLo = kAfterAll;
-    }
-    const std::size_t n0 = count[0];
-    sweepWithin(cell0, n0);
-    if constexpr (D > 1) {
-      sweepBetween(cell0, n0, others, m - n0);
-      for (uint32_t s = 1; s < kMaskCells; ++s) {
-        if (!kOwnCell[s] || count[s] == 0) continue;
-        for (uint32_t t = s + 1; t < kMaskCells; ++t) {
-          if ((s & t) == 0 && count[t] != 0) {
-            sweepBetween(begin[s], count[s], begin[t], count[t]);
-          }
-        }
-      }
-    }
-  }
-
-  // Sentinels at the end of every mask cell: the scans read this many entries at a time.
-  static constexpr std::size_t kPad = 4;
-
-  // Cells that are kept as arrays of their own: cell 0, and every nonzero cell that the NAND
-  // rule pairs with another nonzero cell (all but the all-ones cell).
-  static constexpr std::array<bool, kMaskCells> kOwnCell = [] {
-    std::array<bool, kMaskCells> own{};
-    for (uint32_t c = 0; c < kMaskCells; ++c) own[c] = c == 0 || c != kMaskCells - 1;
-    return own;
-  }();
-
-  // Makes room for `need` more pairs in the output, which is written up to o (and may have
-  // ended at end). Within the vector's capacity first, so a warm object allocates nothing.
-  // Changes o and end when the output moves.
-  void reserveOut(IndexPair*& o, IndexPair*& end, std::size_t need) {
-    if (static_cast<std::size_t>(end - o) >= need) return;
-    const std::size_t used = static_cast<std::size_t>(o - out_->data());
-    std::size_t size = std::max(out_->capacity(), used + need);
-    if (size == out_->size()) size = std::max(2 * size, used + need);
-    out_->resize(size);
-    o = out_->data() + used;
-    end = out_->data() + out_->size();
-  }
-
-  // Reports the pairs of entry a with b, b + 1, ... up to the first entry that starts after a
-  // ends on the last axis (a cell's sentinel stops it at the end), where they overlap on the
-  // axes before the last; the caller has made room. Branch-free: every pair is written and
-  // kept only on a hit, in increasing order without a branch on the comparison.
-  static IndexPair* scan(const MaskEntry& a, const MaskEntry* b, IndexPair* o) {
-    const T end = a.lastHi;
-    const uint32_t x = a.index;
-#if defined(__SSE2__)
-    if constexpr (std::is_same_v<T, double> && D == 3) {
-      // Both earlier axes at once: lo_a <= hi_b and lo_b <= hi_a, lane by lane.
-      const __m128d lo = _mm_loadu_pd(a.lo.data());
-      const __m128d hi = _mm_loadu_pd(a.hi.data());
-      // kPad candidates at a time, the end folded into the hit: most scans end within the
-      // first block, so the loop's branch is rarely taken and rarely mispredicted.
-      bool more;
-      do {
-        for (std::size_t l = 0; l < kPad; ++l) {
-          const MaskEntry& c = b[l];
-          const __m128d le = _mm_and_pd(_mm_cmple_pd(lo, _mm_loadu_pd(c.hi.data())),
-                                        _mm_cmple_pd(_mm_loadu_pd(c.lo.data()), hi));
-          const uint32_t y = c.index;
-          const uint32_t first = x < y ? x : y;
-          *o = IndexPair{first, x ^ y ^ first};
-          o += (_mm_movemask_pd(le) == 3) & (c.lastLo <= end);
-        }
-        more = b[kPad - 1].lastLo <= end;
-        b += kPad;
-      } while (more);
-      return o;
+    for (std::size_t p = 0; p < kPad; ++p) mask_.endAt(m + p);
+#if defined(DEMLAB_MASK_AVX2)
+    if constexpr (std::is_same_v<T, double>) {
+      if (wide_) return mask::sweepAvx2<D>(mask_, m, sink_);
     }
 #endif
-    const auto lo = a.lo;
-    const auto hi = a.hi;
-    for (; b->lastLo <= end; ++b) {
-      bool hit = true;
-      for (int k = 0; k < D - 1; ++k) hit &= (lo[k] <= b->hi[k]) & (b->lo[k] <= hi[k]);
-      const uint32_t y = b->index;
-      const uint32_t first = x < y ? x : y;
-      *o = IndexPair{first, x ^ y ^ first};
-      o += hit;
-    }
-    return o;
-  }
-
-  // Checks every pair within one mask cell of m entries (plus sentinels), sorted by lastLo:
-  // each entry meets the later entries that start before it ends.
-  void sweepWithin(const MaskEntry* cell, std::size_t m) {
-    IndexPair* o = outNext_;
-    IndexPair* end = outEnd_;
-    for (std::size_t i = 0; i < m; ++i) {
-      reserveOut(o, end, m - i + kPad);
-      o = scan(cell[i], cell + i + 1, o);
-    }
-    outNext_ = o;
-    outEnd_ = end;
-  }
-
-  // Checks every pair across two mask cells of np and nq entries (each plus sentinels), both
-  // sorted by lastLo: walking the two in merged order, the entry that starts first meets the
-  // other cell's entries that start before it ends, so each overlapping pair is met once.
-  // The walk picks its side without a branch.
-  void sweepBetween(const MaskEntry* p, std::size_t np, const MaskEntry* q, std::size_t nq) {
-    IndexPair* o = outNext_;
-    IndexPair* end = outEnd_;
-    const MaskEntry* const pEnd = p + np;
-    const MaskEntry* const qEnd = q + nq;
-    // side[0] walks p, side[1] walks q; the side taken is an index, not a branch.
-    std::array<const MaskEntry*, 2> side = {p, q};
-    const std::array<const MaskEntry*, 2> sideEnd = {pEnd, qEnd};
-    while (side[0] < pEnd && side[1] < qEnd) {
-      const int take = side[0]->lastLo <= side[1]->lastLo ? 0 : 1;
-      const MaskEntry* const a = side[take];
-      const MaskEntry* const b = side[1 - take];
-      ++side[take];
-      reserveOut(o, end, static_cast<std::size_t>(sideEnd[1 - take] - b) + kPad);
-      o = scan(*a, b, o);
-    }
-    outNext_ = o;
-    outEnd_ = end;
+    mask::sweep<D, T>(mask_, m, sink_);
   }
 
   double cellFactor_;
@@ -622,12 +491,9 @@ class CGrid final : public BroadPhase<D, T> {
   bool presorted_ = false;        // sorted over all axes: Subdividers' runs arrive in order
   std::array<Subdivider, D> subdividers_;
   KeySortScratch scratch_;
-  std::vector<MaskEntry> maskLead_;    // mask cell 0, then the nonzero cells together
-  std::vector<MaskEntry> maskRest_;    // the nonzero cells crossed among themselves
-  std::array<MaskEntry, kPad> spare_;  // entries of cells kept in no array of their own
-  std::vector<IndexPair>* out_ = nullptr;
-  IndexPair* outNext_ = nullptr;  // the output is written ahead of its size, from here
-  IndexPair* outEnd_ = nullptr;
+  mask::Columns<D, T> mask_;  // the contact mask's cells, see contactMask()
+  mask::PairSink sink_;       // the output, written ahead of its size during a search
+  bool wide_ = wideAvailable();
   std::size_t lastPairs_ = 0;  // pairs of the last search, to size the next one's output
 };
 

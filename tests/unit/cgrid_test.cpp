@@ -173,5 +173,66 @@ TEST(CGrid, DomainSizedWallsBarelyAddWork) {
   EXPECT_LT(withWalls / base, 1.5);
 }
 
+// Returns the scenes the two builds of the mask's scans are compared on: beds, mixed sizes,
+// domain-sized walls, touching faces, a sparse and a dense scene, in D dimensions.
+template <int D>
+std::vector<std::vector<Box<D, double>>> scanScenes(uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const double side = 30.0;
+  std::vector<std::vector<Box<D, double>>> scenes;
+  scenes.push_back(randomBoxes<D, double>(rng, 3000, side, [](std::mt19937_64&) { return 0.7; }));
+  scenes.push_back(randomBoxes<D, double>(rng, 2000, side, [](std::mt19937_64& r) {
+    return testing::uniform(r, 0, 1) < 0.05 ? 8.0 : 0.3;
+  }));
+  scenes.push_back(randomBoxes<D, double>(
+      rng, 2000, side, [](std::mt19937_64& r) { return testing::uniform(r, 0, 1.5); }, 1.0));
+  scenes.push_back(randomBoxes<D, double>(rng, 500, 1e6, [](std::mt19937_64&) { return 3e4; }));
+  auto walls = randomBoxes<D, double>(rng, 2000, side, [](std::mt19937_64&) { return 0.7; });
+  for (int axis = 0; axis < D; ++axis) {
+    Box<D, double> wall;
+    wall.lo.fill(-1.0);
+    wall.hi.fill(side + 1.0);
+    wall.hi[axis] = 0.0;
+    walls.push_back(wall);
+  }
+  scenes.push_back(walls);
+  // Dense enough (about 8 objects a cell) that the sort keys of discretization order objects
+  // within their buckets too.
+  const double denseSide = 3.6 * std::pow(3000.0 / 8, 1.0 / D);
+  scenes.push_back(
+      randomBoxes<D, double>(rng, 3000, denseSide, [](std::mt19937_64&) { return 1.0; }));
+  return scenes;
+}
+
+// The AVX2 and the portable scans of the contact mask report the same pairs in the same
+// order, and both the oracle's pairs.
+template <int D>
+void expectScansAgree(uint64_t seed) {
+  CGrid<D, double> wide, portable;
+  if (!wide.wideScans()) GTEST_SKIP() << "this CPU has no AVX2: only the portable scans run";
+  portable.useWideScans(false);
+  ASSERT_FALSE(portable.wideScans());
+  std::vector<IndexPair> a, b, expected;
+  int scene = 0;
+  for (const auto& boxes : scanScenes<D>(seed)) {
+    wide.findPairs(boxes, a);
+    portable.findPairs(boxes, b);
+    BruteForce<D, double>().findPairs(boxes, expected);
+    EXPECT_EQ(a, b) << "D=" << D << " scene " << scene;
+    EXPECT_EQ(testing::sorted(b), testing::sorted(expected)) << "D=" << D << " scene " << scene;
+    EXPECT_GT(expected.size(), 0u);
+    ++scene;
+  }
+}
+
+TEST(CGrid, WideAndPortableScansReportTheSamePairs) {
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    expectScansAgree<1>(seed);
+    expectScansAgree<2>(seed);
+    expectScansAgree<3>(seed);
+    expectScansAgree<4>(seed);
+  }
+}
+
 }  // namespace
 }  // namespace demlab::search
