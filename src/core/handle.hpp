@@ -219,8 +219,9 @@ class HandlePool {
   }
 
   static constexpr uint32_t kNpos = 0xFFFFFFFFu;
-  // Index kNpos is kept out of use so that no valid handle has it.
-  static constexpr uint32_t kMaxSlots = 0xFFFFFFFFu;
+  // Index kNpos is kept out of use so that no valid handle has it, and dense indices fit in
+  // 31 bits, so a contact record can keep a wall flag beside one (sim/scene.hpp).
+  static constexpr uint32_t kMaxSlots = 0x7FFFFFFFu;
 
  private:
   struct Slot {

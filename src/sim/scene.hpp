@@ -38,14 +38,17 @@ struct CandidatePair {
   uint32_t i, j;
 };
 
-// One contact of the last step (for queries): b < 0 x-encoded as wall index when isWall.
+// One contact of the last step (for queries, the watchdog and checkpoints). The wall flag
+// shares b's word: 32 bytes a record in 3D instead of 40 with a bool and its padding, which is
+// 20 bytes a grain of a dense bed's memory (2.4 contacts a grain with the walls').
 template <int D>
 struct ContactRecord {
-  uint32_t a;  // grain dense index
-  uint32_t b;  // grain dense index, or wall dense index when wall
-  bool wall;
+  uint32_t a;       // grain dense index
+  uint32_t b : 31;  // grain or wall dense index (< HandlePool::kMaxSlots = 2^31 - 1)
+  uint32_t wall : 1;
   VecD<D> force;  // on b
 };
+static_assert(sizeof(ContactRecord<3>) == 32);
 
 template <int D>
 struct Scene {

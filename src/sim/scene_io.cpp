@@ -446,11 +446,13 @@ void readScene(Reader& r, Scene<D>& s) {
   s.rebuilds = r.u64();
   s.contacts.resize(r.count(9 + 8 * D));
   for (auto& c : s.contacts) {
-    c.a = r.u32();
-    c.b = r.u32();
-    c.wall = r.u8();
+    const uint32_t a = r.u32(), b = r.u32();
+    const bool wall = r.u8() != 0;
     c.force = r.vec<D>();
-    if (c.a >= n || (c.wall ? c.b >= nw : c.b >= n)) Reader::bad("contact index");
+    if (a >= n || (wall ? b >= nw : b >= n)) Reader::bad("contact index");
+    c.a = a;
+    c.b = b;  // < n or nw: fits the record's 31 bits (HandlePool::kMaxSlots)
+    c.wall = wall;
   }
   LedgerSums& l = s.ledger;
   for (double* x : {&l.dampingLoss, &l.frictionLoss, &l.wallWork, &l.behaviorWork, &l.springWork,
