@@ -18,6 +18,7 @@
 #include "physics/law_hertz_mindlin.hpp"
 #include "physics/law_linear.hpp"
 #include "physics/narrow_phase.hpp"
+#include "sim/contact_kernel.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -120,6 +121,9 @@ class GrainContactModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Contacts; }
 
   void run(Scene<D>& s) override {
+    if constexpr (kKernel) {
+      if (kernelPass(s)) return;
+    }
     // One material pair for every contact: its parameters are read once, outside the loop.
     if (isOnePair(grainPair_, s)) {
       pass<true>(s);
@@ -130,6 +134,76 @@ class GrainContactModule final : public SimModule<D> {
 
  private:
   long grainPair_;
+
+  // 3D Hertz-Mindlin beds go through the SIMD contact kernel (contact_kernel.hpp) when the
+  // platform has one: the same arithmetic in the same order as pass() below, several contacts
+  // per register. $DEMLAB_KERNEL=eigen (or kernel::setActive) keeps pass().
+  static constexpr bool kKernel = D == 3 && Law == static_cast<int>(physics::LawKind::HertzMindlin);
+  kernel::HertzPassFn kernelFn_ = nullptr;
+  kernel::Isa kernelIsa_{};
+  std::vector<kernel::HertzPair> kernelPairs_;
+
+  // Appends the kernel's contact records to s.contacts (kernel::HertzPassArgs::record).
+  static void appendRecords(void* scene, const uint32_t* cand, const double* force, size_t n) {
+    Scene<D>& s = *static_cast<Scene<D>*>(scene);
+    for (size_t c = 0; c < n; ++c) {
+      const CandidatePair p = s.candidates[cand[c]];
+      s.contacts.push_back({p.i, p.j, false, VecD<D>(force + 3 * c)});
+    }
+  }
+
+  // Returns false, changing nothing, when no kernel is active; else runs the pass through it.
+  bool kernelPass(Scene<D>& s) {
+    kernel::Isa isa;
+    if (!kernel::activeIsa(&isa)) return false;
+    if (kernelFn_ == nullptr || isa != kernelIsa_) {
+      kernelFn_ = kernel::hertzPass(isa, History, Rotation);
+      kernelIsa_ = isa;
+      if (kernelFn_ == nullptr) return false;
+    }
+    static_assert(sizeof(VecD<D>) == D * sizeof(double) && sizeof(AngularD<D>) == D * sizeof(double));
+    static_assert(sizeof(physics::TangentialHistory<D>) == D * sizeof(double));
+    static_assert(sizeof(CandidatePair) == 2 * sizeof(uint32_t));
+    GrainArrays<D>& a = s.grains.a;
+    const bool one = isOnePair(grainPair_, s);
+    const size_t nPairs = one ? 1 : s.pairParams.size();
+    kernelPairs_.resize(nPairs);
+    for (size_t k = 0; k < nPairs; ++k) {
+      const physics::PairParams& p = s.pairParams[one ? static_cast<size_t>(grainPair_) : k];
+      kernelPairs_[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
+    }
+    kernel::HertzPassArgs k;
+    // (Eigen's fixed-size vectors are their D doubles, so the arrays are plain doubles.)
+    k.x = reinterpret_cast<const double*>(a.x.data());
+    k.v = reinterpret_cast<const double*>(a.v.data());
+    k.f = reinterpret_cast<double*>(a.f.data());
+    if constexpr (Rotation) {
+      k.w = reinterpret_cast<const double*>(a.w.data());
+      k.t = reinterpret_cast<double*>(a.t.data());
+    }
+    k.r = a.r.data();
+    k.invMass = a.invMass.data();
+    k.material = a.material.data();
+    k.cand = reinterpret_cast<const uint32_t*>(s.candidates.data());
+    k.nCand = s.candidates.size();
+    if constexpr (History) k.springs = reinterpret_cast<double*>(s.pairSprings.data());
+    k.pairs = kernelPairs_.data();
+    k.nMat = s.nMat();
+    k.onePair = one;
+    k.dt = s.stepDt;
+    k.lag = velocityLag(s);
+    k.springCriterion = s.coulomb == physics::CoulombCriterion::Spring;
+    if (s.recordContacts) {
+      k.record = &appendRecords;
+      k.recordContext = &s;
+    }
+    if (k.nCand > 0) kernelFn_(k);
+    s.ledger.elastic += k.elastic;
+    s.ledger.dampingLoss += k.damping;
+    s.ledger.frictionLoss += k.friction;
+    s.ledger.springWork += k.springWork;
+    return true;
+  }
 
   // The sphere-sphere narrow phase is inline here (physics::intersect's geometry, without the
   // optional and the contact point): one sqrt and one division per contact, the division

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "sim/contact_kernel.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -141,8 +142,12 @@ class PredictRotationModule final : public SimModule<D> {
     AngularD<D>* __restrict t = a.t.data();
     AngularD<D>* __restrict tPrev = a.tPrev.data();
     const Real* __restrict invInertia = a.invInertia.data();
+    // 3D: the grains go W at a time through the SIMD kernel when the platform has one
+    // (contact_kernel.hpp: the same arithmetic, bit for bit), the last n % W here.
+    size_t first = 0;
+    if constexpr (D == 3) first = kernelPass(s);
     auto pass = [&](auto syncTag) {
-      for (size_t i = 0; i < n; ++i) {
+      for (size_t i = first; i < n; ++i) {
         // An idle grain (no torque, no spin, both +0 bit for bit, as every grain of a falling
         // lattice) stays as it is: only its last torque becomes +0. The same bits as the update.
         if (isZeroBits(t[i]) && isZeroBits(w[i])) {
@@ -165,6 +170,41 @@ class PredictRotationModule final : public SimModule<D> {
       }
     };
     sync ? pass(std::true_type{}) : pass(std::false_type{});
+  }
+
+ private:
+  struct Turn {
+    RotationD<D>* q;
+    Real dt;
+  };
+  // kernel::RotationArgs::turn: the exact map for a grain that turns far in the step.
+  static void turn(void* context, size_t i, const double* wHalf) {
+    const Turn& c = *static_cast<const Turn*>(context);
+    c.q[i] = advance(c.q[i], Vec3(wHalf[0], wHalf[1], wHalf[2]), c.dt);
+  }
+
+  // Returns how many grains (from 0) the kernel updated: 0 when no kernel is active.
+  size_t kernelPass(Scene<D>& s) {
+    kernel::Isa isa;
+    if (!kernel::activeIsa(&isa)) return 0;
+    const kernel::RotationPassFn fn = kernel::rotationPass(isa);
+    if (fn == nullptr) return 0;
+    static_assert(sizeof(Quat) == 4 * sizeof(double) && sizeof(AngularD<D>) == 3 * sizeof(double));
+    GrainArrays<D>& a = s.grains.a;
+    Turn t{a.q.data(), s.stepDt};
+    kernel::RotationArgs k;
+    k.q = reinterpret_cast<double*>(a.q.data());
+    k.w = reinterpret_cast<double*>(a.w.data());
+    k.t = reinterpret_cast<double*>(a.t.data());
+    k.tPrev = reinterpret_cast<double*>(a.tPrev.data());
+    k.invInertia = a.invInertia.data();
+    k.n = a.size();
+    k.dt = s.stepDt;
+    k.sync = s.integrator == IntegratorKind::Synchronized;
+    k.turn = &turn;
+    k.turnContext = &t;
+    fn(k);
+    return k.done;
   }
 };
 

@@ -1,0 +1,114 @@
+// The grain-grain contact kernel of 3D Hertz-Mindlin beds over structure-of-arrays batches:
+// several contacts per SIMD register (2 with SSE2, 4 with AVX2, 8 with AVX-512) instead of one
+// 3-vector per register. GrainContactModule (contacts.hpp) calls it for the scenes it covers
+// (3D, every pair Hertz-Mindlin); the others keep the Eigen loop.
+//
+// One source (contact_kernel_impl.hpp), compiled once per instruction set in its own
+// translation unit (contact_kernel_sse2.cpp: baseline x86-64; contact_kernel_avx2.cpp with
+// -mavx2; contact_kernel_avx512.cpp with -mavx512f/dq/vl; all with -mno-fma and
+// -ffp-contract=off). The best one the CPU supports is chosen once, at the first call of
+// activeIsa() (__builtin_cpu_supports); the build itself targets any x86-64. Every lane does the
+// Eigen loop's operations in the Eigen loop's order (IEEE add, sub, mul, div and sqrt are
+// correctly rounded on every path, and nothing is fused), and the forces, torques, springs and
+// energy sums are accumulated contact by contact in candidate order: every kernel gives the
+// Eigen loop's bits (sim_kernel_test.cpp checks the three against each other on random
+// batches, and against the Eigen loop through whole runs).
+//
+// This header holds only plain types (no Eigen): the kernels' translation units are compiled
+// for other instruction sets and must not emit inline functions the rest of the build shares.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace demlab::sim::kernel {
+
+// The Hertz-Mindlin constants of one material pair (physics::PairParams's hertz fields).
+struct HertzPair {
+  double kn, kt, gammaN, gammaT, friction;
+};
+
+// One grain-grain contact pass: what GrainContactModule<3, HertzMindlin, ...>::pass reads and
+// writes, as plain arrays (3-vectors as 3 consecutive doubles).
+struct HertzPassArgs {
+  // Grains (dense order). w and t are read and written only with rotation.
+  const double* x = nullptr;
+  const double* v = nullptr;
+  const double* w = nullptr;
+  double* f = nullptr;
+  double* t = nullptr;
+  const double* r = nullptr;
+  const double* invMass = nullptr;
+  const uint32_t* material = nullptr;
+  // Candidate pairs, (i, j) per pair, i the lower slot.
+  const uint32_t* cand = nullptr;
+  size_t nCand = 0;
+  // With history: the tangential spring of each candidate (3 doubles each).
+  double* springs = nullptr;
+  // The material pair constants: pairs[material[i] * nMat + material[j]], or pairs[0] for every
+  // contact when onePair.
+  const HertzPair* pairs = nullptr;
+  size_t nMat = 0;
+  bool onePair = true;
+  double dt = 0;
+  double lag = 0;               // physics::ContactKinematics::velocityLag
+  bool springCriterion = false;  // physics::CoulombCriterion::Spring (else Total)
+  // When not null, record is called with the contacts in candidate order, a few hundred at a
+  // time: cand[c] the candidate index of contact c, force[3 c ...] the force on B.
+  void (*record)(void* context, const uint32_t* cand, const double* force, size_t n) = nullptr;
+  void* recordContext = nullptr;
+  // Out: the number of contacts; in and out: the energy sums, added contact by contact.
+  size_t contacts = 0;
+  double elastic = 0, damping = 0, friction = 0, springWork = 0;
+};
+
+using HertzPassFn = void (*)(HertzPassArgs&);
+
+// The rotation update of 3D grains (PredictRotationModule, integrator.hpp) over grains
+// 0 .. n - 1, W at a time: alpha = t invInertia, wHalf = w + dt/2 alpha, q advanced by
+// advance(q, wHalf, dt) unless wHalf is zero, w = wHalf (+ dt/2 alpha when sync), tPrev = t,
+// t = 0 (an idle grain's update leaves the same bits as the module's shortcut).
+struct RotationArgs {
+  double* q = nullptr;  // 4 per grain: Eigen's coefficient order x, y, z, w
+  double* w = nullptr;
+  double* t = nullptr;
+  double* tPrev = nullptr;
+  const double* invInertia = nullptr;
+  size_t n = 0;
+  double dt = 0;
+  bool sync = true;
+  // A grain that turns by |w dt|^2 >= 1e-4 in the step keeps its q; turn(context, i, wHalf)
+  // must then set q[i] = advance(q[i], wHalf, dt) (the exact map: sin, cos, sqrt).
+  void (*turn)(void* context, size_t i, const double* wHalf) = nullptr;
+  void* turnContext = nullptr;
+  size_t done = 0;  // out: grains 0 .. done - 1 are updated; the caller updates the rest
+};
+
+using RotationPassFn = void (*)(RotationArgs&);
+
+enum class Isa : uint8_t { Sse2, Avx2, Avx512 };
+
+// Returns the kernel's name as the benchmarks print it: "sse2", "avx2", "avx512".
+const char* isaName(Isa isa);
+
+// Returns true if this build has the kernel of `isa` and the CPU runs it. Changes nothing.
+bool supported(Isa isa);
+
+// Returns the kernel for isa, history (tangential springs) and rotation (torques, angular
+// velocities), or nullptr if !supported(isa).
+HertzPassFn hertzPass(Isa isa, bool history, bool rotation);
+
+// Returns the rotation update for isa, or nullptr if !supported(isa).
+RotationPassFn rotationPass(Isa isa);
+
+// Returns true and sets *isa to the instruction set the contact modules use: the widest one
+// supported, chosen at the first call, unless $DEMLAB_KERNEL names another ("sse2", "avx2",
+// "avx512", or "eigen" for none: the Eigen loop). Returns false when no kernel is used
+// (not x86-64, or "eigen"). A test may change the choice with setActive.
+bool activeIsa(Isa* isa);
+
+// Sets the kernel activeIsa returns (use = false: none, the Eigen loop), for tests and
+// benchmarks; returns false, changing nothing, if use and !supported(isa).
+bool setActive(bool use, Isa isa);
+
+}  // namespace demlab::sim::kernel

@@ -1,0 +1,19 @@
+// The Hertz-Mindlin contact kernel (contact_kernel.hpp) for avx2: compiled with
+// -mavx2 -mno-fma -ffp-contract=off (cmake/sim.cmake), 4 contacts per register.
+// Only the kernel's own functions live here (contact_kernel_impl.hpp, in namespace avx2).
+#if defined(__x86_64__)
+#define DEMLAB_KERNEL_NS avx2
+#include "sim/contact_kernel_impl.hpp"
+
+namespace demlab::sim::kernel {
+
+HertzPassFn avx2HertzPass(bool history, bool rotation) {
+  return avx2::hertzPassFor<4>(history, rotation);
+}
+
+RotationPassFn avx2RotationPass() {
+  return &avx2::rotationPass<4>;
+}
+
+}  // namespace demlab::sim::kernel
+#endif

@@ -1,0 +1,19 @@
+// The Hertz-Mindlin contact kernel (contact_kernel.hpp) for sse2: compiled with
+// baseline x86-64 (SSE2), 2 contacts per register.
+// Only the kernel's own functions live here (contact_kernel_impl.hpp, in namespace sse2).
+#if defined(__x86_64__)
+#define DEMLAB_KERNEL_NS sse2
+#include "sim/contact_kernel_impl.hpp"
+
+namespace demlab::sim::kernel {
+
+HertzPassFn sse2HertzPass(bool history, bool rotation) {
+  return sse2::hertzPassFor<2>(history, rotation);
+}
+
+RotationPassFn sse2RotationPass() {
+  return &sse2::rotationPass<2>;
+}
+
+}  // namespace demlab::sim::kernel
+#endif
