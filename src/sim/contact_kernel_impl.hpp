@@ -91,6 +91,19 @@ DEMLAB_KI unsigned bitsOf(vm<W> m) {
   }
 }
 
+// Returns true if some bit of m is set.
+template <int W>
+DEMLAB_KI bool anyBits(vm<W> m) {
+  if constexpr (W == 2) {
+    const __m128i z = _mm_cmpeq_epi32((__m128i)m, _mm_setzero_si128());
+    return _mm_movemask_epi8(z) != 0xffff;
+  } else if constexpr (W == 4) {
+    return !_mm256_testz_si256((__m256i)m, (__m256i)m);
+  } else {
+    return _mm512_test_epi64_mask((__m512i)m, (__m512i)m) != 0;
+  }
+}
+
 // ---- lanes from the grain arrays --------------------------------------------------------------
 
 // Returns lane l = p[o[l]].
@@ -228,11 +241,20 @@ struct SpringZero {
     }
   }
   DEMLAB_KI void apply(double* sp, unsigned keep) const {
-    for (int g = 0; g < 3; ++g) {
-      vd<W> s;
-      std::memcpy(&s, sp + g * W, sizeof s);
-      s = (vd<W>)((vm<W>)s & m[keep][g]);
-      std::memcpy(sp + g * W, &s, sizeof s);
+    // Stored only when a spring changes (a contact opened): most steps write nothing here,
+    // which matters once the springs outgrow the caches.
+    const unsigned drop = ~keep & ((1u << W) - 1);
+    vm<W> s0, s1, s2;
+    std::memcpy(&s0, sp, sizeof s0);
+    std::memcpy(&s1, sp + W, sizeof s1);
+    std::memcpy(&s2, sp + 2 * W, sizeof s2);
+    if (anyBits<W>((s0 & m[drop][0]) | (s1 & m[drop][1]) | (s2 & m[drop][2]))) [[unlikely]] {
+      s0 &= m[keep][0];
+      s1 &= m[keep][1];
+      s2 &= m[keep][2];
+      std::memcpy(sp, &s0, sizeof s0);
+      std::memcpy(sp + W, &s1, sizeof s1);
+      std::memcpy(sp + 2 * W, &s2, sizeof s2);
     }
   }
 };
@@ -248,11 +270,15 @@ struct SpringZero<8> {
     }
   }
   DEMLAB_KI void apply(double* sp, unsigned keep) const {
+    // Zeroes (masked stores) only the doubles that are not zero already.
     const uint32_t z = spread[keep];
     const __m512d zero = _mm512_setzero_pd();
-    _mm512_mask_storeu_pd(sp, static_cast<__mmask8>(z), zero);
-    _mm512_mask_storeu_pd(sp + 8, static_cast<__mmask8>(z >> 8), zero);
-    _mm512_mask_storeu_pd(sp + 16, static_cast<__mmask8>(z >> 16), zero);
+    for (int g = 0; g < 3; ++g) {
+      const __mmask8 lanes = static_cast<__mmask8>(z >> (8 * g));
+      const __m512i s = _mm512_maskz_loadu_epi64(lanes, sp + 8 * g);
+      const __mmask8 set = _mm512_test_epi64_mask(s, s);
+      if (set) [[unlikely]] _mm512_mask_storeu_pd(sp + 8 * g, set, zero);
+    }
   }
 };
 
@@ -289,6 +315,7 @@ struct Records {
 };
 
 constexpr size_t kBatch = 128;  // candidates per touch pass
+constexpr size_t kAhead = 64;   // how far ahead positions are prefetched (in candidates)
 
 // Stage 2's results, by field and contact (lane) of the batch.
 enum Field : int {
@@ -547,7 +574,7 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
 
 // Stage 1 for candidates kc .. kc + valid - 1 (valid <= W; W in the main loop): appends the
 // touching ones to bk[m...] without a branch, zeroes the springs of the others.
-template <int W, bool History>
+template <int W, bool History, bool Rotation, bool Prefetch>
 DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size_t& m,
                      const SpringZero<W>& springZero) {
   size_t si[W], sj[W], oi[W], oj[W];
@@ -563,6 +590,25 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
   const V3<W> d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
   unsigned hit = bitsOf<W>(dot<W>(d, d) < rs * rs);
   if (valid < W) hit &= (1u << valid) - 1;
+  if constexpr (Prefetch) {
+    // Beds larger than the caches: the lines stage 2 and 3 read and write for these
+    // candidates (a few hundred cycles from now), and the positions of candidates further on.
+    for (int l = 0; l < W; ++l) {
+      for (int g = 0; g < 2; ++g) {
+        const size_t o = g == 0 ? oi[l] : oj[l];
+        __builtin_prefetch(C.v + o);
+        __builtin_prefetch(C.force + o, 1);
+        if constexpr (Rotation) {
+          __builtin_prefetch(C.w + o);
+          __builtin_prefetch(C.torque + o, 1);
+        }
+      }
+      if constexpr (History) __builtin_prefetch(C.springs + 3 * (kc + l));
+      const size_t ahead = kc + l + kAhead;
+      __builtin_prefetch(C.x + 3 * size_t{C.cand[2 * ahead]});
+      __builtin_prefetch(C.x + 3 * size_t{C.cand[2 * ahead + 1]});
+    }
+  }
   for (int l = 0; l < W; ++l) {
     bk[m] = static_cast<uint32_t>(kc + l);
     m += (hit >> l) & 1;
@@ -581,7 +627,7 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
   }
 }
 
-template <int W, bool History, bool Rotation, bool OnePair>
+template <int W, bool History, bool Rotation, bool OnePair, bool Prefetch>
 void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
   const Consts C{A.x, A.v, A.w, A.f, A.t, A.r, A.invMass, A.material, A.cand, A.springs, A.pairs,
                  A.nMat, A.dt, A.lag * A.dt, A.lag != 0, !A.springCriterion, A.pairs[0]};
@@ -602,8 +648,12 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
   for (size_t k0 = 0; k0 < nc; k0 += kBatch) {
     const size_t kEnd = nc < k0 + kBatch ? nc : k0 + kBatch;
     size_t kc = k0;
-    for (; kc + W <= kEnd; kc += W) touch<W, History>(C, kc, W, bk, m, springZero);
-    if (kc < kEnd) touch<W, History>(C, kc, kEnd - kc, bk, m, springZero);
+    // (Prefetching looks kAhead candidates on: the last ones go without it.)
+    const size_t kFast = Prefetch ? (nc > kAhead ? (kEnd < nc - kAhead ? kEnd : nc - kAhead) : 0)
+                                  : kEnd;
+    for (; kc + W <= kFast; kc += W) touch<W, History, Rotation, Prefetch>(C, kc, W, bk, m, springZero);
+    for (; kc + W <= kEnd; kc += W) touch<W, History, Rotation, false>(C, kc, W, bk, m, springZero);
+    if (kc < kEnd) touch<W, History, Rotation, false>(C, kc, kEnd - kc, bk, m, springZero);
     const size_t full = m - m % W;
     for (size_t c = 0; c < full; c += W) geometry<W, Rotation, OnePair>(C, bk + c, W, st, c);
     for (size_t c = 0; c < full; c += W) {
@@ -631,10 +681,12 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
 template <int W, bool History, bool Rotation>
 void hertzPass(HertzPassArgs& a) {
   static const SpringZero<W> springZero;
-  if (a.onePair) {
-    hertzRun<W, History, Rotation, true>(a, springZero);
+  if (a.prefetch) {
+    a.onePair ? hertzRun<W, History, Rotation, true, true>(a, springZero)
+              : hertzRun<W, History, Rotation, false, true>(a, springZero);
   } else {
-    hertzRun<W, History, Rotation, false>(a, springZero);
+    a.onePair ? hertzRun<W, History, Rotation, true, false>(a, springZero)
+              : hertzRun<W, History, Rotation, false, false>(a, springZero);
   }
 }
 
