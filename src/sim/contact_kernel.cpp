@@ -14,6 +14,12 @@ HertzPassFn avx512HertzPass(bool history, bool rotation);
 RotationPassFn sse2RotationPass();
 RotationPassFn avx2RotationPass();
 RotationPassFn avx512RotationPass();
+PredictPassFn sse2PredictPass();
+PredictPassFn avx2PredictPass();
+PredictPassFn avx512PredictPass();
+CorrectPassFn sse2CorrectPass();
+CorrectPassFn avx2CorrectPass();
+CorrectPassFn avx512CorrectPass();
 #endif
 
 namespace {
@@ -100,6 +106,36 @@ RotationPassFn rotationPass(Isa isa) {
       return avx2RotationPass();
     case Isa::Avx512:
       return avx512RotationPass();
+  }
+#endif
+  return nullptr;
+}
+
+PredictPassFn predictPass(Isa isa) {
+  if (!supported(isa)) return nullptr;
+#if defined(__x86_64__)
+  switch (isa) {
+    case Isa::Sse2:
+      return sse2PredictPass();
+    case Isa::Avx2:
+      return avx2PredictPass();
+    case Isa::Avx512:
+      return avx512PredictPass();
+  }
+#endif
+  return nullptr;
+}
+
+CorrectPassFn correctPass(Isa isa) {
+  if (!supported(isa)) return nullptr;
+#if defined(__x86_64__)
+  switch (isa) {
+    case Isa::Sse2:
+      return sse2CorrectPass();
+    case Isa::Avx2:
+      return avx2CorrectPass();
+    case Isa::Avx512:
+      return avx512CorrectPass();
   }
 #endif
   return nullptr;

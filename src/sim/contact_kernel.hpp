@@ -88,6 +88,43 @@ struct RotationArgs {
 
 using RotationPassFn = void (*)(RotationArgs&);
 
+// The translational drift of 3D grains (PredictModule, integrator.hpp): acc = f invMass,
+// vHalf = v + dt/2 acc, x += dt vHalf, v = vHalf (+ dt/2 acc when sync), fPrev = f, f = 0,
+// and maxDisp2 = max(maxDisp2, |x - x0|^2) when x0 is not null.
+struct PredictArgs {
+  double* x = nullptr;
+  double* v = nullptr;
+  double* f = nullptr;
+  double* fPrev = nullptr;
+  const double* invMass = nullptr;
+  const double* x0 = nullptr;
+  size_t n = 0;
+  double dt = 0;
+  bool sync = true;
+  double maxDisp2 = 0;  // in and out
+  size_t done = 0;      // out: grains 0 .. done - 1 are updated; the caller updates the rest
+};
+
+// The second kick (CorrectModule): v += (h invMass) (f - fPrev) when sync, else
+// v += (h invMass) f; the same for w, t, tPrev, invInertia when w is not null.
+struct CorrectArgs {
+  double* v = nullptr;
+  const double* f = nullptr;
+  const double* fPrev = nullptr;
+  const double* invMass = nullptr;
+  double* w = nullptr;
+  const double* t = nullptr;
+  const double* tPrev = nullptr;
+  const double* invInertia = nullptr;
+  size_t n = 0;
+  double h = 0;
+  bool sync = true;
+  size_t done = 0;  // out, as PredictArgs::done
+};
+
+using PredictPassFn = void (*)(PredictArgs&);
+using CorrectPassFn = void (*)(CorrectArgs&);
+
 enum class Isa : uint8_t { Sse2, Avx2, Avx512 };
 
 // Returns the kernel's name as the benchmarks print it: "sse2", "avx2", "avx512".
@@ -102,6 +139,10 @@ HertzPassFn hertzPass(Isa isa, bool history, bool rotation);
 
 // Returns the rotation update for isa, or nullptr if !supported(isa).
 RotationPassFn rotationPass(Isa isa);
+
+// Returns the integrator's passes for isa, or nullptr if !supported(isa).
+PredictPassFn predictPass(Isa isa);
+CorrectPassFn correctPass(Isa isa);
 
 // Returns true and sets *isa to the instruction set the contact modules use: the widest one
 // supported, chosen at the first call, unless $DEMLAB_KERNEL names another ("sse2", "avx2",

@@ -15,5 +15,13 @@ RotationPassFn avx2RotationPass() {
   return &avx2::rotationPass<4>;
 }
 
+PredictPassFn avx2PredictPass() {
+  return &avx2::predictPass<4>;
+}
+
+CorrectPassFn avx2CorrectPass() {
+  return &avx2::correctPass<4>;
+}
+
 }  // namespace demlab::sim::kernel
 #endif

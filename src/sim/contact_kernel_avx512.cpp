@@ -15,5 +15,13 @@ RotationPassFn avx512RotationPass() {
   return &avx512::rotationPass<4>;
 }
 
+PredictPassFn avx512PredictPass() {
+  return &avx512::predictPass<4>;
+}
+
+CorrectPassFn avx512CorrectPass() {
+  return &avx512::correctPass<4>;
+}
+
 }  // namespace demlab::sim::kernel
 #endif

@@ -699,24 +699,69 @@ HertzPassFn hertzPassFor(bool history, bool rotation) {
 // ---- the rotation update ----------------------------------------------------------------------
 
 // The 3-vectors of grains i .. i + W - 1 (contiguous: 3 W doubles at p) by component, and back.
+// Three registers holding 3-vectors one after the other (a = (x0 y0 z0 x1), ... for W = 4)
+// by component.
 template <int W>
-DEMLAB_KI V3<W> load3c(const double* p) {
+DEMLAB_KI V3<W> toSoA(vd<W> av, vd<W> bv, vd<W> cv) {
   if constexpr (W == 2) {
-    const __m128d a = _mm_loadu_pd(p), b = _mm_loadu_pd(p + 2), c = _mm_loadu_pd(p + 4);
+    const __m128d a = (__m128d)av, b = (__m128d)bv, c = (__m128d)cv;
     // a = (x0 y0), b = (z0 x1), c = (y1 z1)
     return {(vd<2>)_mm_shuffle_pd(a, b, 2), (vd<2>)_mm_shuffle_pd(a, c, 1),
             (vd<2>)_mm_shuffle_pd(b, c, 2)};
   } else {
     static_assert(W == 4);
-    const __m256d a = _mm256_loadu_pd(p), b = _mm256_loadu_pd(p + 4), c = _mm256_loadu_pd(p + 8);
+    const __m256d a = (__m256d)av, b = (__m256d)bv, c = (__m256d)cv;
     // a = (x0 y0 z0 x1), b = (y1 z1 x2 y2), c = (z2 x3 y3 z3)
-    const __m256d m0 = _mm256_blend_pd(a, b, 0xc);              // x0 y0 x2 y2
-    const __m256d m1 = _mm256_permute2f128_pd(a, c, 0x21);      // z0 x1 z2 x3
-    const __m256d m2 = _mm256_blend_pd(b, c, 0xc);              // y1 z1 y3 z3
+    const __m256d m0 = _mm256_blend_pd(a, b, 0xc);          // x0 y0 x2 y2
+    const __m256d m1 = _mm256_permute2f128_pd(a, c, 0x21);  // z0 x1 z2 x3
+    const __m256d m2 = _mm256_blend_pd(b, c, 0xc);          // y1 z1 y3 z3
     return {(vd<4>)_mm256_shuffle_pd(m0, m1, 0xa), (vd<4>)_mm256_shuffle_pd(m0, m2, 0x5),
             (vd<4>)_mm256_shuffle_pd(m1, m2, 0xa)};
   }
 }
+
+// The 3 W doubles at p as three registers, and back.
+template <int W>
+struct Flat3 {
+  vd<W> a, b, c;
+};
+template <int W>
+DEMLAB_KI Flat3<W> loadFlat(const double* p) {
+  Flat3<W> f;
+  std::memcpy(&f.a, p, sizeof f.a);
+  std::memcpy(&f.b, p + W, sizeof f.b);
+  std::memcpy(&f.c, p + 2 * W, sizeof f.c);
+  return f;
+}
+template <int W>
+DEMLAB_KI void storeFlat(double* p, const Flat3<W>& f) {
+  std::memcpy(p, &f.a, sizeof f.a);
+  std::memcpy(p + W, &f.b, sizeof f.b);
+  std::memcpy(p + 2 * W, &f.c, sizeof f.c);
+}
+
+// A per-grain scalar of W grains (lane l: grain l) spread over their 3 W components: the
+// registers of loadFlat's layout, double k holding grain k / 3's value.
+template <int W>
+DEMLAB_KI Flat3<W> perComponent(vd<W> m) {
+  if constexpr (W == 2) {
+    const __m128d v = (__m128d)m;
+    return {(vd<2>)_mm_unpacklo_pd(v, v), m, (vd<2>)_mm_unpackhi_pd(v, v)};
+  } else {
+    static_assert(W == 4);
+    const __m256d v = (__m256d)m;
+    return {(vd<4>)_mm256_permute4x64_pd(v, 0x40), (vd<4>)_mm256_permute4x64_pd(v, 0xa5),
+            (vd<4>)_mm256_permute4x64_pd(v, 0xfe)};
+  }
+}
+
+// The 3-vectors of grains i .. i + W - 1 (contiguous: 3 W doubles at p) by component, and back.
+template <int W>
+DEMLAB_KI V3<W> load3c(const double* p) {
+  const Flat3<W> f = loadFlat<W>(p);
+  return toSoA<W>(f.a, f.b, f.c);
+}
+
 template <int W>
 DEMLAB_KI void store3c(double* p, const V3<W>& v) {
   if constexpr (W == 2) {
@@ -846,6 +891,107 @@ void rotationPass(RotationArgs& A) {
         }
       }
     }
+  }
+  A.done = n;
+}
+
+// ---- the translational integrator -------------------------------------------------------------
+
+template <bool B>
+struct Flag {
+  static constexpr bool value = B;
+};
+
+// PredictModule's drift of grains 0 .. n - n % W (the caller does the rest), over the arrays as
+// flat doubles: acc = f invMass, vHalf = v + dt/2 acc, x += dt vHalf, v = vHalf (+ dt/2 acc
+// when sync), fPrev = f, f = 0; and the largest |x - x0|^2 (a max picks one of its values:
+// kept per lane, then combined, it is the loop's).
+template <int W>
+void predictPass(PredictArgs& A) {
+  double* __restrict x = A.x;
+  double* __restrict v = A.v;
+  double* __restrict f = A.f;
+  double* __restrict fPrev = A.fPrev;
+  const double* __restrict invMass = A.invMass;
+  const double* __restrict x0 = A.x0;
+  const double dt = A.dt, h = 0.5 * dt;
+  const size_t n = A.n - A.n % W;
+  vd<W> maxD2 = splat<W>(A.maxDisp2);
+  const Flat3<W> zero{splat<W>(0.0), splat<W>(0.0), splat<W>(0.0)};
+  auto run = [&](auto sync, auto track) {
+    for (size_t i = 0; i < n; i += W) {
+      vd<W> m;
+      std::memcpy(&m, invMass + i, sizeof m);
+      const Flat3<W> M = perComponent<W>(m);
+      const Flat3<W> F = loadFlat<W>(f + 3 * i);
+      const Flat3<W> V = loadFlat<W>(v + 3 * i);
+      Flat3<W> X = loadFlat<W>(x + 3 * i);
+      const Flat3<W> acc{F.a * M.a, F.b * M.b, F.c * M.c};
+      const Flat3<W> vh{V.a + h * acc.a, V.b + h * acc.b, V.c + h * acc.c};
+      X = Flat3<W>{X.a + dt * vh.a, X.b + dt * vh.b, X.c + dt * vh.c};
+      storeFlat<W>(x + 3 * i, X);
+      if constexpr (decltype(sync)::value) {
+        storeFlat<W>(v + 3 * i, Flat3<W>{vh.a + h * acc.a, vh.b + h * acc.b, vh.c + h * acc.c});
+      } else {
+        storeFlat<W>(v + 3 * i, vh);
+      }
+      storeFlat<W>(fPrev + 3 * i, F);
+      storeFlat<W>(f + 3 * i, zero);
+      if constexpr (decltype(track)::value) {
+        const Flat3<W> X0 = loadFlat<W>(x0 + 3 * i);
+        const V3<W> d = toSoA<W>(X.a - X0.a, X.b - X0.b, X.c - X0.c);
+        const vd<W> d2 = dot<W>(d, d);
+        maxD2 = maxD2 < d2 ? d2 : maxD2;
+      }
+    }
+  };
+  using Yes = Flag<true>;
+  using No = Flag<false>;
+  if (A.sync) {
+    x0 != nullptr ? run(Yes{}, Yes{}) : run(Yes{}, No{});
+  } else {
+    x0 != nullptr ? run(No{}, Yes{}) : run(No{}, No{});
+  }
+  double lanes[W];
+  std::memcpy(lanes, &maxD2, sizeof lanes);
+  double out = A.maxDisp2;
+  for (int l = 0; l < W; ++l) out = out < lanes[l] ? lanes[l] : out;
+  A.maxDisp2 = out;
+  A.done = n;
+}
+
+// CorrectModule's second kick of grains 0 .. n - n % W, over flat doubles: v += (dt/2 invMass)
+// (f - fPrev) (synchronized) or v += (dt/2 invMass) f (Verlet); the same for w with t when w
+// is not null.
+template <int W>
+void correctPass(CorrectArgs& A) {
+  const double h = A.h;
+  const size_t n = A.n - A.n % W;
+  auto kick = [&](double* __restrict v, const double* __restrict f, const double* __restrict fp,
+                  const double* __restrict inv, auto sync) {
+    for (size_t i = 0; i < n; i += W) {
+      vd<W> m;
+      std::memcpy(&m, inv + i, sizeof m);
+      const Flat3<W> M = perComponent<W>(h * m);
+      const Flat3<W> F = loadFlat<W>(f + 3 * i);
+      const Flat3<W> V = loadFlat<W>(v + 3 * i);
+      if constexpr (decltype(sync)::value) {
+        const Flat3<W> P = loadFlat<W>(fp + 3 * i);
+        storeFlat<W>(v + 3 * i, Flat3<W>{V.a + M.a * (F.a - P.a), V.b + M.b * (F.b - P.b),
+                                         V.c + M.c * (F.c - P.c)});
+      } else {
+        storeFlat<W>(v + 3 * i, Flat3<W>{V.a + M.a * F.a, V.b + M.b * F.b, V.c + M.c * F.c});
+      }
+    }
+  };
+  using Yes = Flag<true>;
+  using No = Flag<false>;
+  if (A.sync) {
+    kick(A.v, A.f, A.fPrev, A.invMass, Yes{});
+    if (A.w != nullptr) kick(A.w, A.t, A.tPrev, A.invInertia, Yes{});
+  } else {
+    kick(A.v, A.f, A.fPrev, A.invMass, No{});
+    if (A.w != nullptr) kick(A.w, A.t, A.tPrev, A.invInertia, No{});
   }
   A.done = n;
 }

@@ -15,5 +15,13 @@ RotationPassFn sse2RotationPass() {
   return &sse2::rotationPass<2>;
 }
 
+PredictPassFn sse2PredictPass() {
+  return &sse2::predictPass<2>;
+}
+
+CorrectPassFn sse2CorrectPass() {
+  return &sse2::correctPass<2>;
+}
+
 }  // namespace demlab::sim::kernel
 #endif

@@ -55,8 +55,32 @@ class PredictModule final : public SimModule<D> {
     VecD<D>* __restrict fPrev = a.fPrev.data();
     const Real* __restrict invMass = a.invMass.data();
     const VecD<D>* __restrict x0 = s.xAtBuild.data();
+    // 3D: the grains go W at a time through the SIMD kernel when the platform has one
+    // (contact_kernel.hpp: the same arithmetic, bit for bit), the last n % W here.
+    size_t first = 0;
+    if constexpr (D == 3) {
+      kernel::Isa isa;
+      const kernel::PredictPassFn fn =
+          kernel::activeIsa(&isa) ? kernel::predictPass(isa) : nullptr;
+      if (fn != nullptr) {
+        kernel::PredictArgs k;
+        k.x = reinterpret_cast<double*>(x);
+        k.v = reinterpret_cast<double*>(v);
+        k.f = reinterpret_cast<double*>(f);
+        k.fPrev = reinterpret_cast<double*>(fPrev);
+        k.invMass = invMass;
+        k.x0 = track ? reinterpret_cast<const double*>(x0) : nullptr;
+        k.n = n;
+        k.dt = dt;
+        k.sync = sync;
+        k.maxDisp2 = maxD2;
+        fn(k);
+        maxD2 = k.maxDisp2;
+        first = k.done;
+      }
+    }
     auto pass = [&](auto syncTag, auto trackTag) {
-      for (size_t i = 0; i < n; ++i) {
+      for (size_t i = first; i < n; ++i) {
         const VecD<D> acc = f[i] * invMass[i];
         const VecD<D> vHalf = v[i] + h * acc;
         x[i] += dt * vHalf;
@@ -226,15 +250,41 @@ class CorrectModule final : public SimModule<D> {
     const AngularD<D>* __restrict t = a.t.data();
     const AngularD<D>* __restrict tPrev = a.tPrev.data();
     const Real* __restrict invInertia = a.invInertia.data();
-    if (s.integrator == IntegratorKind::Synchronized) {
-      for (size_t i = 0; i < n; ++i) v[i] += (h * invMass[i]) * (f[i] - fPrev[i]);
+    const bool sync = s.integrator == IntegratorKind::Synchronized;
+    // 3D: through the SIMD kernel as the drift (PredictModule), the last n % W here.
+    size_t first = 0;
+    if constexpr (D == 3) {
+      kernel::Isa isa;
+      const kernel::CorrectPassFn fn =
+          kernel::activeIsa(&isa) ? kernel::correctPass(isa) : nullptr;
+      if (fn != nullptr) {
+        kernel::CorrectArgs k;
+        k.v = reinterpret_cast<double*>(v);
+        k.f = reinterpret_cast<const double*>(f);
+        k.fPrev = reinterpret_cast<const double*>(fPrev);
+        k.invMass = invMass;
+        if (s.rotating) {
+          k.w = reinterpret_cast<double*>(w);
+          k.t = reinterpret_cast<const double*>(t);
+          k.tPrev = reinterpret_cast<const double*>(tPrev);
+          k.invInertia = invInertia;
+        }
+        k.n = n;
+        k.h = h;
+        k.sync = sync;
+        fn(k);
+        first = k.done;
+      }
+    }
+    if (sync) {
+      for (size_t i = first; i < n; ++i) v[i] += (h * invMass[i]) * (f[i] - fPrev[i]);
       if (s.rotating) {
-        for (size_t i = 0; i < n; ++i) w[i] += (h * invInertia[i]) * (t[i] - tPrev[i]);
+        for (size_t i = first; i < n; ++i) w[i] += (h * invInertia[i]) * (t[i] - tPrev[i]);
       }
     } else {
-      for (size_t i = 0; i < n; ++i) v[i] += (h * invMass[i]) * f[i];
+      for (size_t i = first; i < n; ++i) v[i] += (h * invMass[i]) * f[i];
       if (s.rotating) {
-        for (size_t i = 0; i < n; ++i) w[i] += (h * invInertia[i]) * t[i];
+        for (size_t i = first; i < n; ++i) w[i] += (h * invInertia[i]) * t[i];
       }
     }
     s.time = s.time + s.stepDt;
