@@ -21,6 +21,4 @@ set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/sim/contact_kernel_s
 set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/sim/contact_kernel_avx2.cpp
   PROPERTIES COMPILE_OPTIONS "-mavx2;-mno-fma;-ffp-contract=off")
 set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/sim/contact_kernel_avx512.cpp
-  PROPERTIES COMPILE_OPTIONS
-  "-mavx512f;-mavx512dq;-mavx512vl;-mno-fma;-ffp-contract=off;-Wno-maybe-uninitialized")
-# (GCC 12 warns inside its own avx512fintrin.h, whose _mm512_undefined_pd reads itself.)
+  PROPERTIES COMPILE_OPTIONS "-mavx512f;-mavx512dq;-mavx512vl;-mno-fma;-ffp-contract=off")

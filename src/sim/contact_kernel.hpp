@@ -1,7 +1,10 @@
-// The grain-grain contact kernel of 3D Hertz-Mindlin beds over structure-of-arrays batches:
-// several contacts per SIMD register (2 with SSE2, 4 with AVX2, 8 with AVX-512) instead of one
-// 3-vector per register. GrainContactModule (contacts.hpp) calls it for the scenes it covers
-// (3D, every pair Hertz-Mindlin); the others keep the Eigen loop.
+// SIMD kernels of the 3D step: the grain-grain contact pass of Hertz-Mindlin beds over
+// structure-of-arrays batches (several contacts per register, 2 with SSE2, 4 with AVX2 or
+// AVX-512, instead of one 3-vector per register), and the rotation update, the drift and the
+// kick over several grains per register. GrainContactModule (contacts.hpp) calls the contact
+// pass for the scenes it covers (3D, every pair Hertz-Mindlin), the integrator modules
+// (integrator.hpp) the others for every 3D scene; 2D scenes and the other laws keep the
+// Eigen loops.
 //
 // One source (contact_kernel_impl.hpp), compiled once per instruction set in its own
 // translation unit (contact_kernel_sse2.cpp: baseline x86-64; contact_kernel_avx2.cpp with
@@ -11,8 +14,8 @@
 // Eigen loop's operations in the Eigen loop's order (IEEE add, sub, mul, div and sqrt are
 // correctly rounded on every path, and nothing is fused), and the forces, torques, springs and
 // energy sums are accumulated contact by contact in candidate order: every kernel gives the
-// Eigen loop's bits (sim_kernel_test.cpp checks the three against each other on random
-// batches, and against the Eigen loop through whole runs).
+// Eigen loop's bits (sim_kernel_test.cpp checks each against the Eigen loops on random
+// batches and grains, and through whole runs).
 //
 // This header holds only plain types (no Eigen): the kernels' translation units are compiled
 // for other instruction sets and must not emit inline functions the rest of the build shares.

@@ -1,5 +1,5 @@
-// The body of the Hertz-Mindlin contact kernels (contact_kernel.hpp), written once over a lane
-// count W (2, 4 or 8 doubles per register). Included by contact_kernel_sse2.cpp,
+// The body of the SIMD kernels (contact_kernel.hpp), written once over a lane count W (2 or 4
+// doubles per register). Included by contact_kernel_sse2.cpp,
 // contact_kernel_avx2.cpp and contact_kernel_avx512.cpp only, each inside its own namespace
 // (DEMLAB_KERNEL_NS), so no function here is shared between translation units compiled for
 // different instruction sets. Nothing from Eigen or the standard library's templates.
@@ -49,11 +49,6 @@ struct VT<4> {
   typedef double d __attribute__((vector_size(32)));
   typedef long long m __attribute__((vector_size(32)));
 };
-template <>
-struct VT<8> {
-  typedef double d __attribute__((vector_size(64)));
-  typedef long long m __attribute__((vector_size(64)));
-};
 template <int W>
 using vd = typename VT<W>::d;  // W doubles
 template <int W>
@@ -72,10 +67,8 @@ template <int W>
 DEMLAB_KI vd<W> vsqrt(vd<W> x) {
   if constexpr (W == 2) {
     return (vd<2>)_mm_sqrt_pd((__m128d)x);
-  } else if constexpr (W == 4) {
-    return (vd<4>)_mm256_sqrt_pd((__m256d)x);
   } else {
-    return (vd<8>)_mm512_sqrt_pd((__m512d)x);
+    return (vd<4>)_mm256_sqrt_pd((__m256d)x);
   }
 }
 
@@ -84,10 +77,8 @@ template <int W>
 DEMLAB_KI unsigned bitsOf(vm<W> m) {
   if constexpr (W == 2) {
     return static_cast<unsigned>(_mm_movemask_pd((__m128d)m));
-  } else if constexpr (W == 4) {
-    return static_cast<unsigned>(_mm256_movemask_pd((__m256d)m));
   } else {
-    return static_cast<unsigned>(_mm512_movepi64_mask((__m512i)m));
+    return static_cast<unsigned>(_mm256_movemask_pd((__m256d)m));
   }
 }
 
@@ -97,10 +88,8 @@ DEMLAB_KI bool anyBits(vm<W> m) {
   if constexpr (W == 2) {
     const __m128i z = _mm_cmpeq_epi32((__m128i)m, _mm_setzero_si128());
     return _mm_movemask_epi8(z) != 0xffff;
-  } else if constexpr (W == 4) {
-    return !_mm256_testz_si256((__m256i)m, (__m256i)m);
   } else {
-    return _mm512_test_epi64_mask((__m512i)m, (__m512i)m) != 0;
+    return !_mm256_testz_si256((__m256i)m, (__m256i)m);
   }
 }
 
@@ -111,13 +100,10 @@ template <int W>
 DEMLAB_KI vd<W> gather1(const double* p, const size_t* o) {
   if constexpr (W == 2) {
     return (vd<2>)_mm_loadh_pd(_mm_load_sd(p + o[0]), p + o[1]);
-  } else if constexpr (W == 4) {
+  } else {
     const __m128d lo = _mm_loadh_pd(_mm_load_sd(p + o[0]), p + o[1]);
     const __m128d hi = _mm_loadh_pd(_mm_load_sd(p + o[2]), p + o[3]);
     return (vd<4>)_mm256_insertf128_pd(_mm256_castpd128_pd256(lo), hi, 1);
-  } else {
-    const vd<4> lo = gather1<4>(p, o), hi = gather1<4>(p, o + 4);
-    return (vd<8>)_mm512_insertf64x4(_mm512_zextpd256_pd512((__m256d)lo), (__m256d)hi, 1);
   }
 }
 
@@ -133,7 +119,7 @@ DEMLAB_KI V3<W> gather3(const double* p, const size_t* o) {
     const __m128d a = _mm_loadu_pd(p + o[0]), b = _mm_loadu_pd(p + o[1]);
     return {(vd<2>)_mm_unpacklo_pd(a, b), (vd<2>)_mm_unpackhi_pd(a, b),
             (vd<2>)_mm_loadh_pd(_mm_load_sd(p + o[0] + 2), p + o[1] + 2)};
-  } else if constexpr (W == 4) {
+  } else {
     // a = (x0 y0 x2 y2), b = (x1 y1 x3 y3)
     const __m256d a = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + o[0])),
                                            _mm_loadu_pd(p + o[2]), 1);
@@ -143,12 +129,6 @@ DEMLAB_KI V3<W> gather3(const double* p, const size_t* o) {
     const __m128d zhi = _mm_loadh_pd(_mm_load_sd(p + o[2] + 2), p + o[3] + 2);
     return {(vd<4>)_mm256_unpacklo_pd(a, b), (vd<4>)_mm256_unpackhi_pd(a, b),
             (vd<4>)_mm256_insertf128_pd(_mm256_castpd128_pd256(zlo), zhi, 1)};
-  } else {
-    const V3<4> lo = gather3<4>(p, o), hi = gather3<4>(p, o + 4);
-    auto join = [](vd<4> a, vd<4> b) {
-      return (vd<8>)_mm512_insertf64x4(_mm512_zextpd256_pd512((__m256d)a), (__m256d)b, 1);
-    };
-    return {join(lo.x, hi.x), join(lo.y, hi.y), join(lo.z, hi.z)};
   }
 }
 
@@ -159,53 +139,38 @@ struct Lanes3 {
 };
 
 template <int W>
-DEMLAB_KI void split(const V3<W>& v, Lanes3<W>& out, int first = 0) {
+DEMLAB_KI void split(const V3<W>& v, Lanes3<W>& out) {
   if constexpr (W == 2) {
     const __m128d x = (__m128d)v.x, y = (__m128d)v.y, z = (__m128d)v.z;
-    out.xy[first] = _mm_unpacklo_pd(x, y);
-    out.xy[first + 1] = _mm_unpackhi_pd(x, y);
-    out.z[first] = z;
-    out.z[first + 1] = _mm_unpackhi_pd(z, z);
-  } else if constexpr (W == 4) {
+    out.xy[0] = _mm_unpacklo_pd(x, y);
+    out.xy[1] = _mm_unpackhi_pd(x, y);
+    out.z[0] = z;
+    out.z[1] = _mm_unpackhi_pd(z, z);
+  } else {
     const __m256d x = (__m256d)v.x, y = (__m256d)v.y, z = (__m256d)v.z;
     const __m256d t0 = _mm256_unpacklo_pd(x, y);  // x0 y0 x2 y2
     const __m256d t1 = _mm256_unpackhi_pd(x, y);  // x1 y1 x3 y3
-    out.xy[first] = _mm256_castpd256_pd128(t0);
-    out.xy[first + 1] = _mm256_castpd256_pd128(t1);
-    out.xy[first + 2] = _mm256_extractf128_pd(t0, 1);
-    out.xy[first + 3] = _mm256_extractf128_pd(t1, 1);
+    out.xy[0] = _mm256_castpd256_pd128(t0);
+    out.xy[1] = _mm256_castpd256_pd128(t1);
+    out.xy[2] = _mm256_extractf128_pd(t0, 1);
+    out.xy[3] = _mm256_extractf128_pd(t1, 1);
     const __m128d zlo = _mm256_castpd256_pd128(z), zhi = _mm256_extractf128_pd(z, 1);
-    out.z[first] = zlo;
-    out.z[first + 1] = _mm_unpackhi_pd(zlo, zlo);
-    out.z[first + 2] = zhi;
-    out.z[first + 3] = _mm_unpackhi_pd(zhi, zhi);
-  } else {
-    const V3<4> a{(vd<4>)_mm512_castpd512_pd256((__m512d)v.x),
-                  (vd<4>)_mm512_castpd512_pd256((__m512d)v.y),
-                  (vd<4>)_mm512_castpd512_pd256((__m512d)v.z)};
-    const V3<4> b{(vd<4>)_mm512_extractf64x4_pd((__m512d)v.x, 1),
-                  (vd<4>)_mm512_extractf64x4_pd((__m512d)v.y, 1),
-                  (vd<4>)_mm512_extractf64x4_pd((__m512d)v.z, 1)};
-    Lanes3<4> lo, hi;
-    split<4>(a, lo);
-    split<4>(b, hi);
-    for (int l = 0; l < 4; ++l) {
-      out.xy[first + l] = lo.xy[l];
-      out.z[first + l] = lo.z[l];
-      out.xy[first + 4 + l] = hi.xy[l];
-      out.z[first + 4 + l] = hi.z[l];
-    }
+    out.z[0] = zlo;
+    out.z[1] = _mm_unpackhi_pd(zlo, zlo);
+    out.z[2] = zhi;
+    out.z[3] = _mm_unpackhi_pd(zhi, zhi);
   }
 }
 
-// q[0..2] += lane (or -=).
+// q[0..2] += lane. (q -= v is q += -v: IEEE 754 defines the difference as that sum, so the
+// bits are the same, and the sum takes q from memory in the instruction.)
 DEMLAB_KI void add3(double* q, __m128d xy, __m128d z) {
   _mm_storeu_pd(q, _mm_add_pd(_mm_loadu_pd(q), xy));
-  _mm_store_sd(q + 2, _mm_add_sd(_mm_load_sd(q + 2), z));
+  q[2] = q[2] + _mm_cvtsd_f64(z);
 }
-DEMLAB_KI void sub3(double* q, __m128d xy, __m128d z) {
-  _mm_storeu_pd(q, _mm_sub_pd(_mm_loadu_pd(q), xy));
-  _mm_store_sd(q + 2, _mm_sub_sd(_mm_load_sd(q + 2), z));
+// Returns -v, bit for bit (the sign flipped).
+DEMLAB_KI __m128d neg(__m128d v) {
+  return _mm_xor_pd(v, _mm_set1_pd(-0.0));
 }
 DEMLAB_KI void store3(double* q, __m128d xy, __m128d z) {
   _mm_storeu_pd(q, xy);
@@ -255,29 +220,6 @@ struct SpringZero {
       std::memcpy(sp, &s0, sizeof s0);
       std::memcpy(sp + W, &s1, sizeof s1);
       std::memcpy(sp + 2 * W, &s2, sizeof s2);
-    }
-  }
-};
-template <>
-struct SpringZero<8> {
-  uint32_t spread[256];  // bit 3 c + e set where bit c of the index is clear, e < 3
-  SpringZero() {
-    for (unsigned keep = 0; keep < 256; ++keep) {
-      spread[keep] = 0;
-      for (int c = 0; c < 8; ++c) {
-        if (!((keep >> c) & 1)) spread[keep] |= 7u << (3 * c);
-      }
-    }
-  }
-  DEMLAB_KI void apply(double* sp, unsigned keep) const {
-    // Zeroes (masked stores) only the doubles that are not zero already.
-    const uint32_t z = spread[keep];
-    const __m512d zero = _mm512_setzero_pd();
-    for (int g = 0; g < 3; ++g) {
-      const __mmask8 lanes = static_cast<__mmask8>(z >> (8 * g));
-      const __m512i s = _mm512_maskz_loadu_epi64(lanes, sp + 8 * g);
-      const __mmask8 set = _mm512_test_epi64_mask(s, s);
-      if (set) [[unlikely]] _mm512_mask_storeu_pd(sp + 8 * g, set, zero);
     }
   }
 };
@@ -526,7 +468,8 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
     // (A repeated lane stores its last lane's spring again.)
     for (int l = 0; l < W; ++l) store3(C.springs + ok[l], sl.xy[l], sl.z[l]);
   }
-  // The grains' forces and torques, lane by lane in candidate order.
+  // The grains' forces and torques, lane by lane in candidate order: f_j += F, f_i -= F,
+  // t_i -= armA (n x F), t_j -= armB (n x F); -(a b) is (-a) b exactly.
   size_t oi[W], oj[W];
   for (int l = 0; l < W; ++l) {
     oi[l] = 3 * size_t{C.cand[2 * kc[l]]};
@@ -536,17 +479,25 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
   split<W>(F, fl3);
   for (size_t l = 0; l < valid; ++l) {
     add3(C.force + oj[l], fl3.xy[l], fl3.z[l]);
-    sub3(C.force + oi[l], fl3.xy[l], fl3.z[l]);
+    add3(C.force + oi[l], neg(fl3.xy[l]), neg(fl3.z[l]));
+  }
+  if (rec != nullptr) {
+    // The caller leaves room for W: all W lanes are written.
+    for (int l = 0; l < W; ++l) {
+      rec->cand[nRec + l] = static_cast<uint32_t>(kc[l]);
+      store3(rec->force + 3 * (nRec + l), fl3.xy[l], fl3.z[l]);
+    }
+    nRec += valid;
   }
   if constexpr (Rotation) {
     const V3<W> cn = cross<W>(n, F);
-    const vd<W> armA = st.get(kArmA, c), armB = st.get(kArmB, c);
+    const vd<W> armA = -st.get(kArmA, c), armB = -st.get(kArmB, c);
     Lanes3<W> ta, tb;
     split<W>(V3<W>{armA * cn.x, armA * cn.y, armA * cn.z}, ta);
     split<W>(V3<W>{armB * cn.x, armB * cn.y, armB * cn.z}, tb);
     for (size_t l = 0; l < valid; ++l) {
-      sub3(C.torque + oi[l], ta.xy[l], ta.z[l]);
-      sub3(C.torque + oj[l], tb.xy[l], tb.z[l]);
+      add3(C.torque + oi[l], ta.xy[l], ta.z[l]);
+      add3(C.torque + oj[l], tb.xy[l], tb.z[l]);
     }
   }
   {
@@ -561,14 +512,6 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
       e.friction += e2[l];
       e.springWork += e3[l];
     }
-  }
-  if (rec != nullptr) {
-    // The caller leaves room for W: all W lanes are written.
-    for (int l = 0; l < W; ++l) {
-      rec->cand[nRec + l] = static_cast<uint32_t>(kc[l]);
-      store3(rec->force + 3 * (nRec + l), fl3.xy[l], fl3.z[l]);
-    }
-    nRec += valid;
   }
 }
 

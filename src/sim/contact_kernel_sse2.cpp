@@ -1,6 +1,5 @@
-// The Hertz-Mindlin contact kernel (contact_kernel.hpp) for sse2: compiled with
-// baseline x86-64 (SSE2), 2 contacts per register.
-// Only the kernel's own functions live here (contact_kernel_impl.hpp, in namespace sse2).
+// The SIMD kernels (contact_kernel.hpp) for baseline x86-64: SSE2, 2 doubles per register.
+// Only the kernels' own functions live here (contact_kernel_impl.hpp, in namespace sse2).
 #if defined(__x86_64__)
 #define DEMLAB_KERNEL_NS sse2
 #include "sim/contact_kernel_impl.hpp"
