@@ -11,6 +11,9 @@ namespace demlab::sim::kernel {
 HertzPassFn sse2HertzPass(bool history, bool rotation);
 HertzPassFn avx2HertzPass(bool history, bool rotation);
 HertzPassFn avx512HertzPass(bool history, bool rotation);
+WallPassFn sse2WallPass(bool history, bool rotation);
+WallPassFn avx2WallPass(bool history, bool rotation);
+WallPassFn avx512WallPass(bool history, bool rotation);
 RotationPassFn sse2RotationPass();
 RotationPassFn avx2RotationPass();
 RotationPassFn avx512RotationPass();
@@ -89,6 +92,23 @@ HertzPassFn hertzPass(Isa isa, bool history, bool rotation) {
       return avx2HertzPass(history, rotation);
     case Isa::Avx512:
       return avx512HertzPass(history, rotation);
+  }
+#endif
+  (void)history;
+  (void)rotation;
+  return nullptr;
+}
+
+WallPassFn wallPass(Isa isa, bool history, bool rotation) {
+  if (!supported(isa)) return nullptr;
+#if defined(__x86_64__)
+  switch (isa) {
+    case Isa::Sse2:
+      return sse2WallPass(history, rotation);
+    case Isa::Avx2:
+      return avx2WallPass(history, rotation);
+    case Isa::Avx512:
+      return avx512WallPass(history, rotation);
   }
 #endif
   (void)history;

@@ -69,6 +69,42 @@ struct HertzPassArgs {
 
 using HertzPassFn = void (*)(HertzPassArgs&);
 
+// The contacts of one static wall with grains (WallContactModule, contacts.hpp), Hertz-Mindlin,
+// in the order of the wall's candidates: the narrow phase's geometry given, the law and the
+// forces on the grains, the torques, the wall's force, the springs and the energy sums.
+struct WallPassArgs {
+  const double* x = nullptr;
+  const double* v = nullptr;
+  const double* w = nullptr;  // with rotation
+  double* f = nullptr;
+  double* t = nullptr;  // with rotation
+  const double* r = nullptr;
+  const double* invMass = nullptr;
+  const uint32_t* material = nullptr;
+  // Contact c: geometry[7 c ...] = physics::ContactGeometry<3> (normal, overlap, point), grain
+  // grain[c], spring springs[3 slot[c] ...] (with history).
+  const double* geometry = nullptr;
+  const uint32_t* grain = nullptr;
+  const uint32_t* slot = nullptr;
+  double* springs = nullptr;
+  size_t n = 0;
+  // The constants of the pair (grain material m, this wall): pairs[m], or pairs[0] for every
+  // grain when onePair.
+  const HertzPair* pairs = nullptr;
+  bool onePair = true;
+  double dt = 0;
+  double lag = 0;
+  bool springCriterion = false;
+  // As HertzPassArgs::record; cand[c] is the contact's index (0 .. n - 1).
+  void (*record)(void* context, const uint32_t* cand, const double* force, size_t n) = nullptr;
+  void* recordContext = nullptr;
+  // In and out: the wall's force (+= the force on the wall), the energy sums.
+  double wallForce[3] = {0, 0, 0};
+  double elastic = 0, damping = 0, friction = 0, springWork = 0;
+};
+
+using WallPassFn = void (*)(WallPassArgs&);
+
 // The rotation update of 3D grains (PredictRotationModule, integrator.hpp) over grains
 // 0 .. n - 1, W at a time: alpha = t invInertia, wHalf = w + dt/2 alpha, q advanced by
 // advance(q, wHalf, dt) unless wHalf is zero, w = wHalf (+ dt/2 alpha when sync), tPrev = t,
@@ -139,6 +175,9 @@ bool supported(Isa isa);
 // Returns the kernel for isa, history (tangential springs) and rotation (torques, angular
 // velocities), or nullptr if !supported(isa).
 HertzPassFn hertzPass(Isa isa, bool history, bool rotation);
+
+// Returns the wall kernel for isa, history and rotation, or nullptr if !supported(isa).
+WallPassFn wallPass(Isa isa, bool history, bool rotation);
 
 // Returns the rotation update for isa, or nullptr if !supported(isa).
 RotationPassFn rotationPass(Isa isa);

@@ -11,6 +11,10 @@ HertzPassFn avx2HertzPass(bool history, bool rotation) {
   return avx2::hertzPassFor<4>(history, rotation);
 }
 
+WallPassFn avx2WallPass(bool history, bool rotation) {
+  return avx2::wallPassFor<4>(history, rotation);
+}
+
 RotationPassFn avx2RotationPass() {
   return &avx2::rotationPass<4>;
 }

@@ -14,6 +14,10 @@ HertzPassFn avx512HertzPass(bool history, bool rotation) {
   return avx512::hertzPassFor<4>(history, rotation);
 }
 
+WallPassFn avx512WallPass(bool history, bool rotation) {
+  return avx512::wallPassFor<4>(history, rotation);
+}
+
 RotationPassFn avx512RotationPass() {
   return &avx512::rotationPass<4>;
 }

@@ -361,33 +361,34 @@ DEMLAB_KI void geometry(const Consts C, const uint32_t* k, size_t valid, Stage<W
   }
 }
 
-// Stage 3 for the contacts of candidates k[0 .. valid - 1], from stage lanes c ...
-template <int W, bool History, bool Rotation, bool OnePair>
-DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<W>& st, size_t c,
-                   Sums& e, Records* rec, size_t& nRec) {
+// The law's inputs for W contacts: geometry, roots, kinematics, the spring before the step and
+// the pair's constants.
+template <int W>
+struct LawIn {
+  V3<W> n;
+  vd<W> overlap, a, sqrtAm, effMass, effRadius;
+  V3<W> vrel, sOld;
+  vd<W> kn, kt, gammaN, gammaT, mu;
+};
+// What it gives: the force on B, the step's energies and (with history) the spring after it.
+template <int W>
+struct LawOut {
+  V3<W> F;
+  vd<W> damping, elastic, friction, springWork;
+  V3<W> sNew;
+};
+
+// hertzMindlinContactWith with coulombSpringStep<Project> (law_hertz_mindlin.hpp,
+// tangential.hpp), lane by lane.
+template <int W, bool History>
+DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
   const double dt = C.dt;
   const vd<W> zero = splat<W>(0.0);
-  size_t kc[W], ok[W];
-  laneCandidates<W>(k, valid, kc);
-  for (int l = 0; l < W; ++l) ok[l] = 3 * kc[l];
-  vd<W> pKn, pKt, pGn, pGt, pMu;
-  if constexpr (OnePair) {
-    pKn = splat<W>(C.one.kn);
-    pKt = splat<W>(C.one.kt);
-    pGn = splat<W>(C.one.gammaN);
-    pGt = splat<W>(C.one.gammaT);
-    pMu = splat<W>(C.one.friction);
-  } else {
-    pKn = st.get(kKn, c);
-    pKt = st.get(kKt, c);
-    pGn = st.get(kGn, c);
-    pGt = st.get(kGt, c);
-    pMu = st.get(kMu, c);
-  }
-  const V3<W> n{st.get(kNx, c), st.get(kNy, c), st.get(kNz, c)};
-  const vd<W> overlap = st.get(kOverlap, c);
-  const vd<W> a = st.get(kA, c), sqrtAm = st.get(kSqrtAm, c);
-  const V3<W> vrel{st.get(kVx, c), st.get(kVy, c), st.get(kVz, c)};
+  LawOut<W> out;
+  const V3<W>& n = in.n;
+  const vd<W> overlap = in.overlap, a = in.a, sqrtAm = in.sqrtAm;
+  const V3<W>& vrel = in.vrel;
+  const vd<W> pKn = in.kn, pKt = in.kt, pGn = in.gammaN, pGt = in.gammaT, pMu = in.mu;
   // Normal force (hertzMindlinContactWith).
   const vd<W> kn = pKn * a;
   const vd<W> gn = pGn * sqrtAm;
@@ -396,7 +397,7 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
   vd<W> fn = spring - gn * vn;
   fn = fn < 0.0 ? zero : fn;
   vd<W> vForce = vn;
-  if (C.lag) vForce = vn + C.lagDt * fn / st.get(kEffMass, c);
+  if (C.lag) vForce = vn + C.lagDt * fn / in.effMass;
   vd<W> damping = (spring - fn) * vForce * dt;
   V3<W> F{fn * n.x, fn * n.y, fn * n.z};
   vd<W> elastic = 0.4 * spring * overlap;
@@ -406,12 +407,12 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
     const vm<W> rough = pMu > 0.0;
     const V3<W> vt{vrel.x - vn * n.x, vrel.y - vn * n.y, vrel.z - vn * n.z};
     const vd<W> kt = pKt * a;
-    const V3<W> sOld = gather3<W>(C.springs, ok);
+    const V3<W> sOld = in.sOld;
     const vd<W> s2old = dot<W>(sOld, sOld);
     {
       const vd<W> reach = overlap + vn * dt;
       const vd<W> before = zero < reach ? reach : zero;
-      const vd<W> ktBefore = pKt * vsqrt<W>(st.get(kEffRadius, c) * before);
+      const vd<W> ktBefore = pKt * vsqrt<W>(in.effRadius * before);
       springWork = s2old != 0.0 ? 0.5 * (kt - ktBefore) * s2old : zero;
     }
     const vd<W> ct = pGt * sqrtAm;
@@ -463,8 +464,59 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
     elastic = rough ? elT : elastic;
     friction = rough ? flT : zero;
     springWork = rough ? springWork : zero;
+    out.sNew = select<W>(rough, sT, V3<W>{zero, zero, zero});
+  }
+  out.F = F;
+  out.damping = damping;
+  out.elastic = elastic;
+  out.friction = friction;
+  out.springWork = springWork;
+  return out;
+}
+
+// Stage 3 for the contacts of candidates k[0 .. valid - 1], from stage lanes c ...
+template <int W, bool History, bool Rotation, bool OnePair>
+DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<W>& st, size_t c,
+                   Sums& e, Records* rec, size_t& nRec) {
+  size_t kc[W], ok[W];
+  laneCandidates<W>(k, valid, kc);
+  for (int l = 0; l < W; ++l) ok[l] = 3 * kc[l];
+  vd<W> pKn, pKt, pGn, pGt, pMu;
+  if constexpr (OnePair) {
+    pKn = splat<W>(C.one.kn);
+    pKt = splat<W>(C.one.kt);
+    pGn = splat<W>(C.one.gammaN);
+    pGt = splat<W>(C.one.gammaT);
+    pMu = splat<W>(C.one.friction);
+  } else {
+    pKn = st.get(kKn, c);
+    pKt = st.get(kKt, c);
+    pGn = st.get(kGn, c);
+    pGt = st.get(kGt, c);
+    pMu = st.get(kMu, c);
+  }
+  LawIn<W> in;
+  in.n = V3<W>{st.get(kNx, c), st.get(kNy, c), st.get(kNz, c)};
+  in.overlap = st.get(kOverlap, c);
+  in.a = st.get(kA, c);
+  in.sqrtAm = st.get(kSqrtAm, c);
+  in.effMass = st.get(kEffMass, c);
+  in.effRadius = st.get(kEffRadius, c);
+  in.vrel = V3<W>{st.get(kVx, c), st.get(kVy, c), st.get(kVz, c)};
+  if constexpr (History) in.sOld = gather3<W>(C.springs, ok);
+  in.kn = pKn;
+  in.kt = pKt;
+  in.gammaN = pGn;
+  in.gammaT = pGt;
+  in.mu = pMu;
+  const LawOut<W> lo = hertzLaw<W, History>(C, in);
+  const V3<W>& n = in.n;
+  const V3<W>& F = lo.F;
+  const vd<W> damping = lo.damping, elastic = lo.elastic, friction = lo.friction,
+              springWork = lo.springWork;
+  if constexpr (History) {
     Lanes3<W> sl;
-    split<W>(select<W>(rough, sT, V3<W>{zero, zero, zero}), sl);
+    split<W>(lo.sNew, sl);
     // (A repeated lane stores its last lane's spring again.)
     for (int l = 0; l < W; ++l) store3(C.springs + ok[l], sl.xy[l], sl.z[l]);
   }
@@ -637,6 +689,142 @@ template <int W>
 HertzPassFn hertzPassFor(bool history, bool rotation) {
   if (history) return rotation ? &hertzPass<W, true, true> : &hertzPass<W, true, false>;
   return rotation ? &hertzPass<W, false, true> : &hertzPass<W, false, false>;
+}
+
+// ---- walls ------------------------------------------------------------------------------------
+
+// WallContactModule's loop for contacts c0 .. c0 + valid - 1 of one static wall (valid <= W; the
+// lanes from valid on repeat the last contact and are dropped): the grain is A, the wall B;
+// vWall = 0, so vrel = 0 - v_i - w_i x arm with arm = point - x_i; m* = 1 / invMass_i, R* = r_i.
+template <int W, bool History, bool Rotation, bool OnePair>
+DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size_t valid,
+                         double* wf, Sums& e, Records* rec, size_t& nRec) {
+  size_t cs[W], gi[W], oi[W], og[W], os[W];
+  for (int l = 0; l < W; ++l) {
+    const size_t c = c0 + (static_cast<size_t>(l) < valid ? l : valid - 1);
+    cs[l] = c;
+    gi[l] = A.grain[c];
+    oi[l] = 3 * gi[l];
+    og[l] = 7 * c;
+    if constexpr (History) os[l] = 3 * size_t{A.slot[c]};
+  }
+  const vd<W> zero = splat<W>(0.0);
+  LawIn<W> in;
+  in.n = gather3<W>(A.geometry, og);
+  in.overlap = gather1<W>(A.geometry + 3, og);
+  in.effMass = 1.0 / gather1<W>(A.invMass, gi);
+  in.effRadius = gather1<W>(A.r, gi);
+  in.a = vsqrt<W>(in.effRadius * in.overlap);
+  in.sqrtAm = vsqrt<W>(in.a * in.effMass);
+  const V3<W> vi = gather3<W>(A.v, oi);
+  in.vrel = V3<W>{zero - vi.x, zero - vi.y, zero - vi.z};
+  V3<W> arm;
+  if constexpr (Rotation) {
+    const V3<W> point = gather3<W>(A.geometry + 4, og);
+    const V3<W> xi = gather3<W>(A.x, oi);
+    arm = V3<W>{point.x - xi.x, point.y - xi.y, point.z - xi.z};
+    const V3<W> cr = cross<W>(gather3<W>(A.w, oi), arm);
+    in.vrel = V3<W>{in.vrel.x - cr.x, in.vrel.y - cr.y, in.vrel.z - cr.z};
+  }
+  if constexpr (History) in.sOld = gather3<W>(A.springs, os);
+  if constexpr (OnePair) {
+    in.kn = splat<W>(C.one.kn);
+    in.kt = splat<W>(C.one.kt);
+    in.gammaN = splat<W>(C.one.gammaN);
+    in.gammaT = splat<W>(C.one.gammaT);
+    in.mu = splat<W>(C.one.friction);
+  } else {
+    size_t op[W];
+    for (int l = 0; l < W; ++l) op[l] = A.material[gi[l]] * (sizeof(HertzPair) / sizeof(double));
+    const double* pp = &A.pairs[0].kn;
+    in.kn = gather1<W>(pp + 0, op);
+    in.kt = gather1<W>(pp + 1, op);
+    in.gammaN = gather1<W>(pp + 2, op);
+    in.gammaT = gather1<W>(pp + 3, op);
+    in.mu = gather1<W>(pp + 4, op);
+  }
+  const LawOut<W> lo = hertzLaw<W, History>(C, in);
+  if constexpr (History) {
+    Lanes3<W> sl;
+    split<W>(lo.sNew, sl);
+    for (int l = 0; l < W; ++l) store3(A.springs + os[l], sl.xy[l], sl.z[l]);
+  }
+  // The grain's force and torque (f_i -= F, t_i -= arm x F), the wall's force, lane by lane.
+  Lanes3<W> fl3;
+  split<W>(lo.F, fl3);
+  for (size_t l = 0; l < valid; ++l) add3(A.f + oi[l], neg(fl3.xy[l]), neg(fl3.z[l]));
+  if constexpr (Rotation) {
+    const V3<W> tc = cross<W>(arm, lo.F);
+    Lanes3<W> tl;
+    split<W>(V3<W>{-tc.x, -tc.y, -tc.z}, tl);
+    for (size_t l = 0; l < valid; ++l) add3(A.t + oi[l], tl.xy[l], tl.z[l]);
+  }
+  for (size_t l = 0; l < valid; ++l) add3(wf, fl3.xy[l], fl3.z[l]);
+  {
+    double e0[W], e1[W], e2[W], e3[W];
+    std::memcpy(e0, &lo.elastic, sizeof e0);
+    std::memcpy(e1, &lo.damping, sizeof e1);
+    std::memcpy(e2, &lo.friction, sizeof e2);
+    std::memcpy(e3, &lo.springWork, sizeof e3);
+    for (size_t l = 0; l < valid; ++l) {
+      e.elastic += e0[l];
+      e.damping += e1[l];
+      e.friction += e2[l];
+      e.springWork += e3[l];
+    }
+  }
+  if (rec != nullptr) {
+    for (int l = 0; l < W; ++l) {
+      rec->cand[nRec + l] = static_cast<uint32_t>(cs[l]);
+      store3(rec->force + 3 * (nRec + l), fl3.xy[l], fl3.z[l]);
+    }
+    nRec += valid;
+  }
+}
+
+template <int W, bool History, bool Rotation, bool OnePair>
+void wallRun(WallPassArgs& A) {
+  Consts C{};
+  C.dt = A.dt;
+  C.lagDt = A.lag * A.dt;
+  C.lag = A.lag != 0;
+  C.total = !A.springCriterion;
+  C.one = A.pairs[0];
+  Sums e{A.elastic, A.damping, A.friction, A.springWork};
+  double wf[3] = {A.wallForce[0], A.wallForce[1], A.wallForce[2]};
+  Records records;
+  Records* rec = A.record != nullptr ? &records : nullptr;
+  size_t nRec = 0;
+  auto flush = [&] {
+    if (nRec > 0) A.record(A.recordContext, records.cand, records.force, nRec);
+    nRec = 0;
+  };
+  size_t c = 0;
+  for (; c + W <= A.n; c += W) {
+    if (rec != nullptr && nRec + W > Records::kSize) flush();
+    wallGroup<W, History, Rotation, OnePair>(C, A, c, W, wf, e, rec, nRec);
+  }
+  if (c < A.n) {
+    if (rec != nullptr && nRec + W > Records::kSize) flush();
+    wallGroup<W, History, Rotation, OnePair>(C, A, c, A.n - c, wf, e, rec, nRec);
+  }
+  if (rec != nullptr) flush();
+  for (int k = 0; k < 3; ++k) A.wallForce[k] = wf[k];
+  A.elastic = e.elastic;
+  A.damping = e.damping;
+  A.friction = e.friction;
+  A.springWork = e.springWork;
+}
+
+template <int W, bool History, bool Rotation>
+void wallPass(WallPassArgs& a) {
+  a.onePair ? wallRun<W, History, Rotation, true>(a) : wallRun<W, History, Rotation, false>(a);
+}
+
+template <int W>
+WallPassFn wallPassFor(bool history, bool rotation) {
+  if (history) return rotation ? &wallPass<W, true, true> : &wallPass<W, true, false>;
+  return rotation ? &wallPass<W, false, true> : &wallPass<W, false, false>;
 }
 
 // ---- the rotation update ----------------------------------------------------------------------

@@ -10,6 +10,10 @@ HertzPassFn sse2HertzPass(bool history, bool rotation) {
   return sse2::hertzPassFor<2>(history, rotation);
 }
 
+WallPassFn sse2WallPass(bool history, bool rotation) {
+  return sse2::wallPassFor<2>(history, rotation);
+}
+
 RotationPassFn sse2RotationPass() {
   return &sse2::rotationPass<2>;
 }

@@ -412,6 +412,9 @@ class WallContactModule final : public SimModule<D> {
       if constexpr (OnePair) one = s.pairParams[wallPair];
       physics::TangentialHistory<D>* __restrict springs = nullptr;
       if constexpr (History) springs = s.wallSprings[w].data();
+      if constexpr (kKernel) {
+        if (!wall.moving && kernelWall(s, w, m, which, springs, e)) continue;
+      }
       // touched_ lists the grains in contact in the order of `which`: walk both to find each
       // contact's candidate index (its spring slot), zeroing the springs of those not touched.
       size_t kc = 0;
@@ -458,6 +461,92 @@ class WallContactModule final : public SimModule<D> {
 
   std::vector<physics::ContactGeometry<D>> geoms_;
   std::vector<uint32_t> touched_;
+
+  // Static walls of 3D Hertz-Mindlin scenes go through the SIMD kernel (contact_kernel.hpp:
+  // the same arithmetic in the same order as the loop in pass()), when the platform has one.
+  static constexpr bool kKernel = D == 3 && Law == static_cast<int>(physics::LawKind::HertzMindlin);
+  std::vector<uint32_t> slots_;
+  std::vector<kernel::HertzPair> kernelPairs_;
+  struct RecordSink {
+    Scene<D>* s;
+    const uint32_t* grain;
+    uint32_t wall;
+  };
+  static void appendRecords(void* sink, const uint32_t* c, const double* force, size_t n) {
+    const RecordSink& k = *static_cast<const RecordSink*>(sink);
+    for (size_t j = 0; j < n; ++j) {
+      k.s->contacts.push_back({k.grain[c[j]], k.wall, true, VecD<D>(force + 3 * j)});
+    }
+  }
+
+  // Returns false, changing nothing, when no kernel is active; else runs wall w's m contacts
+  // (geoms_, touched_) through it.
+  bool kernelWall(Scene<D>& s, size_t w, size_t m, const std::vector<uint32_t>& which,
+                  physics::TangentialHistory<D>* springs, PassEnergy& e) {
+    kernel::Isa isa;
+    if (!kernel::activeIsa(&isa)) return false;
+    const kernel::WallPassFn fn = kernel::wallPass(isa, History, Rotation);
+    if (fn == nullptr) return false;
+    static_assert(sizeof(physics::ContactGeometry<D>) == 7 * sizeof(double));
+    GrainArrays<D>& a = s.grains.a;
+    Wall<D>& wall = s.walls.items[w];
+    const size_t nMat = s.nMat();
+    const bool one = isOnePair(grainPair_, s);
+    kernelPairs_.resize(one ? 1 : nMat);
+    for (size_t k = 0; k < kernelPairs_.size(); ++k) {
+      const size_t mat = one ? static_cast<size_t>(grainPair_) / (nMat + 1) : k;
+      const physics::PairParams& p = s.pairParams[mat * nMat + wall.material];
+      kernelPairs_[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
+    }
+    kernel::WallPassArgs k;
+    if constexpr (History) {
+      // Each contact's candidate index (its spring slot); the springs of the others zeroed.
+      slots_.resize(m);
+      size_t kc = 0;
+      for (size_t c = 0; c < m; ++c) {
+        while (which[kc] != touched_[c]) springs[kc++].spring.setZero();
+        slots_[c] = static_cast<uint32_t>(kc++);
+      }
+      while (kc < which.size()) springs[kc++].spring.setZero();
+      k.slot = slots_.data();
+      k.springs = reinterpret_cast<double*>(springs);
+    }
+    k.x = reinterpret_cast<const double*>(a.x.data());
+    k.v = reinterpret_cast<const double*>(a.v.data());
+    k.f = reinterpret_cast<double*>(a.f.data());
+    if constexpr (Rotation) {
+      k.w = reinterpret_cast<const double*>(a.w.data());
+      k.t = reinterpret_cast<double*>(a.t.data());
+    }
+    k.r = a.r.data();
+    k.invMass = a.invMass.data();
+    k.material = a.material.data();
+    k.geometry = reinterpret_cast<const double*>(geoms_.data());
+    k.grain = touched_.data();
+    k.n = m;
+    k.pairs = kernelPairs_.data();
+    k.onePair = one;
+    k.dt = s.stepDt;
+    k.lag = velocityLag(s);
+    k.springCriterion = s.coulomb == physics::CoulombCriterion::Spring;
+    RecordSink sink{&s, touched_.data(), static_cast<uint32_t>(w)};
+    if (s.recordContacts) {
+      k.record = &appendRecords;
+      k.recordContext = &sink;
+    }
+    for (int c = 0; c < D; ++c) k.wallForce[c] = wall.force[c];
+    k.elastic = e.elastic;
+    k.damping = e.damping;
+    k.friction = e.friction;
+    k.springWork = e.springWork;
+    if (m > 0) fn(k);
+    for (int c = 0; c < D; ++c) wall.force[c] = k.wallForce[c];
+    e.elastic = k.elastic;
+    e.damping = k.damping;
+    e.friction = k.friction;
+    e.springWork = k.springWork;
+    return true;
+  }
 };
 
 // Returns the grain-grain and grain-wall contact modules for the scene's law set, history and
