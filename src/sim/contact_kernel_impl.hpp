@@ -567,6 +567,35 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
   }
 }
 
+// For each 4-bit pattern: the byte shuffle that packs the 32-bit lanes whose bit is set to the
+// front, and their number.
+struct Pack4 {
+  __m128i shuffle[16];
+  unsigned count[16];
+};
+constexpr Pack4 makePack4() {
+  Pack4 p{};
+  for (unsigned bits = 0; bits < 16; ++bits) {
+    unsigned char b[16] = {};
+    unsigned n = 0;
+    for (unsigned l = 0; l < 4; ++l) {
+      if ((bits >> l) & 1) {
+        for (unsigned k = 0; k < 4; ++k) b[4 * n + k] = static_cast<unsigned char>(4 * l + k);
+        ++n;
+      }
+    }
+    unsigned long long lo = 0, hi = 0;
+    for (int k = 7; k >= 0; --k) {
+      lo = (lo << 8) | b[k];
+      hi = (hi << 8) | b[8 + k];
+    }
+    p.shuffle[bits] = __m128i{static_cast<long long>(lo), static_cast<long long>(hi)};
+    p.count[bits] = n;
+  }
+  return p;
+}
+inline constexpr Pack4 kPack4 = makePack4();
+
 // Stage 1 for candidates kc .. kc + valid - 1 (valid <= W; W in the main loop): appends the
 // touching ones to bk[m...] without a branch, zeroes the springs of the others.
 template <int W, bool History, bool Rotation, bool Prefetch>
@@ -604,9 +633,18 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
       __builtin_prefetch(C.x + 3 * size_t{C.cand[2 * ahead + 1]});
     }
   }
-  for (int l = 0; l < W; ++l) {
-    bk[m] = static_cast<uint32_t>(kc + l);
-    m += (hit >> l) & 1;
+  if constexpr (W == 4) {
+    // The lanes hit, packed to the front with one shuffle; bk has room for W past the end.
+    const __m128i lanes =
+        _mm_add_epi32(_mm_set1_epi32(static_cast<int>(kc)), _mm_setr_epi32(0, 1, 2, 3));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(bk + m),
+                     _mm_shuffle_epi8(lanes, kPack4.shuffle[hit]));
+    m += kPack4.count[hit];
+  } else {
+    for (int l = 0; l < W; ++l) {
+      bk[m] = static_cast<uint32_t>(kc + l);
+      m += (hit >> l) & 1;
+    }
   }
   if constexpr (History) {
     if (valid == W) {
@@ -638,7 +676,7 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
   Stage<W> st;
   size_t contacts = 0;
   // The touching candidates not yet run: fewer than W carry over to the next batch.
-  uint32_t bk[kBatch + W];
+  uint32_t bk[kBatch + 2 * W];
   size_t m = 0;
   for (size_t k0 = 0; k0 < nc; k0 += kBatch) {
     const size_t kEnd = nc < k0 + kBatch ? nc : k0 + kBatch;
