@@ -56,8 +56,10 @@ struct HertzPassArgs {
   double dt = 0;
   double lag = 0;               // physics::ContactKinematics::velocityLag
   bool springCriterion = false;  // physics::CoulombCriterion::Spring (else Total)
-  // Prefetch the grains' lines ahead of use: for beds whose grain arrays outgrow the caches.
-  bool prefetch = false;
+  // Prefetching, for beds whose grain arrays outgrow the caches: 1, the positions of the
+  // candidates further on; 2, also the velocities, spins, forces and torques of the candidates
+  // in hand (worth it where most candidates touch).
+  int prefetch = 0;
   // When not null, record is called with the contacts in candidate order, a few hundred at a
   // time: cand[c] the candidate index of contact c, force[3 c ...] the force on B.
   void (*record)(void* context, const uint32_t* cand, const double* force, size_t n) = nullptr;

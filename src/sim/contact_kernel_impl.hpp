@@ -598,7 +598,7 @@ inline constexpr Pack4 kPack4 = makePack4();
 
 // Stage 1 for candidates kc .. kc + valid - 1 (valid <= W; W in the main loop): appends the
 // touching ones to bk[m...] without a branch, zeroes the springs of the others.
-template <int W, bool History, bool Rotation, bool Prefetch>
+template <int W, bool History, bool Rotation, int Prefetch>
 DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size_t& m,
                      const SpringZero<W>& springZero) {
   size_t si[W], sj[W], oi[W], oj[W];
@@ -614,20 +614,22 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
   const V3<W> d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
   unsigned hit = bitsOf<W>(dot<W>(d, d) < rs * rs);
   if (valid < W) hit &= (1u << valid) - 1;
-  if constexpr (Prefetch) {
-    // Beds larger than the caches: the lines stage 2 and 3 read and write for these
-    // candidates (a few hundred cycles from now), and the positions of candidates further on.
+  if constexpr (Prefetch > 0) {
+    // Beds larger than the caches: the positions of the candidates kAhead on, and (dense beds,
+    // where most candidates touch) the lines stages 2 and 3 read and write for these candidates
+    // a few hundred cycles from now.
     for (int l = 0; l < W; ++l) {
-      for (int g = 0; g < 2; ++g) {
-        const size_t o = g == 0 ? oi[l] : oj[l];
-        __builtin_prefetch(C.v + o);
-        __builtin_prefetch(C.force + o, 1);
-        if constexpr (Rotation) {
-          __builtin_prefetch(C.w + o);
-          __builtin_prefetch(C.torque + o, 1);
+      if constexpr (Prefetch > 1) {
+        for (int g = 0; g < 2; ++g) {
+          const size_t o = g == 0 ? oi[l] : oj[l];
+          __builtin_prefetch(C.v + o);
+          __builtin_prefetch(C.force + o, 1);
+          if constexpr (Rotation) {
+            __builtin_prefetch(C.w + o);
+            __builtin_prefetch(C.torque + o, 1);
+          }
         }
       }
-      if constexpr (History) __builtin_prefetch(C.springs + 3 * (kc + l));
       const size_t ahead = kc + l + kAhead;
       __builtin_prefetch(C.x + 3 * size_t{C.cand[2 * ahead]});
       __builtin_prefetch(C.x + 3 * size_t{C.cand[2 * ahead + 1]});
@@ -660,7 +662,7 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
   }
 }
 
-template <int W, bool History, bool Rotation, bool OnePair, bool Prefetch>
+template <int W, bool History, bool Rotation, bool OnePair, int Prefetch>
 void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
   const Consts C{A.x, A.v, A.w, A.f, A.t, A.r, A.invMass, A.material, A.cand, A.springs, A.pairs,
                  A.nMat, A.dt, A.lag * A.dt, A.lag != 0, !A.springCriterion, A.pairs[0]};
@@ -682,11 +684,11 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
     const size_t kEnd = nc < k0 + kBatch ? nc : k0 + kBatch;
     size_t kc = k0;
     // (Prefetching looks kAhead candidates on: the last ones go without it.)
-    const size_t kFast = Prefetch ? (nc > kAhead ? (kEnd < nc - kAhead ? kEnd : nc - kAhead) : 0)
-                                  : kEnd;
+    const size_t kFast =
+        Prefetch > 0 ? (nc > kAhead ? (kEnd < nc - kAhead ? kEnd : nc - kAhead) : 0) : kEnd;
     for (; kc + W <= kFast; kc += W) touch<W, History, Rotation, Prefetch>(C, kc, W, bk, m, springZero);
-    for (; kc + W <= kEnd; kc += W) touch<W, History, Rotation, false>(C, kc, W, bk, m, springZero);
-    if (kc < kEnd) touch<W, History, Rotation, false>(C, kc, kEnd - kc, bk, m, springZero);
+    for (; kc + W <= kEnd; kc += W) touch<W, History, Rotation, 0>(C, kc, W, bk, m, springZero);
+    if (kc < kEnd) touch<W, History, Rotation, 0>(C, kc, kEnd - kc, bk, m, springZero);
     const size_t full = m - m % W;
     for (size_t c = 0; c < full; c += W) geometry<W, Rotation, OnePair>(C, bk + c, W, st, c);
     for (size_t c = 0; c < full; c += W) {
@@ -714,12 +716,15 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
 template <int W, bool History, bool Rotation>
 void hertzPass(HertzPassArgs& a) {
   static const SpringZero<W> springZero;
-  if (a.prefetch) {
-    a.onePair ? hertzRun<W, History, Rotation, true, true>(a, springZero)
-              : hertzRun<W, History, Rotation, false, true>(a, springZero);
+  if (a.prefetch == 2) {
+    a.onePair ? hertzRun<W, History, Rotation, true, 2>(a, springZero)
+              : hertzRun<W, History, Rotation, false, 2>(a, springZero);
+  } else if (a.prefetch == 1) {
+    a.onePair ? hertzRun<W, History, Rotation, true, 1>(a, springZero)
+              : hertzRun<W, History, Rotation, false, 1>(a, springZero);
   } else {
-    a.onePair ? hertzRun<W, History, Rotation, true, false>(a, springZero)
-              : hertzRun<W, History, Rotation, false, false>(a, springZero);
+    a.onePair ? hertzRun<W, History, Rotation, true, 0>(a, springZero)
+              : hertzRun<W, History, Rotation, false, 0>(a, springZero);
   }
 }
 
