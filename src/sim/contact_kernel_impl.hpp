@@ -1019,8 +1019,17 @@ void rotationPass(RotationArgs& A) {
   const vd<W> zero = splat<W>(0.0);
   const size_t n = A.n - A.n % W;
   for (size_t i = 0; i < n; i += W) {
-    const V3<W> t = load3c<W>(ta + 3 * i);
-    const V3<W> w = load3c<W>(wa + 3 * i);
+    const Flat3<W> tf = loadFlat<W>(ta + 3 * i), wf = loadFlat<W>(wa + 3 * i);
+    if (!anyBits<W>((vm<W>)tf.a | (vm<W>)tf.b | (vm<W>)tf.c | (vm<W>)wf.a | (vm<W>)wf.b |
+                    (vm<W>)wf.c)) {
+      // W idle grains (no torque, no spin, all +0 bit for bit): as the module's shortcut, only
+      // their last torques become +0 (the update would leave the same bits, at more cost).
+      const Flat3<W> p = loadFlat<W>(tp + 3 * i);
+      if (anyBits<W>((vm<W>)p.a | (vm<W>)p.b | (vm<W>)p.c)) storeFlat<W>(tp + 3 * i, tf);
+      continue;
+    }
+    const V3<W> t = toSoA<W>(tf.a, tf.b, tf.c);
+    const V3<W> w = toSoA<W>(wf.a, wf.b, wf.c);
     vd<W> inv;
     std::memcpy(&inv, invI + i, sizeof inv);
     const V3<W> alpha{t.x * inv, t.y * inv, t.z * inv};

@@ -210,6 +210,12 @@ Scene<3> randomSpins(unsigned seed, bool verlet) {
     s.grains.a.q[i] = q;
     s.grains.a.t[i] = i % 4 == 2 ? Vec3(Vec3::Zero()) : Vec3(1e-6 * Vec3(u(rng), u(rng), u(rng)));
     s.grains.a.tPrev[i] = i % 3 == 0 ? Vec3(Vec3::Zero()) : Vec3(u(rng), u(rng), u(rng));
+    // A run of idle grains (whole registers of them), some with a last torque.
+    if (i >= 120 && i < 160) {
+      s.grains.a.w[i].setZero();
+      s.grains.a.t[i].setZero();
+      if (i >= 136) s.grains.a.tPrev[i].setZero();
+    }
   }
   return s;
 }
