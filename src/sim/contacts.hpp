@@ -203,7 +203,12 @@ class GrainContactModule final : public SimModule<D> {
     // Dense: the last pass found contacts for more than a quarter of its candidates.
     const bool dense = 4 * lastContacts_ > k.nCand;
     k.prefetch = a.size() > kPrefetchGrains ? (dense ? 2 : 1) : 0;
-    if (const char* pf = std::getenv("DEMLAB_PREFETCH")) k.prefetch = pf[0] - '0';
+    // $DEMLAB_PREFETCH (0, 1, 2) overrides the choice, for measuring it.
+    static const int forced = [] {
+      const char* pf = std::getenv("DEMLAB_PREFETCH");
+      return pf != nullptr && pf[0] >= '0' && pf[0] <= '2' ? pf[0] - '0' : -1;
+    }();
+    if (forced >= 0) k.prefetch = forced;
     if (s.recordContacts) {
       k.record = &appendRecords;
       k.recordContext = &s;
