@@ -12,3 +12,13 @@ if(DEMLAB_SIM_TESTS)
                                                  Threads::Threads)
   add_test(NAME sim COMMAND demlab_sim_tests --gtest_brief=1)
 endif()
+
+# The contact kernels (src/sim/contact_kernel.hpp): one translation unit per instruction set,
+# chosen at run time; the rest of the build targets baseline x86-64. No FMA anywhere (a fused
+# multiply-add rounds once where the Eigen loop rounds twice): the kernels give the same bits.
+set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/sim/contact_kernel_sse2.cpp
+  PROPERTIES COMPILE_OPTIONS "-ffp-contract=off")
+set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/sim/contact_kernel_avx2.cpp
+  PROPERTIES COMPILE_OPTIONS "-mavx2;-mno-fma;-ffp-contract=off")
+set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/sim/contact_kernel_avx512.cpp
+  PROPERTIES COMPILE_OPTIONS "-mavx512f;-mavx512dq;-mavx512vl;-mno-fma;-ffp-contract=off")

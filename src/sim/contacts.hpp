@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdlib>
 #include <cstdint>
 #include <memory>
 #include <type_traits>
@@ -18,6 +19,7 @@
 #include "physics/law_hertz_mindlin.hpp"
 #include "physics/law_linear.hpp"
 #include "physics/narrow_phase.hpp"
+#include "sim/contact_kernel.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -120,6 +122,9 @@ class GrainContactModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Contacts; }
 
   void run(Scene<D>& s) override {
+    if constexpr (kKernel) {
+      if (kernelPass(s)) return;
+    }
     // One material pair for every contact: its parameters are read once, outside the loop.
     if (isOnePair(grainPair_, s)) {
       pass<true>(s);
@@ -130,6 +135,92 @@ class GrainContactModule final : public SimModule<D> {
 
  private:
   long grainPair_;
+
+  // 3D Hertz-Mindlin beds go through the SIMD contact kernel (contact_kernel.hpp) when the
+  // platform has one: the same arithmetic in the same order as pass() below, several contacts
+  // per register. $DEMLAB_KERNEL=eigen (or kernel::setActive) keeps pass().
+  static constexpr bool kKernel = D == 3 && Law == static_cast<int>(physics::LawKind::HertzMindlin);
+  kernel::HertzPassFn kernelFn_ = nullptr;
+  kernel::Isa kernelIsa_{};
+  std::vector<kernel::HertzPair> kernelPairs_;
+  // Prefetching pays on beds whose grain arrays outgrow the shared cache (mono_100k_dense: a
+  // quarter off the pass) and costs a few percent below it (10^4 and 2 10^4 grains); the grain
+  // state's lines only where most candidates touch (mono_100k, a falling lattice, pays 24
+  // instructions per candidate for them and gains nothing).
+  static constexpr size_t kPrefetchGrains = 65536;
+  size_t lastContacts_ = 0;
+
+  // Appends the kernel's contact records to s.contacts (kernel::HertzPassArgs::record).
+  static void appendRecords(void* scene, const uint32_t* cand, const double* force, size_t n) {
+    Scene<D>& s = *static_cast<Scene<D>*>(scene);
+    for (size_t c = 0; c < n; ++c) {
+      const CandidatePair p = s.candidates[cand[c]];
+      s.contacts.push_back({p.i, p.j, false, VecD<D>(force + 3 * c)});
+    }
+  }
+
+  // Returns false, changing nothing, when no kernel is active; else runs the pass through it.
+  bool kernelPass(Scene<D>& s) {
+    kernel::Isa isa;
+    if (!kernel::activeIsa(&isa)) return false;
+    if (kernelFn_ == nullptr || isa != kernelIsa_) {
+      kernelFn_ = kernel::hertzPass(isa, History, Rotation);
+      kernelIsa_ = isa;
+      if (kernelFn_ == nullptr) return false;
+    }
+    static_assert(sizeof(VecD<D>) == D * sizeof(double) && sizeof(AngularD<D>) == D * sizeof(double));
+    static_assert(sizeof(physics::TangentialHistory<D>) == D * sizeof(double));
+    static_assert(sizeof(CandidatePair) == 2 * sizeof(uint32_t));
+    GrainArrays<D>& a = s.grains.a;
+    const bool one = isOnePair(grainPair_, s);
+    const size_t nPairs = one ? 1 : s.pairParams.size();
+    kernelPairs_.resize(nPairs);
+    for (size_t k = 0; k < nPairs; ++k) {
+      const physics::PairParams& p = s.pairParams[one ? static_cast<size_t>(grainPair_) : k];
+      kernelPairs_[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
+    }
+    kernel::HertzPassArgs k;
+    // (Eigen's fixed-size vectors are their D doubles, so the arrays are plain doubles.)
+    k.x = reinterpret_cast<const double*>(a.x.data());
+    k.v = reinterpret_cast<const double*>(a.v.data());
+    k.f = reinterpret_cast<double*>(a.f.data());
+    if constexpr (Rotation) {
+      k.w = reinterpret_cast<const double*>(a.w.data());
+      k.t = reinterpret_cast<double*>(a.t.data());
+    }
+    k.r = a.r.data();
+    k.invMass = a.invMass.data();
+    k.material = a.material.data();
+    k.cand = reinterpret_cast<const uint32_t*>(s.candidates.data());
+    k.nCand = s.candidates.size();
+    if constexpr (History) k.springs = reinterpret_cast<double*>(s.pairSprings.data());
+    k.pairs = kernelPairs_.data();
+    k.nMat = s.nMat();
+    k.onePair = one;
+    k.dt = s.stepDt;
+    k.lag = velocityLag(s);
+    k.springCriterion = s.coulomb == physics::CoulombCriterion::Spring;
+    // Dense: the last pass found contacts for more than a quarter of its candidates.
+    const bool dense = 4 * lastContacts_ > k.nCand;
+    k.prefetch = a.size() > kPrefetchGrains ? (dense ? 2 : 1) : 0;
+    // $DEMLAB_PREFETCH (0, 1, 2) overrides the choice, for measuring it.
+    static const int forced = [] {
+      const char* pf = std::getenv("DEMLAB_PREFETCH");
+      return pf != nullptr && pf[0] >= '0' && pf[0] <= '2' ? pf[0] - '0' : -1;
+    }();
+    if (forced >= 0) k.prefetch = forced;
+    if (s.recordContacts) {
+      k.record = &appendRecords;
+      k.recordContext = &s;
+    }
+    if (k.nCand > 0) kernelFn_(k);
+    lastContacts_ = k.contacts;
+    s.ledger.elastic += k.elastic;
+    s.ledger.dampingLoss += k.damping;
+    s.ledger.frictionLoss += k.friction;
+    s.ledger.springWork += k.springWork;
+    return true;
+  }
 
   // The sphere-sphere narrow phase is inline here (physics::intersect's geometry, without the
   // optional and the contact point): one sqrt and one division per contact, the division
@@ -332,6 +423,9 @@ class WallContactModule final : public SimModule<D> {
       if constexpr (OnePair) one = s.pairParams[wallPair];
       physics::TangentialHistory<D>* __restrict springs = nullptr;
       if constexpr (History) springs = s.wallSprings[w].data();
+      if constexpr (kKernel) {
+        if (!wall.moving && kernelWall(s, w, m, which, springs, e)) continue;
+      }
       // touched_ lists the grains in contact in the order of `which`: walk both to find each
       // contact's candidate index (its spring slot), zeroing the springs of those not touched.
       size_t kc = 0;
@@ -378,6 +472,92 @@ class WallContactModule final : public SimModule<D> {
 
   std::vector<physics::ContactGeometry<D>> geoms_;
   std::vector<uint32_t> touched_;
+
+  // Static walls of 3D Hertz-Mindlin scenes go through the SIMD kernel (contact_kernel.hpp:
+  // the same arithmetic in the same order as the loop in pass()), when the platform has one.
+  static constexpr bool kKernel = D == 3 && Law == static_cast<int>(physics::LawKind::HertzMindlin);
+  std::vector<uint32_t> slots_;
+  std::vector<kernel::HertzPair> kernelPairs_;
+  struct RecordSink {
+    Scene<D>* s;
+    const uint32_t* grain;
+    uint32_t wall;
+  };
+  static void appendRecords(void* sink, const uint32_t* c, const double* force, size_t n) {
+    const RecordSink& k = *static_cast<const RecordSink*>(sink);
+    for (size_t j = 0; j < n; ++j) {
+      k.s->contacts.push_back({k.grain[c[j]], k.wall, true, VecD<D>(force + 3 * j)});
+    }
+  }
+
+  // Returns false, changing nothing, when no kernel is active; else runs wall w's m contacts
+  // (geoms_, touched_) through it.
+  bool kernelWall(Scene<D>& s, size_t w, size_t m, const std::vector<uint32_t>& which,
+                  physics::TangentialHistory<D>* springs, PassEnergy& e) {
+    kernel::Isa isa;
+    if (!kernel::activeIsa(&isa)) return false;
+    const kernel::WallPassFn fn = kernel::wallPass(isa, History, Rotation);
+    if (fn == nullptr) return false;
+    static_assert(sizeof(physics::ContactGeometry<D>) == 7 * sizeof(double));
+    GrainArrays<D>& a = s.grains.a;
+    Wall<D>& wall = s.walls.items[w];
+    const size_t nMat = s.nMat();
+    const bool one = isOnePair(grainPair_, s);
+    kernelPairs_.resize(one ? 1 : nMat);
+    for (size_t k = 0; k < kernelPairs_.size(); ++k) {
+      const size_t mat = one ? static_cast<size_t>(grainPair_) / (nMat + 1) : k;
+      const physics::PairParams& p = s.pairParams[mat * nMat + wall.material];
+      kernelPairs_[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
+    }
+    kernel::WallPassArgs k;
+    if constexpr (History) {
+      // Each contact's candidate index (its spring slot); the springs of the others zeroed.
+      slots_.resize(m);
+      size_t kc = 0;
+      for (size_t c = 0; c < m; ++c) {
+        while (which[kc] != touched_[c]) springs[kc++].spring.setZero();
+        slots_[c] = static_cast<uint32_t>(kc++);
+      }
+      while (kc < which.size()) springs[kc++].spring.setZero();
+      k.slot = slots_.data();
+      k.springs = reinterpret_cast<double*>(springs);
+    }
+    k.x = reinterpret_cast<const double*>(a.x.data());
+    k.v = reinterpret_cast<const double*>(a.v.data());
+    k.f = reinterpret_cast<double*>(a.f.data());
+    if constexpr (Rotation) {
+      k.w = reinterpret_cast<const double*>(a.w.data());
+      k.t = reinterpret_cast<double*>(a.t.data());
+    }
+    k.r = a.r.data();
+    k.invMass = a.invMass.data();
+    k.material = a.material.data();
+    k.geometry = reinterpret_cast<const double*>(geoms_.data());
+    k.grain = touched_.data();
+    k.n = m;
+    k.pairs = kernelPairs_.data();
+    k.onePair = one;
+    k.dt = s.stepDt;
+    k.lag = velocityLag(s);
+    k.springCriterion = s.coulomb == physics::CoulombCriterion::Spring;
+    RecordSink sink{&s, touched_.data(), static_cast<uint32_t>(w)};
+    if (s.recordContacts) {
+      k.record = &appendRecords;
+      k.recordContext = &sink;
+    }
+    for (int c = 0; c < D; ++c) k.wallForce[c] = wall.force[c];
+    k.elastic = e.elastic;
+    k.damping = e.damping;
+    k.friction = e.friction;
+    k.springWork = e.springWork;
+    if (m > 0) fn(k);
+    for (int c = 0; c < D; ++c) wall.force[c] = k.wallForce[c];
+    e.elastic = k.elastic;
+    e.damping = k.damping;
+    e.friction = k.friction;
+    e.springWork = k.springWork;
+    return true;
+  }
 };
 
 // Returns the grain-grain and grain-wall contact modules for the scene's law set, history and

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "sim/contact_kernel.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -54,8 +55,32 @@ class PredictModule final : public SimModule<D> {
     VecD<D>* __restrict fPrev = a.fPrev.data();
     const Real* __restrict invMass = a.invMass.data();
     const VecD<D>* __restrict x0 = s.xAtBuild.data();
+    // 3D: the grains go W at a time through the SIMD kernel when the platform has one
+    // (contact_kernel.hpp: the same arithmetic, bit for bit), the last n % W here.
+    size_t first = 0;
+    if constexpr (D == 3) {
+      kernel::Isa isa;
+      const kernel::PredictPassFn fn =
+          kernel::activeIsa(&isa) ? kernel::predictPass(isa) : nullptr;
+      if (fn != nullptr) {
+        kernel::PredictArgs k;
+        k.x = reinterpret_cast<double*>(x);
+        k.v = reinterpret_cast<double*>(v);
+        k.f = reinterpret_cast<double*>(f);
+        k.fPrev = reinterpret_cast<double*>(fPrev);
+        k.invMass = invMass;
+        k.x0 = track ? reinterpret_cast<const double*>(x0) : nullptr;
+        k.n = n;
+        k.dt = dt;
+        k.sync = sync;
+        k.maxDisp2 = maxD2;
+        fn(k);
+        maxD2 = k.maxDisp2;
+        first = k.done;
+      }
+    }
     auto pass = [&](auto syncTag, auto trackTag) {
-      for (size_t i = 0; i < n; ++i) {
+      for (size_t i = first; i < n; ++i) {
         const VecD<D> acc = f[i] * invMass[i];
         const VecD<D> vHalf = v[i] + h * acc;
         x[i] += dt * vHalf;
@@ -141,8 +166,12 @@ class PredictRotationModule final : public SimModule<D> {
     AngularD<D>* __restrict t = a.t.data();
     AngularD<D>* __restrict tPrev = a.tPrev.data();
     const Real* __restrict invInertia = a.invInertia.data();
+    // 3D: the grains go W at a time through the SIMD kernel when the platform has one
+    // (contact_kernel.hpp: the same arithmetic, bit for bit), the last n % W here.
+    size_t first = 0;
+    if constexpr (D == 3) first = kernelPass(s);
     auto pass = [&](auto syncTag) {
-      for (size_t i = 0; i < n; ++i) {
+      for (size_t i = first; i < n; ++i) {
         // An idle grain (no torque, no spin, both +0 bit for bit, as every grain of a falling
         // lattice) stays as it is: only its last torque becomes +0. The same bits as the update.
         if (isZeroBits(t[i]) && isZeroBits(w[i])) {
@@ -166,6 +195,41 @@ class PredictRotationModule final : public SimModule<D> {
     };
     sync ? pass(std::true_type{}) : pass(std::false_type{});
   }
+
+ private:
+  struct Turn {
+    RotationD<D>* q;
+    Real dt;
+  };
+  // kernel::RotationArgs::turn: the exact map for a grain that turns far in the step.
+  static void turn(void* context, size_t i, const double* wHalf) {
+    const Turn& c = *static_cast<const Turn*>(context);
+    c.q[i] = advance(c.q[i], Vec3(wHalf[0], wHalf[1], wHalf[2]), c.dt);
+  }
+
+  // Returns how many grains (from 0) the kernel updated: 0 when no kernel is active.
+  size_t kernelPass(Scene<D>& s) {
+    kernel::Isa isa;
+    if (!kernel::activeIsa(&isa)) return 0;
+    const kernel::RotationPassFn fn = kernel::rotationPass(isa);
+    if (fn == nullptr) return 0;
+    static_assert(sizeof(Quat) == 4 * sizeof(double) && sizeof(AngularD<D>) == 3 * sizeof(double));
+    GrainArrays<D>& a = s.grains.a;
+    Turn t{a.q.data(), s.stepDt};
+    kernel::RotationArgs k;
+    k.q = reinterpret_cast<double*>(a.q.data());
+    k.w = reinterpret_cast<double*>(a.w.data());
+    k.t = reinterpret_cast<double*>(a.t.data());
+    k.tPrev = reinterpret_cast<double*>(a.tPrev.data());
+    k.invInertia = a.invInertia.data();
+    k.n = a.size();
+    k.dt = s.stepDt;
+    k.sync = s.integrator == IntegratorKind::Synchronized;
+    k.turn = &turn;
+    k.turnContext = &t;
+    fn(k);
+    return k.done;
+  }
 };
 
 template <int D>
@@ -186,15 +250,41 @@ class CorrectModule final : public SimModule<D> {
     const AngularD<D>* __restrict t = a.t.data();
     const AngularD<D>* __restrict tPrev = a.tPrev.data();
     const Real* __restrict invInertia = a.invInertia.data();
-    if (s.integrator == IntegratorKind::Synchronized) {
-      for (size_t i = 0; i < n; ++i) v[i] += (h * invMass[i]) * (f[i] - fPrev[i]);
+    const bool sync = s.integrator == IntegratorKind::Synchronized;
+    // 3D: through the SIMD kernel as the drift (PredictModule), the last n % W here.
+    size_t first = 0;
+    if constexpr (D == 3) {
+      kernel::Isa isa;
+      const kernel::CorrectPassFn fn =
+          kernel::activeIsa(&isa) ? kernel::correctPass(isa) : nullptr;
+      if (fn != nullptr) {
+        kernel::CorrectArgs k;
+        k.v = reinterpret_cast<double*>(v);
+        k.f = reinterpret_cast<const double*>(f);
+        k.fPrev = reinterpret_cast<const double*>(fPrev);
+        k.invMass = invMass;
+        if (s.rotating) {
+          k.w = reinterpret_cast<double*>(w);
+          k.t = reinterpret_cast<const double*>(t);
+          k.tPrev = reinterpret_cast<const double*>(tPrev);
+          k.invInertia = invInertia;
+        }
+        k.n = n;
+        k.h = h;
+        k.sync = sync;
+        fn(k);
+        first = k.done;
+      }
+    }
+    if (sync) {
+      for (size_t i = first; i < n; ++i) v[i] += (h * invMass[i]) * (f[i] - fPrev[i]);
       if (s.rotating) {
-        for (size_t i = 0; i < n; ++i) w[i] += (h * invInertia[i]) * (t[i] - tPrev[i]);
+        for (size_t i = first; i < n; ++i) w[i] += (h * invInertia[i]) * (t[i] - tPrev[i]);
       }
     } else {
-      for (size_t i = 0; i < n; ++i) v[i] += (h * invMass[i]) * f[i];
+      for (size_t i = first; i < n; ++i) v[i] += (h * invMass[i]) * f[i];
       if (s.rotating) {
-        for (size_t i = 0; i < n; ++i) w[i] += (h * invInertia[i]) * t[i];
+        for (size_t i = first; i < n; ++i) w[i] += (h * invInertia[i]) * t[i];
       }
     }
     s.time = s.time + s.stepDt;

@@ -1,0 +1,34 @@
+// The SIMD kernels (contact_kernel.hpp) with AVX-512 (F, DQ, VL): the AVX2 kernels' 4 doubles
+// per register, with 32 registers and EVEX encodings. (8 per register measured 6-10% slower
+// on Zen 5: the gathers and scatters of 3-vectors grow with the lanes, the arithmetic is a
+// third of the kernel.) Compiled with -mavx512f -mavx512dq -mavx512vl -mno-fma
+// -ffp-contract=off (cmake/sim.cmake); chosen at run time.
+// Only the kernels' own functions live here (contact_kernel_impl.hpp, in namespace avx512).
+#if defined(__x86_64__)
+#define DEMLAB_KERNEL_NS avx512
+#include "sim/contact_kernel_impl.hpp"
+
+namespace demlab::sim::kernel {
+
+HertzPassFn avx512HertzPass(bool history, bool rotation) {
+  return avx512::hertzPassFor<4>(history, rotation);
+}
+
+WallPassFn avx512WallPass(bool history, bool rotation) {
+  return avx512::wallPassFor<4>(history, rotation);
+}
+
+RotationPassFn avx512RotationPass() {
+  return &avx512::rotationPass<4>;
+}
+
+PredictPassFn avx512PredictPass() {
+  return &avx512::predictPass<4>;
+}
+
+CorrectPassFn avx512CorrectPass() {
+  return &avx512::correctPass<4>;
+}
+
+}  // namespace demlab::sim::kernel
+#endif
