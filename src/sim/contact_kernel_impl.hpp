@@ -13,7 +13,8 @@
 //
 // Per batch of kBatch candidates:
 //  1. W candidates at a time, the touching ones (|x_j - x_i|^2 < (r_i + r_j)^2) are listed
-//     without a branch, and the springs of the others zeroed (a masked blend of W springs).
+//     without a branch, and the springs of the others zeroed (a masked blend of W springs,
+//     stored only when one of them is not zero already).
 //  2. W touching contacts at a time (one per lane), their grains' positions, velocities, radii
 //     and inverse masses gathered into registers: the geometry, the law's roots, the lever arms
 //     and the relative velocity, stored by lanes into the batch's structure-of-arrays buffer.
@@ -23,6 +24,9 @@
 //     order). Stages 2 and 3 apart need fewer registers each than in one (16 with AVX2).
 // The touching candidates fewer than W left at the end of a batch wait for the next; the last
 // group of the pass repeats its last contact in the lanes it lacks, which are then dropped.
+//
+// Further on: the static walls' contacts (the narrow phase's geometry given, the same law),
+// and the rotation update, the drift and the kick over W grains at a time.
 #include <immintrin.h>
 
 #include <cstddef>
