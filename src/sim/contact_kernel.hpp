@@ -54,7 +54,7 @@ struct HertzPassArgs {
   size_t nMat = 0;
   bool onePair = true;
   double dt = 0;
-  double lag = 0;               // physics::ContactKinematics::velocityLag
+  double lag = 0;                // physics::ContactKinematics::velocityLag
   bool springCriterion = false;  // physics::CoulombCriterion::Spring (else Total)
   // Prefetching, for beds whose grain arrays outgrow the caches: 1, the positions of the
   // candidates further on; 2, also the velocities, spins, forces and torques of the candidates

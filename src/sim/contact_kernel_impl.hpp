@@ -13,7 +13,8 @@
 //
 // Per batch of kBatch candidates:
 //  1. W candidates at a time, the touching ones (|x_j - x_i|^2 < (r_i + r_j)^2) are listed
-//     without a branch, and the springs of the others zeroed (a masked blend of W springs).
+//     without a branch, and the springs of the others zeroed (a masked blend of W springs,
+//     stored only when one of them is not zero already).
 //  2. W touching contacts at a time (one per lane), their grains' positions, velocities, radii
 //     and inverse masses gathered into registers: the geometry, the law's roots, the lever arms
 //     and the relative velocity, stored by lanes into the batch's structure-of-arrays buffer.
@@ -23,6 +24,9 @@
 //     order). Stages 2 and 3 apart need fewer registers each than in one (16 with AVX2).
 // The touching candidates fewer than W left at the end of a batch wait for the next; the last
 // group of the pass repeats its last contact in the lanes it lacks, which are then dropped.
+//
+// Further on: the static walls' contacts (the narrow phase's geometry given, the same law),
+// and the rotation update, the drift and the kick over W grains at a time.
 #include <immintrin.h>
 
 #include <cstddef>
@@ -261,8 +265,24 @@ constexpr size_t kAhead = 64;   // how far ahead positions are prefetched (in ca
 
 // Stage 2's results, by field and contact (lane) of the batch.
 enum Field : int {
-  kNx, kNy, kNz, kOverlap, kEffMass, kEffRadius, kA, kSqrtAm, kVx, kVy, kVz, kArmA, kArmB,
-  kKn, kKt, kGn, kGt, kMu,  // the pair's constants (mixed materials only)
+  kNx,
+  kNy,
+  kNz,
+  kOverlap,
+  kEffMass,
+  kEffRadius,
+  kA,
+  kSqrtAm,
+  kVx,
+  kVy,
+  kVz,
+  kArmA,
+  kArmB,
+  kKn,
+  kKt,
+  kGn,
+  kGt,
+  kMu,  // the pair's constants (mixed materials only)
   kFields
 };
 template <int W>
@@ -336,8 +356,7 @@ DEMLAB_KI void geometry(const Consts C, const uint32_t* k, size_t valid, Stage<W
   if constexpr (Rotation) {
     const vd<W> armA = ri - 0.5 * overlap, armB = rj - 0.5 * overlap;
     const V3<W> wi = gather3<W>(C.w, oi), wj = gather3<W>(C.w, oj);
-    const V3<W> ws{armA * wi.x + armB * wj.x, armA * wi.y + armB * wj.y,
-                   armA * wi.z + armB * wj.z};
+    const V3<W> ws{armA * wi.x + armB * wj.x, armA * wi.y + armB * wj.y, armA * wi.z + armB * wj.z};
     const V3<W> cr = cross<W>(ws, n);
     vrel = V3<W>{vrel.x - cr.x, vrel.y - cr.y, vrel.z - cr.z};
     st.put(kArmA, c, armA);
@@ -350,7 +369,8 @@ DEMLAB_KI void geometry(const Consts C, const uint32_t* k, size_t valid, Stage<W
     // The pair's constants.
     size_t op[W];
     for (int l = 0; l < W; ++l) {
-      op[l] = (C.material[si[l]] * C.nMat + C.material[sj[l]]) * (sizeof(HertzPair) / sizeof(double));
+      op[l] =
+          (C.material[si[l]] * C.nMat + C.material[sj[l]]) * (sizeof(HertzPair) / sizeof(double));
     }
     const double* pp = &C.pairs[0].kn;
     st.put(kKn, c, gather1<W>(pp + 0, op));
@@ -664,8 +684,10 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
 
 template <int W, bool History, bool Rotation, bool OnePair, int Prefetch>
 void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
-  const Consts C{A.x, A.v, A.w, A.f, A.t, A.r, A.invMass, A.material, A.cand, A.springs, A.pairs,
-                 A.nMat, A.dt, A.lag * A.dt, A.lag != 0, !A.springCriterion, A.pairs[0]};
+  const Consts C{
+      A.x,       A.v,       A.w,     A.f,    A.t,  A.r,          A.invMass,  A.material,
+      A.cand,    A.springs, A.pairs, A.nMat, A.dt, A.lag * A.dt, A.lag != 0, !A.springCriterion,
+      A.pairs[0]};
   const size_t nc = A.nCand;
   Sums e{A.elastic, A.damping, A.friction, A.springWork};
   Records records;
@@ -686,7 +708,8 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
     // (Prefetching looks kAhead candidates on: the last ones go without it.)
     const size_t kFast =
         Prefetch > 0 ? (nc > kAhead ? (kEnd < nc - kAhead ? kEnd : nc - kAhead) : 0) : kEnd;
-    for (; kc + W <= kFast; kc += W) touch<W, History, Rotation, Prefetch>(C, kc, W, bk, m, springZero);
+    for (; kc + W <= kFast; kc += W)
+      touch<W, History, Rotation, Prefetch>(C, kc, W, bk, m, springZero);
     for (; kc + W <= kEnd; kc += W) touch<W, History, Rotation, 0>(C, kc, W, bk, m, springZero);
     if (kc < kEnd) touch<W, History, Rotation, 0>(C, kc, kEnd - kc, bk, m, springZero);
     const size_t full = m - m % W;
@@ -975,8 +998,9 @@ DEMLAB_KI Q4<W> loadQ(const double* p) {
     const __m256d t1 = _mm256_unpackhi_pd(q0, q1);  // y0 y1 w0 w1
     const __m256d t2 = _mm256_unpacklo_pd(q2, q3);
     const __m256d t3 = _mm256_unpackhi_pd(q2, q3);
-    return {(vd<4>)_mm256_permute2f128_pd(t0, t2, 0x20), (vd<4>)_mm256_permute2f128_pd(t1, t3, 0x20),
-            (vd<4>)_mm256_permute2f128_pd(t0, t2, 0x31), (vd<4>)_mm256_permute2f128_pd(t1, t3, 0x31)};
+    return {
+        (vd<4>)_mm256_permute2f128_pd(t0, t2, 0x20), (vd<4>)_mm256_permute2f128_pd(t1, t3, 0x20),
+        (vd<4>)_mm256_permute2f128_pd(t0, t2, 0x31), (vd<4>)_mm256_permute2f128_pd(t1, t3, 0x31)};
   }
 }
 template <int W>

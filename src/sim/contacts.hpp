@@ -10,8 +10,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdlib>
 #include <memory>
 #include <type_traits>
 
@@ -168,7 +168,8 @@ class GrainContactModule final : public SimModule<D> {
       kernelIsa_ = isa;
       if (kernelFn_ == nullptr) return false;
     }
-    static_assert(sizeof(VecD<D>) == D * sizeof(double) && sizeof(AngularD<D>) == D * sizeof(double));
+    static_assert(sizeof(VecD<D>) == D * sizeof(double) &&
+                  sizeof(AngularD<D>) == D * sizeof(double));
     static_assert(sizeof(physics::TangentialHistory<D>) == D * sizeof(double));
     static_assert(sizeof(CandidatePair) == 2 * sizeof(uint32_t));
     GrainArrays<D>& a = s.grains.a;

@@ -60,8 +60,7 @@ class PredictModule final : public SimModule<D> {
     size_t first = 0;
     if constexpr (D == 3) {
       kernel::Isa isa;
-      const kernel::PredictPassFn fn =
-          kernel::activeIsa(&isa) ? kernel::predictPass(isa) : nullptr;
+      const kernel::PredictPassFn fn = kernel::activeIsa(&isa) ? kernel::predictPass(isa) : nullptr;
       if (fn != nullptr) {
         kernel::PredictArgs k;
         k.x = reinterpret_cast<double*>(x);
@@ -255,8 +254,7 @@ class CorrectModule final : public SimModule<D> {
     size_t first = 0;
     if constexpr (D == 3) {
       kernel::Isa isa;
-      const kernel::CorrectPassFn fn =
-          kernel::activeIsa(&isa) ? kernel::correctPass(isa) : nullptr;
+      const kernel::CorrectPassFn fn = kernel::activeIsa(&isa) ? kernel::correctPass(isa) : nullptr;
       if (fn != nullptr) {
         kernel::CorrectArgs k;
         k.v = reinterpret_cast<double*>(v);

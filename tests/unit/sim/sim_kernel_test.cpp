@@ -56,7 +56,7 @@ bool sameBits(double a, double b) {
 }
 
 struct BatchOptions {
-  bool mixed = false;  // three materials, one pair of them frictionless; else one material
+  bool mixed = false;   // three materials, one pair of them frictionless; else one material
   bool spring = false;  // the Coulomb criterion (else Total)
   bool verlet = false;  // half-step velocities (a velocity lag)
   unsigned seed = 1;
@@ -73,12 +73,13 @@ Scene<3> randomBatch(const BatchOptions& o) {
   for (int m = 0; m < nMat; ++m) {
     s.materials.push_back(material(1e7 * (1 + m), 0.3 + 0.2 * m, m == 2 ? 0.0 : 0.5 - 0.2 * m));
   }
-  const auto coulomb = o.spring ? physics::CoulombCriterion::Spring : physics::CoulombCriterion::Total;
+  const auto coulomb =
+      o.spring ? physics::CoulombCriterion::Spring : physics::CoulombCriterion::Total;
   s.coulomb = coulomb;
   for (int m = 0; m < nMat; ++m) {
     for (int k = 0; k < nMat; ++k) {
-      physics::PairParams p = physics::mixPair(physics::LawKind::HertzMindlin, s.materials[m],
-                                               s.materials[k]);
+      physics::PairParams p =
+          physics::mixPair(physics::LawKind::HertzMindlin, s.materials[m], s.materials[k]);
       p.coulomb = coulomb;
       s.pairParams.push_back(p);
       s.pairLawFn.push_back(physics::contactLawFor<3>(physics::LawKind::HertzMindlin));
@@ -114,7 +115,8 @@ Scene<3> randomBatch(const BatchOptions& o) {
     }
   }
   // A few pairs twice (the same grain in neighbouring lanes).
-  for (size_t k = 0; k < 12 && k < s.candidates.size(); ++k) s.candidates.push_back(s.candidates[3 * k]);
+  for (size_t k = 0; k < 12 && k < s.candidates.size(); ++k)
+    s.candidates.push_back(s.candidates[3 * k]);
   for (size_t k = 0; k < s.candidates.size(); ++k) {
     physics::TangentialHistory<3> h;
     const int kind = static_cast<int>(k % 4);
@@ -162,8 +164,7 @@ void compareContactPasses(const BatchOptions& o) {
       EXPECT_EQ(s.contacts[c].a, ref.contacts[c].a);
       EXPECT_EQ(s.contacts[c].b, ref.contacts[c].b);
       EXPECT_FALSE(s.contacts[c].wall);
-      EXPECT_EQ(std::memcmp(s.contacts[c].force.data(), ref.contacts[c].force.data(),
-                            sizeof(Vec3)),
+      EXPECT_EQ(std::memcmp(s.contacts[c].force.data(), ref.contacts[c].force.data(), sizeof(Vec3)),
                 0)
           << c;
     }
@@ -262,7 +263,8 @@ Scene<3> randomGrains(unsigned seed, bool verlet, bool track, bool rotating) {
     s.grains.a.t[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-7;
     s.grains.a.tPrev[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-7;
     if (track) {
-      s.xAtBuild.push_back(s.grains.a.x[i] + Vec3(u(rng), u(rng), u(rng)) * (i % 17 == 3 ? 1e-3 : 1e-6));
+      s.xAtBuild.push_back(s.grains.a.x[i] +
+                           Vec3(u(rng), u(rng), u(rng)) * (i % 17 == 3 ? 1e-3 : 1e-6));
     }
   }
   return s;
@@ -279,7 +281,8 @@ TEST(SimKernel, IntegratorMatchesTheEigenLoopBitForBit) {
       Scene<3> ref = randomGrains(seed, verlet, track, rotating);
       PredictModule<3>().run(ref);
       // (The kick after a drift: the forces are those the drift left, and new ones.)
-      for (size_t i = 0; i < ref.grains.a.size(); ++i) ref.grains.a.f[i] = ref.grains.a.fPrev[i] * 0.75;
+      for (size_t i = 0; i < ref.grains.a.size(); ++i)
+        ref.grains.a.f[i] = ref.grains.a.fPrev[i] * 0.75;
       CorrectModule<3>().run(ref);
       for (kernel::Isa isa : kernels()) {
         SCOPED_TRACE(kernel::isaName(isa));
