@@ -112,6 +112,23 @@ bool isOnePair(long grainPair, const Scene<D>& s) {
   return grainPair >= 0 && static_cast<size_t>(grainPair) < s.pairParams.size();
 }
 
+// Returns nothing; points the kernel arguments k (kernel::HertzPassArgs or WallPassArgs) at the
+// grain arrays a (Eigen's fixed-size vectors are their D doubles, so they are plain doubles);
+// the spin and torque arrays only when grains rotate.
+template <bool Rotation, class Args, int D>
+void bindGrainArrays(Args& k, GrainArrays<D>& a) {
+  k.x = reinterpret_cast<const double*>(a.x.data());
+  k.v = reinterpret_cast<const double*>(a.v.data());
+  k.f = reinterpret_cast<double*>(a.f.data());
+  if constexpr (Rotation) {
+    k.w = reinterpret_cast<const double*>(a.w.data());
+    k.t = reinterpret_cast<double*>(a.t.data());
+  }
+  k.r = a.r.data();
+  k.invMass = a.invMass.data();
+  k.material = a.material.data();
+}
+
 template <int D, int Law, bool History, bool Rotation>
 class GrainContactModule final : public SimModule<D> {
  public:
@@ -181,17 +198,7 @@ class GrainContactModule final : public SimModule<D> {
       kernelPairs_[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
     }
     kernel::HertzPassArgs k;
-    // (Eigen's fixed-size vectors are their D doubles, so the arrays are plain doubles.)
-    k.x = reinterpret_cast<const double*>(a.x.data());
-    k.v = reinterpret_cast<const double*>(a.v.data());
-    k.f = reinterpret_cast<double*>(a.f.data());
-    if constexpr (Rotation) {
-      k.w = reinterpret_cast<const double*>(a.w.data());
-      k.t = reinterpret_cast<double*>(a.t.data());
-    }
-    k.r = a.r.data();
-    k.invMass = a.invMass.data();
-    k.material = a.material.data();
+    bindGrainArrays<Rotation>(k, a);
     k.cand = reinterpret_cast<const uint32_t*>(s.candidates.data());
     k.nCand = s.candidates.size();
     if constexpr (History) k.springs = reinterpret_cast<double*>(s.pairSprings.data());
@@ -523,16 +530,7 @@ class WallContactModule final : public SimModule<D> {
       k.slot = slots_.data();
       k.springs = reinterpret_cast<double*>(springs);
     }
-    k.x = reinterpret_cast<const double*>(a.x.data());
-    k.v = reinterpret_cast<const double*>(a.v.data());
-    k.f = reinterpret_cast<double*>(a.f.data());
-    if constexpr (Rotation) {
-      k.w = reinterpret_cast<const double*>(a.w.data());
-      k.t = reinterpret_cast<double*>(a.t.data());
-    }
-    k.r = a.r.data();
-    k.invMass = a.invMass.data();
-    k.material = a.material.data();
+    bindGrainArrays<Rotation>(k, a);
     k.geometry = reinterpret_cast<const double*>(geoms_.data());
     k.grain = touched_.data();
     k.n = m;
