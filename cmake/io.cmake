@@ -30,21 +30,16 @@ add_library(demlab_io STATIC ${DEMLAB_IO_SOURCES})
 target_link_libraries(demlab_io PUBLIC demlab_core
   $<IF:$<BOOL:$<TARGET_PROPERTY:DEMLAB_STATIC_LINK>>,${DEMLAB_ZLIB_STATIC},ZLIB::ZLIB>)
 
-file(GLOB DEMLAB_IO_TESTS CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tests/unit/io/*.cpp)
-add_executable(demlab_io_tests ${DEMLAB_IO_TESTS})
-target_include_directories(demlab_io_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/tests)
+demlab_add_unit_tests(io demlab_io_tests io/ demlab_io)
 # The benchmark data files live beside the repository (../shared/bench/data); the test that
 # reads them skips when they are absent. $DEMLAB_BENCH_DATA overrides the folder at run time.
 target_compile_definitions(demlab_io_tests PRIVATE
   DEMLAB_BENCH_DATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/../shared/bench/data")
-target_link_libraries(demlab_io_tests PRIVATE demlab_io GTest::gtest GTest::gtest_main
-  Threads::Threads)
-add_test(NAME io COMMAND demlab_io_tests --gtest_brief=1)
 
 # The settle benchmark needs the simulation core; it joins the build once cmake/sim.cmake
 # defines demlab_sim (sim is included before io).
 if(TARGET demlab_sim)
-  add_executable(bench_sim bench/bench_sim.cpp)
+  add_executable(bench_sim ${DEMLAB_PROGRAM_SCOPE} bench/bench_sim.cpp)
   target_link_libraries(bench_sim PRIVATE demlab_io demlab_sim)
   if(DEMLAB_STATIC_BENCH_SIM_OK)
     set_target_properties(bench_sim PROPERTIES DEMLAB_STATIC_LINK ON)

@@ -4,11 +4,4 @@ file(GLOB DEMLAB_PHYSICS_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/s
 add_library(demlab_physics STATIC ${DEMLAB_PHYSICS_SOURCES})
 target_link_libraries(demlab_physics PUBLIC demlab_core)
 
-file(GLOB DEMLAB_PHYSICS_TESTS CONFIGURE_DEPENDS
-     ${CMAKE_CURRENT_SOURCE_DIR}/tests/unit/physics/*.cpp)
-if(DEMLAB_PHYSICS_TESTS)
-  add_executable(demlab_physics_tests ${DEMLAB_PHYSICS_TESTS})
-  target_include_directories(demlab_physics_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/tests)
-  target_link_libraries(demlab_physics_tests PRIVATE demlab_physics GTest::gtest GTest::gtest_main)
-  add_test(NAME physics COMMAND demlab_physics_tests --gtest_brief=1)
-endif()
+demlab_add_unit_tests(physics demlab_physics_tests physics/ demlab_physics)

@@ -33,11 +33,7 @@ add_library(demlab_render STATIC ${DEMLAB_RENDER_SOURCES})
 target_link_libraries(demlab_render PUBLIC demlab_core PRIVATE PkgConfig::DEMLAB_OSMESA PNG::PNG)
 target_compile_definitions(demlab_render PUBLIC DEMLAB_HAVE_RENDER=1)
 
-file(GLOB DEMLAB_RENDER_TESTS CONFIGURE_DEPENDS tests/unit/render/*.cpp)
-add_executable(demlab_render_tests ${DEMLAB_RENDER_TESTS})
-target_link_libraries(demlab_render_tests PRIVATE demlab_render PNG::PNG GTest::gtest
-                                                  GTest::gtest_main Threads::Threads)
-add_test(NAME render COMMAND demlab_render_tests --gtest_brief=1)
+demlab_add_unit_tests(render demlab_render_tests render/ demlab_render PNG::PNG)
 
-add_executable(bench_render bench/bench_render.cpp)
+add_executable(bench_render ${DEMLAB_PROGRAM_SCOPE} bench/bench_render.cpp)
 target_link_libraries(bench_render PRIVATE demlab_render)

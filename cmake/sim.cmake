@@ -4,14 +4,7 @@ file(GLOB DEMLAB_SIM_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/s
 add_library(demlab_sim STATIC ${DEMLAB_SIM_SOURCES})
 target_link_libraries(demlab_sim PUBLIC demlab_physics demlab_core)
 
-file(GLOB DEMLAB_SIM_TESTS CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tests/unit/sim/*.cpp)
-if(DEMLAB_SIM_TESTS)
-  add_executable(demlab_sim_tests ${DEMLAB_SIM_TESTS})
-  target_include_directories(demlab_sim_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/tests)
-  target_link_libraries(demlab_sim_tests PRIVATE demlab_sim GTest::gtest GTest::gtest_main
-                                                 Threads::Threads)
-  add_test(NAME sim COMMAND demlab_sim_tests --gtest_brief=1)
-endif()
+demlab_add_unit_tests(sim demlab_sim_tests sim/ demlab_sim)
 
 # The contact kernels (src/sim/contact_kernel.hpp): one translation unit per instruction set,
 # chosen at run time; the rest of the build targets baseline x86-64. No FMA anywhere (a fused

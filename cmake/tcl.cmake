@@ -29,10 +29,7 @@ target_link_libraries(demlab_cmd PUBLIC demlab_core)
 set_property(TARGET demlab_cmd PROPERTY POSITION_INDEPENDENT_CODE ON)
 
 enable_testing()
-file(GLOB DEMLAB_CMD_TESTS CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tests/unit/cmd/*.cpp)
-add_executable(demlab_cmd_tests ${DEMLAB_CMD_TESTS})
-target_link_libraries(demlab_cmd_tests PRIVATE demlab_cmd GTest::gtest GTest::gtest_main Threads::Threads)
-add_test(NAME cmd COMMAND demlab_cmd_tests --gtest_brief=1)
+demlab_add_unit_tests(cmd demlab_cmd_tests cmd/ demlab_cmd)
 
 if(NOT TARGET demlab_sim)
   message(STATUS "demlab: no demlab_sim target yet; only the command system is built")

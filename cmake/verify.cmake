@@ -7,16 +7,10 @@ if(TARGET demlab_sim)
   add_library(demlab_verify STATIC ${DEMLAB_VERIFY_SOURCES})
   target_link_libraries(demlab_verify PUBLIC demlab_sim)
 
-  add_executable(demlab_verify_run ${CMAKE_CURRENT_SOURCE_DIR}/src/verify/verify_main.cpp)
+  add_executable(demlab_verify_run ${DEMLAB_PROGRAM_SCOPE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/src/verify/verify_main.cpp)
   set_target_properties(demlab_verify_run PROPERTIES OUTPUT_NAME demlab_verify)
   target_link_libraries(demlab_verify_run PRIVATE demlab_verify)
 
-  file(GLOB DEMLAB_VERIFY_TESTS CONFIGURE_DEPENDS
-       ${CMAKE_CURRENT_SOURCE_DIR}/tests/unit/verify/*.cpp)
-  if(DEMLAB_VERIFY_TESTS)
-    add_executable(demlab_verify_tests ${DEMLAB_VERIFY_TESTS})
-    target_link_libraries(demlab_verify_tests PRIVATE demlab_verify GTest::gtest GTest::gtest_main
-                                                      Threads::Threads)
-    add_test(NAME verify COMMAND demlab_verify_tests --gtest_brief=1)
-  endif()
+  demlab_add_unit_tests(verify demlab_verify_tests verify/ demlab_verify)
 endif()

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "search/broad_phase.hpp"
+#include "search/configs.hpp"
 #include "search/validate.hpp"
 
 namespace demlab::search {
@@ -25,5 +26,10 @@ class BruteForce final : public BroadPhase<D, T> {
 
   std::size_t workingBytes() const override { return 0; }
 };
+
+// Compiled once, in src/search (see search/configs.hpp).
+#define DEMLAB_EXTERN_BRUTEFORCE(D, T) extern template class BruteForce<D, T>;
+DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_BRUTEFORCE)
+#undef DEMLAB_EXTERN_BRUTEFORCE
 
 }  // namespace demlab::search

@@ -35,6 +35,7 @@
 
 #include "search/broad_phase.hpp"
 #include "search/cell_size.hpp"
+#include "search/configs.hpp"
 #include "search/key_sort.hpp"
 #include "search/mask_scan.hpp"
 #include "search/validate.hpp"
@@ -496,5 +497,10 @@ class CGrid final : public BroadPhase<D, T> {
   bool wide_ = wideAvailable();
   std::size_t lastPairs_ = 0;  // pairs of the last search, to size the next one's output
 };
+
+// Compiled once, in src/search (see search/configs.hpp).
+#define DEMLAB_EXTERN_CGRID(D, T) extern template class CGrid<D, T>;
+DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_CGRID)
+#undef DEMLAB_EXTERN_CGRID
 
 }  // namespace demlab::search

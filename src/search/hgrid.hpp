@@ -56,6 +56,7 @@
 #include <vector>
 
 #include "search/broad_phase.hpp"
+#include "search/configs.hpp"
 #include "search/validate.hpp"
 
 namespace demlab::search {
@@ -996,5 +997,10 @@ void HGrid<D, T>::searchOtherLevel(uint32_t xb, uint32_t xe, const Box<D, T>& co
     ++key[k];
   }
 }
+
+// Compiled once, in src/search (see search/configs.hpp).
+#define DEMLAB_EXTERN_HGRID(D, T) extern template class HGrid<D, T>;
+DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_HGRID)
+#undef DEMLAB_EXTERN_HGRID
 
 }  // namespace demlab::search

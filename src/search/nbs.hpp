@@ -23,6 +23,7 @@
 
 #include "core/error.hpp"
 #include "search/broad_phase.hpp"
+#include "search/configs.hpp"
 #include "search/validate.hpp"
 
 namespace demlab::search {
@@ -252,5 +253,10 @@ class Nbs final : public BroadPhase<D, T> {
   const Box<D, T>* boxes_ = nullptr;             // the input, only during findPairs
   std::vector<IndexPair>* out_ = nullptr;        // the output, only during findPairs
 };
+
+// Compiled once, in src/search (see search/configs.hpp).
+#define DEMLAB_EXTERN_NBS(D, T) extern template class Nbs<D, T>;
+DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_NBS)
+#undef DEMLAB_EXTERN_NBS
 
 }  // namespace demlab::search

@@ -8,11 +8,7 @@
 #include <string_view>
 
 #include "search/broad_phase.hpp"
-#include "search/brute_force.hpp"
-#include "search/cgrid.hpp"
-#include "search/hgrid.hpp"
-#include "search/nbs.hpp"
-#include "search/sweep_prune.hpp"
+#include "search/configs.hpp"
 
 namespace demlab::search {
 
@@ -23,37 +19,16 @@ struct BroadPhaseRow {
   std::unique_ptr<BroadPhase<D, T>> (*make)(const SearchOptions&);
 };
 
-// Returns the table of all algorithms, the brute-force oracle first.
+// Returns the table of all algorithms, the brute-force oracle first. Defined in registry.cpp
+// for every configuration of search/configs.hpp, so a file that only runs the table does not
+// compile the algorithms again.
 template <int D, class T>
-std::span<const BroadPhaseRow<D, T>> broadPhaseTable() {
-  static const BroadPhaseRow<D, T> rows[] = {
-      {"brute", false,
-       [](const SearchOptions&) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<BruteForce<D, T>>();
-       }},
-      {"cgrid", true,
-       [](const SearchOptions& o) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<CGrid<D, T>>(o);
-       }},
-      {"sgrid", true,
-       [](const SearchOptions& o) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<CGrid<D, T>>(o, CGrid<D, T>::Extents::Fixed);
-       }},
-      {"nbs", false,
-       [](const SearchOptions&) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<Nbs<D, T>>();
-       }},
-      {"sap", false,
-       [](const SearchOptions&) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<SweepAndPrune<D, T>>();
-       }},
-      {"hgrid", true,
-       [](const SearchOptions& o) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<HGrid<D, T>>(o);
-       }},
-  };
-  return rows;
-}
+std::span<const BroadPhaseRow<D, T>> broadPhaseTable();
+
+#define DEMLAB_EXTERN_TABLE(D, T) \
+  extern template std::span<const BroadPhaseRow<D, T>> broadPhaseTable<D, T>();
+DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_TABLE)
+#undef DEMLAB_EXTERN_TABLE
 
 // Returns a new instance of the named algorithm, or nullptr if there is none by that name.
 template <int D, class T>

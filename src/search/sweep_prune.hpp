@@ -20,6 +20,7 @@
 
 #include "core/error.hpp"
 #include "search/broad_phase.hpp"
+#include "search/configs.hpp"
 #include "search/validate.hpp"
 
 namespace demlab::search {
@@ -323,5 +324,10 @@ class SweepAndPrune final : public BroadPhase<D, T> {
   bool hasOrder_ = false;          // items_ is a sorted order of the previous call's boxes
   bool reusedOrder_ = false;       // the last call kept the previous order and axis
 };
+
+// Compiled once, in src/search (see search/configs.hpp).
+#define DEMLAB_EXTERN_SWEEPANDPRUNE(D, T) extern template class SweepAndPrune<D, T>;
+DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_SWEEPANDPRUNE)
+#undef DEMLAB_EXTERN_SWEEPANDPRUNE
 
 }  // namespace demlab::search

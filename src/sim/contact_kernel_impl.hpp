@@ -682,7 +682,10 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
   }
 }
 
-template <int W, bool History, bool Rotation, bool OnePair, int Prefetch>
+// The prefetch level (A.prefetch) only selects stage 1's variant, in the loop below: stages 2
+// and 3, the bulk of the code, are compiled once per History x Rotation x OnePair, not three
+// times more (it was most of the kernels' build time).
+template <int W, bool History, bool Rotation, bool OnePair>
 void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
   const Consts C{
       A.x,       A.v,       A.w,     A.f,    A.t,  A.r,          A.invMass,  A.material,
@@ -707,9 +710,12 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
     size_t kc = k0;
     // (Prefetching looks kAhead candidates on: the last ones go without it.)
     const size_t kFast =
-        Prefetch > 0 ? (nc > kAhead ? (kEnd < nc - kAhead ? kEnd : nc - kAhead) : 0) : kEnd;
-    for (; kc + W <= kFast; kc += W)
-      touch<W, History, Rotation, Prefetch>(C, kc, W, bk, m, springZero);
+        A.prefetch > 0 ? (nc > kAhead ? (kEnd < nc - kAhead ? kEnd : nc - kAhead) : 0) : kEnd;
+    if (A.prefetch == 2) {
+      for (; kc + W <= kFast; kc += W) touch<W, History, Rotation, 2>(C, kc, W, bk, m, springZero);
+    } else if (A.prefetch == 1) {
+      for (; kc + W <= kFast; kc += W) touch<W, History, Rotation, 1>(C, kc, W, bk, m, springZero);
+    }
     for (; kc + W <= kEnd; kc += W) touch<W, History, Rotation, 0>(C, kc, W, bk, m, springZero);
     if (kc < kEnd) touch<W, History, Rotation, 0>(C, kc, kEnd - kc, bk, m, springZero);
     const size_t full = m - m % W;
@@ -739,16 +745,8 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
 template <int W, bool History, bool Rotation>
 void hertzPass(HertzPassArgs& a) {
   static const SpringZero<W> springZero;
-  if (a.prefetch == 2) {
-    a.onePair ? hertzRun<W, History, Rotation, true, 2>(a, springZero)
-              : hertzRun<W, History, Rotation, false, 2>(a, springZero);
-  } else if (a.prefetch == 1) {
-    a.onePair ? hertzRun<W, History, Rotation, true, 1>(a, springZero)
-              : hertzRun<W, History, Rotation, false, 1>(a, springZero);
-  } else {
-    a.onePair ? hertzRun<W, History, Rotation, true, 0>(a, springZero)
-              : hertzRun<W, History, Rotation, false, 0>(a, springZero);
-  }
+  a.onePair ? hertzRun<W, History, Rotation, true>(a, springZero)
+            : hertzRun<W, History, Rotation, false>(a, springZero);
 }
 
 template <int W>

@@ -7,6 +7,7 @@
 #include <new>
 #include <random>
 
+#include "search/brute_force.hpp"
 #include "search/cgrid.hpp"
 #include "search/registry.hpp"
 #include "support/random_boxes.hpp"

@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "search/brute_force.hpp"
 #include "search/registry.hpp"
 #include "support/random_boxes.hpp"
 
