@@ -172,7 +172,7 @@ class GrainContactModule final : public SimModule<D> {
     Scene<D>& s = *static_cast<Scene<D>*>(scene);
     for (size_t c = 0; c < n; ++c) {
       const CandidatePair p = s.candidates[cand[c]];
-      s.contacts.push_back({p.i, p.j, false, VecD<D>(force + 3 * c)});
+      appendRecord<D>(s.contacts, {p.i, p.j, false, VecD<D>(force + 3 * c)});
     }
   }
 
@@ -343,7 +343,7 @@ class GrainContactModule final : public SimModule<D> {
           torque[j] -= armB * cn;
         }
         e.add(f);
-        if (s.recordContacts) s.contacts.push_back({i, j, false, f.force});
+        if (s.recordContacts) appendRecord<D>(s.contacts, {i, j, false, f.force});
       }
     }
     s.ledger.elastic += e.elastic;
@@ -465,7 +465,9 @@ class WallContactModule final : public SimModule<D> {
         e.add(f);
         // Work done by the moving wall on the grain over the step.
         if (wall.moving) e.wallWork -= f.force.dot(vWall) * dt;
-        if (s.recordContacts) s.contacts.push_back({i, static_cast<uint32_t>(w), true, f.force});
+        if (s.recordContacts) {
+          appendRecord<D>(s.contacts, {i, static_cast<uint32_t>(w), true, f.force});
+        }
       }
       if constexpr (History) {
         while (kc < which.size()) springs[kc++].spring.setZero();
@@ -494,7 +496,7 @@ class WallContactModule final : public SimModule<D> {
   static void appendRecords(void* sink, const uint32_t* c, const double* force, size_t n) {
     const RecordSink& k = *static_cast<const RecordSink*>(sink);
     for (size_t j = 0; j < n; ++j) {
-      k.s->contacts.push_back({k.grain[c[j]], k.wall, true, VecD<D>(force + 3 * j)});
+      appendRecord<D>(k.s->contacts, {k.grain[c[j]], k.wall, true, VecD<D>(force + 3 * j)});
     }
   }
 

@@ -152,11 +152,14 @@ class DetectionModule final : public SimModule<D> {
     for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
     std::vector<search::IndexPair>().swap(pairs_);
     std::vector<uint32_t>().swap(wallOfBox_);
-    // Room for the contact records of the coming steps: about the pairs touching now. Grown
-    // by doubling from empty instead, the records' array would leave its smaller copies
-    // resident (a tenth of a dense bed's peak memory).
-    const size_t expect = touching + touching / 16 + wallPairs;
-    s.contacts.reserve(expect + expect / 8);
+    // Room for the contact records of the coming steps: as many as the last recorded step
+    // had (contacts change little within a skin), else an estimate from the pairs touching
+    // now; more grow the array by an eighth (appendRecord). Grown by doubling from empty
+    // instead, the records' array would leave its smaller copies resident (a tenth of a dense
+    // bed's peak memory); sized by the estimate, it held a fifth more than the records.
+    const size_t expect =
+        s.lastRecorded > 0 ? s.lastRecorded : touching + touching / 16 + wallPairs;
+    s.contacts.reserve(expect + expect / 32 + 16);
     springs_.give(s);
     s.xAtBuild = a.x;
     s.maxDisp2 = 0;

@@ -104,6 +104,7 @@ class PredictModule final : public SimModule<D> {
     }
     s.maxDisp2 = maxD2;
     // The contact passes of this step rebuild the per-step outputs.
+    if (!s.contacts.empty()) s.lastRecorded = s.contacts.size();
     s.contacts.clear();
     s.ledger.elastic = 0;
   }

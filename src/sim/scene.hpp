@@ -50,6 +50,16 @@ struct ContactRecord {
 };
 static_assert(sizeof(ContactRecord<3>) == 32);
 
+// Appends r to records. A full array grows by an eighth, not by doubling: the detection module
+// sizes it for about the contacts of the last recorded step, and a doubled copy would hold up to
+// twice the records' memory for the rest of the skin's life. Changes records.
+template <int D>
+inline void appendRecord(std::vector<ContactRecord<D>>& records, const ContactRecord<D>& r) {
+  if (records.size() == records.capacity())
+    records.reserve(records.size() + records.size() / 8 + 16);
+  records.push_back(r);
+}
+
 template <int D>
 struct Scene {
   // ---- objects ----
@@ -110,7 +120,8 @@ struct Scene {
   // clears it for the steps nothing can look at (no outputs, progress or stop callbacks: every
   // step but the last), so the records after a run are the same either way.
   bool recordContacts = true;
-  bool rotating = false;  // the rotation modules run
+  size_t lastRecorded = 0;  // the records of the last step that recorded any
+  bool rotating = false;    // the rotation modules run
   LedgerSums ledger;
 
   size_t nMat() const { return materials.size(); }
