@@ -4,8 +4,6 @@
 
 namespace demlab::search {
 
-#define DEMLAB_INSTANTIATE_BRUTEFORCE(D, T) template class BruteForce<D, T>;
-DEMLAB_SEARCH_CONFIGS(DEMLAB_INSTANTIATE_BRUTEFORCE)
-#undef DEMLAB_INSTANTIATE_BRUTEFORCE
+DEMLAB_SEARCH_CONFIGS(DEMLAB_SEARCH_INSTANTIATE_CLASS, BruteForce)
 
 }  // namespace demlab::search

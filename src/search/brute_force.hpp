@@ -28,8 +28,6 @@ class BruteForce final : public BroadPhase<D, T> {
 };
 
 // Compiled once, in src/search (see search/configs.hpp).
-#define DEMLAB_EXTERN_BRUTEFORCE(D, T) extern template class BruteForce<D, T>;
-DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_BRUTEFORCE)
-#undef DEMLAB_EXTERN_BRUTEFORCE
+DEMLAB_SEARCH_CONFIGS(DEMLAB_SEARCH_EXTERN_CLASS, BruteForce)
 
 }  // namespace demlab::search

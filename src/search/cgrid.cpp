@@ -4,8 +4,6 @@
 
 namespace demlab::search {
 
-#define DEMLAB_INSTANTIATE_CGRID(D, T) template class CGrid<D, T>;
-DEMLAB_SEARCH_CONFIGS(DEMLAB_INSTANTIATE_CGRID)
-#undef DEMLAB_INSTANTIATE_CGRID
+DEMLAB_SEARCH_CONFIGS(DEMLAB_SEARCH_INSTANTIATE_CLASS, CGrid)
 
 }  // namespace demlab::search

@@ -499,8 +499,6 @@ class CGrid final : public BroadPhase<D, T> {
 };
 
 // Compiled once, in src/search (see search/configs.hpp).
-#define DEMLAB_EXTERN_CGRID(D, T) extern template class CGrid<D, T>;
-DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_CGRID)
-#undef DEMLAB_EXTERN_CGRID
+DEMLAB_SEARCH_CONFIGS(DEMLAB_SEARCH_EXTERN_CLASS, CGrid)
 
 }  // namespace demlab::search

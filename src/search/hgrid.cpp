@@ -4,8 +4,6 @@
 
 namespace demlab::search {
 
-#define DEMLAB_INSTANTIATE_HGRID(D, T) template class HGrid<D, T>;
-DEMLAB_SEARCH_CONFIGS(DEMLAB_INSTANTIATE_HGRID)
-#undef DEMLAB_INSTANTIATE_HGRID
+DEMLAB_SEARCH_CONFIGS(DEMLAB_SEARCH_INSTANTIATE_CLASS, HGrid)
 
 }  // namespace demlab::search

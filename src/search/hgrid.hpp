@@ -999,8 +999,6 @@ void HGrid<D, T>::searchOtherLevel(uint32_t xb, uint32_t xe, const Box<D, T>& co
 }
 
 // Compiled once, in src/search (see search/configs.hpp).
-#define DEMLAB_EXTERN_HGRID(D, T) extern template class HGrid<D, T>;
-DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_HGRID)
-#undef DEMLAB_EXTERN_HGRID
+DEMLAB_SEARCH_CONFIGS(DEMLAB_SEARCH_EXTERN_CLASS, HGrid)
 
 }  // namespace demlab::search

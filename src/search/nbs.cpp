@@ -4,8 +4,6 @@
 
 namespace demlab::search {
 
-#define DEMLAB_INSTANTIATE_NBS(D, T) template class Nbs<D, T>;
-DEMLAB_SEARCH_CONFIGS(DEMLAB_INSTANTIATE_NBS)
-#undef DEMLAB_INSTANTIATE_NBS
+DEMLAB_SEARCH_CONFIGS(DEMLAB_SEARCH_INSTANTIATE_CLASS, Nbs)
 
 }  // namespace demlab::search

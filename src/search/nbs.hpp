@@ -255,8 +255,6 @@ class Nbs final : public BroadPhase<D, T> {
 };
 
 // Compiled once, in src/search (see search/configs.hpp).
-#define DEMLAB_EXTERN_NBS(D, T) extern template class Nbs<D, T>;
-DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_NBS)
-#undef DEMLAB_EXTERN_NBS
+DEMLAB_SEARCH_CONFIGS(DEMLAB_SEARCH_EXTERN_CLASS, Nbs)
 
 }  // namespace demlab::search

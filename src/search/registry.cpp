@@ -40,9 +40,9 @@ std::span<const BroadPhaseRow<D, T>> broadPhaseTable() {
   return rows;
 }
 
-#define DEMLAB_INSTANTIATE_TABLE(D, T) \
+#define DEMLAB_INSTANTIATE_TABLE(C, D, T) \
   template std::span<const BroadPhaseRow<D, T>> broadPhaseTable<D, T>();
-DEMLAB_SEARCH_CONFIGS(DEMLAB_INSTANTIATE_TABLE)
+DEMLAB_SEARCH_CONFIGS(DEMLAB_INSTANTIATE_TABLE, -)
 #undef DEMLAB_INSTANTIATE_TABLE
 
 }  // namespace demlab::search

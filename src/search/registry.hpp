@@ -25,9 +25,9 @@ struct BroadPhaseRow {
 template <int D, class T>
 std::span<const BroadPhaseRow<D, T>> broadPhaseTable();
 
-#define DEMLAB_EXTERN_TABLE(D, T) \
+#define DEMLAB_EXTERN_TABLE(C, D, T) \
   extern template std::span<const BroadPhaseRow<D, T>> broadPhaseTable<D, T>();
-DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_TABLE)
+DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_TABLE, -)
 #undef DEMLAB_EXTERN_TABLE
 
 // Returns a new instance of the named algorithm, or nullptr if there is none by that name.

@@ -326,8 +326,6 @@ class SweepAndPrune final : public BroadPhase<D, T> {
 };
 
 // Compiled once, in src/search (see search/configs.hpp).
-#define DEMLAB_EXTERN_SWEEPANDPRUNE(D, T) extern template class SweepAndPrune<D, T>;
-DEMLAB_SEARCH_CONFIGS(DEMLAB_EXTERN_SWEEPANDPRUNE)
-#undef DEMLAB_EXTERN_SWEEPANDPRUNE
+DEMLAB_SEARCH_CONFIGS(DEMLAB_SEARCH_EXTERN_CLASS, SweepAndPrune)
 
 }  // namespace demlab::search

@@ -8,21 +8,9 @@
 namespace demlab::sim::kernel {
 
 #if defined(__x86_64__)
-HertzPassFn sse2HertzPass(bool history, bool rotation);
-HertzPassFn avx2HertzPass(bool history, bool rotation);
-HertzPassFn avx512HertzPass(bool history, bool rotation);
-WallPassFn sse2WallPass(bool history, bool rotation);
-WallPassFn avx2WallPass(bool history, bool rotation);
-WallPassFn avx512WallPass(bool history, bool rotation);
-RotationPassFn sse2RotationPass();
-RotationPassFn avx2RotationPass();
-RotationPassFn avx512RotationPass();
-PredictPassFn sse2PredictPass();
-PredictPassFn avx2PredictPass();
-PredictPassFn avx512PredictPass();
-CorrectPassFn sse2CorrectPass();
-CorrectPassFn avx2CorrectPass();
-CorrectPassFn avx512CorrectPass();
+IsaPasses sse2Passes();
+IsaPasses avx2Passes();
+IsaPasses avx512Passes();
 #endif
 
 namespace {
@@ -82,83 +70,44 @@ bool supported(Isa isa) {
   return false;
 }
 
-HertzPassFn hertzPass(Isa isa, bool history, bool rotation) {
+namespace {
+
+// Returns isa's row of the table of kernels, or nullptr if this CPU cannot run it.
+const IsaPasses* passesOf(Isa isa) {
   if (!supported(isa)) return nullptr;
 #if defined(__x86_64__)
-  switch (isa) {
-    case Isa::Sse2:
-      return sse2HertzPass(history, rotation);
-    case Isa::Avx2:
-      return avx2HertzPass(history, rotation);
-    case Isa::Avx512:
-      return avx512HertzPass(history, rotation);
-  }
-#endif
-  (void)history;
-  (void)rotation;
+  static const IsaPasses table[] = {sse2Passes(), avx2Passes(), avx512Passes()};  // by Isa
+  return &table[static_cast<int>(isa)];
+#else
   return nullptr;
+#endif
+}
+
+}  // namespace
+
+HertzPassFn hertzPass(Isa isa, bool history, bool rotation) {
+  const IsaPasses* p = passesOf(isa);
+  return p != nullptr ? p->hertz(history, rotation) : nullptr;
 }
 
 WallPassFn wallPass(Isa isa, bool history, bool rotation) {
-  if (!supported(isa)) return nullptr;
-#if defined(__x86_64__)
-  switch (isa) {
-    case Isa::Sse2:
-      return sse2WallPass(history, rotation);
-    case Isa::Avx2:
-      return avx2WallPass(history, rotation);
-    case Isa::Avx512:
-      return avx512WallPass(history, rotation);
-  }
-#endif
-  (void)history;
-  (void)rotation;
-  return nullptr;
+  const IsaPasses* p = passesOf(isa);
+  return p != nullptr ? p->wall(history, rotation) : nullptr;
 }
 
 RotationPassFn rotationPass(Isa isa) {
-  if (!supported(isa)) return nullptr;
-#if defined(__x86_64__)
-  switch (isa) {
-    case Isa::Sse2:
-      return sse2RotationPass();
-    case Isa::Avx2:
-      return avx2RotationPass();
-    case Isa::Avx512:
-      return avx512RotationPass();
-  }
-#endif
-  return nullptr;
+  const IsaPasses* p = passesOf(isa);
+  return p != nullptr ? p->rotation : nullptr;
 }
 
 PredictPassFn predictPass(Isa isa) {
-  if (!supported(isa)) return nullptr;
-#if defined(__x86_64__)
-  switch (isa) {
-    case Isa::Sse2:
-      return sse2PredictPass();
-    case Isa::Avx2:
-      return avx2PredictPass();
-    case Isa::Avx512:
-      return avx512PredictPass();
-  }
-#endif
-  return nullptr;
+  const IsaPasses* p = passesOf(isa);
+  return p != nullptr ? p->predict : nullptr;
 }
 
 CorrectPassFn correctPass(Isa isa) {
-  if (!supported(isa)) return nullptr;
-#if defined(__x86_64__)
-  switch (isa) {
-    case Isa::Sse2:
-      return sse2CorrectPass();
-    case Isa::Avx2:
-      return avx2CorrectPass();
-    case Isa::Avx512:
-      return avx512CorrectPass();
-  }
-#endif
-  return nullptr;
+  const IsaPasses* p = passesOf(isa);
+  return p != nullptr ? p->correct : nullptr;
 }
 
 bool activeIsa(Isa* isa) {

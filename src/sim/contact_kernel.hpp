@@ -166,6 +166,16 @@ struct CorrectArgs {
 using PredictPassFn = void (*)(PredictArgs&);
 using CorrectPassFn = void (*)(CorrectArgs&);
 
+// One instruction set's kernels, as its file (contact_kernel_{sse2,avx2,avx512}.cpp) hands
+// them to the dispatch below: one row of contact_kernel.cpp's table.
+struct IsaPasses {
+  HertzPassFn (*hertz)(bool history, bool rotation);
+  WallPassFn (*wall)(bool history, bool rotation);
+  RotationPassFn rotation;
+  PredictPassFn predict;
+  CorrectPassFn correct;
+};
+
 enum class Isa : uint8_t { Sse2, Avx2, Avx512 };
 
 // Returns the kernel's name as the benchmarks print it: "sse2", "avx2", "avx512".

@@ -7,24 +7,8 @@
 
 namespace demlab::sim::kernel {
 
-HertzPassFn avx2HertzPass(bool history, bool rotation) {
-  return avx2::hertzPassFor<4>(history, rotation);
-}
-
-WallPassFn avx2WallPass(bool history, bool rotation) {
-  return avx2::wallPassFor<4>(history, rotation);
-}
-
-RotationPassFn avx2RotationPass() {
-  return &avx2::rotationPass<4>;
-}
-
-PredictPassFn avx2PredictPass() {
-  return &avx2::predictPass<4>;
-}
-
-CorrectPassFn avx2CorrectPass() {
-  return &avx2::correctPass<4>;
+IsaPasses avx2Passes() {
+  return avx2::passesFor<4>();
 }
 
 }  // namespace demlab::sim::kernel

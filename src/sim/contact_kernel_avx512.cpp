@@ -10,24 +10,8 @@
 
 namespace demlab::sim::kernel {
 
-HertzPassFn avx512HertzPass(bool history, bool rotation) {
-  return avx512::hertzPassFor<4>(history, rotation);
-}
-
-WallPassFn avx512WallPass(bool history, bool rotation) {
-  return avx512::wallPassFor<4>(history, rotation);
-}
-
-RotationPassFn avx512RotationPass() {
-  return &avx512::rotationPass<4>;
-}
-
-PredictPassFn avx512PredictPass() {
-  return &avx512::predictPass<4>;
-}
-
-CorrectPassFn avx512CorrectPass() {
-  return &avx512::correctPass<4>;
+IsaPasses avx512Passes() {
+  return avx512::passesFor<4>();
 }
 
 }  // namespace demlab::sim::kernel

@@ -253,12 +253,35 @@ struct Sums {
   double elastic, damping, friction, springWork;
 };
 
+// Returns the energy sums a pass starts from (HertzPassArgs or WallPassArgs).
+template <class Args>
+Sums sumsOf(const Args& A) {
+  return {A.elastic, A.damping, A.friction, A.springWork};
+}
+
+// Writes the sums e back into the pass's arguments. Changes A's four sums.
+template <class Args>
+void storeSums(const Sums& e, Args& A) {
+  A.elastic = e.elastic;
+  A.damping = e.damping;
+  A.friction = e.friction;
+  A.springWork = e.springWork;
+}
+
 // The records of contacts not yet handed to HertzPassArgs::record.
 struct Records {
   static constexpr size_t kSize = 256;
   uint32_t cand[kSize];
   double force[3 * kSize];
 };
+
+// Hands the n buffered records to the pass's record callback, if any are buffered, and sets n
+// to 0.
+template <class Args>
+void flushRecords(const Args& A, const Records& records, size_t& n) {
+  if (n > 0) A.record(A.recordContext, records.cand, records.force, n);
+  n = 0;
+}
 
 constexpr size_t kBatch = 128;  // candidates per touch pass
 constexpr size_t kAhead = 64;   // how far ahead positions are prefetched (in candidates)
@@ -692,14 +715,11 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
       A.cand,    A.springs, A.pairs, A.nMat, A.dt, A.lag * A.dt, A.lag != 0, !A.springCriterion,
       A.pairs[0]};
   const size_t nc = A.nCand;
-  Sums e{A.elastic, A.damping, A.friction, A.springWork};
+  Sums e = sumsOf(A);
   Records records;
   Records* rec = A.record != nullptr ? &records : nullptr;
   size_t nRec = 0;
-  auto flush = [&] {
-    if (nRec > 0) A.record(A.recordContext, records.cand, records.force, nRec);
-    nRec = 0;
-  };
+  auto flush = [&] { flushRecords(A, records, nRec); };
   Stage<W> st;
   size_t contacts = 0;
   // The touching candidates not yet run: fewer than W carry over to the next batch.
@@ -736,10 +756,7 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
   }
   if (rec != nullptr) flush();
   A.contacts = contacts;
-  A.elastic = e.elastic;
-  A.damping = e.damping;
-  A.friction = e.friction;
-  A.springWork = e.springWork;
+  storeSums(e, A);
 }
 
 template <int W, bool History, bool Rotation>
@@ -854,15 +871,12 @@ void wallRun(WallPassArgs& A) {
   C.lag = A.lag != 0;
   C.total = !A.springCriterion;
   C.one = A.pairs[0];
-  Sums e{A.elastic, A.damping, A.friction, A.springWork};
+  Sums e = sumsOf(A);
   double wf[3] = {A.wallForce[0], A.wallForce[1], A.wallForce[2]};
   Records records;
   Records* rec = A.record != nullptr ? &records : nullptr;
   size_t nRec = 0;
-  auto flush = [&] {
-    if (nRec > 0) A.record(A.recordContext, records.cand, records.force, nRec);
-    nRec = 0;
-  };
+  auto flush = [&] { flushRecords(A, records, nRec); };
   size_t c = 0;
   for (; c + W <= A.n; c += W) {
     if (rec != nullptr && nRec + W > Records::kSize) flush();
@@ -874,10 +888,7 @@ void wallRun(WallPassArgs& A) {
   }
   if (rec != nullptr) flush();
   for (int k = 0; k < 3; ++k) A.wallForce[k] = wf[k];
-  A.elastic = e.elastic;
-  A.damping = e.damping;
-  A.friction = e.friction;
-  A.springWork = e.springWork;
+  storeSums(e, A);
 }
 
 template <int W, bool History, bool Rotation>
@@ -1199,6 +1210,12 @@ void correctPass(CorrectArgs& A) {
     if (A.w != nullptr) kick(A.w, A.t, A.tPrev, A.invInertia, No{});
   }
   A.done = n;
+}
+
+// Returns this instruction set's kernels at W lanes.
+template <int W>
+IsaPasses passesFor() {
+  return {&hertzPassFor<W>, &wallPassFor<W>, &rotationPass<W>, &predictPass<W>, &correctPass<W>};
 }
 
 #undef DEMLAB_KI

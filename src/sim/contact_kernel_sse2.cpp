@@ -6,24 +6,8 @@
 
 namespace demlab::sim::kernel {
 
-HertzPassFn sse2HertzPass(bool history, bool rotation) {
-  return sse2::hertzPassFor<2>(history, rotation);
-}
-
-WallPassFn sse2WallPass(bool history, bool rotation) {
-  return sse2::wallPassFor<2>(history, rotation);
-}
-
-RotationPassFn sse2RotationPass() {
-  return &sse2::rotationPass<2>;
-}
-
-PredictPassFn sse2PredictPass() {
-  return &sse2::predictPass<2>;
-}
-
-CorrectPassFn sse2CorrectPass() {
-  return &sse2::correctPass<2>;
+IsaPasses sse2Passes() {
+  return sse2::passesFor<2>();
 }
 
 }  // namespace demlab::sim::kernel
