@@ -31,6 +31,20 @@ struct HertzPair {
   double kn, kt, gammaN, gammaT, friction;
 };
 
+// The grain-pair springs (sim/pair_springs.hpp owns them): candidate k's spring is the 3
+// doubles at data + 3 slotOf[k], or zero when slotOf[k] is kNoSlot. A kernel gives a slot back
+// when its pair stops touching (release) and asks for a zeroed one when a pair without one
+// touches (acquire, which returns data, moved if the pool grew): both go through the owner,
+// once per pair that starts or stops touching.
+struct SpringSlots {
+  static constexpr uint32_t kNoSlot = 0xffffffffu;
+  uint32_t* slotOf = nullptr;
+  double* data = nullptr;
+  void* owner = nullptr;
+  double* (*acquire)(void* owner, size_t k) = nullptr;
+  void (*release)(void* owner, size_t k) = nullptr;
+};
+
 // One grain-grain contact pass: what GrainContactModule<3, HertzMindlin, ...>::pass reads and
 // writes, as plain arrays (3-vectors as 3 consecutive doubles).
 struct HertzPassArgs {
@@ -46,8 +60,8 @@ struct HertzPassArgs {
   // Candidate pairs, (i, j) per pair, i the lower slot.
   const uint32_t* cand = nullptr;
   size_t nCand = 0;
-  // With history: the tangential spring of each candidate (3 doubles each).
-  double* springs = nullptr;
+  // With history: the candidates' tangential springs.
+  SpringSlots* springs = nullptr;
   // The material pair constants: pairs[material[i] * nMat + material[j]], or pairs[0] for every
   // contact when onePair.
   const HertzPair* pairs = nullptr;

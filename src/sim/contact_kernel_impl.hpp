@@ -13,8 +13,8 @@
 //
 // Per batch of kBatch candidates:
 //  1. W candidates at a time, the touching ones (|x_j - x_i|^2 < (r_i + r_j)^2) are listed
-//     without a branch, and the springs of the others zeroed (a masked blend of W springs,
-//     stored only when one of them is not zero already).
+//     without a branch; with history, a pair that stopped touching gives its spring's slot
+//     back, one that started gets one (sim/pair_springs.hpp; both rare, one test per W).
 //  2. W touching contacts at a time (one per lane), their grains' positions, velocities, radii
 //     and inverse masses gathered into registers: the geometry, the law's roots, the lever arms
 //     and the relative velocity, stored by lanes into the batch's structure-of-arrays buffer.
@@ -195,39 +195,6 @@ DEMLAB_KI V3<W> select(vm<W> m, const V3<W>& a, const V3<W>& b) {
   return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z};
 }
 
-// Zeroes the springs of candidates k .. k + W - 1 (contiguous: 3 W doubles, at sp) whose bit
-// in keep is clear: the same bits as GrainContactModule's `if (!touch & !zero) setZero()`.
-// Lane d of the g-th register of W doubles belongs to candidate (g W + d) / 3; the masks of
-// every keep pattern are built once (W = 8: one bit per double, for masked stores).
-template <int W>
-struct SpringZero {
-  vm<W> m[1 << W][3];
-  SpringZero() {
-    for (unsigned keep = 0; keep < (1u << W); ++keep) {
-      for (int g = 0; g < 3; ++g) {
-        for (int d = 0; d < W; ++d) m[keep][g][d] = ((keep >> ((g * W + d) / 3)) & 1) ? -1 : 0;
-      }
-    }
-  }
-  DEMLAB_KI void apply(double* sp, unsigned keep) const {
-    // Stored only when a spring changes (a contact opened): most steps write nothing here,
-    // which matters once the springs outgrow the caches.
-    const unsigned drop = ~keep & ((1u << W) - 1);
-    vm<W> s0, s1, s2;
-    std::memcpy(&s0, sp, sizeof s0);
-    std::memcpy(&s1, sp + W, sizeof s1);
-    std::memcpy(&s2, sp + 2 * W, sizeof s2);
-    if (anyBits<W>((s0 & m[drop][0]) | (s1 & m[drop][1]) | (s2 & m[drop][2]))) [[unlikely]] {
-      s0 &= m[keep][0];
-      s1 &= m[keep][1];
-      s2 &= m[keep][2];
-      std::memcpy(sp, &s0, sizeof s0);
-      std::memcpy(sp + W, &s1, sizeof s1);
-      std::memcpy(sp + 2 * W, &s2, sizeof s2);
-    }
-  }
-};
-
 // What every stage reads: passed by value into the inlined functions below, so the compiler
 // keeps it in registers. (The kernel's loads and stores use the intrinsics' may-alias vector
 // types: anything reached through memory would be reloaded after each of them.)
@@ -241,7 +208,7 @@ struct Consts {
   const double* invMass;
   const uint32_t* material;
   const uint32_t* cand;
-  double* springs;
+  SpringSlots* springs;  // grain pairs with history
   const HertzPair* pairs;
   size_t nMat;
   double dt, lagDt;
@@ -523,7 +490,12 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
                    Sums& e, Records* rec, size_t& nRec) {
   size_t kc[W], ok[W];
   laneCandidates<W>(k, valid, kc);
-  for (int l = 0; l < W; ++l) ok[l] = 3 * kc[l];
+  // (Stage 1 gave every touching candidate a slot; it may have moved the pool since.)
+  double* springs = nullptr;
+  if constexpr (History) {
+    springs = C.springs->data;
+    for (int l = 0; l < W; ++l) ok[l] = 3 * size_t{C.springs->slotOf[kc[l]]};
+  }
   vd<W> pKn, pKt, pGn, pGt, pMu;
   if constexpr (OnePair) {
     pKn = splat<W>(C.one.kn);
@@ -546,7 +518,7 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
   in.effMass = st.get(kEffMass, c);
   in.effRadius = st.get(kEffRadius, c);
   in.vrel = V3<W>{st.get(kVx, c), st.get(kVy, c), st.get(kVz, c)};
-  if constexpr (History) in.sOld = gather3<W>(C.springs, ok);
+  if constexpr (History) in.sOld = gather3<W>(springs, ok);
   in.kn = pKn;
   in.kt = pKt;
   in.gammaN = pGn;
@@ -561,7 +533,7 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
     Lanes3<W> sl;
     split<W>(lo.sNew, sl);
     // (A repeated lane stores its last lane's spring again.)
-    for (int l = 0; l < W; ++l) store3(C.springs + ok[l], sl.xy[l], sl.z[l]);
+    for (int l = 0; l < W; ++l) store3(springs + ok[l], sl.xy[l], sl.z[l]);
   }
   // The grains' forces and torques, lane by lane in candidate order: f_j += F, f_i -= F,
   // t_i -= armA (n x F), t_j -= armB (n x F); -(a b) is (-a) b exactly.
@@ -640,10 +612,10 @@ constexpr Pack4 makePack4() {
 inline constexpr Pack4 kPack4 = makePack4();
 
 // Stage 1 for candidates kc .. kc + valid - 1 (valid <= W; W in the main loop): appends the
-// touching ones to bk[m...] without a branch, zeroes the springs of the others.
+// touching ones to bk[m...] without a branch; with history, gives the slots of the others back
+// and gives a slot to touching ones without (both rare: a pair starts or stops touching).
 template <int W, bool History, bool Rotation, int Prefetch>
-DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size_t& m,
-                     const SpringZero<W>& springZero) {
+DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size_t& m) {
   size_t si[W], sj[W], oi[W], oj[W];
   for (int l = 0; l < W; ++l) {
     const size_t k = kc + (static_cast<size_t>(l) < valid ? l : valid - 1);
@@ -692,13 +664,22 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
     }
   }
   if constexpr (History) {
-    if (valid == W) {
-      springZero.apply(C.springs + 3 * kc, hit);
-    } else {
+    SpringSlots& sp = *C.springs;
+    unsigned none = 0;
+    for (int l = 0; l < W; ++l) {
+      none |= static_cast<unsigned>(sp.slotOf[kc + (static_cast<size_t>(l) < valid ? l : 0)] ==
+                                    SpringSlots::kNoSlot)
+              << l;
+    }
+    const unsigned lanes = (1u << valid) - 1;
+    const unsigned change = (none ^ ~hit) & lanes;  // touching without a slot, or the reverse
+    if (change != 0) [[unlikely]] {
       for (size_t l = 0; l < valid; ++l) {
-        if (!((hit >> l) & 1)) {
-          double* sp = C.springs + 3 * (kc + l);
-          sp[0] = sp[1] = sp[2] = 0;
+        if (!((change >> l) & 1)) continue;
+        if ((hit >> l) & 1) {
+          sp.data = sp.acquire(sp.owner, kc + l);
+        } else {
+          sp.release(sp.owner, kc + l);
         }
       }
     }
@@ -709,7 +690,7 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
 // and 3, the bulk of the code, are compiled once per History x Rotation x OnePair, not three
 // times more (it was most of the kernels' build time).
 template <int W, bool History, bool Rotation, bool OnePair>
-void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
+void hertzRun(HertzPassArgs& A) {
   const Consts C{
       A.x,       A.v,       A.w,     A.f,    A.t,  A.r,          A.invMass,  A.material,
       A.cand,    A.springs, A.pairs, A.nMat, A.dt, A.lag * A.dt, A.lag != 0, !A.springCriterion,
@@ -732,12 +713,12 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
     const size_t kFast =
         A.prefetch > 0 ? (nc > kAhead ? (kEnd < nc - kAhead ? kEnd : nc - kAhead) : 0) : kEnd;
     if (A.prefetch == 2) {
-      for (; kc + W <= kFast; kc += W) touch<W, History, Rotation, 2>(C, kc, W, bk, m, springZero);
+      for (; kc + W <= kFast; kc += W) touch<W, History, Rotation, 2>(C, kc, W, bk, m);
     } else if (A.prefetch == 1) {
-      for (; kc + W <= kFast; kc += W) touch<W, History, Rotation, 1>(C, kc, W, bk, m, springZero);
+      for (; kc + W <= kFast; kc += W) touch<W, History, Rotation, 1>(C, kc, W, bk, m);
     }
-    for (; kc + W <= kEnd; kc += W) touch<W, History, Rotation, 0>(C, kc, W, bk, m, springZero);
-    if (kc < kEnd) touch<W, History, Rotation, 0>(C, kc, kEnd - kc, bk, m, springZero);
+    for (; kc + W <= kEnd; kc += W) touch<W, History, Rotation, 0>(C, kc, W, bk, m);
+    if (kc < kEnd) touch<W, History, Rotation, 0>(C, kc, kEnd - kc, bk, m);
     const size_t full = m - m % W;
     for (size_t c = 0; c < full; c += W) geometry<W, Rotation, OnePair>(C, bk + c, W, st, c);
     for (size_t c = 0; c < full; c += W) {
@@ -761,9 +742,7 @@ void hertzRun(HertzPassArgs& A, const SpringZero<W>& springZero) {
 
 template <int W, bool History, bool Rotation>
 void hertzPass(HertzPassArgs& a) {
-  static const SpringZero<W> springZero;
-  a.onePair ? hertzRun<W, History, Rotation, true>(a, springZero)
-            : hertzRun<W, History, Rotation, false>(a, springZero);
+  a.onePair ? hertzRun<W, History, Rotation, true>(a) : hertzRun<W, History, Rotation, false>(a);
 }
 
 template <int W>

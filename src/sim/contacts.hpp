@@ -187,7 +187,6 @@ class GrainContactModule final : public SimModule<D> {
     }
     static_assert(sizeof(VecD<D>) == D * sizeof(double) &&
                   sizeof(AngularD<D>) == D * sizeof(double));
-    static_assert(sizeof(physics::TangentialHistory<D>) == D * sizeof(double));
     static_assert(sizeof(CandidatePair) == 2 * sizeof(uint32_t));
     GrainArrays<D>& a = s.grains.a;
     const bool one = isOnePair(grainPair_, s);
@@ -201,7 +200,11 @@ class GrainContactModule final : public SimModule<D> {
     bindGrainArrays<Rotation>(k, a);
     k.cand = reinterpret_cast<const uint32_t*>(s.candidates.data());
     k.nCand = s.candidates.size();
-    if constexpr (History) k.springs = reinterpret_cast<double*>(s.pairSprings.data());
+    kernel::SpringSlots slots;
+    if constexpr (History) {
+      slots = s.pairSprings.slots();
+      k.springs = &slots;
+    }
     k.pairs = kernelPairs_.data();
     k.nMat = s.nMat();
     k.onePair = one;
@@ -260,8 +263,7 @@ class GrainContactModule final : public SimModule<D> {
     const Real* __restrict invMass = a.invMass.data();
     const uint32_t* __restrict material = a.material.data();
     const CandidatePair* __restrict cand = s.candidates.data();
-    physics::TangentialHistory<D>* __restrict springs = nullptr;
-    if constexpr (History) springs = s.pairSprings.data();
+    PairSprings<D>& springs = s.pairSprings;
     PassEnergy e;
     const size_t nc = s.candidates.size();
     physics::PairParams one;
@@ -275,7 +277,8 @@ class GrainContactModule final : public SimModule<D> {
     for (size_t k0 = 0; k0 < nc; k0 += kBatch) {
       const size_t kEnd = std::min(nc, k0 + kBatch);
       // The touching candidates of the batch, without a branch on each (about half touch, in
-      // no order a predictor could learn); a spring is zeroed where the contact opened.
+      // no order a predictor could learn); a pair that stopped touching gives its spring's
+      // slot back (sim/pair_springs.hpp).
       size_t m = 0;
       for (size_t kc = k0; kc < kEnd; ++kc) {
         const uint32_t i = cand[kc].i, j = cand[kc].j;
@@ -284,7 +287,7 @@ class GrainContactModule final : public SimModule<D> {
         bk[m] = static_cast<uint32_t>(kc);
         m += touch;
         if constexpr (History) {
-          if (!touch & !isZeroBits(springs[kc].spring)) springs[kc].spring.setZero();
+          if (!touch) springs.release(kc);
         }
       }
       for (size_t c = 0; c < m; ++c) {
@@ -328,7 +331,7 @@ class GrainContactModule final : public SimModule<D> {
         if constexpr (Rotation) vrel -= cross(armA * w[i] + armB * w[j], g.normal);
         const physics::ContactKinematics<D> k{vrel, bm[c], br[c], lag};
         physics::TangentialHistory<D>* h = nullptr;
-        if constexpr (History) h = &springs[k0];
+        if constexpr (History) h = springs.at(k0);
         physics::ContactForce<D> f;
         if constexpr (OnePair) {
           f = Call::call(s, one, static_cast<size_t>(grainPair_), g, k, h, dt, broots[c]);

@@ -11,7 +11,9 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "physics/shapes.hpp"
@@ -22,6 +24,25 @@
 #include "sim/sim_loop.hpp"
 
 namespace demlab::sim {
+
+// Returns the largest float at most v (below) or the smallest at least v (above). The grid's
+// boxes are floats, half the memory of doubles (CGrid keeps a sorted copy of them: 48 bytes a
+// grain less at a search, the peak of a falling bed), rounded outward so that each holds its
+// double box (to within the double subtraction of the domain's corner, 1e-16 of the extent)
+// and the grid reports every pair whose double boxes overlap; the detection module then keeps
+// the pairs within the skin by their double positions, so the candidates are those of double
+// boxes.
+// (The step to the neighbouring float is taken on the bits, not by a call to nextafterf.)
+inline float floatBelow(double v) {
+  const float f = static_cast<float>(v);
+  if (!(f > v)) return f;  // also NaN, which the grid rejects
+  if (f == 0) return -std::numeric_limits<float>::denorm_min();
+  const uint32_t b = std::bit_cast<uint32_t>(f);
+  return std::bit_cast<float>(f > 0 ? b - 1 : b + 1);
+}
+inline float floatAbove(double v) {
+  return -floatBelow(-v);
+}
 
 template <int D>
 class DetectionModule final : public SimModule<D> {
@@ -56,6 +77,7 @@ class DetectionModule final : public SimModule<D> {
   // arrays, and those only when searches are frequent.
   void rebuild(Scene<D>& s) {
     using Box = search::Box<D, Real>;
+    using GridBox = search::Box<D, float>;
     springs_.collect(s);
     // The old candidates, the positions at the last search and the contact records' room are
     // not needed through the search: freed, the search's scratch reuses their memory instead
@@ -77,15 +99,24 @@ class DetectionModule final : public SimModule<D> {
     for (size_t i = 0; i < n; ++i) {
       const Real e = a.r[i] + half;
       for (int k = 0; k < D; ++k) {
-        boxes_[i].lo[k] = a.x[i][k] - e;
-        boxes_[i].hi[k] = a.x[i][k] + e;
-        domain.lo[k] = std::min(domain.lo[k], boxes_[i].lo[k]);
-        domain.hi[k] = std::max(domain.hi[k], boxes_[i].hi[k]);
+        domain.lo[k] = std::min(domain.lo[k], a.x[i][k] - e);
+        domain.hi[k] = std::max(domain.hi[k], a.x[i][k] + e);
       }
     }
     for (int k = 0; k < D; ++k) {
       domain.lo[k] -= s.skin;
       domain.hi[k] += s.skin;
+    }
+    // The grid's boxes are taken from the domain's corner, so their precision is a float's
+    // over the domain's extent, wherever the scene sits (a bed 4 km from the origin would
+    // otherwise get boxes a quarter of a millimetre coarse).
+    const auto corner = domain.lo;
+    for (size_t i = 0; i < n; ++i) {
+      const Real e = a.r[i] + half;
+      for (int k = 0; k < D; ++k) {
+        boxes_[i].lo[k] = floatBelow(a.x[i][k] - e - corner[k]);
+        boxes_[i].hi[k] = floatAbove(a.x[i][k] + e - corner[k]);
+      }
     }
     const size_t nw = s.walls.size();
     wallOfBox_.clear();
@@ -108,7 +139,12 @@ class DetectionModule final : public SimModule<D> {
           if (!(b.lo[k] <= b.hi[k])) empty = true;
         }
         if (empty) continue;
-        boxes_.push_back(b);
+        GridBox g;
+        for (int k = 0; k < D; ++k) {
+          g.lo[k] = floatBelow(b.lo[k] - corner[k]);
+          g.hi[k] = floatAbove(b.hi[k] - corner[k]);
+        }
+        boxes_.push_back(g);
         wallOfBox_.push_back(static_cast<uint32_t>(w));
       }
     }
@@ -122,9 +158,9 @@ class DetectionModule final : public SimModule<D> {
     // come at least every kKeepGridSteps steps, where the search's moment is the run's peak
     // anyway, and freed when searches are rare, as in a settled bed, where the records and
     // springs of the steps between set the peak.
-    std::vector<search::Box<D, Real>>().swap(boxes_);
+    std::vector<search::Box<D, float>>().swap(boxes_);
     const bool frequent = searchedBefore_ && s.steps - lastSearchStep_ <= kKeepGridSteps;
-    if (!frequent) grid_ = search::CGrid<D, Real>(search::SearchOptions{cellFactor_});
+    if (!frequent) grid_ = search::CGrid<D, float>(search::SearchOptions{cellFactor_});
     searchedBefore_ = true;
     lastSearchStep_ = s.steps;
     s.wallCandidates.assign(nw, {});
@@ -160,7 +196,7 @@ class DetectionModule final : public SimModule<D> {
     const size_t expect =
         s.lastRecorded > 0 ? s.lastRecorded : touching + touching / 16 + wallPairs;
     s.contacts.reserve(expect + expect / 32 + 16);
-    springs_.give(s);
+    springs_.give(s, touching);
     s.xAtBuild = a.x;
     s.maxDisp2 = 0;
     const double now = s.time + s.stepDt;
@@ -175,7 +211,7 @@ class DetectionModule final : public SimModule<D> {
   // Returns the bytes this module holds between searches (the grid's scratch when searches are
   // frequent, else none).
   size_t workingBytes() const override {
-    return grid_.workingBytes() + boxes_.capacity() * sizeof(search::Box<D, Real>) +
+    return grid_.workingBytes() + boxes_.capacity() * sizeof(search::Box<D, float>) +
            wallOfBox_.capacity() * sizeof(uint32_t) +
            pairs_.capacity() * sizeof(search::IndexPair) + springs_.workingBytes();
   }
@@ -186,8 +222,8 @@ class DetectionModule final : public SimModule<D> {
   double cellFactor_;
   bool searchedBefore_ = false;
   uint64_t lastSearchStep_ = 0;  // s.steps at the last search
-  search::CGrid<D, Real> grid_;
-  std::vector<search::Box<D, Real>> boxes_;
+  search::CGrid<D, float> grid_;
+  std::vector<search::Box<D, float>> boxes_;
   std::vector<uint32_t> wallOfBox_;
   std::vector<search::IndexPair> pairs_;
   size_t lastPairs_ = 0;  // pairs found by the last search

@@ -1,13 +1,14 @@
 // Where the tangential springs of frictional contacts live.
 //
-// Between two neighbor searches the candidate pairs are fixed, so each candidate pair (grain
-// pair, or grain and wall) owns a spring slot in an array parallel to the candidate list: the
-// contact loop reads and writes it by index, with no hashing (a hash lookup per contact per
-// step costs more than the contact law). A candidate pair out of contact has its spring zeroed
-// (the contact opened). At a search, and before any edit that renumbers the grains, the
-// nonzero springs are parked in the InstanceInteractionManager under the pair's stable ids
-// (handle slot indices, walls in the top half of the id space), and after the search each new
-// candidate takes its spring back from there; the manager is then emptied.
+// Between two neighbor searches the candidate pairs are fixed, so the contact loops reach each
+// candidate's spring by index, with no hashing (a hash lookup per contact per step costs more
+// than the contact law): a grain pair through its slot in the PairSprings pool
+// (sim/pair_springs.hpp: one spring per contact, none for a candidate out of contact), a grain
+// and a wall in an array parallel to the wall's candidate list, zeroed when the contact opens. At a
+// search, and before any edit that renumbers the grains, the nonzero springs are parked in the
+// InstanceInteractionManager under the pair's stable ids (handle slot indices, walls in the top
+// half of the id space), and after the search each new candidate takes its spring back from there;
+// the manager is then emptied.
 //
 // The neighbor search itself does not go through the hash table: SpringTransfer collects the
 // nonzero springs into a flat table indexed by the slot of the pair's lower grain (a counting
@@ -34,7 +35,7 @@ void parkSprings(Scene<D>& s) {
   const GrainArrays<D>& a = s.grains.a;
   const size_t n = std::min(s.pairSprings.size(), s.candidates.size());
   for (size_t k = 0; k < n; ++k) {
-    const VecD<D>& sp = s.pairSprings[k].spring;
+    const VecD<D> sp = s.pairSprings.spring(k);
     if (sp.squaredNorm() == 0) continue;
     const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
     // The loop keeps each spring in the orientation of the lower slot (A) to the higher.
@@ -57,7 +58,7 @@ template <int D>
 void unparkSprings(Scene<D>& s) {
   if (!s.keepHistory) return;
   const GrainArrays<D>& a = s.grains.a;
-  s.pairSprings.assign(s.candidates.size(), physics::TangentialHistory<D>{});
+  s.pairSprings.reset(s.candidates.size(), false);
   s.wallSprings.resize(s.wallCandidates.size());
   for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
     s.wallSprings[w].assign(s.wallCandidates[w].size(), physics::TangentialHistory<D>{});
@@ -65,7 +66,9 @@ void unparkSprings(Scene<D>& s) {
   if (s.histories.empty()) return;
   for (size_t k = 0; k < s.candidates.size(); ++k) {
     const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
-    if (const auto* h = s.histories.find(std::min(p, q), std::max(p, q))) s.pairSprings[k] = *h;
+    if (const auto* h = s.histories.find(std::min(p, q), std::max(p, q))) {
+      s.pairSprings.set(k, h->spring);
+    }
   }
   for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
     const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
@@ -97,7 +100,7 @@ class SpringTransfer {
     auto each = [&](auto&& put) {
       const size_t n = std::min(s.pairSprings.size(), s.candidates.size());
       for (size_t k = 0; k < n; ++k) {
-        const VecD<D>& sp = s.pairSprings[k].spring;
+        const VecD<D> sp = s.pairSprings.spring(k);
         if (sp.squaredNorm() == 0) continue;
         const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
         put(std::min(p, q), std::max(p, q), sp);
@@ -124,16 +127,22 @@ class SpringTransfer {
     });
     // Freed, not just emptied: give() allocates the new arrays, and holding the old ones
     // through the search would add their size to the run's peak memory.
-    std::vector<physics::TangentialHistory<D>>().swap(s.pairSprings);
+    s.pairSprings.clear();
     std::vector<std::vector<physics::TangentialHistory<D>>>().swap(s.wallSprings);
   }
 
   // Gives every candidate its spring (zero if none) from this table, or from s.histories for
-  // springs an edit parked there; then empties both and frees this table's memory.
-  void give(Scene<D>& s) {
+  // springs an edit parked there; then empties both and frees this table's memory. touching:
+  // the grain pairs in contact now, which sizes the spring pool.
+  void give(Scene<D>& s, size_t touching) {
     if (!s.keepHistory) return;
     const GrainArrays<D>& a = s.grains.a;
-    s.pairSprings.assign(s.candidates.size(), physics::TangentialHistory<D>{});
+    s.pairSprings.reset(s.candidates.size(), true);
+    // Room for the pairs touching now and a sixteenth more, for the contacts that form before
+    // the next search. Past that the pool grows by an eighth, and each growth holds the old
+    // copy and the new at once: grown from empty at a bed's first step it set the run's peak.
+    const size_t expect = std::max(touching, entries_.size() + s.histories.size());
+    s.pairSprings.reserve(expect + expect / 16);
     s.wallSprings.resize(s.wallCandidates.size());
     for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
       s.wallSprings[w].assign(s.wallCandidates[w].size(), physics::TangentialHistory<D>{});
@@ -155,7 +164,9 @@ class SpringTransfer {
     if (!entries_.empty() || parked) {
       for (size_t k = 0; k < s.candidates.size(); ++k) {
         const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
-        lookup(std::min(p, q), std::max(p, q), s.pairSprings[k]);
+        physics::TangentialHistory<D> h;
+        lookup(std::min(p, q), std::max(p, q), h);
+        s.pairSprings.set(k, h.spring);
       }
       for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
         const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);

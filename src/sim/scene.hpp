@@ -15,6 +15,7 @@
 #include "search/box.hpp"
 #include "sim/behavior.hpp"
 #include "sim/obj_manager.hpp"
+#include "sim/pair_springs.hpp"
 #include "sim/wall.hpp"
 
 namespace demlab::sim {
@@ -109,7 +110,7 @@ struct Scene {
   uint64_t rebuilds = 0;
 
   // ---- pair state (sim/history_store.hpp) ----
-  std::vector<physics::TangentialHistory<D>> pairSprings;               // per candidate
+  PairSprings<D> pairSprings;                                           // per contact
   std::vector<std::vector<physics::TangentialHistory<D>>> wallSprings;  // per wall candidate
   InstanceInteractionManager<physics::TangentialHistory<D>> histories;  // parked springs
   bool keepHistory = false;  // anyFriction, fixed at prepare

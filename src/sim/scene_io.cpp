@@ -260,7 +260,9 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.u32(c.i);
     w.u32(c.j);
   });
-  w.list(s.pairSprings, [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
+  // One spring per candidate (zero for those without a slot): the format predates the pool.
+  w.list(s.pairSprings.perCandidate(),
+         [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
   w.u64(s.wallSprings.size());
   for (const auto& l : s.wallSprings) {
     w.list(l, [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
@@ -413,11 +415,10 @@ void readScene(Reader& r, Scene<D>& s) {
     c.j = r.u32();
     if (c.i >= n || c.j >= n) Reader::bad("candidate pair index");
   }
-  s.pairSprings.resize(r.count(8 * D));
-  for (auto& h : s.pairSprings) h.spring = r.vec<D>();
-  if (!s.pairSprings.empty() && s.pairSprings.size() != s.candidates.size()) {
-    Reader::bad("pair springs");
-  }
+  const size_t nSprings = r.count(8 * D);
+  if (nSprings != 0 && nSprings != s.candidates.size()) Reader::bad("pair springs");
+  s.pairSprings.reset(nSprings, true);
+  for (size_t k = 0; k < nSprings; ++k) s.pairSprings.set(k, r.vec<D>());
   s.wallSprings.resize(r.count(8));
   for (auto& l : s.wallSprings) {
     l.resize(r.count(8 * D));

@@ -483,7 +483,7 @@ MemoryReport SimulationManager<D>::memory() const {
   m.detection = bytes(s_.candidates) + bytes(s_.wallCandidates) + bytes(s_.xAtBuild);
   for (const auto& list : s_.wallCandidates) m.detection += bytes(list);
   m.search = loop_.workingBytes();
-  m.springs = bytes(s_.pairSprings) + bytes(s_.wallSprings) + s_.histories.heapBytes();
+  m.springs = s_.pairSprings.heapBytes() + bytes(s_.wallSprings) + s_.histories.heapBytes();
   for (const auto& list : s_.wallSprings) m.springs += bytes(list);
   m.contacts = bytes(s_.contacts);
   return m;

@@ -4,17 +4,19 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <utility>
 
+#include "sim/detection.hpp"
 #include "sim/simulation.hpp"
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
 namespace {
 
-using testing::addBox;
 using testing::grain;
 using testing::material;
 
@@ -45,10 +47,9 @@ std::set<std::pair<uint64_t, uint64_t>> found(const Simulation& s) {
   return out;
 }
 
-class SimDetection : public ::testing::TestWithParam<int> {};
-
-TEST_P(SimDetection, FastMoversAreNeverMissed) {
-  const int d = GetParam();
+// Runs 400 steps of fast movers among slow grains in a box [origin, origin + side]^d and
+// checks every step's contacts against brute force.
+void checkFastMoversAreNeverMissed(int d, double origin) {
   auto s = makeSimulation(d);
   MaterialDef m = material(1e6, 0.9, 0.0);
   s->addMaterial("m", m);
@@ -60,14 +61,21 @@ TEST_P(SimDetection, FastMoversAreNeverMissed) {
     Vec3d x{0, 0, 0}, v{0, 0, 0};
     const bool fast = k % 25 == 0;
     for (int a = 0; a < d; ++a) {
-      x[a] = 0.02 + (side - 0.04) * u(rng);
+      x[a] = origin + 0.02 + (side - 0.04) * u(rng);
       v[a] = (fast ? 20.0 : 0.05) * (2 * u(rng) - 1);
     }
     // A wide spread of sizes, so some pairs are far more than a cell apart when they meet.
     defs.push_back(grain(x, 0.002 + 0.006 * u(rng), "m", v));
   }
   s->addGrains(defs);
-  addBox(*s, side, "m");
+  for (int k = 0; k < d; ++k) {
+    Vec3d n{0, 0, 0}, p{origin, origin, d == 3 ? origin : 0.0};
+    n[k] = 1;
+    s->addWall(testing::plane(p, n, "m"));
+    n[k] = -1;
+    p[k] = origin + side;
+    s->addWall(testing::plane(p, n, "m"));
+  }
   s->setTimeStep(2e-5);  // a fast grain crosses the skin in a few steps
   // The grains are placed at random, up to several radii into each other: a test of the
   // search, not of physics, so the watchdog's overlap checks (which would stop the run before
@@ -87,7 +95,8 @@ TEST_P(SimDetection, FastMoversAreNeverMissed) {
     const auto r = s->radii();
     for (size_t i = 0; i < r.size(); ++i) {
       for (int k = 0; k < d; ++k) {
-        wallTruth += (x[d * i + k] < r[i]) + (side - x[d * i + k] < r[i]);
+        const double in = x[d * i + k] - origin;
+        wallTruth += (in < r[i]) + (side - in < r[i]);
       }
     }
     for (const ContactInfo& c : s->contacts()) wallFound += !c.wall.isNull();
@@ -102,6 +111,40 @@ TEST_P(SimDetection, FastMoversAreNeverMissed) {
   EXPECT_GT(checked, 1000u);
   EXPECT_LT(rebuilds, 400u);  // the skin does spare searches
   EXPECT_GT(rebuilds, 10u);
+}
+
+// The grid's float boxes hold their double boxes: rounding is outward, by at most one float.
+TEST(SimDetectionBoxes, FloatBoundsRoundOutwardByAtMostOneStep) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> mant(-1, 1);
+  std::uniform_int_distribution<int> expo(-160, 140);  // float denormals and overflow too
+  const float inf = std::numeric_limits<float>::infinity();
+  for (int k = 0; k < 200000; ++k) {
+    double v = std::ldexp(mant(rng), expo(rng));
+    // Exactly representable: kept as is.
+    if (k % 10 == 0 && std::abs(v) <= std::numeric_limits<float>::max()) {
+      v = static_cast<float>(v);
+    }
+    const float lo = floatBelow(v), hi = floatAbove(v);
+    ASSERT_LE(static_cast<double>(lo), v) << v;
+    ASSERT_GE(static_cast<double>(hi), v) << v;
+    ASSERT_GT(static_cast<double>(std::nextafter(lo, inf)), v) << v;
+    ASSERT_LT(static_cast<double>(std::nextafter(hi, -inf)), v) << v;
+  }
+  EXPECT_EQ(floatBelow(0.0), 0.0f);
+  EXPECT_EQ(floatAbove(-inf), -inf);
+}
+
+class SimDetection : public ::testing::TestWithParam<int> {};
+
+TEST_P(SimDetection, FastMoversAreNeverMissed) {
+  checkFastMoversAreNeverMissed(GetParam(), 0.0);
+}
+
+// The grid's boxes are floats taken from the domain's corner: 4 km from the origin a float's
+// spacing would be 2.4e-4 m, a tenth of the smallest radius.
+TEST_P(SimDetection, FastMoversAreNeverMissedFarFromTheOrigin) {
+  checkFastMoversAreNeverMissed(GetParam(), 4000.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dims, SimDetection, ::testing::Values(2, 3),
