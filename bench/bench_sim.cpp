@@ -20,7 +20,9 @@
 //     scripts/bench-sim starts one process per scene and variant.
 // Variants ("leave out what a scene does not need", issue 3): "full" is the scene above;
 // "nofriction" sets friction 0 (no tangential history kept); "norotation" turns grain rotation
-// off. Their scene names get the suffix "-nofriction" / "-norotation".
+// off; "touch" adds the touch module (the sub-step correction of contact onset and release,
+// sim/touch.hpp), so its cost is measured. Their scene names get the suffix "-nofriction",
+// "-norotation" or "-touch".
 //
 // On stderr: the modules the scene runs and the wall time of each (RunReport::modules), the
 // contact-search rebuilds and the energy-balance residual; with --digest the state digest after
@@ -63,13 +65,15 @@ struct Variant {
   std::string_view suffix;
   bool friction;
   bool rotation;
+  bool touch;
 };
 
 // One row per variant; --variant takes these names.
 constexpr Variant kVariants[] = {
-    {"full", "", true, true},
-    {"nofriction", "-nofriction", false, true},
-    {"norotation", "-norotation", true, false},
+    {"full", "", true, true, false},
+    {"nofriction", "-nofriction", false, true, false},
+    {"norotation", "-norotation", true, false, false},
+    {"touch", "-touch", true, true, true},
 };
 
 struct Options {
@@ -97,7 +101,8 @@ void usage(std::FILE* f) {
                "  --skin M          Verlet skin in metres (default 2.5e-4, as the decks)\n"
                "  --cell-factor F   CGrid cell factor (default: CGrid's own)\n"
                "  --integrator NAME verlet or synchronized (default: the Simulation's)\n"
-               "  --variant LIST    comma-separated: full, nofriction, norotation (default full)\n"
+               "  --variant LIST    comma-separated: full, nofriction, norotation, touch\n"
+               "                    (default full)\n"
                "  --breakdown FILE  append per-module times as CSV scene,module,seconds,share\n"
                "  --cpu FILE        append code,scene,n,steps,cpu_seconds,\n"
                "                    particle_steps_per_cpu_s,load1 (CPU time of the run)\n"
@@ -155,8 +160,8 @@ Options parse(int argc, char** argv) {
                                      [&](const Variant& v) { return v.name == name; });
         if (it == std::end(kVariants)) {
           std::fprintf(stderr,
-                       "bench_sim: bad variant \"%.*s\": must be full, nofriction or "
-                       "norotation\n",
+                       "bench_sim: bad variant \"%.*s\": must be full, nofriction, "
+                       "norotation or touch\n",
                        static_cast<int>(name.size()), name.data());
           std::exit(2);
         }
@@ -257,6 +262,7 @@ std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Optio
   }
   s->addGravity({0, 0, -9.81});
   s->setRotation(v.rotation);
+  s->setTouchCorrection(v.touch);
   s->setDetection({o.cellFactor, o.skin});
   if (!o.integrator.empty()) s->setIntegrator(o.integrator);
 
