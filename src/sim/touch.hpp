@@ -18,13 +18,15 @@
 // relative to the wall's surface velocity, which is exact for walls that translate during the
 // step and approximate for turning ones (drums, rotating plates: O(dt^2) in the gap).
 //
-// Cost: one more pass over the candidates (two squared distances each, no sqrt unless a
-// contact changes state or a damped one separates) and two narrow-phase calls per wall
-// candidate; nothing when the scene leaves it off (Scene::touch, the default).
+// Cost: one more pass over the candidates (two squared distances and two velocity dots each,
+// no branch per test; then a sqrt for the few that change state or a damped one separating),
+// two narrow-phase calls per wall candidate and three arrays per grain; about 0.8x a dense
+// step (doc/performance.md). Nothing when the scene leaves it off (the default).
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -63,14 +65,16 @@ class TouchModule final : public SimModule<D> {
   }
 
  private:
-  // Fills vHalf_ with the grains' half-step velocities (the drift's) and xBefore_ with their
-  // positions at the step's start, once per step rather than once per candidate.
+  // Fills vHalf_ with the grains' half-step velocities (the drift's), xBefore_ with their
+  // positions at the step's start and vBefore_ with the velocities the laws saw then, once per
+  // step rather than once per candidate.
   void velocities(const Scene<D>& s) {
     const GrainArrays<D>& a = s.grains.a;
     const size_t n = a.size();
     const Real dt = s.stepDt, h = 0.5 * dt;
     vHalf_.resize(n);
     xBefore_.resize(n);
+    vBefore_.resize(n);
     const VecD<D>* __restrict x = a.x.data();
     const VecD<D>* __restrict v = a.v.data();
     const VecD<D>* __restrict f = a.fPrev.data();
@@ -88,14 +92,12 @@ class TouchModule final : public SimModule<D> {
         x0[i] = x[i] - dt * v[i];
       }
     }
+    const Real back = s.integrator == IntegratorKind::Verlet ? dt : h;
+    for (size_t i = 0; i < n; ++i) vBefore_[i] = vh[i] - (back * invMass[i]) * f[i];
   }
 
   // Returns the velocity the laws saw at the step's start (see the file's comment).
-  VecD<D> lawVelocityBefore(const Scene<D>& s, size_t i) const {
-    const GrainArrays<D>& a = s.grains.a;
-    const Real back = s.integrator == IntegratorKind::Verlet ? s.stepDt : 0.5 * s.stepDt;
-    return vHalf_[i] - (back * a.invMass[i]) * a.fPrev[i];
-  }
+  const VecD<D>& lawVelocityBefore(size_t i) const { return vBefore_[i]; }
 
   // The drift moves both grains on straight lines: the step's touch (or release) is where
   // |d0 + f (d1 - d0)| = rs, a quadratic in the fraction f of the step. Sets the overlap of the
@@ -126,24 +128,62 @@ class TouchModule final : public SimModule<D> {
     const VecD<D>* __restrict x = a.x.data();
     const VecD<D>* __restrict x0 = xBefore_.data();
     const Real* __restrict r = a.r.data();
-    for (const CandidatePair& c : s.candidates) {
-      const uint32_t i = c.i, j = c.j;
+    const uint32_t* __restrict material = a.material.data();
+    const VecD<D>* __restrict v = a.v.data();
+    const VecD<D>* __restrict vb = vBefore_.data();
+    damped_.resize(nMat * nMat);
+    for (size_t k = 0; k < damped_.size(); ++k) damped_[k] = dampsNormal(s.pairParams[k]);
+    const uint8_t* __restrict damped = damped_.data();
+    const CandidatePair* __restrict cand = s.candidates.data();
+    const size_t nc = s.candidates.size();
+    // Stage 1, without a branch per candidate: the candidates that may need a correction. In
+    // a bed the ones touching at neither end, at both ends undamped, or at both ends and
+    // approaching at both are each a large share in no order a predictor learns, and a branch
+    // per test cost more than the tests (measured: half the module's time).
+    // Where few candidates touch (a loose lattice) the test of the velocities is skipped for the
+    // others with a branch, which is then predictable; the share of the last step decides.
+    picked_.resize(nc);
+    size_t m = 0, touching = 0;
+    auto pick = [&](auto denseTag) {
+      for (size_t k = 0; k < nc; ++k) {
+        const uint32_t i = cand[k].i, j = cand[k].j;
+        const Real rs = r[i] + r[j];
+        const VecD<D> d1 = x[j] - x[i];
+        const VecD<D> d0 = x0[j] - x0[i];
+        // The contact module's test (contacts.hpp), at both ends. (Keeping the test of the
+        // last step instead would save the start's distance, but a scene loaded from a
+        // checkpoint has no last step: its run would not stay bit-identical to one that never
+        // stopped.)
+        const bool touch1 = d1.squaredNorm() < rs * rs, touch0 = d0.squaredNorm() < rs * rs;
+        touching += touch0 | touch1;
+        if constexpr (!decltype(denseTag)::value) {
+          if (!(touch0 | touch1)) continue;
+        }
+        // Touching at both ends: only a damped force separating at one end can be cut off.
+        const bool separating = !((v[j] - v[i]).dot(d1) <= 0) | !((vb[j] - vb[i]).dot(d0) <= 0);
+        picked_[m] = static_cast<uint32_t>(k);
+        m += (touch0 != touch1) |
+             (touch0 & touch1 & separating & (damped[material[i] * nMat + material[j]] != 0));
+      }
+    };
+    if (dense_) {
+      pick(std::true_type{});
+    } else {
+      pick(std::false_type{});
+    }
+    dense_ = 4 * touching > nc;
+    // Stage 2, the candidates picked, in candidate order (the kicks' order is the loss's).
+    for (size_t c = 0; c < m; ++c) {
+      const uint32_t i = cand[picked_[c]].i, j = cand[picked_[c]].j;
       const Real rs = r[i] + r[j];
       const VecD<D> d1 = x[j] - x[i];
       const VecD<D> d0 = x0[j] - x0[i];
       const Real q1 = d1.squaredNorm(), q0 = d0.squaredNorm();
-      // The contact module's test (contacts.hpp), at both ends. (Keeping the test of the last
-      // step instead would save the start's distance, but a scene loaded from a checkpoint has
-      // no last step: its run would not stay bit-identical to one that never stopped.)
       const bool touch1 = q1 < rs * rs, touch0 = q0 < rs * rs;
-      if (!touch0 && !touch1) continue;
-      const physics::PairParams& p = s.pairParams[a.material[i] * nMat + a.material[j]];
+      const physics::PairParams& p = s.pairParams[material[i] * nMat + material[j]];
       const bool both = touch0 && touch1;
-      // Touching at both ends: only a damped force separating at one end can be cut off.
-      if (both && !dampsNormal(p)) continue;
-      const VecD<D> v1 = a.v[j] - a.v[i];
-      const VecD<D> v0 = lawVelocityBefore(s, j) - lawVelocityBefore(s, i);
-      if (both && v1.dot(d1) <= 0 && v0.dot(d0) <= 0) continue;
+      const VecD<D> v1 = v[j] - v[i];
+      const VecD<D> v0 = vb[j] - vb[i];
       const Real dist1 = std::sqrt(q1), dist0 = std::sqrt(q0);
       if (!(dist1 > 0 && dist0 > 0)) continue;  // coincident centres: no normal to speak of
       const VecD<D> n1 = d1 * (1 / dist1), n0 = d0 * (1 / dist0);
@@ -190,7 +230,7 @@ class TouchModule final : public SimModule<D> {
         if (!(a.invMass[i] > 0)) continue;  // a fixed grain: nothing moves
         const physics::PairParams& p = s.pairParams[a.material[i] * nMat + wall.material];
         const VecD<D> v1 = vWall - a.v[i];
-        const VecD<D> v0 = vWall - lawVelocityBefore(s, i);
+        const VecD<D> v0 = vWall - lawVelocityBefore(i);
         // Touching at both ends: only a damped force separating at one end can be cut off.
         if (g0 && g1 && (!dampsNormal(p) || (v1.dot(g1->normal) <= 0 && v0.dot(g1->normal) <= 0))) {
           continue;
@@ -219,7 +259,10 @@ class TouchModule final : public SimModule<D> {
   }
 
   std::vector<std::pair<uint32_t, VecD<D>>> kicks_;  // grain, velocity change: applied last
-  std::vector<VecD<D>> vHalf_, xBefore_;             // per grain, this step (velocities())
+  std::vector<VecD<D>> vHalf_, xBefore_, vBefore_;   // per grain, this step (velocities())
+  std::vector<uint8_t> damped_;                      // per material pair: dampsNormal
+  std::vector<uint32_t> picked_;                     // grainPairs' candidates with an event
+  bool dense_ = true;  // more than a quarter of the candidates touched in the last step
 };
 
 }  // namespace demlab::sim
