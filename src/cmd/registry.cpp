@@ -61,10 +61,42 @@ void Registry::describe(std::string_view group, std::string summary) {
   n->summary = std::move(summary);
 }
 
+void Registry::shorthand(std::string_view group, std::string_view subcommand, std::string suffix) {
+  Node* n = &root_;
+  for (const std::string& w : splitPath(group)) {
+    auto it = n->children.find(w);
+    if (it == n->children.end()) throw Error("shorthand for an undeclared group", {"INTERNAL"});
+    n = it->second.get();
+  }
+  if (n->command || !n->children.contains(subcommand) || suffix.empty()) {
+    throw Error("shorthand needs a group, one of its subcommands and a suffix", {"INTERNAL"});
+  }
+  n->shorthandWord = std::string(subcommand);
+  n->shorthandSuffix = std::move(suffix);
+}
+
 std::vector<std::string> Registry::topWords() const {
   std::vector<std::string> out;
   for (const auto& [w, n] : root_.children) out.push_back(w);
   return out;
+}
+
+std::string Registry::shorthandLine(const Node& n, const std::string& where) {
+  const std::string arg = "NAME" + n.shorthandSuffix + " ?arg ...?";
+  return "`" + where + " " + arg + "` is short for `" + where + " " + n.shorthandWord + " " + arg +
+         "`.";
+}
+
+bool Registry::takesShorthand(const Node& n, std::string_view word) {
+  const std::string& suffix = n.shorthandSuffix;
+  if (suffix.empty() || word.size() <= suffix.size() ||
+      word.substr(word.size() - suffix.size()) != suffix) {
+    return false;
+  }
+  for (const auto& [w, c] : n.children) {
+    if (startsWith(w, word)) return false;
+  }
+  return true;
 }
 
 std::pair<std::string, const Registry::Node*> Registry::child(const Node& n, std::string_view word,
@@ -103,6 +135,12 @@ Value Registry::invoke(const std::vector<std::string>& words, Context& ctx) cons
       throw Error("wrong # args: should be \"" + where + " subcommand ?arg ...?\"", {"ARGS"});
     }
     if (!where.empty() && words[i] == "-help") return groupHelp(*n, where);
+    if (takesShorthand(*n, words[i])) {
+      // The word is the shorthand's first argument: it stays in words.
+      where += " " + n->shorthandWord;
+      n = n->children.find(n->shorthandWord)->second.get();
+      continue;
+    }
     auto [word, next] = child(*n, words[i], where);
     where = where.empty() ? word : where + " " + word;  // the full word, not the prefix typed
     n = next;
@@ -135,6 +173,11 @@ std::string Registry::groupHelp(const Node& n, const std::string& where) const {
     w = std::max(w, left.size());
   }
   for (auto& [l, r] : rows) s += "    " + l + std::string(w - l.size() + 2, ' ') + r + "\n";
+  if (!n.shorthandWord.empty()) {
+    s += '\n';
+    s += shorthandLine(n, where);
+    s += '\n';
+  }
   if (where.empty()) {
     s += "\n`help <command>` or `<command> -help` describes a command; unique prefixes of\n"
          "subcommands and options are accepted.\n";
@@ -238,6 +281,7 @@ std::string Registry::markdown() const {
   for (const auto& [word, n] : root_.children) {
     s += "## " + word + "\n\n";
     if (!n->summary.empty()) s += n->summary + "\n\n";
+    if (!n->shorthandWord.empty()) s += shorthandLine(*n, word) + "\n\n";
     if (n->command) {
       s += n->command->markdown();
       continue;

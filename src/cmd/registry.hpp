@@ -21,6 +21,10 @@ class Registry {
   Command& add(std::string_view path, std::string summary);
   // Gives a group of subcommands ("element") its one-line summary.
   void describe(std::string_view group, std::string summary);
+  // Lets a word ending in `suffix` that names none of group's subcommands (not even by prefix)
+  // stand for `group subcommand word ...`: `snapshot frame.png` for `snapshot write frame.png`.
+  // Throws demlab::Error {INTERNAL} if the group or its subcommand is not declared yet.
+  void shorthand(std::string_view group, std::string_view subcommand, std::string suffix);
 
   // Returns the top-level words, sorted: each becomes one Tcl command.
   std::vector<std::string> topWords() const;
@@ -50,12 +54,18 @@ class Registry {
     std::string summary;
     Command* command = nullptr;
     std::map<std::string, std::unique_ptr<Node>, std::less<>> children;
+    std::string shorthandWord, shorthandSuffix;  // Registry::shorthand; empty: none
   };
   // Returns the child of n that `word` names, with its full word (exact or unique prefix). Throws
   // demlab::Error {LOOKUP SUBCOMMAND} (or {LOOKUP COMMAND} at the top) in Tcl's ensemble wording.
   std::pair<std::string, const Node*> child(const Node& n, std::string_view word,
                                             const std::string& where) const;
   std::string groupHelp(const Node& n, const std::string& where) const;
+  // Returns true if `word` is n's shorthand (Registry::shorthand): it ends in the suffix and
+  // names no subcommand of n.
+  static bool takesShorthand(const Node& n, std::string_view word);
+  // Returns the sentence describing n's shorthand, for the help and the reference.
+  static std::string shorthandLine(const Node& n, const std::string& where);
 
   Node root_;
   std::deque<Command> commands_;

@@ -432,6 +432,9 @@ void registerSnapshotCommands(Registry& r) {
 #endif
   });
 
+  // The spelling, `snapshot frame.png`, for the commonest use.
+  r.shorthand("snapshot", "write", ".png");
+
   Command& every = r.add("snapshot every",
                          "Adds a snapshot output: a frame every N steps or T seconds; returns "
                          "its id.");
