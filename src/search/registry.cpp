@@ -1,6 +1,9 @@
 // The table of neighbor-search algorithms (search/registry.hpp), compiled once per configuration.
 #include "search/registry.hpp"
 
+#include <memory>
+#include <type_traits>
+
 #include "search/brute_force.hpp"
 #include "search/cgrid.hpp"
 #include "search/hgrid.hpp"
@@ -9,33 +12,26 @@
 
 namespace demlab::search {
 
+// Returns a new Algorithm: built from the options where it takes them (usesCellFactor), else
+// from nothing; extra are the constructor's further arguments.
+template <int D, class T, class Algorithm, auto... extra>
+std::unique_ptr<BroadPhase<D, T>> make(const SearchOptions& o) {
+  if constexpr (std::is_constructible_v<Algorithm, const SearchOptions&, decltype(extra)...>) {
+    return std::make_unique<Algorithm>(o, extra...);
+  } else {
+    return std::make_unique<Algorithm>();
+  }
+}
+
 template <int D, class T>
 std::span<const BroadPhaseRow<D, T>> broadPhaseTable() {
   static const BroadPhaseRow<D, T> rows[] = {
-      {"brute", false,
-       [](const SearchOptions&) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<BruteForce<D, T>>();
-       }},
-      {"cgrid", true,
-       [](const SearchOptions& o) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<CGrid<D, T>>(o);
-       }},
-      {"sgrid", true,
-       [](const SearchOptions& o) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<CGrid<D, T>>(o, CGrid<D, T>::Extents::Fixed);
-       }},
-      {"nbs", false,
-       [](const SearchOptions&) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<Nbs<D, T>>();
-       }},
-      {"sap", false,
-       [](const SearchOptions&) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<SweepAndPrune<D, T>>();
-       }},
-      {"hgrid", true,
-       [](const SearchOptions& o) -> std::unique_ptr<BroadPhase<D, T>> {
-         return std::make_unique<HGrid<D, T>>(o);
-       }},
+      {"brute", false, &make<D, T, BruteForce<D, T>>},
+      {"cgrid", true, &make<D, T, CGrid<D, T>>},
+      {"sgrid", true, &make<D, T, CGrid<D, T>, CGrid<D, T>::Extents::Fixed>},
+      {"nbs", false, &make<D, T, Nbs<D, T>>},
+      {"sap", false, &make<D, T, SweepAndPrune<D, T>>},
+      {"hgrid", true, &make<D, T, HGrid<D, T>>},
   };
   return rows;
 }

@@ -66,8 +66,8 @@ class TouchModule final : public SimModule<D> {
 
  private:
   // Fills vHalf_ with the grains' half-step velocities (the drift's), xBefore_ with their
-  // positions at the step's start and vBefore_ with the velocities the laws saw then, once per
-  // step rather than once per candidate.
+  // positions at the step's start and vBefore_ with the velocities the laws saw then (see the
+  // file's comment), once per step rather than once per candidate.
   void velocities(const Scene<D>& s) {
     const GrainArrays<D>& a = s.grains.a;
     const size_t n = a.size();
@@ -95,9 +95,6 @@ class TouchModule final : public SimModule<D> {
     const Real back = s.integrator == IntegratorKind::Verlet ? dt : h;
     for (size_t i = 0; i < n; ++i) vBefore_[i] = vh[i] - (back * invMass[i]) * f[i];
   }
-
-  // Returns the velocity the laws saw at the step's start (see the file's comment).
-  const VecD<D>& lawVelocityBefore(size_t i) const { return vBefore_[i]; }
 
   // The drift moves both grains on straight lines: the step's touch (or release) is where
   // |d0 + f (d1 - d0)| = rs, a quadratic in the fraction f of the step. Sets the overlap of the
@@ -230,7 +227,7 @@ class TouchModule final : public SimModule<D> {
         if (!(a.invMass[i] > 0)) continue;  // a fixed grain: nothing moves
         const physics::PairParams& p = s.pairParams[a.material[i] * nMat + wall.material];
         const VecD<D> v1 = vWall - a.v[i];
-        const VecD<D> v0 = vWall - lawVelocityBefore(i);
+        const VecD<D> v0 = vWall - vBefore_[i];
         // Touching at both ends: only a damped force separating at one end can be cut off.
         if (g0 && g1 && (!dampsNormal(p) || (v1.dot(g1->normal) <= 0 && v0.dot(g1->normal) <= 0))) {
           continue;
