@@ -9,7 +9,6 @@
 #pragma once
 
 #include <algorithm>
-#include <bit>
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
@@ -83,14 +82,6 @@ struct LawCall {
 template <int D>
 Real velocityLag(const Scene<D>& s) {
   return s.integrator == IntegratorKind::Verlet ? 0.5 : 0.0;
-}
-
-// Returns true if every component of v is +0 (bit for bit: -0 is not).
-template <int D>
-inline bool isZeroBits(const VecD<D>& v) {
-  uint64_t bits = 0;
-  for (int k = 0; k < D; ++k) bits |= std::bit_cast<uint64_t>(v[k]);
-  return bits == 0;
 }
 
 // Energy sums of one contact pass.
