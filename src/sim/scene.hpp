@@ -61,12 +61,20 @@ inline void appendRecord(std::vector<ContactRecord<D>>& records, const ContactRe
   records.push_back(r);
 }
 
+// An element with blocked degrees of freedom (sim/constraints.hpp). Few elements are: a list
+// beside the hot arrays, so a scene without any pays nothing, not a byte per element.
+struct BlockedElement {
+  GrainId id;
+  uint8_t dofs;  // dof:: mask, never 0 (an element with none blocked leaves the list)
+};
+
 template <int D>
 struct Scene {
   // ---- objects ----
   SimObjManager<D> grains;
   WallSet<D> walls;
   BehaviorManager<D> behaviors;
+  std::vector<BlockedElement> blocked;  // in the order they were blocked
 
   // ---- materials and laws ----
   std::vector<std::string> materialNames;

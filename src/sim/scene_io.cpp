@@ -160,6 +160,31 @@ physics::MaterialDef readMaterial(Reader& r) {
 
 }  // namespace
 
+namespace {
+
+// Appends a section that says its length: tag, u64 byte count, body's bytes. Changes w.
+void writeSection(Writer& w, const char* tag, const Writer& body) {
+  w.bytes.append(tag, 4);
+  w.u64(body.bytes.size());
+  w.bytes.append(body.bytes);
+}
+
+// Reads the blocked section's body into s.blocked, checking every handle against the grain
+// pool (read before) and every mask against the dimension. Throws {LOAD FORMAT}.
+template <int D>
+void readBlocked(Reader& r, Scene<D>& s) {
+  s.blocked.resize(r.count(9));
+  for (BlockedElement& b : s.blocked) {
+    b.id.index = r.u32();
+    b.id.generation = r.u32();
+    b.dofs = r.u8();
+    if (!s.grains.pool().valid(b.id)) Reader::bad("blocked element handle");
+    if (b.dofs == 0 || (b.dofs & ~dof::all(D)) != 0) Reader::bad("blocked degrees of freedom");
+  }
+}
+
+}  // namespace
+
 template <int D>
 void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager<D>* behaviors) {
   const BehaviorManager<D>& bm = behaviors ? *behaviors : s.behaviors;
@@ -301,6 +326,15 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   }
   // The touch correction likewise, only when on.
   if (s.touchCorrection) w.bytes.append(kTouchTag, 4);
+  if (!s.blocked.empty()) {
+    Writer body;
+    body.list(s.blocked, [&](const BlockedElement& b) {
+      body.u32(b.id.index);
+      body.u32(b.id.generation);
+      body.u8(b.dofs);
+    });
+    writeSection(w, kBlockedTag, body);
+  }
 }
 
 template <int D>
@@ -480,9 +514,23 @@ void readScene(Reader& r, Scene<D>& s) {
     if (!ok) Reader::bad("watchdog options");
     tagged = readTag();
   }
-  s.touchCorrection = tagged && std::memcmp(tag, kTouchTag, 4) == 0;
-  if (tagged && !s.touchCorrection) Reader::bad("trailing bytes");
-  if (!r.atEnd()) Reader::bad("trailing bytes");
+  if (tagged && std::memcmp(tag, kTouchTag, 4) == 0) {
+    s.touchCorrection = true;
+    tagged = readTag();
+  }
+  while (tagged) {
+    const std::string body = r.bytesOf(r.count(1));
+    Reader b(body);
+    if (std::memcmp(tag, kBlockedTag, 4) == 0) {
+      readBlocked(b, s);
+    } else {
+      throw Error("can't load a checkpoint with a \"" + std::string(tag, 4) +
+                      "\" section: it was written by a later demlab",
+                  {"LOAD", "SECTION"});
+    }
+    if (!b.atEnd()) Reader::bad("section length");
+    tagged = readTag();
+  }
 }
 
 template void writeScene<2>(Writer&, const Scene<2>&, IoMode, const BehaviorManager<2>*);

@@ -109,6 +109,13 @@ class Reader {
     }
   }
   bool atEnd() const { return pos_ == bytes_.size(); }
+  // Returns the next n bytes (n from count(1), so they are there) and moves past them.
+  std::string bytesOf(size_t n) {
+    if (n > bytes_.size() - pos_) bad("truncated");
+    std::string out = bytes_.substr(pos_, n);
+    pos_ += n;
+    return out;
+  }
   [[noreturn]] static void bad(const std::string& why) {
     throw Error("bad checkpoint: " + why, {"LOAD", "FORMAT"});
   }
@@ -128,6 +135,13 @@ inline constexpr uint32_t kFormatVersion = 2;  // 2: the Coulomb criterion
 inline constexpr char kWatchdogTag[5] = "WDOG";
 // Starts the optional section after it: the touch correction, when on (sim/touch.hpp).
 inline constexpr char kTouchTag[5] = "TUCH";
+// After those, sections that say their length: a 4-character tag, a u64 byte count, the bytes.
+// A reader meets only known tags (a checkpoint of a later demlab with a section this one does
+// not know is refused by name, never read as garbage); each is written only when the scene
+// has what it holds, so a scene without it has the bytes (and the digest) it had before.
+// The blocked degrees of freedom (sim/constraints.hpp): u64 count, then per element its
+// handle (u32 index, u32 generation) and u8 dof mask.
+inline constexpr char kBlockedTag[5] = "BLKD";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

@@ -61,7 +61,33 @@ using TimeFunction = std::function<double(double t)>;
 // Throws {VALUE LAW} otherwise: `bad law "x": must be linear or hertz_mindlin`.
 LawKind lawFromName(std::string_view name);
 
+enum class ElementShape : uint8_t;
+// Returns the shape's name as the commands spell it ("sphere", "disc").
+std::string_view elementShapeName(ElementShape shape);
+// Returns the shape named name. Throws {VALUE SHAPE}: `bad shape "x": must be sphere or disc`.
+ElementShape elementShapeFromName(std::string_view name);
+// Returns the names of the degrees of freedom in a dof:: mask, space separated ("x y rz").
+std::string dofNames(unsigned mask);
+// Returns the dof:: bit named name (x y z rx ry rz). Throws {VALUE DOF}.
+unsigned dofFromName(std::string_view name);
+
 // ---- definitions (checked before anything is created) ------------------------------------
+
+// The degrees of freedom of an element, as bits of a mask: translation along x, y, z and
+// rotation about x, y, z. A 2D element has X, Y and Rz (a mask with Z, Rx or Ry is refused
+// there: VALUE DOF). A blocked degree of freedom keeps its velocity whatever the forces: the
+// force (or torque) component along it is cancelled each step, as YADE's blockedDOFs and
+// LIGGGHTS's fix freeze do; its mass still enters the contacts' effective mass.
+namespace dof {
+inline constexpr unsigned X = 1, Y = 2, Z = 4, Rx = 8, Ry = 16, Rz = 32;
+// Returns every degree of freedom of an element in dim dimensions.
+inline constexpr unsigned all(int dim) {
+  return dim == 2 ? X | Y | Rz : X | Y | Z | Rx | Ry | Rz;
+}
+}  // namespace dof
+
+// The shapes of elements. Spheres in 3D and discs in 2D today; the name the commands take.
+enum class ElementShape : uint8_t { Sphere, Disc };
 
 // One grain: a disc in 2D, a sphere in 3D, of uniform density (mass and inertia from the
 // material's density and the radius).
@@ -73,6 +99,10 @@ struct GrainDef {
   std::string material;           // an existing material: else LOOKUP MATERIAL
   std::vector<std::string> tags;  // each a valid tag: else VALUE TAG
   std::string name;               // optional, unique: else EXISTS NAME / VALUE NAME
+  // The element's shape: Sphere needs a 3D scene, Disc a 2D one (else VALUE SHAPE); unset:
+  // the one of the scene's dimension.
+  std::optional<ElementShape> shape;
+  unsigned blocked = 0;  // dof:: mask of blocked degrees of freedom (VALUE DOF)
 };
 
 enum class WallShape {
@@ -150,6 +180,8 @@ struct GrainState {
   double radius = 0, mass = 0, inertia = 0;
   Vec3d position{}, velocity{}, angularVelocity{}, force{}, torque{};
   std::array<double, 4> orientation{};  // 3D: quaternion w x y z; 2D: {angle, 0, 0, 0}
+  ElementShape shape = ElementShape::Sphere;
+  unsigned blocked = 0;  // dof:: mask
 };
 
 struct WallState {
@@ -388,6 +420,9 @@ class Simulation {
   virtual void setGrainPosition(GrainId id, const Vec3d& p) = 0;
   virtual void setGrainVelocity(GrainId id, const Vec3d& v) = 0;
   virtual void setGrainAngularVelocity(GrainId id, const Vec3d& w) = 0;
+  // Blocks the degrees of freedom in mask (dof::) and frees the others; the velocities stay as
+  // they are. LOOKUP HANDLE, VALUE DOF (a bit the dimension does not have).
+  virtual void setGrainBlocked(GrainId id, unsigned mask) = 0;
   virtual size_t grainCount() const = 0;
 
   // -- walls --

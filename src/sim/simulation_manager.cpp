@@ -15,6 +15,41 @@
 
 namespace demlab::sim {
 
+std::string_view elementShapeName(ElementShape shape) {
+  return shape == ElementShape::Disc ? "disc" : "sphere";
+}
+
+ElementShape elementShapeFromName(std::string_view name) {
+  if (name == "sphere") return ElementShape::Sphere;
+  if (name == "disc") return ElementShape::Disc;
+  throw Error("bad shape \"" + std::string(name) + "\": must be sphere or disc",
+              {"VALUE", "SHAPE"});
+}
+
+std::string dofNames(unsigned mask) {
+  static const char* const kNames[] = {"x", "y", "z", "rx", "ry", "rz"};
+  std::string out;
+  for (unsigned k = 0; k < 32; ++k) {
+    if (!(mask & (1u << k))) continue;
+    if (!out.empty()) out.push_back(' ');
+    if (k < 6) {
+      out.append(kNames[k]);
+    } else {
+      out.append("bit").append(std::to_string(k));
+    }
+  }
+  return out;
+}
+
+unsigned dofFromName(std::string_view name) {
+  static const char* const kNames[] = {"x", "y", "z", "rx", "ry", "rz"};
+  for (unsigned k = 0; k < 6; ++k) {
+    if (name == kNames[k]) return 1u << k;
+  }
+  throw Error("bad degree of freedom \"" + std::string(name) + "\": must be x, y, z, rx, ry or rz",
+              {"VALUE", "DOF"});
+}
+
 LawKind lawFromName(std::string_view name) {
   for (LawKind k : {LawKind::Linear, LawKind::HertzMindlin}) {
     if (physics::lawName(k) == name) return k;
@@ -209,6 +244,14 @@ typename SimulationManager<D>::CheckedGrain SimulationManager<D>::checkGrain(
     checkObjectName("grain", def.name);
     if (s_.grains.names().find(def.name)) throwNameExists("grain", def.name);
   }
+  if (def.shape && *def.shape != (D == 2 ? ElementShape::Disc : ElementShape::Sphere)) {
+    throw Error("bad shape \"" + std::string(elementShapeName(*def.shape)) + "\": a " +
+                    std::to_string(D) + "D scene takes " + (D == 2 ? "disc" : "sphere") +
+                    " elements",
+                {"VALUE", "SHAPE"});
+  }
+  checkDofMask(def.blocked);
+  c.blocked = static_cast<uint8_t>(def.blocked);
   const Real mass = grainMass<D>(s_.materials[c.material].density, c.r);
   c.invMass = 1 / mass;
   c.invInertia = 1 / grainInertia<D>(mass, c.r);
@@ -227,6 +270,7 @@ GrainId SimulationManager<D>::addGrain(const GrainDef& def) {
   const CheckedGrain c = checkGrain(def);
   const GrainId id =
       s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material, def.name, def.tags);
+  if (c.blocked != 0) s_.blocked.push_back({id, c.blocked});
   s_.ledger.reference += grainEnergy(static_cast<uint32_t>(s_.grains.size() - 1));
   s_.needRebuild = true;
   touchConfig();
@@ -254,6 +298,7 @@ std::vector<GrainId> SimulationManager<D>::addGrains(const std::vector<GrainDef>
     const CheckedGrain& c = checked[k];
     ids.push_back(s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
                                 defs[k].name, defs[k].tags));
+    if (c.blocked != 0) s_.blocked.push_back({ids.back(), c.blocked});
     s_.ledger.reference += grainEnergy(static_cast<uint32_t>(n0 + k));
   }
   s_.needRebuild = true;
@@ -272,6 +317,7 @@ void SimulationManager<D>::removeGrain(GrainId id) {
   const uint32_t i = s_.grains.index(id);
   s_.ledger.reference -= grainEnergy(i);
   forgetCandidates();
+  dropBlocked([&](GrainId g) { return g == id; });
   const uint32_t slot = s_.grains.remove(id);
   if (s_.keepHistory) s_.histories.removeId(slot);
   s_.needRebuild = true;
@@ -288,6 +334,7 @@ size_t SimulationManager<D>::removeGrains(const std::string& tag) {
     s_.ledger.reference -= grainEnergy(s_.grains.index(id));
     slots.insert(s_.grains.remove(id));
   }
+  dropBlocked([&](GrainId g) { return slots.contains(g.index); });
   if (s_.keepHistory) {
     std::vector<std::pair<uint32_t, uint32_t>> drop;
     s_.histories.forEach([&](const auto& p, auto&) {
@@ -318,6 +365,10 @@ GrainState SimulationManager<D>::grain(GrainId id) const {
   g.force = fromVec<D>(a.f[i]);
   g.torque = fromAngular(a.t[i]);
   g.orientation = fromRotation(a.q[i]);
+  g.shape = D == 2 ? ElementShape::Disc : ElementShape::Sphere;
+  for (const BlockedElement& b : s_.blocked) {
+    if (b.id == id) g.blocked = b.dofs;
+  }
   return g;
 }
 
@@ -355,6 +406,30 @@ void SimulationManager<D>::setGrainAngularVelocity(GrainId id, const Vec3d& w) {
   s_.grains.a.w[i] = x;
   s_.ledger.reference += grainEnergy(i) - before;
   touchConfig();
+}
+
+template <int D>
+void SimulationManager<D>::checkDofMask(unsigned mask) const {
+  if ((mask & ~dof::all(D)) != 0) {
+    throw Error("bad degrees of freedom \"" + dofNames(mask) + "\": a " + std::to_string(D) +
+                    "D element has " + dofNames(dof::all(D)),
+                {"VALUE", "DOF"});
+  }
+}
+
+template <int D>
+void SimulationManager<D>::setGrainBlocked(GrainId id, unsigned mask) {
+  s_.grains.index(id);
+  checkDofMask(mask);
+  dropBlocked([&](GrainId g) { return g == id; });
+  if (mask != 0) s_.blocked.push_back({id, static_cast<uint8_t>(mask)});
+  touchConfig();
+}
+
+template <int D>
+template <class Pred>
+void SimulationManager<D>::dropBlocked(Pred gone) {
+  std::erase_if(s_.blocked, [&](const BlockedElement& b) { return gone(b.id); });
 }
 
 template <int D>

@@ -7,6 +7,7 @@
 
 #include <memory>
 
+#include "sim/module_table.hpp"
 #include "sim/scene.hpp"
 #include "sim/scene_io.hpp"
 #include "sim/sim_loop.hpp"
@@ -53,6 +54,7 @@ class SimulationManager final : public Simulation {
   void setGrainPosition(GrainId id, const Vec3d& p) override;
   void setGrainVelocity(GrainId id, const Vec3d& v) override;
   void setGrainAngularVelocity(GrainId id, const Vec3d& w) override;
+  void setGrainBlocked(GrainId id, unsigned mask) override;
   size_t grainCount() const override { return s_.grains.size(); }
 
   WallId addWall(const WallDef& def) override;
@@ -124,23 +126,21 @@ class SimulationManager final : public Simulation {
     AngularD<D> w;
     Real r, invMass, invInertia;
     uint32_t material;
+    uint8_t blocked;
   };
   CheckedGrain checkGrain(const GrainDef& def) const;
+  // Throws {VALUE DOF} if mask has a degree of freedom this dimension lacks.
+  void checkDofMask(unsigned mask) const;
+  // Removes the blocked-list entries of the grains for which gone(id) is true.
+  template <class Pred>
+  void dropBlocked(Pred gone);
   Wall<D> checkWall(const WallDef& def) const;
   // Mixes the pair constants, picks dt and the skin, rebuilds the loop; called at each run
   // start, does its work only when the configuration changed. Throws VALUE TIMESTEP.
   void prepare();
-  // What the scene uses, which decides the modules of its loop.
-  struct Flags {
-    bool anyFriction = false, rotating = false, walls = false, movingWalls = false;
-    bool gravity = false, loads = false;
-    int law = 0;  // the one law of every pair in use, or -1 when they differ
-    // The material pair (index into Scene::pairParams) of every grain-grain contact when all
-    // grains have one material, else -1.
-    long grainPair = -1;
-  };
-  Flags flags() const;
-  std::vector<std::unique_ptr<SimModule<D>>> makeModules(const Flags& f) const;
+  // The loop's modules: the module table's rows the scene wants (sim/module_table.hpp),
+  // then the outputs.
+  std::vector<std::unique_ptr<SimModule<D>>> makeModules(const SceneUse& u) const;
   // Throws {INTEGRATION NAN} naming the first grain whose position or velocity is not finite.
   void checkFinite() const;
   // Returns the watchdog's finding hit as a trip: the elements, the likely cause and the fix.

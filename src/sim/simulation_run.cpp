@@ -17,6 +17,7 @@
 #include "sim/convert.hpp"
 #include "sim/detection.hpp"
 #include "sim/integrator.hpp"
+#include "sim/module_table.hpp"
 #include "sim/simulation_manager.hpp"
 #include "sim/touch.hpp"
 #include "sim/watchdog.hpp"
@@ -26,59 +27,8 @@ namespace demlab::sim {
 // ---- the loop ------------------------------------------------------------------------------
 
 template <int D>
-typename SimulationManager<D>::Flags SimulationManager<D>::flags() const {
-  Flags f;
-  const size_t nm = s_.nMat();
-  std::vector<bool> grainMat(nm, false), anyMat(nm, false);
-  const GrainArrays<D>& a = s_.grains.a;
-  bool spinning = false;
-  for (size_t i = 0; i < a.size(); ++i) {
-    grainMat[a.material[i]] = true;
-    anyMat[a.material[i]] = true;
-    if (squaredNorm(a.w[i]) != 0) spinning = true;
-  }
-  for (const Wall<D>& w : s_.walls.items) anyMat[w.material] = true;
-  int law = -2;
-  for (size_t m = 0; m < nm; ++m) {
-    if (!grainMat[m]) continue;
-    for (size_t k = 0; k < nm; ++k) {
-      if (!anyMat[k]) continue;
-      if (s_.materials[m].friction > 0 && s_.materials[k].friction > 0) f.anyFriction = true;
-      const int8_t o = s_.pairLawOverride[m * nm + k];
-      const int l = o < 0 ? static_cast<int>(s_.defaultLaw) : o;
-      law = law == -2 ? l : (law == l ? law : -1);
-    }
-  }
-  f.law = law == -2 ? static_cast<int>(s_.defaultLaw) : law;
-  if (std::count(grainMat.begin(), grainMat.end(), true) == 1) {
-    const auto m =
-        static_cast<long>(std::find(grainMat.begin(), grainMat.end(), true) - grainMat.begin());
-    f.grainPair = m * static_cast<long>(nm) + m;
-  }
-  f.rotating = s_.rotationEnabled && (f.anyFriction || s_.behaviors.hasTorqueLoads() || spinning);
-  f.walls = s_.walls.size() > 0;
-  f.movingWalls = s_.walls.anyMoving();
-  f.gravity = s_.behaviors.hasGravity();
-  f.loads = s_.behaviors.hasLoads();
-  return f;
-}
-
-template <int D>
-std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(const Flags& f) const {
-  std::vector<std::unique_ptr<SimModule<D>>> m;
-  m.push_back(std::make_unique<PredictModule<D>>());
-  if (f.rotating) m.push_back(std::make_unique<PredictRotationModule<D>>());
-  if (f.movingWalls) m.push_back(std::make_unique<WallMotionModule<D>>());
-  m.push_back(std::make_unique<DetectionModule<D>>(s_.cellFactor));
-  for (auto& c : makeContactModules<D>(f.law, f.anyFriction, f.rotating, f.walls, f.grainPair)) {
-    m.push_back(std::move(c));
-  }
-  if (f.gravity) m.push_back(std::make_unique<GravityModule<D>>());
-  if (f.loads) m.push_back(std::make_unique<LoadModule<D>>());
-  // Last of the force stages: it reads the velocities the forces and loads were computed with.
-  if (s_.touchCorrection) m.push_back(std::make_unique<TouchModule<D>>());
-  m.push_back(std::make_unique<CorrectModule<D>>());
-  if (s_.watchdog.enabled) m.push_back(std::make_unique<WatchdogModule<D>>(watchdogStepLimit(s_)));
+std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(const SceneUse& u) const {
+  ModuleList<D> m = buildModules(s_, u);
   for (auto& o : outputModules()) m.push_back(std::move(o));
   return m;
 }
@@ -86,14 +36,14 @@ std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(con
 template <int D>
 std::vector<std::string> SimulationManager<D>::listModules() const {
   SimLoop<D> loop;
-  loop.setModules(makeModules(flags()));
+  loop.setModules(makeModules(sceneUse(s_)));
   return loop.names();
 }
 
 template <int D>
 void SimulationManager<D>::prepare() {
   if (configDirty_) {
-    const Flags f = flags();
+    const SceneUse f = sceneUse(s_);
     const double dt = timeStep();
     const size_t nm = s_.nMat();
     s_.pairParams.resize(nm * nm);
@@ -360,6 +310,15 @@ template <int D>
 double SimulationManager<D>::worstOverlap(double fraction, bool push, std::vector<bool>* moved) {
   GrainArrays<D>& a = s_.grains.a;
   const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+  std::vector<bool> pinned;
+  if (push && !s_.blocked.empty()) {
+    pinned.assign(a.size(), false);
+    for (const BlockedElement& b : s_.blocked) {
+      const uint32_t i = s_.grains.pool().findDense(b.id);
+      if (i != HandlePool<GrainKind>::kNpos && (b.dofs & (dof::X | dof::Y | dof::Z)) != 0)
+        pinned[i] = true;
+    }
+  }
   double worst = 0;
   for (const ContactRecord<D>& c : s_.contacts) {
     const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
@@ -377,16 +336,21 @@ double SimulationManager<D>::worstOverlap(double fraction, bool push, std::vecto
     worst = std::max(worst, g->overlap / rmin);
     if (!push || g->overlap <= fraction * rmin) continue;
     // Back to half the allowed overlap, shared by inverse mass; the normal points from a to b.
+    // A grain with a blocked translation stays where it is: the other one takes it all.
     const Real excess = g->overlap - 0.5 * fraction * rmin;
+    const Real ma = pinned.empty() || !pinned[c.a] ? a.invMass[c.a] : 0;
     if (c.wall) {
+      if (ma == 0) continue;
       a.x[c.a] -= excess * g->normal;
     } else {
-      const Real wa = a.invMass[c.a] / (a.invMass[c.a] + a.invMass[c.b]);
+      const Real mb = pinned.empty() || !pinned[c.b] ? a.invMass[c.b] : 0;
+      if (ma + mb == 0) continue;
+      const Real wa = ma / (ma + mb);
       a.x[c.a] -= (excess * wa) * g->normal;
       a.x[c.b] += (excess * (1 - wa)) * g->normal;
-      if (moved) (*moved)[c.b] = true;
+      if (moved && mb != 0) (*moved)[c.b] = true;
     }
-    if (moved) (*moved)[c.a] = true;
+    if (moved && ma != 0) (*moved)[c.a] = true;
   }
   return worst;
 }

@@ -1,5 +1,6 @@
 // The "element" group: one element at a time (add, get, set, clone, remove, tags) and bulk
 // queries that return Tcl lists (ids, positions, ...). Many at once: pack.cpp.
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -12,6 +13,13 @@ namespace demlab::cmd {
 namespace {
 
 using sim::GrainId;
+
+// Returns the words of a space-separated string as a Tcl list.
+List wordList(const std::string& words) {
+  List out;
+  for (auto& w : splitList(words)) out.emplace_back(w);
+  return out;
+}
 
 Dict stateDict(const sim::GrainState& g, int d) {
   List tags;
@@ -29,14 +37,44 @@ Dict stateDict(const sim::GrainState& g, int d) {
                                   : Value(Reals{{g.orientation.begin(), g.orientation.end()}, 0})},
            {"force", vecValue(g.force, d)},
            {"torque", vecValue(g.torque, d, true)},
-           {"tags", tags}};
+           {"tags", tags},
+           {"shape", std::string(sim::elementShapeName(g.shape))},
+           {"fixed", static_cast<int64_t>(g.blocked == sim::dof::all(d))},
+           {"blocked", wordList(sim::dofNames(g.blocked))}};
   return out;
 }
 
 const char* const kStateFields[] = {
-    "id",      "name",     "material", "radius",          "mass",
-    "inertia", "position", "velocity", "angularvelocity", "orientation",
-    "force",   "torque",   "tags"};
+    "id",       "name",     "material",        "radius",      "mass",  "inertia",
+    "position", "velocity", "angularvelocity", "orientation", "force", "torque",
+    "tags",     "shape",    "fixed",           "blocked"};
+
+// Returns the dof:: mask of the -block list (names x y z rx ry rz), or every degree of
+// freedom of the dimension with -fixed 1, or nothing when neither is given. Throws {VALUE DOF}
+// for a name that is not one, {VALUE FIXED} when both are given.
+std::optional<unsigned> blockedMask(const Call& c, int dim) {
+  if (c.given("fixed") && c.given("block")) {
+    throw Error(
+        "-fixed and -block can't be given together: -fixed 1 blocks every degree of "
+        "freedom",
+        {"VALUE", "FIXED"});
+  }
+  if (c.given("fixed")) return c.get<bool>("fixed") ? sim::dof::all(dim) : 0u;
+  if (!c.given("block")) return std::nullopt;
+  unsigned mask = 0;
+  for (const std::string& w : splitList(c.str("block"))) mask |= sim::dofFromName(w);
+  return mask;
+}
+
+// Declares -fixed and -block on cmd.
+void blockOptions(Command& cmd) {
+  cmd.option("fixed", boolean(),
+             "1: every degree of freedom blocked (it keeps its velocity, zero unless given); "
+             "0: none");
+  cmd.option("block", text("list of x y z rx ry rz"),
+             "the degrees of freedom to block (their velocities stay as they are whatever the "
+             "forces); the others are freed. 2D: x y rz");
+}
 
 // The elements a command targets: every element with -tag, or all.
 std::vector<GrainId> targets(const Call& c, const sim::Simulation& s) {
@@ -79,6 +117,9 @@ void registerElementCommands(Registry& r) {
   add.option("angularvelocity", spin().withUnit("rad/s"), "angular velocity (a number in 2D)");
   add.option("tags", text("list of tags"), "tags to give it");
   add.option("name", name(), "a unique name").to(&sim::GrainDef::name);
+  add.option("shape", choice({"sphere", "disc"}),
+             "its shape: sphere (3D) or disc (2D), the default of the dimension");
+  blockOptions(add);
   add.onCheck([](Call& c) {
     auto& s = session(c).scene();
     sim::GrainDef d;
@@ -93,6 +134,8 @@ void registerElementCommands(Registry& r) {
     checkNameFree(s, d.name);
     if (c.has("velocity")) d.velocity = vec3(c.vec("velocity"));
     if (c.has("angularvelocity")) d.angularVelocity = vec3(c.vec("angularvelocity"), true);
+    if (c.given("shape")) d.shape = sim::elementShapeFromName(c.str("shape"));
+    if (auto mask = blockedMask(c, s.dim())) d.blocked = *mask;
     if (c.has("tags")) {
       for (auto& t : splitList(c.str("tags"))) {
         checkTagName(t);
@@ -122,26 +165,49 @@ void registerElementCommands(Registry& r) {
     return picked.size() == 1 ? picked[0].second : Value(picked);
   });
 
-  Command& set =
-      r.add("element set", "Changes an element's position, velocity or angular velocity.");
+  Command& set = r.add("element set",
+                       "Changes an element's position, velocity, angular velocity or blocked "
+                       "degrees of freedom.");
+  set.details =
+      "A blocked degree of freedom keeps its velocity whatever the forces (the force or torque "
+      "along it is cancelled each step: the constraints module). -fixed 1 blocks all of them "
+      "and, unless -velocity or -angularvelocity is given too, stops the element.";
   set.arg("element", elementRef(), "an element id or name");
   set.option("position", vector().withUnit("m"), "new centre");
   set.option("velocity", vector().withUnit("m/s"), "new velocity");
   set.option("angularvelocity", spin().withUnit("rad/s"), "new angular velocity");
+  blockOptions(set);
+  set.onCheck([](Call& c) {
+    auto& s = session(c).scene();
+    s.grain(c.get<GrainId>("element"));  // LOOKUP HANDLE before anything changes
+    c.prepared = blockedMask(c, s.dim());
+  });
   set.run([](Call& c) {
     auto& s = session(c).scene();
     GrainId g = c.get<GrainId>("element");
-    // The pipes made every vector the right size, so none of these calls can fail half-way.
+    const auto mask = std::any_cast<std::optional<unsigned>>(c.prepared);
+    // The pipes made every vector the right size and the check read the mask, so none of
+    // these calls can fail half-way.
     if (c.has("position")) s.setGrainPosition(g, vec3(c.vec("position")));
-    if (c.has("velocity")) s.setGrainVelocity(g, vec3(c.vec("velocity")));
-    if (c.has("angularvelocity"))
+    const bool fixing = c.given("fixed") && c.get<bool>("fixed");
+    if (c.has("velocity")) {
+      s.setGrainVelocity(g, vec3(c.vec("velocity")));
+    } else if (fixing) {
+      s.setGrainVelocity(g, {0, 0, 0});
+    }
+    if (c.has("angularvelocity")) {
       s.setGrainAngularVelocity(g, vec3(c.vec("angularvelocity"), true));
+    } else if (fixing) {
+      s.setGrainAngularVelocity(g, {0, 0, 0});
+    }
+    if (mask) s.setGrainBlocked(g, *mask);
     return Value();
   });
 
-  Command& clone =
-      r.add("element clone",
-            "Adds a copy of an element (radius, material, tags, motion); returns its id.");
+  Command& clone = r.add(
+      "element clone",
+      "Adds a copy of an element (radius, material, tags, motion, blocked degrees of freedom); "
+      "returns its id.");
   clone.arg("element", elementRef(), "the element to copy");
   clone.option("position", vector().withUnit("m"), "the copy's centre").require();
   clone.option("velocity", vector().withUnit("m/s"),
@@ -157,6 +223,7 @@ void registerElementCommands(Registry& r) {
     d.position = vec3(c.vec("position"));
     d.velocity = c.has("velocity") ? vec3(c.vec("velocity")) : g.velocity;
     d.angularVelocity = g.angularVelocity;
+    d.blocked = g.blocked;
     if (c.has("name")) d.name = c.str("name");
     checkNameFree(s, d.name);
     return Value(scriptId(s.addGrain(d)));

@@ -1,0 +1,54 @@
+// The "constraints" module: blocked degrees of freedom (fixed elements, elements that may only
+// slide along an axis or only turn). It runs after every force of the step (contacts,
+// behaviors, the touch correction) and cancels the force and torque components along the
+// blocked degrees of freedom, so both halves of the velocity-Verlet kick leave those velocity
+// components as they are: a fixed element at rest stays where it is, one given a velocity moves
+// at it, as a kinematic body. What it cancels is the constraint's reaction; its work, reaction
+// times velocity, goes to the ledger's behaviour work, so the energy balance still closes for
+// a blocked element that moves.
+#pragma once
+
+#include "sim/scene.hpp"
+#include "sim/sim_loop.hpp"
+
+namespace demlab::sim {
+
+template <int D>
+class ConstraintModule final : public SimModule<D> {
+ public:
+  std::string_view name() const override { return "constraints"; }
+  SimLevel level() const override { return SimLevel::Behaviors; }
+
+  void run(Scene<D>& s) override {
+    GrainArrays<D>& a = s.grains.a;
+    const Real dt = s.stepDt;
+    double work = 0;
+    for (const BlockedElement& b : s.blocked) {
+      const uint32_t i = s.grains.pool().findDense(b.id);
+      if (i == HandlePool<GrainKind>::kNpos) continue;
+      for (int k = 0; k < D; ++k) {
+        if (b.dofs & (dof::X << k)) {
+          work -= a.f[i][k] * a.v[i][k] * dt;
+          a.f[i][k] = 0;
+        }
+      }
+      if (!s.rotating) continue;
+      if constexpr (D == 2) {
+        if (b.dofs & dof::Rz) {
+          work -= a.t[i] * a.w[i] * dt;
+          a.t[i] = 0;
+        }
+      } else {
+        for (int k = 0; k < 3; ++k) {
+          if (b.dofs & (dof::Rx << k)) {
+            work -= a.t[i][k] * a.w[i][k] * dt;
+            a.t[i][k] = 0;
+          }
+        }
+      }
+    }
+    s.ledger.behaviorWork += work;
+  }
+};
+
+}  // namespace demlab::sim

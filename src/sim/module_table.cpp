@@ -1,0 +1,127 @@
+// The rows of the module table (sim/module_table.hpp) and what a scene uses.
+#include "sim/module_table.hpp"
+
+#include <algorithm>
+
+#include "sim/behavior_modules.hpp"
+#include "sim/constraints.hpp"
+#include "sim/contacts.hpp"
+#include "sim/detection.hpp"
+#include "sim/integrator.hpp"
+#include "sim/touch.hpp"
+#include "sim/watchdog.hpp"
+
+namespace demlab::sim {
+
+template <int D>
+SceneUse sceneUse(const Scene<D>& s) {
+  SceneUse f;
+  const size_t nm = s.nMat();
+  std::vector<bool> grainMat(nm, false), anyMat(nm, false);
+  const GrainArrays<D>& a = s.grains.a;
+  bool spinning = false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    grainMat[a.material[i]] = true;
+    anyMat[a.material[i]] = true;
+    if (squaredNorm(a.w[i]) != 0) spinning = true;
+  }
+  for (const Wall<D>& w : s.walls.items) anyMat[w.material] = true;
+  int law = -2;
+  for (size_t m = 0; m < nm; ++m) {
+    if (!grainMat[m]) continue;
+    for (size_t k = 0; k < nm; ++k) {
+      if (!anyMat[k]) continue;
+      if (s.materials[m].friction > 0 && s.materials[k].friction > 0) f.anyFriction = true;
+      const int8_t o = s.pairLawOverride[m * nm + k];
+      const int l = o < 0 ? static_cast<int>(s.defaultLaw) : o;
+      law = law == -2 ? l : (law == l ? law : -1);
+    }
+  }
+  f.law = law == -2 ? static_cast<int>(s.defaultLaw) : law;
+  if (std::count(grainMat.begin(), grainMat.end(), true) == 1) {
+    const auto m =
+        static_cast<long>(std::find(grainMat.begin(), grainMat.end(), true) - grainMat.begin());
+    f.grainPair = m * static_cast<long>(nm) + m;
+  }
+  f.rotating = s.rotationEnabled && (f.anyFriction || s.behaviors.hasTorqueLoads() || spinning);
+  f.walls = s.walls.size() > 0;
+  f.movingWalls = s.walls.anyMoving();
+  f.gravity = s.behaviors.hasGravity();
+  f.loads = s.behaviors.hasLoads();
+  return f;
+}
+
+namespace {
+
+template <int D>
+bool always(const Scene<D>&, const SceneUse&) {
+  return true;
+}
+
+// make for a module built without arguments.
+template <int D, template <int> class M>
+void plain(const Scene<D>&, const SceneUse&, ModuleList<D>& out) {
+  out.push_back(std::make_unique<M<D>>());
+}
+
+template <int D>
+struct Rows {
+  static constexpr ModuleRow<D> rows[] = {
+      {"integrate", always<D>, plain<D, PredictModule>},
+      {"rotation", [](const Scene<D>&, const SceneUse& u) { return u.rotating; },
+       plain<D, PredictRotationModule>},
+      {"walls", [](const Scene<D>&, const SceneUse& u) { return u.movingWalls; },
+       plain<D, WallMotionModule>},
+      {"detection", always<D>,
+       [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
+         out.push_back(std::make_unique<DetectionModule<D>>(s.cellFactor));
+       }},
+      {"contacts", always<D>,
+       [](const Scene<D>&, const SceneUse& u, ModuleList<D>& out) {
+         for (auto& c :
+              makeContactModules<D>(u.law, u.anyFriction, u.rotating, u.walls, u.grainPair)) {
+           out.push_back(std::move(c));
+         }
+       }},
+      {"gravity", [](const Scene<D>&, const SceneUse& u) { return u.gravity; },
+       plain<D, GravityModule>},
+      {"loads", [](const Scene<D>&, const SceneUse& u) { return u.loads; }, plain<D, LoadModule>},
+      // Last of the force stages but the constraints: it reads the velocities the forces and
+      // loads were computed with.
+      {"touch", [](const Scene<D>& s, const SceneUse&) { return s.touchCorrection; },
+       plain<D, TouchModule>},
+      // After every force: it cancels what acts along a blocked degree of freedom.
+      {"constraints", [](const Scene<D>& s, const SceneUse&) { return !s.blocked.empty(); },
+       plain<D, ConstraintModule>},
+      {"integrate-correct", always<D>, plain<D, CorrectModule>},
+      {"watchdog", [](const Scene<D>& s, const SceneUse&) { return s.watchdog.enabled; },
+       [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
+         out.push_back(std::make_unique<WatchdogModule<D>>(watchdogStepLimit(s)));
+       }},
+  };
+};
+
+}  // namespace
+
+template <int D>
+std::span<const ModuleRow<D>> moduleTable() {
+  return Rows<D>::rows;
+}
+
+template <int D>
+ModuleList<D> buildModules(const Scene<D>& s, const SceneUse& u) {
+  ModuleList<D> out;
+  for (const ModuleRow<D>& row : moduleTable<D>()) {
+    if (row.wanted(s, u)) row.make(s, u, out);
+  }
+  return out;
+}
+
+template SceneUse sceneUse<2>(const Scene<2>&);
+template SceneUse sceneUse<3>(const Scene<3>&);
+template std::span<const ModuleRow<2>> moduleTable<2>();
+template std::span<const ModuleRow<3>> moduleTable<3>();
+template ModuleList<2> buildModules<2>(const Scene<2>&, const SceneUse&);
+template ModuleList<3> buildModules<3>(const Scene<3>&, const SceneUse&);
+
+}  // namespace demlab::sim

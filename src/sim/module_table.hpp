@@ -1,0 +1,56 @@
+// The module table (LAMMPS's style table, thesis chapter 9's SimModules): one row per module
+// kind, in loop order within each level. A row says when a scene wants the module and makes
+// it; buildModules() is the whole loop builder, so adding a module is one class and one row
+// (module_table.cpp), with no edit to the manager. A scene runs only the rows it wants
+// (`module list`): one without friction runs no history code, one without walls no wall code.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "sim/scene.hpp"
+#include "sim/sim_loop.hpp"
+
+namespace demlab::sim {
+
+// What a scene uses, read from it once when its loop is built: the rows' wants read these
+// (and the scene's options) rather than scanning the scene each.
+struct SceneUse {
+  bool anyFriction = false, rotating = false, walls = false, movingWalls = false;
+  bool gravity = false, loads = false;
+  int law = 0;  // the one law of every pair in use, or -1 when they differ
+  // The material pair (index into Scene::pairParams) of every grain-grain contact when all
+  // grains have one material, else -1.
+  long grainPair = -1;
+};
+
+// Returns what the scene s uses. Changes nothing.
+template <int D>
+SceneUse sceneUse(const Scene<D>& s);
+
+template <int D>
+using ModuleList = std::vector<std::unique_ptr<SimModule<D>>>;
+
+template <int D>
+struct ModuleRow {
+  // The row's name as `module list` shows it (a row may make several modules, as the contact
+  // row makes the grain and wall passes of the scene's law).
+  std::string_view name;
+  // Returns true if scene s (using u) runs this row's modules.
+  bool (*wanted)(const Scene<D>& s, const SceneUse& u);
+  // Appends this row's modules for scene s to out.
+  void (*make)(const Scene<D>& s, const SceneUse& u, ModuleList<D>& out);
+};
+
+// Returns the rows, in loop order. Changes nothing.
+template <int D>
+std::span<const ModuleRow<D>> moduleTable();
+
+// Returns the modules of every row that s wants, in table order (the loop then sorts them by
+// level, keeping this order within a level). Changes nothing.
+template <int D>
+ModuleList<D> buildModules(const Scene<D>& s, const SceneUse& u);
+
+}  // namespace demlab::sim
