@@ -54,9 +54,8 @@ void MaterialDef::check() const {
   if (!(friction >= 0 && std::isfinite(friction))) {
     bad("friction", friction, "a non-negative number", "FRICTION");
   }
-  if (!(rollingFriction == 0)) {
-    bad("rolling friction", rollingFriction, "0 (rolling resistance is not supported)",
-        "ROLLINGFRICTION");
+  if (!(rollingFriction >= 0 && std::isfinite(rollingFriction))) {
+    bad("rolling friction", rollingFriction, "a non-negative number", "ROLLINGFRICTION");
   }
   if (!(normalStiffness >= 0 && std::isfinite(normalStiffness))) {
     bad("normal stiffness", normalStiffness, "a non-negative number", "NORMALSTIFFNESS");

@@ -17,7 +17,8 @@ struct MaterialDef {
   Real poisson = std::numeric_limits<Real>::quiet_NaN();      // Poisson's ratio, in (-1, 0.5)
   Real restitution = std::numeric_limits<Real>::quiet_NaN();  // normal restitution e, in (0, 1]
   Real friction = std::numeric_limits<Real>::quiet_NaN();     // Coulomb mu, >= 0 (0: frictionless)
-  // Rolling resistance is not modelled yet: check() rejects any value but 0.
+  // Rolling friction mu_r, >= 0: the lever arm of the rolling-resistance couple per unit of
+  // effective radius (sim/rolling_resistance.hpp); 0: none.
   Real rollingFriction = 0;
   // Linear law only: explicit contact spring constants (N/m). 0 derives them from young,
   // poisson and the effective radius of each contact (see PairParams). A shear stiffness needs
@@ -29,7 +30,7 @@ struct MaterialDef {
   // Returns nothing; changes nothing. Throws demlab::Error for the first bad field, in field
   // order, with a Tcl-worded message and the code {VALUE <FIELD>}: DENSITY, YOUNG (each must be
   // a positive finite number), POISSON (in (-1, 0.5)), RESTITUTION (in (0, 1]), FRICTION (a
-  // non-negative finite number), ROLLINGFRICTION (must be 0), NORMALSTIFFNESS, SHEARSTIFFNESS
+  // non-negative finite number), ROLLINGFRICTION (a non-negative finite number), NORMALSTIFFNESS, SHEARSTIFFNESS
   // (non-negative finite; a shear stiffness without a normal stiffness is rejected). NaN and
   // infinities are rejected everywhere.
   void check() const;

@@ -8,6 +8,7 @@
 #include "sim/contacts.hpp"
 #include "sim/detection.hpp"
 #include "sim/integrator.hpp"
+#include "sim/rolling_resistance.hpp"
 #include "sim/touch.hpp"
 #include "sim/watchdog.hpp"
 
@@ -82,6 +83,11 @@ struct Rows {
               makeContactModules<D>(u.law, u.anyFriction, u.rotating, u.walls, u.grainPair)) {
            out.push_back(std::move(c));
          }
+       }},
+      {"rolling",
+       [](const Scene<D>& s, const SceneUse& u) { return u.rotating && anyRollingFriction(s); },
+       [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
+         out.push_back(std::make_unique<RollingResistanceModule<D>>(s));
        }},
       {"gravity", [](const Scene<D>&, const SceneUse& u) { return u.gravity; },
        plain<D, GravityModule>},

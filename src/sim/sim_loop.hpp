@@ -37,6 +37,9 @@ class SimModule {
   // Returns the bytes of heap the module holds for itself (scratch kept between steps), for
   // Simulation::memory(); 0 for a module that keeps none.
   virtual size_t workingBytes() const { return 0; }
+  // Returns true if the module reads the step's contact records (Scene::contacts), which the
+  // contact passes then record at every step, not only where something looks.
+  virtual bool readsContactRecords() const { return false; }
 };
 
 template <int D>
@@ -94,6 +97,12 @@ class SimLoop {
         m->run(scene);
       }
     }
+  }
+
+  // Returns true if some module reads the contact records of every step.
+  bool readsContactRecords() const {
+    return std::any_of(modules_.begin(), modules_.end(),
+                       [](const auto& m) { return m->readsContactRecords(); });
   }
 
   // Returns the module names in run order.

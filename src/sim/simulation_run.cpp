@@ -144,7 +144,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   // the progress callback, a stop or the watchdog's overlap check (which reads them at every
   // step: a blow-up's deep overlaps can come and go within a few steps) looks in between.
   const bool seen =
-      !outputs_.empty() || options.progress || options.stop || (watched && s_.watchdog.overlap > 0);
+      !outputs_.empty() || options.progress || options.stop ||
+      (watched && s_.watchdog.overlap > 0) || loop_.readsContactRecords();
   struct Restore {
     bool& flag;
     ~Restore() { flag = true; }

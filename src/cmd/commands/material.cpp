@@ -25,14 +25,17 @@ void materialOptions(Command& c, bool required) {
       &MaterialDef::restitution, true);
   opt("friction", real().nonNegative(), "Coulomb friction coefficient", &MaterialDef::friction,
       true);
+  opt("rolling", real().nonNegative(),
+      "rolling friction: the resisting couple's lever arm per unit radius (0: none)",
+      &MaterialDef::rollingFriction, false);
   opt("normalstiffness", real().nonNegative().withUnit("N/m"),
       "linear law: normal spring (0: from young)", &MaterialDef::normalStiffness, false);
   opt("shearstiffness", real().nonNegative().withUnit("N/m"),
       "linear law: shear spring (0: from the normal one)", &MaterialDef::shearStiffness, false);
 }
 
-const char* const kFields[] = {"density",  "young",           "poisson",       "restitution",
-                               "friction", "normalstiffness", "shearstiffness"};
+const char* const kFields[] = {"density",  "young",   "poisson",         "restitution",
+                               "friction", "rolling", "normalstiffness", "shearstiffness"};
 
 Dict materialDict(const MaterialDef& m) {
   return {{"density", m.density},
@@ -40,6 +43,7 @@ Dict materialDict(const MaterialDef& m) {
           {"poisson", m.poisson},
           {"restitution", m.restitution},
           {"friction", m.friction},
+          {"rolling", m.rollingFriction},
           {"normalstiffness", m.normalStiffness},
           {"shearstiffness", m.shearStiffness}};
 }
