@@ -57,6 +57,9 @@ void MaterialDef::check() const {
   if (!(rollingFriction >= 0 && std::isfinite(rollingFriction))) {
     bad("rolling friction", rollingFriction, "a non-negative number", "ROLLINGFRICTION");
   }
+  if (!(cohesion >= 0 && std::isfinite(cohesion))) {
+    bad("cohesion", cohesion, "a non-negative number", "COHESION");
+  }
   if (!(normalStiffness >= 0 && std::isfinite(normalStiffness))) {
     bad("normal stiffness", normalStiffness, "a non-negative number", "NORMALSTIFFNESS");
   }

@@ -20,6 +20,9 @@ struct MaterialDef {
   // Rolling friction mu_r, >= 0: the lever arm of the rolling-resistance couple per unit of
   // effective radius (sim/rolling_resistance.hpp); 0: none.
   Real rollingFriction = 0;
+  // Cohesion k_c (Pa: an energy per volume), >= 0: overlapping surfaces attract with k_c times
+  // their intersection's area (sim/cohesion.hpp); 0: none.
+  Real cohesion = 0;
   // Linear law only: explicit contact spring constants (N/m). 0 derives them from young,
   // poisson and the effective radius of each contact (see PairParams). A shear stiffness needs
   // a normal stiffness; a normal stiffness alone gets its shear stiffness from the Mindlin
@@ -30,7 +33,7 @@ struct MaterialDef {
   // Returns nothing; changes nothing. Throws demlab::Error for the first bad field, in field
   // order, with a Tcl-worded message and the code {VALUE <FIELD>}: DENSITY, YOUNG (each must be
   // a positive finite number), POISSON (in (-1, 0.5)), RESTITUTION (in (0, 1]), FRICTION (a
-  // non-negative finite number), ROLLINGFRICTION (a non-negative finite number), NORMALSTIFFNESS, SHEARSTIFFNESS
+  // non-negative finite number), ROLLINGFRICTION, COHESION (non-negative finite numbers), NORMALSTIFFNESS, SHEARSTIFFNESS
   // (non-negative finite; a shear stiffness without a normal stiffness is rejected). NaN and
   // infinities are rejected everywhere.
   void check() const;

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "sim/behavior_modules.hpp"
+#include "sim/cohesion.hpp"
 #include "sim/constraints.hpp"
 #include "sim/contacts.hpp"
 #include "sim/detection.hpp"
@@ -88,6 +89,10 @@ struct Rows {
        [](const Scene<D>& s, const SceneUse& u) { return u.rotating && anyRollingFriction(s); },
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
          out.push_back(std::make_unique<RollingResistanceModule<D>>(s));
+       }},
+      {"cohesion", [](const Scene<D>& s, const SceneUse&) { return anyCohesion(s); },
+       [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
+         out.push_back(std::make_unique<CohesionModule<D>>(s));
        }},
       {"gravity", [](const Scene<D>&, const SceneUse& u) { return u.gravity; },
        plain<D, GravityModule>},

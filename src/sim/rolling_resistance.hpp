@@ -20,7 +20,7 @@
 #include <cmath>
 #include <vector>
 
-#include "sim/contacts.hpp"
+#include "sim/record_geometry.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -52,36 +52,17 @@ class RollingResistanceModule final : public SimModule<D> {
     if (!s.rotating || !(s.stepDt > 0)) return;
     GrainArrays<D>& a = s.grains.a;
     const Real dt = s.stepDt;
-    const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
     double loss = 0;
     for (const ContactRecord<D>& c : s.contacts) {
+      const auto rg = recordGeometry(s, c);
+      if (!rg) continue;
       const uint32_t i = c.a;
-      VecD<D> n;
-      Real radius, invI = a.invInertia[i];
-      AngularD<D> wOther;
-      uint32_t matB;
-      if (c.wall) {
-        const Wall<D>& w = s.walls.items[c.b];
-        const physics::SphereShape<D> sa{a.x[i], a.r[i]};
-        const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
-        const auto g =
-            np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
-        if (!g) continue;
-        n = g->normal;
-        radius = a.r[i];
-        wOther = w.omega;
-        matB = w.material;
-      } else {
-        const uint32_t j = c.b;
-        n = a.x[j] - a.x[i];
-        const Real len = n.norm();
-        if (!(len > 0)) continue;
-        n /= len;
-        radius = a.r[i] * a.r[j] / (a.r[i] + a.r[j]);
-        invI += a.invInertia[j];
-        wOther = a.w[j];
-        matB = a.material[j];
-      }
+      const VecD<D>& n = rg->g.normal;
+      const uint32_t matB = rg->materialB;
+      const Real radius =
+          c.wall ? rg->radiusA : rg->radiusA * rg->radiusB / (rg->radiusA + rg->radiusB);
+      const Real invI = a.invInertia[i] + (c.wall ? 0 : a.invInertia[c.b]);
+      const AngularD<D> wOther = c.wall ? s.walls.items[c.b].omega : a.w[c.b];
       const Real mu = mu_[a.material[i] * nm_ + matB];
       const Real fn = c.force.dot(n);
       if (!(mu > 0 && fn > 0)) continue;

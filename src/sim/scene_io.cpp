@@ -2,6 +2,7 @@
 // and read by mirror-image code.
 #include "sim/scene_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace demlab::sim {
@@ -335,6 +336,13 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     });
     writeSection(w, kBlockedTag, body);
   }
+  const bool cohesive = std::any_of(s.materials.begin(), s.materials.end(),
+                                    [](const physics::MaterialDef& m) { return m.cohesion != 0; });
+  if (cohesive) {
+    Writer body;
+    body.list(s.materials, [&](const physics::MaterialDef& m) { body.f64(m.cohesion); });
+    writeSection(w, kCohesionTag, body);
+  }
 }
 
 template <int D>
@@ -523,6 +531,12 @@ void readScene(Reader& r, Scene<D>& s) {
     Reader b(body);
     if (std::memcmp(tag, kBlockedTag, 4) == 0) {
       readBlocked(b, s);
+    } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {
+      if (b.count(8) != s.materials.size()) Reader::bad("cohesion count");
+      for (physics::MaterialDef& m : s.materials) {
+        m.cohesion = b.f64();
+        if (!(m.cohesion >= 0 && std::isfinite(m.cohesion))) Reader::bad("cohesion");
+      }
     } else {
       throw Error("can't load a checkpoint with a \"" + std::string(tag, 4) +
                       "\" section: it was written by a later demlab",

@@ -142,6 +142,9 @@ inline constexpr char kTouchTag[5] = "TUCH";
 // The blocked degrees of freedom (sim/constraints.hpp): u64 count, then per element its
 // handle (u32 index, u32 generation) and u8 dof mask.
 inline constexpr char kBlockedTag[5] = "BLKD";
+// The materials' cohesion (sim/cohesion.hpp), when one has any: u64 count (the materials'),
+// then one f64 each, in material order.
+inline constexpr char kCohesionTag[5] = "COHE";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

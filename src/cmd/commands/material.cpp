@@ -28,6 +28,9 @@ void materialOptions(Command& c, bool required) {
   opt("rolling", real().nonNegative(),
       "rolling friction: the resisting couple's lever arm per unit radius (0: none)",
       &MaterialDef::rollingFriction, false);
+  opt("cohesion", real().nonNegative().withUnit("Pa"),
+      "cohesion: overlapping surfaces attract with it times their contact area (0: none)",
+      &MaterialDef::cohesion, false);
   opt("normalstiffness", real().nonNegative().withUnit("N/m"),
       "linear law: normal spring (0: from young)", &MaterialDef::normalStiffness, false);
   opt("shearstiffness", real().nonNegative().withUnit("N/m"),
@@ -35,7 +38,8 @@ void materialOptions(Command& c, bool required) {
 }
 
 const char* const kFields[] = {"density",  "young",   "poisson",         "restitution",
-                               "friction", "rolling", "normalstiffness", "shearstiffness"};
+                               "friction", "rolling", "cohesion", "normalstiffness",
+                               "shearstiffness"};
 
 Dict materialDict(const MaterialDef& m) {
   return {{"density", m.density},
@@ -44,6 +48,7 @@ Dict materialDict(const MaterialDef& m) {
           {"restitution", m.restitution},
           {"friction", m.friction},
           {"rolling", m.rollingFriction},
+          {"cohesion", m.cohesion},
           {"normalstiffness", m.normalStiffness},
           {"shearstiffness", m.shearStiffness}};
 }
