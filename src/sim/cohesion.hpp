@@ -26,11 +26,13 @@
 
 namespace demlab::sim {
 
-// Returns true if some material of s has a cohesion.
+// Returns true if some material or pair of s has a cohesion.
 template <int D>
 bool anyCohesion(const Scene<D>& s) {
   return std::any_of(s.materials.begin(), s.materials.end(),
-                     [](const physics::MaterialDef& m) { return m.cohesion > 0; });
+                     [](const physics::MaterialDef& m) { return m.cohesion > 0; }) ||
+         std::any_of(s.pairOverrides.begin(), s.pairOverrides.end(),
+                     [](const PairOverride& o) { return o.c.cohesion > 0; });
 }
 
 // Returns the area of the circle where a sphere of radius ri cuts one of radius rj at centre
@@ -50,10 +52,14 @@ template <int D>
 class CohesionModule final : public SimModule<D> {
  public:
   // Mixes the pairs' coefficients of s (the module is rebuilt when the materials change).
+  static Real pairValue(const Scene<D>& s, size_t m, size_t k) {
+    const auto [a, b] = s.pairMaterials(m, k);
+    return std::min(a.cohesion, b.cohesion);
+  }
   explicit CohesionModule(const Scene<D>& s) : nm_(s.nMat()), kc_(nm_ * nm_) {
     for (size_t m = 0; m < nm_; ++m) {
       for (size_t k = 0; k < nm_; ++k) {
-        kc_[m * nm_ + k] = std::min(s.materials[m].cohesion, s.materials[k].cohesion);
+        kc_[m * nm_ + k] = pairValue(s, m, k);
       }
     }
   }

@@ -33,7 +33,8 @@ SceneUse sceneUse(const Scene<D>& s) {
     if (!grainMat[m]) continue;
     for (size_t k = 0; k < nm; ++k) {
       if (!anyMat[k]) continue;
-      if (s.materials[m].friction > 0 && s.materials[k].friction > 0) f.anyFriction = true;
+      const auto [ma, mk] = s.pairMaterials(m, k);
+      if (ma.friction > 0 && mk.friction > 0) f.anyFriction = true;
       const int8_t o = s.pairLawOverride[m * nm + k];
       const int l = o < 0 ? static_cast<int>(s.defaultLaw) : o;
       law = law == -2 ? l : (law == l ? law : -1);

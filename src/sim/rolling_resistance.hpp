@@ -26,21 +26,27 @@
 
 namespace demlab::sim {
 
-// Returns true if some material of s has a rolling friction.
+// Returns true if some material or pair of s has a rolling friction.
 template <int D>
 bool anyRollingFriction(const Scene<D>& s) {
   return std::any_of(s.materials.begin(), s.materials.end(),
-                     [](const physics::MaterialDef& m) { return m.rollingFriction > 0; });
+                     [](const physics::MaterialDef& m) { return m.rollingFriction > 0; }) ||
+         std::any_of(s.pairOverrides.begin(), s.pairOverrides.end(),
+                     [](const PairOverride& o) { return o.c.rolling > 0; });
 }
 
 template <int D>
 class RollingResistanceModule final : public SimModule<D> {
  public:
   // Mixes the pairs' coefficients of s (the module is rebuilt when the materials change).
+  static Real pairValue(const Scene<D>& s, size_t m, size_t k) {
+    const auto [a, b] = s.pairMaterials(m, k);
+    return std::min(a.rollingFriction, b.rollingFriction);
+  }
   explicit RollingResistanceModule(const Scene<D>& s) : nm_(s.nMat()), mu_(nm_ * nm_) {
     for (size_t m = 0; m < nm_; ++m) {
       for (size_t k = 0; k < nm_; ++k) {
-        mu_[m * nm_ + k] = std::min(s.materials[m].rollingFriction, s.materials[k].rollingFriction);
+        mu_[m * nm_ + k] = pairValue(s, m, k);
       }
     }
   }

@@ -3,8 +3,11 @@
 // stages of one step, not independent objects), so no data crosses a virtual call.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/instance_interaction.hpp"
@@ -61,6 +64,13 @@ inline void appendRecord(std::vector<ContactRecord<D>>& records, const ContactRe
   records.push_back(r);
 }
 
+// The coefficients one pair of materials has of its own (Simulation::setPairCoefficients):
+// few pairs have any, so a list; a < b or a == b.
+struct PairOverride {
+  uint32_t a, b;
+  PairCoefficients c;
+};
+
 // An element with blocked degrees of freedom (sim/constraints.hpp). Few elements are: a list
 // beside the hot arrays, so a scene without any pays nothing, not a byte per element.
 struct BlockedElement {
@@ -82,6 +92,7 @@ struct Scene {
   physics::LawKind defaultLaw = physics::LawKind::HertzMindlin;
   // Per material pair law overrides, row-major nMat x nMat (symmetric); -1: default.
   std::vector<int8_t> pairLawOverride;
+  std::vector<PairOverride> pairOverrides;
   // What the Coulomb limit caps, for every pair (physics/tangential.hpp).
   physics::CoulombCriterion coulomb = physics::CoulombCriterion::Total;
   // Mixed once per run start (SimulationManager::prepare): row-major nMat x nMat.
@@ -134,6 +145,24 @@ struct Scene {
   LedgerSums ledger;
 
   size_t nMat() const { return materials.size(); }
+
+  // Returns the two materials m and k as the pair's mixing should see them: copies with the
+  // pair's own coefficients (pairOverrides) put in both, so that every mixing rule (geometric
+  // mean, minimum) gives the pair's value. Changes nothing.
+  std::pair<physics::MaterialDef, physics::MaterialDef> pairMaterials(size_t m, size_t k) const {
+    std::pair<physics::MaterialDef, physics::MaterialDef> out{materials[m], materials[k]};
+    const size_t lo = std::min(m, k), hi = std::max(m, k);
+    for (const PairOverride& o : pairOverrides) {
+      if (o.a != lo || o.b != hi) continue;
+      for (physics::MaterialDef* d : {&out.first, &out.second}) {
+        if (!std::isnan(o.c.restitution)) d->restitution = o.c.restitution;
+        if (!std::isnan(o.c.friction)) d->friction = o.c.friction;
+        if (!std::isnan(o.c.rolling)) d->rollingFriction = o.c.rolling;
+        if (!std::isnan(o.c.cohesion)) d->cohesion = o.c.cohesion;
+      }
+    }
+    return out;
+  }
 };
 
 // Returns the id used for a wall in pair-history keys: walls live in the top half of the id

