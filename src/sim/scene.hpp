@@ -35,6 +35,21 @@ struct LedgerSums {
   double reference = 0;         // the balance sum when the ledger started (rebased on edits)
   double gravityReference = 0;  // the gravitational energy then (for the scale)
   double scale = 0;             // largest energy magnitude seen (for the relative residual)
+
+  // Returns the balance sum for the state terms given: kinetic + potential + elastic + losses
+  // - work done on the grains (simulation.hpp, EnergyLedger). The one formula of the ledger:
+  // the ledger's reference, its report and the watchdog's check all call it.
+  double balanceSum(double kinetic, double potential) const {
+    return kinetic + potential + elastic + dampingLoss + frictionLoss - wallWork - behaviorWork -
+           springWork;
+  }
+  // Returns the energy scale the residual is relative to: the largest of the magnitudes seen and
+  // those of the terms now (the reference's only when withReference).
+  double scaleWith(double kinetic, double potential, bool withReference) const {
+    return std::max({scale, kinetic, std::abs(potential - gravityReference), elastic,
+                     dampingLoss + frictionLoss, std::abs(wallWork), std::abs(behaviorWork),
+                     withReference ? std::abs(reference) : 0.0});
+  }
 };
 
 // One grain-grain candidate pair (dense indices) from the last neighbor search.

@@ -406,9 +406,7 @@ double SimulationManager<D>::ledgerSum() const {
   for (size_t i = 0; i < a.size(); ++i) {
     k += 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * squaredNorm(a.w[i]) / a.invInertia[i];
   }
-  const LedgerSums& l = s_.ledger;
-  return k + potential() + l.elastic + l.dampingLoss + l.frictionLoss - l.wallWork -
-         l.behaviorWork - l.springWork;
+  return s_.ledger.balanceSum(k, potential());
 }
 
 template <int D>
@@ -427,13 +425,9 @@ EnergyLedger SimulationManager<D>::energy() const {
   e.wallWork = l.wallWork;
   e.behaviorWork = l.behaviorWork;
   e.springWork = l.springWork;
-  const double sum = e.kineticTranslational + e.kineticRotational + e.gravitational + e.elastic +
-                     e.dampingLoss + e.frictionLoss - e.wallWork - e.behaviorWork - e.springWork;
-  e.balance = l.started ? sum - l.reference : 0;
-  e.scale = std::max({l.scale, e.kineticTranslational + e.kineticRotational,
-                      std::abs(e.gravitational - l.gravityReference), e.elastic,
-                      e.dampingLoss + e.frictionLoss, std::abs(e.wallWork),
-                      std::abs(e.behaviorWork), l.started ? std::abs(l.reference) : 0.0});
+  const double kinetic = e.kineticTranslational + e.kineticRotational;
+  e.balance = l.started ? l.balanceSum(kinetic, e.gravitational) - l.reference : 0;
+  e.scale = l.scaleWith(kinetic, e.gravitational, l.started);
   e.residual = e.scale > 0 ? std::abs(e.balance) / e.scale : 0;
   return e;
 }

@@ -187,11 +187,8 @@ bool watchdogEnergyOver(const Scene<D>& s, WatchdogHit& h) {
     }
   }
   const double kin = 0.5 * k2;
-  const double balance = kin + u + l.elastic + l.dampingLoss + l.frictionLoss - l.wallWork -
-                         l.behaviorWork - l.springWork - l.reference;
-  const double scale = std::max({l.scale, kin, std::abs(u - l.gravityReference), l.elastic,
-                                 l.dampingLoss + l.frictionLoss, std::abs(l.wallWork),
-                                 std::abs(l.behaviorWork), std::abs(l.reference)});
+  const double balance = l.balanceSum(kin, u) - l.reference;
+  const double scale = l.scaleWith(kin, u, true);
   if (!(scale > 0 && balance > o.energy * scale)) return false;
   h = WatchdogHit{WatchdogHit::Energy};
   h.a = static_cast<uint32_t>(fastest);
