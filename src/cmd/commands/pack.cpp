@@ -11,6 +11,7 @@
 #include "core/tag_table.hpp"
 #include "io/lammps_data.hpp"
 #include "io/line_reader.hpp"
+#include "sim/packing.hpp"
 
 namespace demlab::cmd {
 
@@ -18,39 +19,8 @@ namespace {
 
 using sim::Vec3d;
 
-struct Region {
-  enum Kind { Box, Sphere } kind = Box;
-  Vec3d lo{}, hi{};  // Box
-  Vec3d centre{};    // Sphere (a disc in 2D)
-  double radius = 0;
-  // Returns true if a ball of radius r at p lies inside the region.
-  // Rounding of lattice coordinates is forgiven up to 1e-9 radii, so a lattice that exactly
-  // fits its box keeps its last row.
-  bool holds(const Vec3d& p, double r, int d) const {
-    double tol = 1e-9 * r;
-    if (kind == Box) {
-      for (int k = 0; k < d; ++k)
-        if (p[k] - r < lo[k] - tol || p[k] + r > hi[k] + tol) return false;
-      return true;
-    }
-    double s = 0;
-    for (int k = 0; k < d; ++k) s += (p[k] - centre[k]) * (p[k] - centre[k]);
-    return std::sqrt(s) + r <= radius + tol;
-  }
-  double volume(int d) const {
-    if (kind == Box) {
-      double v = 1;
-      for (int k = 0; k < d; ++k) v *= hi[k] - lo[k];
-      return v;
-    }
-    return d == 2 ? M_PI * radius * radius : 4.0 / 3.0 * M_PI * radius * radius * radius;
-  }
-  void bounds(int d, Vec3d& a, Vec3d& b) const {
-    a = lo, b = hi;
-    if (kind == Sphere)
-      for (int k = 0; k < d; ++k) a[k] = centre[k] - radius, b[k] = centre[k] + radius;
-  }
-};
+using sim::Region;
+using SizeDist = sim::SizeDistribution;
 
 // `{box {lo} {hi}}` or `{sphere {centre} radius}` (a disc in 2D).
 PipeType regionType() {
@@ -94,48 +64,6 @@ PipeType regionType() {
 
 // A size distribution of radii: a number, {uniform a b}, {normal mean sd} (truncated at 3 sd),
 // {powerlaw a b exponent}, or {discrete r1 w1 r2 w2 ...}.
-struct SizeDist {
-  std::string kind = "constant";
-  std::vector<double> p;
-  double maxRadius() const {
-    if (kind == "constant") return p[0];
-    if (kind == "uniform" || kind == "powerlaw") return p[1];
-    if (kind == "normal") return p[0] + 3 * p[1];
-    double m = 0;
-    for (std::size_t k = 0; k < p.size(); k += 2) m = std::max(m, p[k]);
-    return m;
-  }
-  // Returns one radius drawn with rng (reproducible: the generator and the transforms are ours).
-  double draw(std::mt19937_64& rng) const {
-    auto u = [&] { return double(rng() >> 11) * 0x1.0p-53; };
-    if (kind == "constant") return p[0];
-    if (kind == "uniform") return p[0] + (p[1] - p[0]) * u();
-    if (kind == "powerlaw") {  // density ~ r^exponent on [a, b]
-      double a = p[0], b = p[1], e = p[2];
-      if (std::abs(e + 1) < 1e-12) return a * std::pow(b / a, u());
-      double ea = std::pow(a, e + 1), eb = std::pow(b, e + 1);
-      return std::pow(ea + (eb - ea) * u(), 1 / (e + 1));
-    }
-    if (kind == "normal") {
-      while (true) {
-        double z = std::sqrt(-2 * std::log(1 - u())) * std::cos(2 * M_PI * u());
-        if (std::abs(z) <= 3) {
-          double r = p[0] + p[1] * z;
-          if (r > 0) return r;
-        }
-      }
-    }
-    double total = 0;
-    for (std::size_t k = 1; k < p.size(); k += 2) total += p[k];
-    double x = u() * total;
-    for (std::size_t k = 0; k + 1 < p.size(); k += 2) {
-      if (x < p[k + 1]) return p[k];
-      x -= p[k + 1];
-    }
-    return p[p.size() - 2];
-  }
-};
-
 PipeType sizeType() {
   PipeType t =
       custom("size distribution", [](std::string_view w, const Param&, const Context&) -> std::any {
@@ -220,64 +148,7 @@ sim::GrainDef baseDef(const Call& c, const sim::Simulation& s) {
   return d;
 }
 
-constexpr std::size_t kMaxPack = std::size_t(1) << 27;
-
-// A uniform hash grid of the balls placed so far, for the overlap test of random packing.
-class BallGrid {
- public:
-  BallGrid(double cell, int d) : h_(cell), d_(d) {}
-  void add(const Vec3d& p, double r) {
-    balls_.push_back({p, r});
-    cells_[key(cellOf(p))].push_back(balls_.size() - 1);
-  }
-  // Returns true if a ball of radius r at p overlaps none of the balls (r <= cell / 2 assumed
-  // for the balls in the grid, which the caller's cell choice guarantees).
-  bool free(const Vec3d& p, double r) const {
-    auto c = cellOf(p);
-    int reach = int(std::ceil((r + maxR_) / h_));
-    std::array<long, 3> lo{0, 0, 0}, hi{0, 0, 0};
-    for (int k = 0; k < d_; ++k)
-      lo[std::size_t(k)] = c[std::size_t(k)] - reach,
-      hi[std::size_t(k)] = c[std::size_t(k)] + reach;
-    for (long x = lo[0]; x <= hi[0]; ++x)
-      for (long y = lo[1]; y <= hi[1]; ++y)
-        for (long z = lo[2]; z <= hi[2]; ++z) {
-          auto it = cells_.find(key({x, y, z}));
-          if (it == cells_.end()) continue;
-          for (std::size_t b : it->second) {
-            double s = 0;
-            for (int k = 0; k < d_; ++k)
-              s += (p[std::size_t(k)] - balls_[b].p[std::size_t(k)]) *
-                   (p[std::size_t(k)] - balls_[b].p[std::size_t(k)]);
-            double rr = r + balls_[b].r;
-            if (s < rr * rr) return false;
-          }
-        }
-    return true;
-  }
-  void setMaxRadius(double r) { maxR_ = std::max(maxR_, r); }
-
- private:
-  struct Ball {
-    Vec3d p;
-    double r;
-  };
-  std::array<long, 3> cellOf(const Vec3d& p) const {
-    std::array<long, 3> c{0, 0, 0};
-    for (int k = 0; k < d_; ++k) c[std::size_t(k)] = long(std::floor(p[std::size_t(k)] / h_));
-    return c;
-  }
-  static std::uint64_t key(const std::array<long, 3>& c) {
-    return std::uint64_t(c[0]) * 0x9E3779B97F4A7C15ull ^
-           std::uint64_t(c[1]) * 0xC2B2AE3D27D4EB4Full ^
-           std::uint64_t(c[2]) * 0x165667B19E3779F9ull;
-  }
-  double h_;
-  int d_;
-  double maxR_ = 0;
-  std::vector<Ball> balls_;
-  std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells_;
-};
+using sim::kMaxPack;
 
 Value addAll(Call& c) {
   auto ids = session(c).scene().addGrains(std::any_cast<std::vector<sim::GrainDef>>(c.prepared));
@@ -311,38 +182,16 @@ void registerPackCommands(Registry& r) {
     double a = c.has("spacing") ? c.real("spacing") : 2 * rad;
     if (a < 2 * rad * (1 - 1e-12))
       c.bad("spacing", "must be at least one diameter, " + formatReal(2 * rad));
-    bool hex = c.str("kind") == "hex";
-    // Lattice steps per axis: hex rows are a sqrt(3)/2 apart, FCC layers a sqrt(2/3).
-    Vec3d step{a, hex ? a * std::sqrt(3.0) / 2 : a, hex && d == 3 ? a * std::sqrt(2.0 / 3.0) : a};
-    Vec3d lo, hi;
-    reg.bounds(d, lo, hi);
-    std::array<double, 3> n{1, 1, 1};
-    for (int k = 0; k < d; ++k)
-      n[std::size_t(k)] =
-          std::floor((hi[std::size_t(k)] - lo[std::size_t(k)]) / step[std::size_t(k)]) + 2;
-    if (n[0] * n[1] * n[2] > double(kMaxPack))
+    sim::LatticeDef lattice{reg, rad, a, c.str("kind") == "hex"};
+    if (sim::latticeCandidates(lattice, d) > double(kMaxPack))
       c.bad("radius", "would make more than 2^27 elements");
     sim::GrainDef base = baseDef(c, s);
     base.radius = rad;
     std::vector<sim::GrainDef> defs;
-    for (long z = 0; z < long(n[2]); ++z)
-      for (long y = 0; y < long(n[1]); ++y)
-        for (long x = 0; x < long(n[0]); ++x) {
-          Vec3d p{lo[0] + rad + double(x) * step[0], lo[1] + rad + double(y) * step[1], 0};
-          if (d == 3) p[2] = lo[2] + rad + double(z) * step[2];
-          if (hex) {
-            if (d == 2 && (y & 1)) p[0] += a / 2;
-            if (d == 3) {  // FCC: rows offset within a layer, layers in ABC stacking
-              if (y & 1) p[0] += a / 2;
-              long layer = z % 3;
-              p[0] += double(layer) * a / 2;
-              p[1] += double(layer) * a * std::sqrt(3.0) / 6;
-            }
-          }
-          if (!reg.holds(p, rad, d)) continue;
-          base.position = p;
-          defs.push_back(base);
-        }
+    for (const Vec3d& p : sim::latticeSites(lattice, d)) {
+      base.position = p;
+      defs.push_back(base);
+    }
     if (defs.empty()) c.bad("region", "holds no element of radius " + formatReal(rad));
     c.prepared = std::move(defs);
   });
@@ -375,60 +224,22 @@ void registerPackCommands(Registry& r) {
     Region reg = c.get<Region>("region");
     const SizeDist& dist = c.get<SizeDist>("radius");
     std::mt19937_64 rng(std::uint64_t(c.integer("seed")));
-    std::vector<double> radii;
+    std::size_t count = 0;
     if (c.given("count")) {
       if (std::uint64_t(c.integer("count")) > kMaxPack) c.bad("count", "must be at most 2^27");
-      for (std::int64_t k = 0; k < c.integer("count"); ++k) radii.push_back(dist.draw(rng));
-    } else {
-      double target = c.real("fraction") * reg.volume(d), vol = 0;
-      while (vol < target && radii.size() < kMaxPack) {
-        double rr = dist.draw(rng);
-        radii.push_back(rr);
-        vol += d == 2 ? M_PI * rr * rr : 4.0 / 3.0 * M_PI * rr * rr * rr;
-      }
+      count = std::size_t(c.integer("count"));
     }
-    std::sort(radii.begin(), radii.end(), std::greater<>());
-    double rmax = radii.front();
-    BallGrid grid(2 * rmax, d);
-    grid.setMaxRadius(rmax);
-    {  // the elements already there
-      auto pos = s.positions();
-      auto rs = s.radii();
-      for (std::size_t k = 0; k < rs.size(); ++k) {
-        Vec3d p{pos[k * std::size_t(d)], pos[k * std::size_t(d) + 1], d == 3 ? pos[k * 3 + 2] : 0};
-        grid.setMaxRadius(rs[k]);
-        grid.add(p, rs[k]);
-      }
-    }
-    Vec3d lo, hi;
-    reg.bounds(d, lo, hi);
-    auto u = [&] { return double(rng() >> 11) * 0x1.0p-53; };
+    const std::vector<double> radii =
+        sim::drawRadii(dist, reg, d, count, c.given("count") ? 0.0 : c.real("fraction"), rng);
+    const std::vector<Vec3d> sites =
+        sim::randomSites(reg, d, radii, s.positions(), s.radii(), c.integer("tries"), rng);
     sim::GrainDef base = baseDef(c, s);
     std::vector<sim::GrainDef> defs;
     defs.reserve(radii.size());
-    std::int64_t tries = c.integer("tries");
-    for (double rr : radii) {
-      bool placed = false;
-      for (std::int64_t t = 0; t < tries && !placed; ++t) {
-        Vec3d p{0, 0, 0};
-        for (int k = 0; k < d; ++k)
-          p[std::size_t(k)] =
-              lo[std::size_t(k)] + rr + (hi[std::size_t(k)] - lo[std::size_t(k)] - 2 * rr) * u();
-        if (!reg.holds(p, rr, d) || !grid.free(p, rr)) continue;
-        grid.add(p, rr);
-        base.position = p;
-        base.radius = rr;
-        defs.push_back(base);
-        placed = true;
-      }
-      if (!placed) {
-        throw Error("couldn't place element " + std::to_string(defs.size() + 1) + " of " +
-                        std::to_string(radii.size()) + " (radius " + formatReal(rr) + ") after " +
-                        std::to_string(tries) +
-                        " tries: the region is too full; use fewer elements, a larger region or "
-                        "more -tries",
-                    {"PACK", "FULL"});
-      }
+    for (std::size_t k = 0; k < sites.size(); ++k) {
+      base.position = sites[k];
+      base.radius = radii[k];
+      defs.push_back(base);
     }
     c.prepared = std::move(defs);
   });

@@ -1,0 +1,186 @@
+// Packing (sim/packing.hpp): lattice sites, drawn radii and random sequential addition.
+#include "sim/packing.hpp"
+
+#include <array>
+#include <functional>
+#include <unordered_map>
+
+#include "core/error.hpp"
+#include "physics/material.hpp"
+
+namespace demlab::sim {
+
+namespace {
+
+// A uniform hash grid of the balls placed so far, for the overlap test of random packing.
+class BallGrid {
+ public:
+  BallGrid(double cell, int d) : h_(cell), d_(d) {}
+  void add(const Vec3d& p, double r) {
+    balls_.push_back({p, r});
+    cells_[key(cellOf(p))].push_back(balls_.size() - 1);
+  }
+  // Returns true if a ball of radius r at p overlaps none of the balls (r <= cell / 2 assumed
+  // for the balls in the grid, which the caller's cell choice guarantees).
+  bool free(const Vec3d& p, double r) const {
+    auto c = cellOf(p);
+    int reach = int(std::ceil((r + maxR_) / h_));
+    std::array<long, 3> lo{0, 0, 0}, hi{0, 0, 0};
+    for (int k = 0; k < d_; ++k)
+      lo[std::size_t(k)] = c[std::size_t(k)] - reach,
+      hi[std::size_t(k)] = c[std::size_t(k)] + reach;
+    for (long x = lo[0]; x <= hi[0]; ++x)
+      for (long y = lo[1]; y <= hi[1]; ++y)
+        for (long z = lo[2]; z <= hi[2]; ++z) {
+          auto it = cells_.find(key({x, y, z}));
+          if (it == cells_.end()) continue;
+          for (std::size_t b : it->second) {
+            double s = 0;
+            for (int k = 0; k < d_; ++k)
+              s += (p[std::size_t(k)] - balls_[b].p[std::size_t(k)]) *
+                   (p[std::size_t(k)] - balls_[b].p[std::size_t(k)]);
+            double rr = r + balls_[b].r;
+            if (s < rr * rr) return false;
+          }
+        }
+    return true;
+  }
+  void setMaxRadius(double r) { maxR_ = std::max(maxR_, r); }
+
+ private:
+  struct Ball {
+    Vec3d p;
+    double r;
+  };
+  std::array<long, 3> cellOf(const Vec3d& p) const {
+    std::array<long, 3> c{0, 0, 0};
+    for (int k = 0; k < d_; ++k) c[std::size_t(k)] = long(std::floor(p[std::size_t(k)] / h_));
+    return c;
+  }
+  static std::uint64_t key(const std::array<long, 3>& c) {
+    return std::uint64_t(c[0]) * 0x9E3779B97F4A7C15ull ^
+           std::uint64_t(c[1]) * 0xC2B2AE3D27D4EB4Full ^
+           std::uint64_t(c[2]) * 0x165667B19E3779F9ull;
+  }
+  double h_;
+  int d_;
+  double maxR_ = 0;
+  std::vector<Ball> balls_;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells_;
+};
+
+}  // namespace
+
+namespace {
+
+// The lattice's steps per axis: hex rows are a sqrt(3)/2 apart, FCC layers a sqrt(2/3).
+Vec3d latticeStep(const LatticeDef& def, int d) {
+  const double a = def.spacing;
+  return {a, def.hex ? a * std::sqrt(3.0) / 2 : a,
+          def.hex && d == 3 ? a * std::sqrt(2.0 / 3.0) : a};
+}
+
+std::array<double, 3> latticeCounts(const LatticeDef& def, int d) {
+  const Vec3d step = latticeStep(def, d);
+  Vec3d lo, hi;
+  def.region.bounds(d, lo, hi);
+  std::array<double, 3> n{1, 1, 1};
+  for (int k = 0; k < d; ++k)
+    n[std::size_t(k)] =
+        std::floor((hi[std::size_t(k)] - lo[std::size_t(k)]) / step[std::size_t(k)]) + 2;
+  return n;
+}
+
+}  // namespace
+
+double latticeCandidates(const LatticeDef& def, int dim) {
+  const auto n = latticeCounts(def, dim);
+  return n[0] * n[1] * n[2];
+}
+
+std::vector<Vec3d> latticeSites(const LatticeDef& def, int d) {
+  const Vec3d step = latticeStep(def, d);
+  const auto n = latticeCounts(def, d);
+  const double a = def.spacing, rad = def.radius;
+  const bool hex = def.hex;
+  Vec3d lo, hi;
+  def.region.bounds(d, lo, hi);
+  std::vector<Vec3d> out;
+  for (long z = 0; z < long(n[2]); ++z)
+    for (long y = 0; y < long(n[1]); ++y)
+      for (long x = 0; x < long(n[0]); ++x) {
+        Vec3d p{lo[0] + rad + double(x) * step[0], lo[1] + rad + double(y) * step[1], 0};
+        if (d == 3) p[2] = lo[2] + rad + double(z) * step[2];
+        if (hex) {
+          if (d == 2 && (y & 1)) p[0] += a / 2;
+          if (d == 3) {  // FCC: rows offset within a layer, layers in ABC stacking
+            if (y & 1) p[0] += a / 2;
+            long layer = z % 3;
+            p[0] += double(layer) * a / 2;
+            p[1] += double(layer) * a * std::sqrt(3.0) / 6;
+          }
+        }
+        if (def.region.holds(p, rad, d)) out.push_back(p);
+      }
+  return out;
+}
+
+std::vector<double> drawRadii(const SizeDistribution& dist, const Region& region, int d,
+                              std::size_t count, double fraction, std::mt19937_64& rng) {
+  std::vector<double> radii;
+  if (count > 0) {
+    for (std::size_t k = 0; k < count; ++k) radii.push_back(dist.draw(rng));
+  } else {
+    double target = fraction * region.volume(d), vol = 0;
+    while (vol < target && radii.size() < kMaxPack) {
+      double rr = dist.draw(rng);
+      radii.push_back(rr);
+      vol += d == 2 ? std::numbers::pi * rr * rr : 4.0 / 3.0 * std::numbers::pi * rr * rr * rr;
+    }
+  }
+  std::sort(radii.begin(), radii.end(), std::greater<>());
+  return radii;
+}
+
+std::vector<Vec3d> randomSites(const Region& reg, int d, const std::vector<double>& radii,
+                               const std::vector<double>& pos, const std::vector<double>& rs,
+                               std::int64_t tries, std::mt19937_64& rng) {
+  std::vector<Vec3d> out;
+  if (radii.empty()) return out;
+  double rmax = *std::max_element(radii.begin(), radii.end());
+  BallGrid grid(2 * rmax, d);
+  grid.setMaxRadius(rmax);
+  for (std::size_t k = 0; k < rs.size(); ++k) {  // the elements already there
+    Vec3d p{pos[k * std::size_t(d)], pos[k * std::size_t(d) + 1], d == 3 ? pos[k * 3 + 2] : 0};
+    grid.setMaxRadius(rs[k]);
+    grid.add(p, rs[k]);
+  }
+  Vec3d lo, hi;
+  reg.bounds(d, lo, hi);
+  auto u = [&] { return double(rng() >> 11) * 0x1.0p-53; };
+  out.reserve(radii.size());
+  for (double rr : radii) {
+    bool placed = false;
+    for (std::int64_t t = 0; t < tries && !placed; ++t) {
+      Vec3d p{0, 0, 0};
+      for (int k = 0; k < d; ++k)
+        p[std::size_t(k)] =
+            lo[std::size_t(k)] + rr + (hi[std::size_t(k)] - lo[std::size_t(k)] - 2 * rr) * u();
+      if (!reg.holds(p, rr, d) || !grid.free(p, rr)) continue;
+      grid.add(p, rr);
+      out.push_back(p);
+      placed = true;
+    }
+    if (!placed) {
+      throw Error("couldn't place element " + std::to_string(out.size() + 1) + " of " +
+                      std::to_string(radii.size()) + " (radius " + physics::formatReal(rr) +
+                      ") after " + std::to_string(tries) +
+                      " tries: the region is too full; use fewer elements, a larger region or "
+                      "more -tries",
+                  {"PACK", "FULL"});
+    }
+  }
+  return out;
+}
+
+}  // namespace demlab::sim
