@@ -120,10 +120,28 @@ std::span<const ModuleRow<D>> moduleTable() {
   return Rows<D>::rows;
 }
 
+namespace {
+
+template <int D>
+std::vector<ModuleRow<D>>& addedRows() {
+  static std::vector<ModuleRow<D>> rows;
+  return rows;
+}
+
+}  // namespace
+
+template <int D>
+void addModuleRow(const ModuleRow<D>& row) {
+  addedRows<D>().push_back(row);
+}
+
 template <int D>
 ModuleList<D> buildModules(const Scene<D>& s, const SceneUse& u) {
   ModuleList<D> out;
   for (const ModuleRow<D>& row : moduleTable<D>()) {
+    if (row.wanted(s, u)) row.make(s, u, out);
+  }
+  for (const ModuleRow<D>& row : addedRows<D>()) {
     if (row.wanted(s, u)) row.make(s, u, out);
   }
   return out;
@@ -133,6 +151,8 @@ template SceneUse sceneUse<2>(const Scene<2>&);
 template SceneUse sceneUse<3>(const Scene<3>&);
 template std::span<const ModuleRow<2>> moduleTable<2>();
 template std::span<const ModuleRow<3>> moduleTable<3>();
+template void addModuleRow<2>(const ModuleRow<2>&);
+template void addModuleRow<3>(const ModuleRow<3>&);
 template ModuleList<2> buildModules<2>(const Scene<2>&, const SceneUse&);
 template ModuleList<3> buildModules<3>(const Scene<3>&, const SceneUse&);
 

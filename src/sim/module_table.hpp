@@ -44,12 +44,18 @@ struct ModuleRow {
   void (*make)(const Scene<D>& s, const SceneUse& u, ModuleList<D>& out);
 };
 
-// Returns the rows, in loop order. Changes nothing.
+// Returns the built-in rows, in loop order. Changes nothing.
 template <int D>
 std::span<const ModuleRow<D>> moduleTable();
 
-// Returns the modules of every row that s wants, in table order (the loop then sorts them by
-// level, keeping this order within a level). Changes nothing.
+// Adds a row after the built-in ones (and those added before), for modules that live outside
+// src/sim (a plug-in, a test's own module): every loop built afterwards asks it, in every scene.
+// Not thread-safe; call before building scenes. Changes the process's table.
+template <int D>
+void addModuleRow(const ModuleRow<D>& row);
+
+// Returns the modules of every row that s wants, in table order (built-in, then added) (the loop
+// then sorts them by level, keeping this order within a level). Changes nothing.
 template <int D>
 ModuleList<D> buildModules(const Scene<D>& s, const SceneUse& u);
 
