@@ -86,6 +86,16 @@ struct PairOverride {
   PairCoefficients c;
 };
 
+// Changes to the set of elements asked for during a step (by a source, a sink, a breaking
+// bond: Box2D's deferred creation and destruction). The modules only append here; the manager
+// applies them at the end of the step (SimulationManager::applyDeferred), when no pass holds a
+// dense index, and the loop goes on from the changed scene.
+struct DeferredChanges {
+  std::vector<GrainDef> create;  // checked when applied, all or none
+  std::vector<GrainId> destroy;  // a handle already gone is skipped
+  bool empty() const { return create.empty() && destroy.empty(); }
+};
+
 // An element with blocked degrees of freedom (sim/constraints.hpp). Few elements are: a list
 // beside the hot arrays, so a scene without any pays nothing, not a byte per element.
 struct BlockedElement {
@@ -100,6 +110,7 @@ struct Scene {
   WallSet<D> walls;
   BehaviorManager<D> behaviors;
   std::vector<BlockedElement> blocked;  // in the order they were blocked
+  DeferredChanges deferred;             // empty at every step boundary
 
   // ---- materials and laws ----
   std::vector<std::string> materialNames;

@@ -234,9 +234,9 @@ void SimulationManager<D>::setPairCoefficients(const std::string& a, const std::
   // Each test is written so that a NaN (unset) passes and nothing else outside the range does.
   const auto check = [](double x, bool ok, const char* what, const char* range, const char* code) {
     if (std::isnan(x) || ok) return;
-    throw Error(std::string("bad ") + what + " \"" + physics::formatReal(x) + "\": must be " +
-                    range,
-                {"VALUE", code});
+    throw Error(
+        std::string("bad ") + what + " \"" + physics::formatReal(x) + "\": must be " + range,
+        {"VALUE", code});
   };
   check(c.restitution, c.restitution > 0 && c.restitution <= 1, "restitution",
         "a number greater than 0 and at most 1", "RESTITUTION");
@@ -248,8 +248,8 @@ void SimulationManager<D>::setPairCoefficients(const std::string& a, const std::
         "a non-negative number", "COHESION");
   const uint32_t lo = std::min(i, j), hi = std::max(i, j);
   std::erase_if(s_.pairOverrides, [&](const PairOverride& o) { return o.a == lo && o.b == hi; });
-  const bool any = !std::isnan(c.restitution) || !std::isnan(c.friction) || !std::isnan(c.rolling) ||
-                   !std::isnan(c.cohesion);
+  const bool any = !std::isnan(c.restitution) || !std::isnan(c.friction) ||
+                   !std::isnan(c.rolling) || !std::isnan(c.cohesion);
   if (any) s_.pairOverrides.push_back({lo, hi, c});
   touchConfig();
 }
@@ -379,9 +379,16 @@ template <int D>
 size_t SimulationManager<D>::removeGrains(const std::string& tag) {
   const std::vector<GrainId> ids = s_.grains.tags().objects(tag);
   if (ids.empty()) return 0;
+  removeGrainSet(ids);
+  return ids.size();
+}
+
+template <int D>
+void SimulationManager<D>::removeGrainSet(const std::vector<GrainId>& ids) {
   forgetCandidates();
   std::unordered_set<uint32_t> slots;
   for (GrainId id : ids) {
+    // The element takes its energy out of the scene: the ledger's reference goes with it.
     s_.ledger.reference -= grainEnergy(s_.grains.index(id));
     slots.insert(s_.grains.remove(id));
   }
@@ -395,7 +402,6 @@ size_t SimulationManager<D>::removeGrains(const std::string& tag) {
   }
   s_.needRebuild = true;
   touchConfig();
-  return ids.size();
 }
 
 template <int D>

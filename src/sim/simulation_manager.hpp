@@ -160,6 +160,13 @@ class SimulationManager final : public Simulation {
   double ledgerSum() const;
   // Returns the grain's kinetic plus gravitational energy (for rebasing the ledger on edits).
   double grainEnergy(uint32_t i) const;
+  // Applies the changes the step's modules deferred (Scene::deferred): removes, then adds, then
+  // makes the scene ready to step on (loop, step, forces of the changed scene). Returns true if
+  // there were any. Throws as addGrains does for a bad Def (the removals done stay done).
+  bool applyDeferred();
+  // Removes the live grains ids (distinct), their springs, histories and blocked entries, the
+  // ledger rebased. Changes the scene and marks the configuration changed.
+  void removeGrainSet(const std::vector<GrainId>& ids);
   // Parks the springs and drops the candidate pairs and contact records, which hold dense
   // indices: call before grains or walls are removed (the dense order changes).
   void forgetCandidates();

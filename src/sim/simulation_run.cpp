@@ -8,6 +8,7 @@
 #include <iterator>
 #include <optional>
 #include <ostream>
+#include <unordered_set>
 #include <vector>
 
 #include "physics/critical_step.hpp"
@@ -27,7 +28,8 @@ namespace demlab::sim {
 // ---- the loop ------------------------------------------------------------------------------
 
 template <int D>
-std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(const SceneUse& u) const {
+std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(
+    const SceneUse& u) const {
   ModuleList<D> m = buildModules(s_, u);
   for (auto& o : outputModules()) m.push_back(std::move(o));
   return m;
@@ -140,13 +142,12 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   const uint64_t total = options.steps;
   const uint64_t every =
       options.progressEvery ? options.progressEvery : std::max<uint64_t>(1, total / 100);
-  const bool watched = s_.watchdog.enabled;
+  bool watched = s_.watchdog.enabled;
   // The contact records of a step are only seen after the run's last step unless an output,
   // the progress callback, a stop or the watchdog's overlap check (which reads them at every
   // step: a blow-up's deep overlaps can come and go within a few steps) looks in between.
-  const bool seen =
-      !outputs_.empty() || options.progress || options.stop ||
-      (watched && s_.watchdog.overlap > 0) || loop_.readsContactRecords();
+  bool seen = !outputs_.empty() || options.progress || options.stop ||
+              (watched && s_.watchdog.overlap > 0) || loop_.readsContactRecords();
   struct Restore {
     bool& flag;
     ~Restore() { flag = true; }
@@ -162,6 +163,10 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       }
       s_.recordContacts = seen || k + 1 == total;
       loop_.step(s_);
+      if (!s_.deferred.empty() && applyDeferred()) {
+        seen = seen || loop_.readsContactRecords();
+        watched = s_.watchdog.enabled;
+      }
       if (!watched && (k & 1023) == 1023) checkFinite();
       if (options.progress && (k + 1) % every == 0 && k + 1 < total) options.progress(k + 1, total);
     }
@@ -183,6 +188,22 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   rep.energyResidual = e.residual;
   if (trip) throw RunStopped(std::move(*trip), rep);
   return rep;
+}
+
+template <int D>
+bool SimulationManager<D>::applyDeferred() {
+  DeferredChanges changes = std::move(s_.deferred);
+  s_.deferred = {};
+  std::vector<GrainId> gone;
+  std::unordered_set<uint64_t> seenIds;
+  for (GrainId id : changes.destroy) {
+    if (s_.grains.pool().valid(id) && seenIds.insert(id.bits()).second) gone.push_back(id);
+  }
+  if (gone.empty() && changes.create.empty()) return false;
+  if (!gone.empty()) removeGrainSet(gone);
+  if (!changes.create.empty()) addGrains(changes.create);
+  prepare();
+  return true;
 }
 
 template <int D>
