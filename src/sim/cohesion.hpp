@@ -20,6 +20,7 @@
 #include <numbers>
 #include <vector>
 
+#include "sim/pair_table.hpp"
 #include "sim/record_geometry.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
@@ -29,10 +30,7 @@ namespace demlab::sim {
 // Returns true if some material or pair of s has a cohesion.
 template <int D>
 bool anyCohesion(const Scene<D>& s) {
-  return std::any_of(s.materials.begin(), s.materials.end(),
-                     [](const physics::MaterialDef& m) { return m.cohesion > 0; }) ||
-         std::any_of(s.pairOverrides.begin(), s.pairOverrides.end(),
-                     [](const PairOverride& o) { return o.c.cohesion > 0; });
+  return anyPositive(s, &physics::MaterialDef::cohesion, &PairCoefficients::cohesion);
 }
 
 // Returns the area of the circle where a sphere of radius ri cuts one of radius rj at centre
@@ -52,17 +50,7 @@ template <int D>
 class CohesionModule final : public SimModule<D> {
  public:
   // Mixes the pairs' coefficients of s (the module is rebuilt when the materials change).
-  static Real pairValue(const Scene<D>& s, size_t m, size_t k) {
-    const auto [a, b] = s.pairMaterials(m, k);
-    return std::min(a.cohesion, b.cohesion);
-  }
-  explicit CohesionModule(const Scene<D>& s) : nm_(s.nMat()), kc_(nm_ * nm_) {
-    for (size_t m = 0; m < nm_; ++m) {
-      for (size_t k = 0; k < nm_; ++k) {
-        kc_[m * nm_ + k] = pairValue(s, m, k);
-      }
-    }
-  }
+  explicit CohesionModule(const Scene<D>& s) : kc_(s, &physics::MaterialDef::cohesion) {}
   std::string_view name() const override { return "cohesion"; }
   SimLevel level() const override { return SimLevel::Contacts; }
   bool readsContactRecords() const override { return true; }
@@ -74,7 +62,7 @@ class CohesionModule final : public SimModule<D> {
     for (ContactRecord<D>& c : s.contacts) {
       const auto rg = recordGeometry(s, c);
       if (!rg) continue;
-      const Real kc = kc_[a.material[c.a] * nm_ + rg->materialB];
+      const Real kc = kc_.at(a.material[c.a], rg->materialB);
       if (!(kc > 0)) continue;
       const uint32_t i = c.a;
       const VecD<D>& n = rg->g.normal;
@@ -98,8 +86,7 @@ class CohesionModule final : public SimModule<D> {
   }
 
  private:
-  size_t nm_;
-  std::vector<Real> kc_;  // row-major nMat x nMat
+  PairTable<D> kc_;
 };
 
 }  // namespace demlab::sim

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <vector>
 
+#include "sim/pair_table.hpp"
 #include "sim/record_geometry.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
@@ -29,27 +30,15 @@ namespace demlab::sim {
 // Returns true if some material or pair of s has a rolling friction.
 template <int D>
 bool anyRollingFriction(const Scene<D>& s) {
-  return std::any_of(s.materials.begin(), s.materials.end(),
-                     [](const physics::MaterialDef& m) { return m.rollingFriction > 0; }) ||
-         std::any_of(s.pairOverrides.begin(), s.pairOverrides.end(),
-                     [](const PairOverride& o) { return o.c.rolling > 0; });
+  return anyPositive(s, &physics::MaterialDef::rollingFriction, &PairCoefficients::rolling);
 }
 
 template <int D>
 class RollingResistanceModule final : public SimModule<D> {
  public:
   // Mixes the pairs' coefficients of s (the module is rebuilt when the materials change).
-  static Real pairValue(const Scene<D>& s, size_t m, size_t k) {
-    const auto [a, b] = s.pairMaterials(m, k);
-    return std::min(a.rollingFriction, b.rollingFriction);
-  }
-  explicit RollingResistanceModule(const Scene<D>& s) : nm_(s.nMat()), mu_(nm_ * nm_) {
-    for (size_t m = 0; m < nm_; ++m) {
-      for (size_t k = 0; k < nm_; ++k) {
-        mu_[m * nm_ + k] = pairValue(s, m, k);
-      }
-    }
-  }
+  explicit RollingResistanceModule(const Scene<D>& s)
+      : mu_(s, &physics::MaterialDef::rollingFriction) {}
   std::string_view name() const override { return "rolling"; }
   SimLevel level() const override { return SimLevel::Contacts; }
   bool readsContactRecords() const override { return true; }
@@ -69,7 +58,7 @@ class RollingResistanceModule final : public SimModule<D> {
           c.wall ? rg->radiusA : rg->radiusA * rg->radiusB / (rg->radiusA + rg->radiusB);
       const Real invI = a.invInertia[i] + (c.wall ? 0 : a.invInertia[c.b]);
       const AngularD<D> wOther = c.wall ? s.walls.items[c.b].omega : a.w[c.b];
-      const Real mu = mu_[a.material[i] * nm_ + matB];
+      const Real mu = mu_.at(a.material[i], matB);
       const Real fn = c.force.dot(n);
       if (!(mu > 0 && fn > 0)) continue;
       AngularD<D> wr = a.w[i] - wOther;
@@ -86,8 +75,7 @@ class RollingResistanceModule final : public SimModule<D> {
   }
 
  private:
-  size_t nm_;
-  std::vector<Real> mu_;  // row-major nMat x nMat
+  PairTable<D> mu_;
 };
 
 }  // namespace demlab::sim

@@ -18,17 +18,15 @@ namespace demlab::sim {
 namespace {
 
 using testing::grain;
+using testing::hasModule;
 using testing::material;
 using testing::plane;
+using testing::up;
 
 constexpr double kRamp = 10.0;
 constexpr double kR = 0.01, kYoung = 1e7, kPoisson = 0.3, kCohesion = 1e5;
 
 class SimCohesion : public ::testing::TestWithParam<int> {};
-
-int up(int d) {
-  return d == 2 ? 1 : 2;
-}
 
 // The net attraction at overlap delta between a grain of radius r and a flat wall of the same
 // material: cohesion on the cap's base, pi delta (2r - delta) (in 2D too), less Hertz's

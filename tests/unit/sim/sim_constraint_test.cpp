@@ -15,15 +15,12 @@ namespace {
 
 using testing::codeOf;
 using testing::grain;
+using testing::hasModule;
 using testing::material;
 using testing::plane;
+using testing::up;
 
 class SimConstraint : public ::testing::TestWithParam<int> {};
-
-// The vertical axis of a dim-dimensional scene (y in 2D, z in 3D).
-int up(int d) {
-  return d == 2 ? 1 : 2;
-}
 
 Vec3d along(int axis, double x) {
   Vec3d v{0, 0, 0};
@@ -34,11 +31,6 @@ Vec3d along(int axis, double x) {
 // Runs s for about t seconds at its automatic step.
 void runFor(Simulation& s, double t) {
   s.runSteps(static_cast<uint64_t>(t / s.timeStep()) + 1);
-}
-
-bool hasModule(const Simulation& s, const std::string& name) {
-  const auto m = s.listModules();
-  return std::find(m.begin(), m.end(), name) != m.end();
 }
 
 TEST_P(SimConstraint, FixedElementHoldsAFallingOne) {

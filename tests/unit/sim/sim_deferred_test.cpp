@@ -18,12 +18,9 @@ namespace demlab::sim {
 namespace {
 
 using testing::material;
+using testing::up;
 
 int created = 0, destroyed = 0;  // over the whole program, by the toy modules
-
-int up(int d) {
-  return d == 2 ? 1 : 2;
-}
 
 // Every 50 steps, while fewer than 8 grains are there, asks for one more at the top.
 template <int D>

@@ -16,19 +16,12 @@ namespace {
 
 using testing::codeOf;
 using testing::grain;
+using testing::hasModule;
 using testing::material;
 using testing::plane;
+using testing::up;
 
 class SimPairCoefficients : public ::testing::TestWithParam<int> {};
-
-int up(int d) {
-  return d == 2 ? 1 : 2;
-}
-
-bool hasModule(const Simulation& s, const std::string& name) {
-  const auto m = s.listModules();
-  return std::find(m.begin(), m.end(), name) != m.end();
-}
 
 // Returns the rebound speed over the impact speed of a grain of material "a" dropped with
 // speed 1 on a plane of material "b", no gravity, linear law.

@@ -15,17 +15,15 @@ namespace demlab::sim {
 namespace {
 
 using testing::grain;
+using testing::hasModule;
 using testing::material;
 using testing::plane;
+using testing::up;
 
 constexpr double kG = 9.81;
 constexpr double kR = 0.01;
 
 class SimRolling : public ::testing::TestWithParam<int> {};
-
-int up(int d) {
-  return d == 2 ? 1 : 2;
-}
 
 // The fraction of a grain's rolling deceleration per unit of mu_r g: I/(m R^2) is 2/5 for a
 // sphere, 1/2 for a disc, and a = mu_r g / (1 + I/(m R^2)).

@@ -1,6 +1,7 @@
 // Shared helpers of the simulation tests: materials, walls and small scenes.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -25,6 +26,17 @@ std::vector<std::string> codeOf(F&& f) {
   }
   ADD_FAILURE() << "no error thrown";
   return {};
+}
+
+// Returns the vertical axis of a dim-dimensional scene (y in 2D, z in 3D).
+inline int up(int d) {
+  return d == 2 ? 1 : 2;
+}
+
+// Returns true if the next step of s runs the module named name.
+inline bool hasModule(const Simulation& s, const std::string& name) {
+  const auto m = s.listModules();
+  return std::find(m.begin(), m.end(), name) != m.end();
 }
 
 inline MaterialDef material(double young, double restitution, double friction,
