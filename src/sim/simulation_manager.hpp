@@ -71,6 +71,8 @@ class SimulationManager final : public Simulation {
 
   BehaviorId addGravity(const Vec3d& g) override;
   BehaviorId addLoad(const LoadDef& def) override;
+  BehaviorId addBehavior(const std::string& type,
+                         const std::vector<BehaviorParam>& params) override;
   void removeBehavior(BehaviorId id) override;
   std::vector<BehaviorInfo> behaviors() const override;
 
@@ -133,7 +135,6 @@ class SimulationManager final : public Simulation {
   // What the scene uses, which decides the modules of its loop.
   struct Flags {
     bool anyFriction = false, rotating = false, walls = false, movingWalls = false;
-    bool gravity = false, loads = false;
     int law = 0;  // the one law of every pair in use, or -1 when they differ
     // The material pair (index into Scene::pairParams) of every grain-grain contact when all
     // grains have one material, else -1.
@@ -164,7 +165,6 @@ class SimulationManager final : public Simulation {
     configDirty_ = true;
     s_.forcesReady = false;
   }
-  std::string behaviorDescription(const Behavior<D>& b) const;
   std::string serialize(IoMode mode) const;
 
   // The output modules: none when there are no outputs (sim/simulation_outputs.cpp).

@@ -58,8 +58,6 @@ typename SimulationManager<D>::Flags SimulationManager<D>::flags() const {
   f.rotating = s_.rotationEnabled && (f.anyFriction || s_.behaviors.hasTorqueLoads() || spinning);
   f.walls = s_.walls.size() > 0;
   f.movingWalls = s_.walls.anyMoving();
-  f.gravity = s_.behaviors.hasGravity();
-  f.loads = s_.behaviors.hasLoads();
   return f;
 }
 
@@ -73,8 +71,7 @@ std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::makeModules(con
   for (auto& c : makeContactModules<D>(f.law, f.anyFriction, f.rotating, f.walls, f.grainPair)) {
     m.push_back(std::move(c));
   }
-  if (f.gravity) m.push_back(std::make_unique<GravityModule<D>>());
-  if (f.loads) m.push_back(std::make_unique<LoadModule<D>>());
+  appendBehaviorModules(s_, m);
   // Last of the force stages: it reads the velocities the forces and loads were computed with.
   if (s_.touchCorrection) m.push_back(std::make_unique<TouchModule<D>>());
   m.push_back(std::make_unique<CorrectModule<D>>());
@@ -648,12 +645,7 @@ std::unique_ptr<Simulation> SimulationManager<D>::clone() const {
   auto m = std::make_unique<SimulationManager<D>>();
   Reader r(b);
   readScene(r, m->s_);
-  auto& dst = m->s_.behaviors.items();
-  const auto& src = s_.behaviors.items();
-  for (size_t k = 0; k < src.size(); ++k) {
-    dst[k].forceFn = src[k].forceFn;
-    dst[k].torqueFn = src[k].torqueFn;
-  }
+  m->s_.behaviors = s_.behaviors;  // deep copies, sharing the TimeFunctions
   return m;
 }
 
@@ -663,9 +655,9 @@ std::vector<std::string> SimulationManager<D>::save(std::ostream& out, bool skip
   std::vector<BehaviorId> drop;
   const auto& items = s_.behaviors.items();
   for (size_t k = 0; k < items.size(); ++k) {
-    if (!items[k].hasCallbacks()) continue;
+    if (!items[k]->hasCallbacks()) continue;
     const BehaviorId id = s_.behaviors.pool().handleAt(static_cast<uint32_t>(k));
-    skipped.push_back("behavior " + toString(id) + " (" + behaviorDescription(items[k]) + ")");
+    skipped.push_back("behavior " + toString(id) + " (" + items[k]->describe() + ")");
     drop.push_back(id);
   }
   if (!skipped.empty() && !skipCallbacks) {
