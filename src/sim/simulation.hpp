@@ -478,7 +478,8 @@ class Simulation {
   virtual WatchdogOptions watchdog() const = 0;
   // Returns the names of the modules the next step runs, in loop order (e.g. "behaviors",
   // "integrate", "rotation", "walls", "detection", "contacts" or "contacts-friction",
-  // "wall-contacts" or "wall-contacts-friction", "gravity", "loads", "touch" when the touch
+  // "wall-contacts" or "wall-contacts-friction", "gravity", "loads" and one module per other
+  // behavior type present (e.g. "torque-ramp"), "touch" when the touch
   // correction is on, "integrate-correct",
   // "watchdog" unless it is off).
   virtual std::vector<std::string> listModules() const = 0;

@@ -49,7 +49,13 @@ class TorqueRampBehavior final : public Behavior<D> {
 
   // Returns the torque at time t.
   AngularD<D> torqueAt(double t) const {
-    if (t < start_) return AngularD<D>(t0_ * 0.0);
+    if (t < start_) {
+      if constexpr (D == 2) {
+        return 0.0;
+      } else {
+        return Vec3::Zero();
+      }
+    }
     AngularD<D> T = t0_ + rate_ * (t - start_);
     const Real n2 = squaredNorm(T);
     if (n2 > max_ * max_) T = T * (max_ / std::sqrt(n2));
