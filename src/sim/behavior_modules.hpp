@@ -2,13 +2,18 @@
 //  - "gravity": adds m g to every grain (g: the sum of the gravity behaviors; only its nonzero
 //    component when it has one). Its work is the change of the gravitational potential, which
 //    the ledger reads from the state.
-//  - "loads": each load behavior adds its force and torque, evaluated at the end-of-step time,
-//    to its grain or to each grain of its tag group; the work it does over the step, F . dx
-//    with dx the step's displacement, goes to the ledger.
+//  - one module per other behavior type present, named by its registry row ("loads",
+//    "torque-ramp"): each behavior of the type adds its forces and torques, evaluated at the
+//    end-of-step time, and the work they do over the step goes to the ledger.
 //  - "walls": places every moving wall at the end-of-step time (before detection, which must
 //    see where the walls are).
 #pragma once
 
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/behavior_registry.hpp"
 #include "sim/integrator.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
@@ -41,44 +46,37 @@ class GravityModule final : public SimModule<D> {
   }
 };
 
+// Runs every behavior whose module() is its name, in behavior order, each adding its work to
+// one sum that goes to the ledger once per step (the bits the loads module always gave).
 template <int D>
-class LoadModule final : public SimModule<D> {
+class BehaviorStageModule final : public SimModule<D> {
  public:
-  std::string_view name() const override { return "loads"; }
+  explicit BehaviorStageModule(std::string name) : name_(std::move(name)) {}
+  std::string_view name() const override { return name_; }
   SimLevel level() const override { return SimLevel::Behaviors; }
   void run(Scene<D>& s) override {
-    const double t = s.time + s.stepDt;
-    GrainArrays<D>& a = s.grains.a;
     double work = 0;
-    for (const Behavior<D>& b : s.behaviors.items()) {
-      if (b.type != BehaviorType::Load) continue;
-      VecD<D> F;
-      for (int k = 0; k < D; ++k) F[k] = b.forceFn[k] ? b.forceFn[k](t) : b.force[k];
-      AngularD<D> T;
-      if constexpr (D == 2) {
-        T = b.torqueFn[2] ? b.torqueFn[2](t) : b.torque[2];
-      } else {
-        for (int k = 0; k < 3; ++k) T[k] = b.torqueFn[k] ? b.torqueFn[k](t) : b.torque[k];
-      }
-      const bool torque = s.rotating && squaredNorm(T) != 0;
-      auto apply = [&](uint32_t i) {
-        a.f[i] += F;
-        work += F.dot(halfStepVelocity(s, i)) * s.stepDt;
-        if (torque) {
-          a.t[i] += T;
-          work += dotAngular(T, halfStepAngularVelocity(s, i)) * s.stepDt;
-        }
-      };
-      if (!b.grain.isNull()) {
-        const uint32_t i = s.grains.pool().findDense(b.grain);
-        if (i != HandlePool<GrainKind>::kNpos) apply(i);
-      } else {
-        s.grains.tags().forEach(b.tag, [&](GrainId id) { apply(s.grains.pool().denseIndex(id)); });
-      }
+    for (const auto& b : s.behaviors.items()) {
+      if (b->module() == name_) b->apply(s, work);
     }
     s.ledger.behaviorWork += work;
   }
+
+ private:
+  std::string name_;
 };
+
+// Appends the behavior stage to m: "gravity" when some behavior is a uniform field, then one
+// module per registry type present (registry order; "loads", "torque-ramp", ...). Changes
+// nothing else.
+template <int D>
+void appendBehaviorModules(const Scene<D>& s, std::vector<std::unique_ptr<SimModule<D>>>& m) {
+  if (s.behaviors.hasGravity()) m.push_back(std::make_unique<GravityModule<D>>());
+  for (const BehaviorRow& row : behaviorRegistry()) {
+    if (row.info.module == "gravity" || !s.behaviors.hasModule(row.info.module)) continue;
+    m.push_back(std::make_unique<BehaviorStageModule<D>>(row.info.module));
+  }
+}
 
 template <int D>
 class WallMotionModule final : public SimModule<D> {

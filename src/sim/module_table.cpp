@@ -49,8 +49,6 @@ SceneUse sceneUse(const Scene<D>& s) {
   f.rotating = s.rotationEnabled && (f.anyFriction || s.behaviors.hasTorqueLoads() || spinning);
   f.walls = s.walls.size() > 0;
   f.movingWalls = s.walls.anyMoving();
-  f.gravity = s.behaviors.hasGravity();
-  f.loads = s.behaviors.hasLoads();
   return f;
 }
 
@@ -95,9 +93,11 @@ struct Rows {
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
          out.push_back(std::make_unique<CohesionModule<D>>(s));
        }},
-      {"gravity", [](const Scene<D>&, const SceneUse& u) { return u.gravity; },
-       plain<D, GravityModule>},
-      {"loads", [](const Scene<D>&, const SceneUse& u) { return u.loads; }, plain<D, LoadModule>},
+      // Gravity, then one module per behavior type present (sim/behavior_registry.hpp).
+      {"behaviors", [](const Scene<D>& s, const SceneUse&) { return s.behaviors.size() > 0; },
+       [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
+         appendBehaviorModules(s, out);
+       }},
       // Last of the force stages but the constraints: it reads the velocities the forces and
       // loads were computed with.
       {"touch", [](const Scene<D>& s, const SceneUse&) { return s.touchCorrection; },

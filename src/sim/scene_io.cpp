@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/behaviors/gravity.hpp"
+#include "sim/behaviors/load.hpp"
+
 namespace demlab::sim {
 
 namespace {
@@ -159,6 +162,81 @@ physics::MaterialDef readMaterial(Reader& r) {
   return m;
 }
 
+// A behavior's record. Gravity and loads keep the record they had before behaviors were open
+// (code 0 or 1, then positional fields), so digests and older checkpoints stay as they were;
+// every other type is code kNamedBehavior, its type name, and its named parameters, read back
+// through the registry (an unknown name is an error, never a guess).
+constexpr uint8_t kNamedBehavior = 0xff;
+
+template <int D>
+void writeBehavior(Writer& w, const Behavior<D>& b) {
+  const auto* load = dynamic_cast<const LoadBehavior<D>*>(&b);
+  const auto* gravity = dynamic_cast<const GravityBehavior<D>*>(&b);
+  if (!load && !gravity) {
+    w.u8(kNamedBehavior);
+    w.str(std::string(b.type()));
+    const std::vector<BehaviorParam> ps = b.params();
+    w.u64(ps.size());
+    for (const BehaviorParam& p : ps) {
+      w.str(p.name);
+      w.list(p.numbers, [&](double x) { w.f64(x); });
+      w.str(p.text);
+      w.u64(p.grain.bits());
+    }
+    return;
+  }
+  w.u8(gravity ? 0 : 1);
+  w.vec<D>(gravity ? gravity->g() : VecD<D>::Zero());
+  w.u64(load ? load->grain.bits() : GrainId().bits());
+  w.str(load ? load->tag : std::string());
+  for (int k = 0; k < 3; ++k) {
+    w.f64(load ? load->force[k] : 0.0);
+    w.f64(load ? load->torque[k] : 0.0);
+    // A flag set here means a clone (the caller copies the behaviors) or a digest.
+    w.u8(load && static_cast<bool>(load->forceFn[k]));
+    w.u8(load && static_cast<bool>(load->torqueFn[k]));
+  }
+}
+
+template <int D>
+std::unique_ptr<Behavior<D>> readBehavior(Reader& r) {
+  const uint8_t code = r.u8();
+  if (code == kNamedBehavior) {
+    const std::string type = r.str();
+    std::vector<BehaviorParam> ps(r.count(32));
+    for (BehaviorParam& p : ps) {
+      p.name = r.str();
+      p.numbers.resize(r.count(8));
+      for (double& x : p.numbers) x = r.f64();
+      p.text = r.str();
+      p.grain = GrainId::fromBits(r.u64());
+    }
+    try {
+      return makeBehavior<D>(type, ps);
+    } catch (const Error& e) {
+      Reader::bad("behavior: " + std::string(e.what()));
+    }
+  }
+  if (code > 1) Reader::bad("unknown behavior record");
+  const VecD<D> g = r.vec<D>();
+  const GrainId grain = GrainId::fromBits(r.u64());
+  const std::string tag = r.str();
+  Vec3d force{}, torque{};
+  for (int c = 0; c < 3; ++c) {
+    force[c] = r.f64();
+    torque[c] = r.f64();
+    r.u8();
+    r.u8();
+  }
+  if (code == 0) return std::make_unique<GravityBehavior<D>>(g);
+  auto b = std::make_unique<LoadBehavior<D>>();
+  b->grain = grain;
+  b->tag = tag;
+  b->force = force;
+  b->torque = torque;
+  return b;
+}
+
 }  // namespace
 
 namespace {
@@ -277,21 +355,12 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   writeNamesTags(w, s.walls.names(), s.walls.tags());
   // Behaviors.
   writePool(w, bm.pool());
-  for (const Behavior<D>& b : bm.items()) {
-    if (mode == IoMode::Checkpoint && b.hasCallbacks()) {
+  for (const auto& b : bm.items()) {
+    if (mode == IoMode::Checkpoint && b->hasCallbacks()) {
       throw Error("internal: a behavior with callbacks reached the checkpoint writer",
                   {"SAVE", "CALLBACK"});
     }
-    w.u8(static_cast<uint8_t>(b.type));
-    w.vec<D>(b.g);
-    w.u64(b.grain.bits());
-    w.str(b.tag);
-    for (int k = 0; k < 3; ++k) {
-      w.f64(b.force[k]);
-      w.f64(b.torque[k]);
-      w.u8(static_cast<bool>(b.forceFn[k]));
-      w.u8(static_cast<bool>(b.torqueFn[k]));
-    }
+    writeBehavior(w, *b);
   }
   // Pair histories, in iteration order, with the table size that reproduces the layout.
   auto& hist = const_cast<InstanceInteractionManager<physics::TangentialHistory<D>>&>(s.histories);
@@ -457,21 +526,7 @@ void readScene(Reader& r, Scene<D>& s) {
   readNamesTags(r, s.walls.pool(), s.walls.names(), s.walls.tags());
   readPool(r, s.behaviors.pool());
   const uint32_t nb = s.behaviors.pool().size();
-  for (uint32_t k = 0; k < nb; ++k) {
-    Behavior<D> b;
-    b.type = static_cast<BehaviorType>(r.u8());
-    b.g = r.vec<D>();
-    b.grain = GrainId::fromBits(r.u64());
-    b.tag = r.str();
-    for (int c = 0; c < 3; ++c) {
-      b.force[c] = r.f64();
-      b.torque[c] = r.f64();
-      // A flag set here means a clone: the caller copies the function itself.
-      r.u8();
-      r.u8();
-    }
-    s.behaviors.items().push_back(std::move(b));
-  }
+  for (uint32_t k = 0; k < nb; ++k) s.behaviors.items().push_back(readBehavior<D>(r));
   s.keepHistory = r.u8();
   s.rotating = r.u8();
   const size_t buckets = r.u64();

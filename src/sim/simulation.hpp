@@ -338,11 +338,46 @@ struct RunOptions {
   uint64_t progressEvery = 0;
 };
 
+// One named parameter of a behavior: what `behavior add TYPE -NAME VALUE` gives, what a query
+// shows and what a checkpoint stores for every behavior type but the two original ones. Which
+// field is used follows the kind the type's registry row declares for the name.
+struct BehaviorParam {
+  std::string name;
+  std::vector<double> numbers;  // Number: 1; Vector: 3 (2D: z = 0); Angular: 3 (2D: z only)
+  std::string text;             // Tag
+  GrainId grain;                // Element
+};
+
+enum class BehaviorParamKind : uint8_t { Number, Vector, Angular, Element, Tag };
+
+// One option of a behavior type, declared once in its registry row (sim/behavior_registry.hpp):
+// the command layer builds `behavior add TYPE` from it, help shows it, checkpoints name it.
+struct BehaviorOption {
+  std::string name;
+  BehaviorParamKind kind = BehaviorParamKind::Number;
+  std::string unit;  // e.g. "N m"; empty for none
+  std::string help;
+  bool required = false;
+};
+
+// The public face of one registry row.
+struct BehaviorTypeInfo {
+  std::string name;     // `behavior add NAME`, BehaviorInfo::kind, the checkpoint's type name
+  std::string summary;  // one line for help
+  std::string module;   // the loop module running it ("gravity", "loads", "torque-ramp")
+  std::vector<BehaviorOption> options;
+  bool targeted = false;  // needs exactly one of the options "element" and "tag"
+};
+
+// Returns the behavior types, in registry order.
+const std::vector<BehaviorTypeInfo>& behaviorTypes();
+
 struct BehaviorInfo {
   BehaviorId id;
-  std::string kind;          // "gravity", "load"
+  std::string kind;          // the type's registry name: "gravity", "load", "torque-ramp"
   std::string description;   // e.g. `load on tag "bed": force (0 0 -1) N`
   bool serializable = true;  // false when it holds TimeFunctions
+  std::vector<BehaviorParam> params;  // its named parameters (a time-varying part shows as 0)
 };
 
 // An output module (thesis chapter 9: a SimModule at the output level of the SimLoop): a
@@ -466,6 +501,11 @@ class Simulation {
   virtual BehaviorId addGravity(const Vec3d& g) = 0;
   // Adds a load. VALUE TARGET, LOOKUP HANDLE, VALUE FORCE / VALUE TORQUE.
   virtual BehaviorId addLoad(const LoadDef& def) = 0;
+  // Adds a behavior of a registered type from its named parameters (see behaviorTypes()).
+  // Throws LOOKUP BEHAVIORTYPE (unknown type), VALUE OPTION (a name the type does not declare,
+  // or a required one missing), VALUE TARGET, LOOKUP HANDLE, VALUE <NAME>; changes nothing then.
+  virtual BehaviorId addBehavior(const std::string& type,
+                                 const std::vector<BehaviorParam>& params) = 0;
   virtual void removeBehavior(BehaviorId id) = 0;  // LOOKUP HANDLE
   virtual std::vector<BehaviorInfo> behaviors() const = 0;
 
@@ -493,7 +533,8 @@ class Simulation {
   virtual WatchdogOptions watchdog() const = 0;
   // Returns the names of the modules the next step runs, in loop order (e.g. "behaviors",
   // "integrate", "rotation", "walls", "detection", "contacts" or "contacts-friction",
-  // "wall-contacts" or "wall-contacts-friction", "gravity", "loads", "touch" when the touch
+  // "wall-contacts" or "wall-contacts-friction", "gravity", "loads" and one module per other
+  // behavior type present (e.g. "torque-ramp"), "touch" when the touch
   // correction is on, "integrate-correct",
   // "watchdog" unless it is off).
   virtual std::vector<std::string> listModules() const = 0;

@@ -10,6 +10,8 @@
 
 #include "core/name_lookup.hpp"
 #include "physics/critical_step.hpp"
+#include "sim/behaviors/gravity.hpp"
+#include "sim/behaviors/load.hpp"
 #include "sim/convert.hpp"
 #include "sim/history_store.hpp"
 
@@ -538,9 +540,7 @@ std::vector<WallId> SimulationManager<D>::wallsTagged(const std::string& tag) co
 
 template <int D>
 BehaviorId SimulationManager<D>::addGravity(const Vec3d& g) {
-  Behavior<D> b;
-  b.type = BehaviorType::Gravity;
-  b.g = toVec<D>(g, "gravity");
+  auto b = std::make_unique<GravityBehavior<D>>(toVec<D>(g, "gravity"));
   const double before = ledgerSum();
   const BehaviorId id = s_.behaviors.add(std::move(b));
   s_.ledger.reference += ledgerSum() - before;
@@ -561,15 +561,30 @@ BehaviorId SimulationManager<D>::addLoad(const LoadDef& def) {
     if (def.forceFn[2]) throwBad("force", "z", "must have z = 0 in 2D");
     if (def.torqueFn[0] || def.torqueFn[1]) throwBad("torque", "x y", "must be about z only in 2D");
   }
-  Behavior<D> b;
-  b.type = BehaviorType::Load;
-  b.grain = def.grain;
-  b.tag = def.tag;
-  b.force = def.force;
-  b.torque = def.torque;
-  b.forceFn = def.forceFn;
-  b.torqueFn = def.torqueFn;
+  auto b = std::make_unique<LoadBehavior<D>>();
+  b->grain = def.grain;
+  b->tag = def.tag;
+  b->force = def.force;
+  b->torque = def.torque;
+  b->forceFn = def.forceFn;
+  b->torqueFn = def.torqueFn;
   const BehaviorId id = s_.behaviors.add(std::move(b));
+  touchConfig();
+  return id;
+}
+
+template <int D>
+BehaviorId SimulationManager<D>::addBehavior(const std::string& type,
+                                             const std::vector<BehaviorParam>& params) {
+  std::unique_ptr<Behavior<D>> b = makeBehavior<D>(type, params);
+  for (const BehaviorParam& p : params) {
+    if (!p.grain.isNull()) s_.grains.index(p.grain);
+    if (!p.text.empty()) checkTagName(p.text);
+  }
+  // A uniform field changes the potential: the ledger is rebased as for any edit.
+  const double before = ledgerSum();
+  const BehaviorId id = s_.behaviors.add(std::move(b));
+  s_.ledger.reference += ledgerSum() - before;
   touchConfig();
   return id;
 }
@@ -584,27 +599,13 @@ void SimulationManager<D>::removeBehavior(BehaviorId id) {
 }
 
 template <int D>
-std::string SimulationManager<D>::behaviorDescription(const Behavior<D>& b) const {
-  if (b.type == BehaviorType::Gravity) {
-    return "gravity (" + formatVec(fromVec<D>(b.g), D) + ") m/s^2";
-  }
-  std::string s = "load on ";
-  s += b.grain.isNull() ? "tag \"" + b.tag + "\"" : "grain " + toString(b.grain);
-  s += ": force (" + formatVec(b.force, D) + ") N";
-  if (b.hasTorque()) s += ", torque (" + formatVec(b.torque, 3) + ") N m";
-  if (b.hasCallbacks()) s += ", time-varying (script callback)";
-  return s;
-}
-
-template <int D>
 std::vector<BehaviorInfo> SimulationManager<D>::behaviors() const {
   std::vector<BehaviorInfo> out;
   const auto& items = s_.behaviors.items();
   for (size_t k = 0; k < items.size(); ++k) {
-    const Behavior<D>& b = items[k];
-    out.push_back({s_.behaviors.pool().handleAt(static_cast<uint32_t>(k)),
-                   b.type == BehaviorType::Gravity ? "gravity" : "load", behaviorDescription(b),
-                   !b.hasCallbacks()});
+    const Behavior<D>& b = *items[k];
+    out.push_back({s_.behaviors.pool().handleAt(static_cast<uint32_t>(k)), std::string(b.type()),
+                   b.describe(), !b.hasCallbacks(), b.params()});
   }
   return out;
 }

@@ -77,6 +77,8 @@ class SimulationManager final : public Simulation {
 
   BehaviorId addGravity(const Vec3d& g) override;
   BehaviorId addLoad(const LoadDef& def) override;
+  BehaviorId addBehavior(const std::string& type,
+                         const std::vector<BehaviorParam>& params) override;
   void removeBehavior(BehaviorId id) override;
   std::vector<BehaviorInfo> behaviors() const override;
 
@@ -175,7 +177,6 @@ class SimulationManager final : public Simulation {
     configDirty_ = true;
     s_.forcesReady = false;
   }
-  std::string behaviorDescription(const Behavior<D>& b) const;
   std::string serialize(IoMode mode) const;
 
   // The output modules: none when there are no outputs (sim/simulation_outputs.cpp).

@@ -629,12 +629,7 @@ std::unique_ptr<Simulation> SimulationManager<D>::clone() const {
   auto m = std::make_unique<SimulationManager<D>>();
   Reader r(b);
   readScene(r, m->s_);
-  auto& dst = m->s_.behaviors.items();
-  const auto& src = s_.behaviors.items();
-  for (size_t k = 0; k < src.size(); ++k) {
-    dst[k].forceFn = src[k].forceFn;
-    dst[k].torqueFn = src[k].torqueFn;
-  }
+  m->s_.behaviors = s_.behaviors;  // deep copies, sharing the TimeFunctions
   return m;
 }
 
@@ -644,9 +639,9 @@ std::vector<std::string> SimulationManager<D>::save(std::ostream& out, bool skip
   std::vector<BehaviorId> drop;
   const auto& items = s_.behaviors.items();
   for (size_t k = 0; k < items.size(); ++k) {
-    if (!items[k].hasCallbacks()) continue;
+    if (!items[k]->hasCallbacks()) continue;
     const BehaviorId id = s_.behaviors.pool().handleAt(static_cast<uint32_t>(k));
-    skipped.push_back("behavior " + toString(id) + " (" + behaviorDescription(items[k]) + ")");
+    skipped.push_back("behavior " + toString(id) + " (" + items[k]->describe() + ")");
     drop.push_back(id);
   }
   if (!skipped.empty() && !skipCallbacks) {

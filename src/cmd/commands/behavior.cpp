@@ -1,5 +1,7 @@
-// The "behavior" group: gravity and loads (constant, or functions of time written as Tcl
-// expressions in $t), listed and removed by id.
+// The "behavior" group: one `behavior add TYPE` per type of the behavior registry
+// (sim/behavior_registry.hpp), listed, shown and removed by id. Gravity and loads keep their own
+// declarations (a default g; components that are Tcl expressions in $t); every other type's
+// command is built from the options its registry row declares.
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
 
@@ -50,11 +52,101 @@ void loadComponents(Call& c, const std::string& opt, bool isSpin, sim::Vec3d& co
   }
 }
 
+// Returns the pipe reading a registry option of kind k.
+PipeType optionPipe(sim::BehaviorParamKind k) {
+  switch (k) {
+    case sim::BehaviorParamKind::Number:
+      return real();
+    case sim::BehaviorParamKind::Vector:
+      return vector();
+    case sim::BehaviorParamKind::Angular:
+      return spin();
+    case sim::BehaviorParamKind::Element:
+      return elementRef();
+    case sim::BehaviorParamKind::Tag:
+      return tagName();
+  }
+  return text();
+}
+
+// Declares `behavior add NAME` from the registry row t: one option per declared option, the
+// element/tag pair exclusive when the type is targeted; its run hands the named parameters to
+// Simulation::addBehavior, which checks them all before it changes anything.
+void declareFromRegistry(Registry& r, const sim::BehaviorTypeInfo& t) {
+  Command& c = r.add("behavior add " + t.name, "Adds " + t.summary + ".");
+  for (const sim::BehaviorOption& o : t.options) {
+    PipeType p = optionPipe(o.kind);
+    if (!o.unit.empty()) p = p.withUnit(o.unit);
+    Param& q = c.option(o.name, p, o.help);
+    if (o.required) q.require();
+  }
+  if (t.targeted) c.oneOf({"element", "tag"}, true);
+  c.run([t](Call& c) {
+    std::vector<sim::BehaviorParam> ps;
+    for (const sim::BehaviorOption& o : t.options) {
+      if (!c.given(o.name)) continue;
+      sim::BehaviorParam p;
+      p.name = o.name;
+      switch (o.kind) {
+        case sim::BehaviorParamKind::Number:
+          p.numbers = {c.real(o.name)};
+          break;
+        case sim::BehaviorParamKind::Vector:
+        case sim::BehaviorParamKind::Angular: {
+          const sim::Vec3d v = vec3(c.vec(o.name), o.kind == sim::BehaviorParamKind::Angular);
+          p.numbers = {v[0], v[1], v[2]};
+          break;
+        }
+        case sim::BehaviorParamKind::Element:
+          p.grain = c.get<sim::GrainId>(o.name);
+          break;
+        case sim::BehaviorParamKind::Tag:
+          p.text = c.str(o.name);
+          break;
+      }
+      ps.push_back(std::move(p));
+    }
+    return Value(scriptId(session(c).scene().addBehavior(t.name, ps)));
+  });
+}
+
+// Returns the parameters of a behavior of type kind as a dict, values spelled as its command
+// takes them.
+Value paramsValue(const std::string& kind, const std::vector<sim::BehaviorParam>& ps, int dim) {
+  Dict d;
+  const sim::BehaviorTypeInfo* t = nullptr;
+  for (const auto& x : sim::behaviorTypes()) {
+    if (x.name == kind) t = &x;
+  }
+  for (const sim::BehaviorParam& p : ps) {
+    auto k = sim::BehaviorParamKind::Number;
+    if (t) {
+      for (const auto& o : t->options) {
+        if (o.name == p.name) k = o.kind;
+      }
+    }
+    if (k == sim::BehaviorParamKind::Element) {
+      d.emplace_back(p.name, Value(scriptId(p.grain)));
+    } else if (k == sim::BehaviorParamKind::Tag) {
+      d.emplace_back(p.name, Value(p.text));
+    } else if (p.numbers.size() == 3) {
+      d.emplace_back(p.name, vecValue({p.numbers[0], p.numbers[1], p.numbers[2]}, dim,
+                                      k == sim::BehaviorParamKind::Angular));
+    } else if (p.numbers.size() == 1) {
+      d.emplace_back(p.name, Value(p.numbers[0]));
+    }
+  }
+  return Value(d);
+}
+
 }  // namespace
 
 void registerBehaviorCommands(Registry& r) {
-  r.describe("behavior", "Behaviors: gravity and loads applied at every step.");
-  r.describe("behavior add", "Adds a behavior; returns its id.");
+  std::string types;
+  for (const auto& t : sim::behaviorTypes()) types += (types.empty() ? "" : ", ") + t.name;
+  r.describe("behavior", "Behaviors: forces and torques applied at every step (" + types + ").");
+  r.describe("behavior add", "Adds a behavior of a registered type (" + types +
+                                 "); returns its id.");
 
   Command& g = r.add("behavior add gravity", "Adds uniform gravity on every element.");
   g.option("g", vector().withUnit("m/s^2"), "the acceleration (default: 9.81 down the last axis)");
@@ -94,6 +186,10 @@ void registerBehaviorCommands(Registry& r) {
     return Value(scriptId(session(c).scene().addLoad(std::any_cast<sim::LoadDef>(c.prepared))));
   });
 
+  for (const auto& t : sim::behaviorTypes()) {
+    if (t.name != "gravity" && t.name != "load") declareFromRegistry(r, t);
+  }
+
   Command& list = r.add("behavior list",
                         "Returns the behaviors as a list of dicts {id kind description saveable}.");
   list.changesScene = false;
@@ -106,6 +202,24 @@ void registerBehaviorCommands(Registry& r) {
                           {"saveable", b.serializable}});
     }
     return Value(l);
+  });
+
+  Command& info = r.add("behavior info",
+                        "Returns a dict {id kind description saveable params} for one behavior.");
+  info.changesScene = false;
+  info.arg("behavior", behaviorRef(), "a behavior id");
+  info.run([](Call& c) {
+    auto& s = session(c).scene();
+    const sim::BehaviorId id = c.get<sim::BehaviorId>("behavior");
+    for (const auto& b : s.behaviors()) {
+      if (b.id != id) continue;
+      return Value(Dict{{"id", scriptId(b.id)},
+                        {"kind", b.kind},
+                        {"description", b.description},
+                        {"saveable", b.serializable},
+                        {"params", paramsValue(b.kind, b.params, s.dim())}});
+    }
+    return Value();
   });
 
   Command& rm = r.add("behavior remove", "Removes a behavior.");
