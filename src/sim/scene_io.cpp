@@ -301,6 +301,8 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   }
   // The touch correction likewise, only when on.
   if (s.touchCorrection) w.bytes.append(kTouchTag, 4);
+  // And the calibrated Hertz damping (scene_io.hpp says why its absence means liggghts).
+  if (s.hertzDamping == physics::HertzDamping::Calibrated) w.bytes.append(kDampingTag, 4);
 }
 
 template <int D>
@@ -481,7 +483,10 @@ void readScene(Reader& r, Scene<D>& s) {
     tagged = readTag();
   }
   s.touchCorrection = tagged && std::memcmp(tag, kTouchTag, 4) == 0;
-  if (tagged && !s.touchCorrection) Reader::bad("trailing bytes");
+  if (s.touchCorrection) tagged = readTag();
+  const bool calibrated = tagged && std::memcmp(tag, kDampingTag, 4) == 0;
+  s.hertzDamping = calibrated ? physics::HertzDamping::Calibrated : physics::HertzDamping::Liggghts;
+  if (tagged && !calibrated) Reader::bad("trailing bytes");
   if (!r.atEnd()) Reader::bad("trailing bytes");
 }
 

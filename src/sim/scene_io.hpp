@@ -128,6 +128,10 @@ inline constexpr uint32_t kFormatVersion = 2;  // 2: the Coulomb criterion
 inline constexpr char kWatchdogTag[5] = "WDOG";
 // Starts the optional section after it: the touch correction, when on (sim/touch.hpp).
 inline constexpr char kTouchTag[5] = "TUCH";
+// Ends the file when Hertz-Mindlin's damping is calibrated. Absent: LIGGGHTS's damping, what
+// every checkpoint written before the choice existed ran with, so such a file resumes with
+// the physics it was saved with (and a scene set to liggghts keeps its old bytes and digest).
+inline constexpr char kDampingTag[5] = "HCAL";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

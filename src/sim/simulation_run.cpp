@@ -102,7 +102,8 @@ void SimulationManager<D>::prepare() {
       for (size_t k = 0; k < nm; ++k) {
         const int8_t o = s_.pairLawOverride[m * nm + k];
         const LawKind law = o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
-        s_.pairParams[m * nm + k] = physics::mixPair(law, s_.materials[m], s_.materials[k]);
+        s_.pairParams[m * nm + k] = physics::mixPair(law, s_.materials[m], s_.materials[k],
+                                                      s_.hertzDamping);
         s_.pairParams[m * nm + k].coulomb = s_.coulomb;
         s_.pairLawFn[m * nm + k] = physics::contactLawFor<D>(law);
       }
