@@ -261,8 +261,11 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.u32(c.j);
   });
   // One spring per candidate (zero for those without a slot): the format predates the pool.
-  w.list(s.pairSprings.perCandidate(),
-         [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
+  // A slot's spring of -0.0 is written as +0.0: reading it back gives no slot (a zero spring
+  // is no spring, PairSprings::set), so a clone or a loaded scene writes +0.0 for it.
+  w.list(s.pairSprings.perCandidate(), [&](const physics::TangentialHistory<D>& h) {
+    w.vec<D>(h.spring.squaredNorm() == 0 ? VecD<D>::Zero().eval() : h.spring);
+  });
   w.u64(s.wallSprings.size());
   for (const auto& l : s.wallSprings) {
     w.list(l, [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
