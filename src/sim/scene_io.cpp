@@ -261,11 +261,8 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.u32(c.j);
   });
   // One spring per candidate (zero for those without a slot): the format predates the pool.
-  // A slot's spring of -0.0 is written as +0.0: reading it back gives no slot (a zero spring
-  // is no spring, PairSprings::set), so a clone or a loaded scene writes +0.0 for it.
-  w.list(s.pairSprings.perCandidate(), [&](const physics::TangentialHistory<D>& h) {
-    w.vec<D>(h.spring.squaredNorm() == 0 ? VecD<D>::Zero().eval() : h.spring);
-  });
+  w.list(s.pairSprings.perCandidate(),
+         [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
   w.u64(s.wallSprings.size());
   for (const auto& l : s.wallSprings) {
     w.list(l, [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
@@ -423,7 +420,18 @@ void readScene(Reader& r, Scene<D>& s) {
   const size_t nSprings = r.count(8 * D);
   if (nSprings != 0 && nSprings != s.candidates.size()) Reader::bad("pair springs");
   s.pairSprings.reset(nSprings, true);
-  for (size_t k = 0; k < nSprings; ++k) s.pairSprings.set(k, r.vec<D>());
+  for (size_t k = 0; k < nSprings; ++k) {
+    // A zero spring is no slot (PairSprings::set), except one with a -0.0 in it: only a slot
+    // holds that (a law's rounding), and keeping it there makes the scene write its bytes.
+    const VecD<D> sp = r.vec<D>();
+    bool signedZero = false;
+    for (int c = 0; c < D; ++c) signedZero |= std::signbit(sp[c]);
+    if (sp.squaredNorm() == 0 && signedZero) {
+      s.pairSprings.at(k)->spring = sp;
+    } else {
+      s.pairSprings.set(k, sp);
+    }
+  }
   s.wallSprings.resize(r.count(8));
   for (auto& l : s.wallSprings) {
     l.resize(r.count(8 * D));
