@@ -6,6 +6,8 @@
 //   G* (Geff) = 1 / (2(2 - nu_a)(1 + nu_a)/E_a + 2(2 - nu_b)(1 + nu_b)/E_b)   LIGGGHTS createGeff
 //   restitution e = sqrt(e_a e_b) (geometric mean: one material's e for a pair of that material)
 //   friction mu = min(mu_a, mu_b) (the slipperier surface governs, as in YADE's FrictPhys)
+// and the dampers from the pair's e: so that a head-on impact rebounds with e under either law
+// (Hertz-Mindlin optionally with LIGGGHTS's coefficient instead: HertzDamping).
 // LIGGGHTS itself takes e and mu per pair of atom types from the user; for one material, or
 // for a pair table written with these rules, the constants here equal its constants.
 #pragma once
@@ -30,7 +32,7 @@ std::string_view coulombCriterionName(CoulombCriterion c);
 // How Hertz-Mindlin's restitution e becomes its dampers' beta (law_hertz_mindlin.hpp):
 // Calibrated (the default) takes the beta whose cut-off impact rebounds with e
 // (hertzDampingFactor); Liggghts takes LIGGGHTS's beta = ln e / sqrt(ln^2 e + pi^2), whose
-// rebound is not e (0.16 for e = 0.1), kept to reproduce LIGGGHTS runs.
+// rebound is not e (0.25 for e = 0.1, 0.55 for e = 0.5), kept to reproduce LIGGGHTS runs.
 enum class HertzDamping : uint8_t { Calibrated, Liggghts };
 
 // Returns the form's name as the scripts spell it: "calibrated", "liggghts".
