@@ -73,15 +73,27 @@ TEST(SimRestitution, DampingChoiceIsPartOfTheScene) {
   EXPECT_EQ(s->hertzDamping(), HertzDamping::Liggghts);
   // Saved and loaded both ways; a checkpoint without the calibrated tag (as every file written
   // before the choice existed) loads as liggghts.
-  for (HertzDamping d : {HertzDamping::Calibrated, HertzDamping::Liggghts}) {
-    s->setHertzDamping(d);
-    std::stringstream io;
-    s->save(io);
-    auto t = makeSimulation(3);
-    t->load(io);
-    EXPECT_EQ(t->hertzDamping(), d);
-    EXPECT_EQ(t->stateDigest(), s->stateDigest());
+  // With the optional sections before it (watchdog options, touch correction) too.
+  for (bool others : {false, true}) {
+    if (others) {
+      WatchdogOptions w;
+      w.overlap = 0.3;
+      s->setWatchdog(w);
+      s->setTouchCorrection(true);
+    }
+    for (HertzDamping d : {HertzDamping::Calibrated, HertzDamping::Liggghts}) {
+      s->setHertzDamping(d);
+      std::stringstream io;
+      s->save(io);
+      auto t = makeSimulation(3);
+      t->load(io);
+      EXPECT_EQ(t->hertzDamping(), d) << others;
+      EXPECT_EQ(t->touchCorrection(), others);
+      EXPECT_EQ(t->stateDigest(), s->stateDigest()) << others;
+    }
   }
+  s->setTouchCorrection(false);
+  s->setWatchdog(WatchdogOptions{});
   std::stringstream io;
   s->setHertzDamping(HertzDamping::Calibrated);
   s->save(io);
