@@ -241,6 +241,9 @@ std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Optio
   s->setContactLaw(sim::LawKind::HertzMindlin);
   // LIGGGHTS's Coulomb test (the spring force alone), so the scene is the peers' scene.
   s->setCoulombCriterion(demlab::physics::CoulombCriterion::Spring);
+  // And LIGGGHTS's Hertz damping, not the calibrated default: the peers' physics, so the
+  // contact counts and digests stay comparable with theirs and with earlier records.
+  s->setHertzDamping(demlab::physics::HertzDamping::Liggghts);
 
   // Five walls on the box faces, normals pointing into the box; the top stays open.
   const sim::Vec3d lo{d.boxLo.x(), d.boxLo.y(), d.boxLo.z()};

@@ -13,4 +13,7 @@ if(TARGET demlab_sim)
   target_link_libraries(demlab_verify_run PRIVATE demlab_verify)
 
   demlab_add_unit_tests(verify demlab_verify_tests verify/ demlab_verify)
+  # The test that doc/verification.md holds the restitution section reads it from the tree.
+  target_compile_definitions(demlab_verify_tests PRIVATE
+    DEMLAB_DOC_DIR="${CMAKE_CURRENT_SOURCE_DIR}/doc")
 endif()

@@ -4,7 +4,8 @@
 //   a = sqrt(R* delta)
 //   Sn = 2 E* a,  St = 8 G* a,  kn = 4/3 E* a,  kt = St
 //   gamma_n = -2 sqrt(5/6) beta sqrt(Sn m*),  gamma_t = -2 sqrt(5/6) beta sqrt(St m*)
-//   beta = ln e / sqrt(ln^2 e + pi^2)
+//   beta = ln e / sqrt(ln^2 e + pi^2)   (with `law damping liggghts`; by default beta is
+//          calibrated so that a head-on impact rebounds with e: pair_params.hpp)
 //   Fn = kn delta - gamma_n vn, clamped at >= 0 (LIGGGHTS: only with limitForce on)
 //   shear += vt dt, projected onto the tangent plane; Ft = -kt shear - gamma_t vt while
 //   kt |shear| <= mu Fn, else Ft = -mu Fn shear/|shear| with shear rescaled to -Ft/kt.

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <numbers>
 
 namespace demlab::physics {
@@ -23,6 +25,16 @@ std::string_view coulombCriterionName(CoulombCriterion c) {
       return "total";
     case CoulombCriterion::Spring:
       return "spring";
+  }
+  return "unknown";
+}
+
+std::string_view hertzDampingName(HertzDamping d) {
+  switch (d) {
+    case HertzDamping::Calibrated:
+      return "calibrated";
+    case HertzDamping::Liggghts:
+      return "liggghts";
   }
   return "unknown";
 }
@@ -75,7 +87,105 @@ Real linearDampingRatio(Real e) {
   return 0.5 * (lo + hi);
 }
 
-PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b) {
+namespace {
+
+// The state of the dimensionless Hertz impact (pair_params.hpp): overlap x, velocity v = x'.
+struct HertzState {
+  Real x, v;
+};
+
+// Returns the normal force x^(3/2) + c x^(1/4) v, not cut off (x below 0, met only inside a
+// step, counts as 0). Changes nothing.
+Real hertzForce(const HertzState& s, Real c) {
+  const Real x = std::max<Real>(s.x, 0);
+  const Real q = std::sqrt(std::sqrt(x));
+  return x * q * q + c * q * s.v;
+}
+
+// Returns the state one classical RK4 step of length h after s. Changes nothing.
+HertzState hertzStep(const HertzState& s, Real c, Real h) {
+  const auto at = [&](Real dx, Real dv) { return HertzState{s.x + dx, s.v + dv}; };
+  const Real k1x = s.v, k1v = -hertzForce(s, c);
+  const HertzState s2 = at(0.5 * h * k1x, 0.5 * h * k1v);
+  const Real k2x = s2.v, k2v = -hertzForce(s2, c);
+  const HertzState s3 = at(0.5 * h * k2x, 0.5 * h * k2v);
+  const Real k3x = s3.v, k3v = -hertzForce(s3, c);
+  const HertzState s4 = at(h * k3x, h * k3v);
+  const Real k4x = s4.v, k4v = -hertzForce(s4, c);
+  return {s.x + h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x),
+          s.v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)};
+}
+
+}  // namespace
+
+Real hertzRestitution(Real c) {
+  if (c <= 0) return 1;
+  // Series start: x^(1/4) makes the solution a series in t^(1/4) at t = 0, which RK4 would
+  // integrate at first order; to t0 the series below is exact to ~1e-16.
+  const Real t0 = 1e-8;
+  const Real t14 = std::sqrt(std::sqrt(t0)), t54 = t0 * t14, t52 = t0 * t0 * std::sqrt(t0);
+  HertzState s{t0 - 16.0 / 45 * c * t0 * t54 - 4.0 / 35 * t52 * t0,
+               1 - 0.8 * c * t54 - 0.4 * t52 + 16.0 / 45 * c * c * t52};
+  // Adaptive RK4 by step doubling: a step is kept when its two halves and the whole step agree
+  // to tol (the kept, halved result is then ~tol/15 off); the step then grows or shrinks.
+  const Real tol = 1e-13;
+  Real h = 1e-6;
+  for (int n = 0; n < 10000000; ++n) {
+    const HertzState whole = hertzStep(s, c, h);
+    const HertzState half = hertzStep(hertzStep(s, c, 0.5 * h), c, 0.5 * h);
+    const Real err = std::max(std::abs(whole.x - half.x), std::abs(whole.v - half.v));
+    if (err > tol && h > 1e-14) {
+      h *= std::max(0.2, 0.9 * std::pow(tol / err, 0.2));
+      continue;
+    }
+    if (hertzForce(half, c) <= 0) {
+      // The force vanishes within this step: bisect the step's length (RK4 steps from s, each
+      // as accurate as the step) for the moment it does.
+      Real lo = 0, hi = h;
+      for (int i = 0; i < 100 && hi - lo > 1e-15 * hi; ++i) {
+        const Real mid = 0.5 * (lo + hi);
+        (hertzForce(hertzStep(s, c, mid), c) > 0 ? lo : hi) = mid;
+      }
+      return -hertzStep(s, c, 0.5 * (lo + hi)).v;
+    }
+    s = half;
+    h *= err > 0 ? std::min(4.0, 0.9 * std::pow(tol / err, 0.2)) : 4.0;
+  }
+  return -s.v;  // not reached for c <= 1e4
+}
+
+Real hertzDampingFactor(Real e) {
+  if (e >= 1) return 0;
+  // Each solve costs some thousand RK4 steps per bisection step; a scene has a few distinct
+  // e, mixed at every run start, so the answers are remembered.
+  static std::mutex mutex;
+  static std::map<Real, Real> solved;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto it = solved.find(e);
+    if (it != solved.end()) return it->second;
+  }
+  // hertzRestitution falls monotonically from 1: bracket, then bisect (to 1e-12 in c, far
+  // below the integration's own error in e).
+  Real lo = 0, hi = 1;
+  while (hi < 1e4 && hertzRestitution(hi) > e) lo = hi, hi *= 2;
+  hi = std::min<Real>(hi, 1e4);
+  for (int i = 0; i < 100 && hi - lo > 1e-12 * hi; ++i) {
+    const Real mid = 0.5 * (lo + hi);
+    (hertzRestitution(mid) > e ? lo : hi) = mid;
+  }
+  const Real c = 0.5 * (lo + hi);
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (solved.size() < 4096) solved.emplace(e, c);
+  return c;
+}
+
+Real liggghtsBeta(Real e) {
+  const Real lnE = std::log(e);
+  return lnE / std::sqrt(lnE * lnE + std::numbers::pi * std::numbers::pi);
+}
+
+PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b, HertzDamping damping) {
   a.check();
   b.check();
   PairParams p;
@@ -88,9 +198,6 @@ PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b) {
   p.youngEff = 1 / ((1 - a.poisson * a.poisson) / a.young + (1 - b.poisson * b.poisson) / b.young);
   p.shearEff = 1 / (2 * (2 - a.poisson) * (1 + a.poisson) / a.young +
                     2 * (2 - b.poisson) * (1 + b.poisson) / b.young);
-  const Real lnE = std::log(p.restitution);
-  const Real root = std::sqrt(lnE * lnE + std::numbers::pi * std::numbers::pi);
-  const Real beta = lnE / root;  // <= 0; LIGGGHTS's betaeff
   p.dampingRatio = linearDampingRatio(p.restitution);
 
   // Linear law.
@@ -105,7 +212,11 @@ PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b) {
     p.shearRatio = mindlin;
   }
 
-  // Hertz-Mindlin (LIGGGHTS normal_model_hertz.h).
+  // Hertz-Mindlin (LIGGGHTS normal_model_hertz.h). The tangential damper takes the normal
+  // one's beta, calibrated or not, as LIGGGHTS's does.
+  const Real beta = damping == HertzDamping::Liggghts
+                        ? liggghtsBeta(p.restitution)
+                        : -hertzDampingFactor(p.restitution) / std::sqrt(5.0);  // <= 0
   const Real sqrtFiveSixths = std::sqrt(5.0 / 6.0);
   p.hertzKn = 4.0 / 3.0 * p.youngEff;
   p.hertzKt = 8 * p.shearEff;

@@ -6,6 +6,8 @@
 //   G* (Geff) = 1 / (2(2 - nu_a)(1 + nu_a)/E_a + 2(2 - nu_b)(1 + nu_b)/E_b)   LIGGGHTS createGeff
 //   restitution e = sqrt(e_a e_b) (geometric mean: one material's e for a pair of that material)
 //   friction mu = min(mu_a, mu_b) (the slipperier surface governs, as in YADE's FrictPhys)
+// and the dampers from the pair's e: so that a head-on impact rebounds with e under either law
+// (Hertz-Mindlin optionally with LIGGGHTS's coefficient instead: HertzDamping).
 // LIGGGHTS itself takes e and mu per pair of atom types from the user; for one material, or
 // for a pair table written with these rules, the constants here equal its constants.
 #pragma once
@@ -26,6 +28,15 @@ enum class CoulombCriterion : uint8_t { Total, Spring };
 
 // Returns the criterion's name as the scripts spell it: "total", "spring".
 std::string_view coulombCriterionName(CoulombCriterion c);
+
+// How Hertz-Mindlin's restitution e becomes its dampers' beta (law_hertz_mindlin.hpp):
+// Calibrated (the default) takes the beta whose cut-off impact rebounds with e
+// (hertzDampingFactor); Liggghts takes LIGGGHTS's beta = ln e / sqrt(ln^2 e + pi^2), whose
+// rebound is not e (0.25 for e = 0.1, 0.55 for e = 0.5), kept to reproduce LIGGGHTS runs.
+enum class HertzDamping : uint8_t { Calibrated, Liggghts };
+
+// Returns the form's name as the scripts spell it: "calibrated", "liggghts".
+std::string_view hertzDampingName(HertzDamping d);
 
 // Returns the law's name as the scripts spell it: "linear", "hertz_mindlin".
 std::string_view lawName(LawKind law);
@@ -55,10 +66,11 @@ struct PairParams {
   // cn = 2 zeta sqrt(m* kn) and ct = beta kt.
   Real dampingRatio = 0;
 
-  // ---- Hertz-Mindlin (law_hertz_mindlin.hpp), exactly LIGGGHTS's hertz + tangential history.
+  // ---- Hertz-Mindlin (law_hertz_mindlin.hpp), LIGGGHTS's hertz + tangential history.
   // With a = sqrt(R* delta): kn = 4/3 E* a, kt = 8 G* a,
   // gamma_n = -2 sqrt(5/6) beta sqrt(2 E* a m*), gamma_t = -2 sqrt(5/6) beta sqrt(8 G* a m*),
-  // beta = ln e / sqrt(ln^2 e + pi^2) (<= 0). Precomputed factors:
+  // beta <= 0: -hertzDampingFactor(e) / sqrt(5) (HertzDamping::Calibrated) or LIGGGHTS's
+  // ln e / sqrt(ln^2 e + pi^2) (Liggghts). Precomputed factors:
   Real hertzKn = 0;      // 4/3 E*
   Real hertzKt = 0;      // 8 G*
   Real hertzGammaN = 0;  // -2 sqrt(5/6) beta sqrt(2 E*): gamma_n = hertzGammaN sqrt(a m*)
@@ -95,9 +107,34 @@ Real linearDampingRatio(Real e);
 // for the cut-off linear law with damping ratio zeta (pi for zeta = 0). Changes nothing.
 Real linearForceDuration(Real zeta);
 
-// Returns the constants of `law` for the pair (a, b); symmetric: mixPair(l, a, b) and
-// mixPair(l, b, a) are equal. Changes nothing. Throws demlab::Error as a.check() and b.check()
-// do (the materials are checked first, so a bad material never yields a PairParams).
-PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b);
+// Hertz-Mindlin's normal impact in units where the approach speed is 1 (length delta0 and time
+// t0 with m* delta0 / t0^2 = 4/3 E* sqrt(R*) delta0^(3/2), delta0 = v0 t0):
+//   x'' = -x^(3/2) - c x^(1/4) x',  x(0) = 0, x'(0) = 1,  c = -sqrt(5) beta,
+// the same equation for every v0, E*, R* and m*: the damping form makes e depend on c alone.
+// The force (the right side) is cut off at 0 (contact.hpp). Once it reaches 0 while the grains
+// part (x' < 0), it stays 0 until they separate: x^(5/4) + c x' only falls as x does at the
+// now constant x'. So the velocity when the force vanishes is the separation velocity, and
+// e is -x' at that moment: the same definition as linearRestitution's.
+// LIGGGHTS's beta gives c = sqrt(5) |ln e| / sqrt(ln^2 e + pi^2), whose rebound is well above
+// e for small e (doc/verification.md has the table).
+
+// Returns the restitution of the cut-off Hertz impact with damping factor c >= 0 (1 for c = 0),
+// integrated (adaptive RK4, series start) to about 1e-10. Changes nothing.
+Real hertzRestitution(Real c);
+
+// Returns c >= 0 with hertzRestitution(c) = e, for e in (0, 1], to about 1e-10 in e (bisection;
+// each distinct e is solved once and remembered, thread-safe); e below hertzRestitution of
+// c = 1e4 (1.25e-8: e falls as 1.25 / c^2 there) gets that c. Changes nothing visible.
+Real hertzDampingFactor(Real e);
+
+// Returns LIGGGHTS's beta = ln e / sqrt(ln^2 e + pi^2) (<= 0) for e in (0, 1]. Changes nothing.
+Real liggghtsBeta(Real e);
+
+// Returns the constants of `law` for the pair (a, b), Hertz-Mindlin's dampers by `damping`;
+// symmetric: mixPair(l, a, b) and mixPair(l, b, a) are equal. Changes nothing. Throws
+// demlab::Error as a.check() and b.check() do (the materials are checked first, so a bad
+// material never yields a PairParams).
+PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b,
+                   HertzDamping damping = HertzDamping::Calibrated);
 
 }  // namespace demlab::physics

@@ -121,6 +121,8 @@ struct Scene {
   std::vector<PairOverride> pairOverrides;
   // What the Coulomb limit caps, for every pair (physics/tangential.hpp).
   physics::CoulombCriterion coulomb = physics::CoulombCriterion::Total;
+  // How Hertz-Mindlin's e becomes its dampers (physics/pair_params.hpp).
+  physics::HertzDamping hertzDamping = physics::HertzDamping::Calibrated;
   // Mixed once per run start (SimulationManager::prepare): row-major nMat x nMat.
   std::vector<physics::PairParams> pairParams;
   std::vector<physics::ContactLawFn<D>> pairLawFn;

@@ -419,6 +419,8 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   }
   // The touch correction likewise, only when on.
   if (s.touchCorrection) w.bytes.append(kTouchTag, 4);
+  // And the calibrated Hertz damping (scene_io.hpp says why its absence means liggghts).
+  if (s.hertzDamping == physics::HertzDamping::Calibrated) w.bytes.append(kDampingTag, 4);
   if (!s.blocked.empty()) {
     Writer body;
     body.list(s.blocked, [&](const BlockedElement& b) {
@@ -547,7 +549,18 @@ void readScene(Reader& r, Scene<D>& s) {
   const size_t nSprings = r.count(8 * D);
   if (nSprings != 0 && nSprings != s.candidates.size()) Reader::bad("pair springs");
   s.pairSprings.reset(nSprings, true);
-  for (size_t k = 0; k < nSprings; ++k) s.pairSprings.set(k, r.vec<D>());
+  for (size_t k = 0; k < nSprings; ++k) {
+    // A zero spring is no slot (PairSprings::set), except one with a -0.0 in it: only a slot
+    // holds that (a law's rounding), and keeping it there makes the scene write its bytes.
+    const VecD<D> sp = r.vec<D>();
+    bool signedZero = false;
+    for (int c = 0; c < D; ++c) signedZero |= std::signbit(sp[c]);
+    if (sp.squaredNorm() == 0 && signedZero) {
+      s.pairSprings.at(k)->spring = sp;
+    } else {
+      s.pairSprings.set(k, sp);
+    }
+  }
   s.wallSprings.resize(r.count(8));
   for (auto& l : s.wallSprings) {
     l.resize(r.count(8 * D));
@@ -613,6 +626,9 @@ void readScene(Reader& r, Scene<D>& s) {
     s.touchCorrection = true;
     tagged = readTag();
   }
+  const bool calibrated = tagged && std::memcmp(tag, kDampingTag, 4) == 0;
+  s.hertzDamping = calibrated ? physics::HertzDamping::Calibrated : physics::HertzDamping::Liggghts;
+  if (calibrated) tagged = readTag();
   while (tagged) {
     const std::string body = r.bytesOf(r.count(1));
     Reader b(body);

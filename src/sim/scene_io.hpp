@@ -135,6 +135,10 @@ inline constexpr uint32_t kFormatVersion = 2;  // 2: the Coulomb criterion
 inline constexpr char kWatchdogTag[5] = "WDOG";
 // Starts the optional section after it: the touch correction, when on (sim/touch.hpp).
 inline constexpr char kTouchTag[5] = "TUCH";
+// Follows them when Hertz-Mindlin's damping is calibrated. Absent: LIGGGHTS's damping, what
+// every checkpoint written before the choice existed ran with, so such a file resumes with
+// the physics it was saved with (and a scene set to liggghts keeps its old bytes and digest).
+inline constexpr char kDampingTag[5] = "HCAL";
 // After those, sections that say their length: a 4-character tag, a u64 byte count, the bytes.
 // A reader meets only known tags (a checkpoint of a later demlab with a section this one does
 // not know is refused by name, never read as garbage); each is written only when the scene

@@ -443,6 +443,11 @@ class Simulation {
   // physics/tangential.hpp. Takes effect at the next run; returns nothing.
   virtual void setCoulombCriterion(physics::CoulombCriterion c) = 0;
   virtual physics::CoulombCriterion coulombCriterion() const = 0;
+  // Sets how every Hertz-Mindlin pair's restitution becomes its dampers: Calibrated (the
+  // default: a head-on impact rebounds with e) or Liggghts (LIGGGHTS's beta, whose rebound is
+  // not e); see physics/pair_params.hpp. Takes effect at the next run; returns nothing.
+  virtual void setHertzDamping(physics::HertzDamping d) = 0;
+  virtual physics::HertzDamping hertzDamping() const = 0;
   // Sets the law of one pair of materials (order irrelevant). LOOKUP MATERIAL.
   virtual void setPairLaw(const std::string& a, const std::string& b, LawKind law) = 0;
   // Returns the law the pair uses. LOOKUP MATERIAL.

@@ -125,7 +125,7 @@ double SimulationManager<D>::criticalTimeStep() const {
       if (!used[k]) continue;
       const int8_t o = s_.pairLawOverride[m * nm + k];
       const LawKind law = o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
-      const physics::PairParams p = physics::mixPair(law, s_.materials[m], s_.materials[k]);
+      const physics::PairParams p = physics::mixPair(law, s_.materials[m], s_.materials[k], s_.hertzDamping);
       for (const size_t side : {m, k}) {
         if (!std::isfinite(rmin[side])) continue;  // a wall's material: no grain of it
         const Real r = rmin[side];
@@ -207,6 +207,15 @@ void SimulationManager<D>::setCoulombCriterion(physics::CoulombCriterion c) {
     throw Error("bad coulomb criterion: must be total or spring", {"VALUE", "COULOMB"});
   }
   s_.coulomb = c;
+  touchConfig();
+}
+
+template <int D>
+void SimulationManager<D>::setHertzDamping(physics::HertzDamping d) {
+  if (d != physics::HertzDamping::Calibrated && d != physics::HertzDamping::Liggghts) {
+    throw Error("bad damping: must be calibrated or liggghts", {"VALUE", "DAMPING"});
+  }
+  s_.hertzDamping = d;
   touchConfig();
 }
 

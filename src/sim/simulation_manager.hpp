@@ -41,6 +41,8 @@ class SimulationManager final : public Simulation {
   LawKind contactLaw() const override { return s_.defaultLaw; }
   void setCoulombCriterion(physics::CoulombCriterion c) override;
   physics::CoulombCriterion coulombCriterion() const override { return s_.coulomb; }
+  void setHertzDamping(physics::HertzDamping d) override;
+  physics::HertzDamping hertzDamping() const override { return s_.hertzDamping; }
   void setPairLaw(const std::string& a, const std::string& b, LawKind law) override;
   LawKind pairLaw(const std::string& a, const std::string& b) const override;
   void setPairCoefficients(const std::string& a, const std::string& b,

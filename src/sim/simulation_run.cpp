@@ -55,7 +55,7 @@ void SimulationManager<D>::prepare() {
         const int8_t o = s_.pairLawOverride[m * nm + k];
         const LawKind law = o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
         const auto [ma, mk] = s_.pairMaterials(m, k);
-        s_.pairParams[m * nm + k] = physics::mixPair(law, ma, mk);
+        s_.pairParams[m * nm + k] = physics::mixPair(law, ma, mk, s_.hertzDamping);
         s_.pairParams[m * nm + k].coulomb = s_.coulomb;
         s_.pairLawFn[m * nm + k] = physics::contactLawFor<D>(law);
       }

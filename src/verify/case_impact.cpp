@@ -206,9 +206,14 @@ CaseResult runImpact(sim::LawKind law, bool sphere, const RunSpec& spec) {
       prefix += "phase=" + std::to_string(phase).substr(0, 3) + "/";
       addImpactQuantities(setup, m, out, prefix);
       if (e != 1 && law == sim::LawKind::HertzMindlin) {
+        ImpactLaw liggghts = m.law;
+        liggghts.liggghtsDamping = true;
         const double eModel = solveImpact(m.law, kSpeed).exitSpeed / kSpeed;
+        const double eLiggghts = solveImpact(liggghts, kSpeed).exitSpeed / kSpeed;
         out.note = "Hertz-Mindlin with material restitution 0.5 rebounds at e = " +
-                   std::to_string(eModel) + " (the LIGGGHTS damping coefficient's own e)";
+                   std::to_string(eModel) + " in the reference (calibrated damping; with " +
+                   "LIGGGHTS's coefficient, `law damping liggghts`: " + std::to_string(eLiggghts) +
+                   ")";
       }
       if (out.timeScale == 0) out.timeScale = m.tc;
     }

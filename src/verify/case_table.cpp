@@ -109,7 +109,8 @@ std::vector<CaseDef> makeTable() {
           "The same grain and floor under Hertz-Mindlin: an elastic impact (e = 1) against Hertz's "
           "closed forms (peak overlap (15 m* v0^2/(16 E* sqrt(R*)))^(2/5), duration 2.9432 "
           "delta_max/v0, peak force 4/3 E* sqrt(R*) delta_max^(3/2)), and a damped one (material e "
-          "= 0.5) against the RK4 reference of LIGGGHTS's damping law (no closed form).",
+          "= 0.5) against the RK4 reference of the damped law (no closed form) with the default, "
+          "calibrated damping, whose rebound is the material's e.",
           0.01, 50, 0, "tc", impactHertzPlane));
   t.push_back(row("impact-hertz-sphere",
                   "Normal impact, Hertz-Mindlin, grain on grain (radius ratio 2)",

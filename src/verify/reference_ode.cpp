@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "physics/pair_params.hpp"
+
 namespace demlab::verify {
 
 namespace {
@@ -56,7 +58,9 @@ double impactForce(const ImpactLaw& law, double delta, double u) {
   if (!law.hertz) return law.kn * delta + law.cn * u;
   const double a = std::sqrt(law.radius * delta);
   const double le = std::log(law.restitution);
-  const double beta = le / std::sqrt(le * le + std::numbers::pi * std::numbers::pi);
+  const double beta = law.liggghtsDamping
+                          ? le / std::sqrt(le * le + std::numbers::pi * std::numbers::pi)
+                          : -physics::hertzDampingFactor(law.restitution) / std::sqrt(5.0);
   const double gn = 2 * std::sqrt(5.0 / 6.0) * (-beta) * std::sqrt(2 * law.youngEff * a * law.mass);
   return 4.0 / 3.0 * law.youngEff * a * delta + gn * u;
 }

@@ -6,8 +6,10 @@
 // relative normal speed v0; delta is the overlap, u = d delta/dt. The normal force is
 //   linear: F = kn delta + cn u
 //   Hertz : F = (4/3) E* a delta + gn(a) u,  a = sqrt(R* delta),
-//           gn = 2 sqrt(5/6) (-beta) sqrt(2 E* a m*), beta = ln e / sqrt(ln^2 e + pi^2)
-//           (LIGGGHTS's hertz model, the law demlab implements)
+//           gn = 2 sqrt(5/6) (-beta) sqrt(2 E* a m*), beta calibrated so that the cut-off
+//           impact rebounds with e (physics::hertzDampingFactor, demlab's default; checked
+//           against its own integration in physics_restitution_test.cpp) or LIGGGHTS's
+//           ln e / sqrt(ln^2 e + pi^2) (LIGGGHTS's hertz model)
 // cut off at F >= 0, and m* d^2 delta/dt^2 = -F + m* g (g > 0 pushes the bodies together: a
 // grain falling on a floor under gravity). The contact ends when F returns to 0.
 #pragma once
@@ -22,6 +24,9 @@ struct ImpactLaw {
   double cn = 0;           // linear: N s/m
   double youngEff = 0;     // Hertz: E* (Pa)
   double restitution = 1;  // Hertz: the material e (sets beta)
+  // Hertz: beta as `law damping liggghts` sets it (ln e / sqrt(ln^2 e + pi^2)), else as the
+  // default, calibrated (-physics::hertzDampingFactor(e) / sqrt(5)).
+  bool liggghtsDamping = false;
   double gravity = 0;      // m/s^2 along the approach
 };
 

@@ -1,6 +1,8 @@
 // The Markdown report of the verification suite.
 #include "verify/report.hpp"
 
+#include "verify/restitution_table.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -123,6 +125,7 @@ void writeReport(std::ostream& out, const std::vector<Study>& studies, const Rep
     }
     out << "\n";
   }
+  out << restitutionSection();
 }
 
 }  // namespace demlab::verify

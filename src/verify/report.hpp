@@ -20,7 +20,8 @@ struct ReportInfo {
 // Writes the Markdown report of studies (grouped by case, in case-table order) to out: a
 // summary table, then per case its description, stated tolerance, verdicts, the convergence
 // table (dt, steps, wall time, error, energy residual, order), the plot, and the measured
-// quantities at the checked time step. Returns nothing.
+// quantities at the checked time step; last the restitution section (restitution_table.hpp).
+// Returns nothing.
 void writeReport(std::ostream& out, const std::vector<Study>& studies, const ReportInfo& info);
 
 }  // namespace demlab::verify

@@ -4,14 +4,15 @@
 //
 //   demlab_verify [--short] [--out DIR] [--doc FILE] [--notes FILE] [--cases a,b]
 //                 [--dims 2,3] [--integrators synchronized,verlet,synchronized+touch,...]
-//                 [--no-plots] [--list]
+//                 [--no-plots] [--list] [--restitution]
 //
 // --short: the short form (three time steps from the checked one, fewer gas grains) for the
 // test command. Exit status 1 when a study with the default integrator (synchronized) fails,
 // with or without the touch correction ("synchronized+touch"), and is not a known failure (a
 // known failure the correction fixes counts for "+touch", CaseDef::touchFixes); failures of
 // plain "verlet" (offered to compare with LIGGGHTS) are reported as findings and do not change
-// the status. 2 on bad usage.
+// the status. 2 on bad usage. --restitution prints the report's restitution section
+// (restitution_table.hpp) and exits.
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -24,6 +25,7 @@
 #include "core/error.hpp"
 #include "verify/convergence.hpp"
 #include "verify/report.hpp"
+#include "verify/restitution_table.hpp"
 #include "verify/verify.hpp"
 
 namespace {
@@ -41,7 +43,8 @@ std::vector<std::string> split(const std::string& s) {
 int usage(const std::string& why) {
   std::cerr << "demlab_verify: " << why
             << "\nusage: demlab_verify ?--short? ?--out DIR? ?--doc FILE? ?--notes FILE? "
-               "?--cases LIST? ?--dims LIST? ?--integrators LIST? ?--no-plots? ?--list?\n";
+               "?--cases LIST? ?--dims LIST? ?--integrators LIST? ?--no-plots? ?--list? "
+               "?--restitution?\n";
   return 2;
 }
 
@@ -80,6 +83,9 @@ int main(int argc, char** argv) {
         integ = split(value());
       } else if (a == "--no-plots") {
         plots = false;
+      } else if (a == "--restitution") {
+        std::cout << restitutionSection();
+        return 0;
       } else if (a == "--list") {
         for (const CaseDef& c : caseTable()) std::cout << c.name << "\t" << c.title << "\n";
         return 0;

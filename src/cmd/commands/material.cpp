@@ -148,6 +148,24 @@ void registerMaterialCommands(Registry& r) {
     return Value(std::string(physics::coulombCriterionName(s.coulombCriterion())));
   });
 
+  Command& damping = r.add(
+      "law damping", "Sets how Hertz-Mindlin's restitution becomes its damping, or returns it.");
+  damping.details =
+      "calibrated (the default): the damper's beta is solved from the cut-off Hertz impact so "
+      "that a head-on impact rebounds with the pair's restitution e; liggghts: LIGGGHTS's beta = "
+      "ln e / sqrt(ln^2 e + pi^2), whose rebound exceeds e once the attractive force is cut off "
+      "(0.25 for e = 0.1, 0.55 for e = 0.5), kept to reproduce LIGGGHTS runs. The linear law "
+      "always rebounds with e.";
+  damping.optionalArg("form", choice({"calibrated", "liggghts"}), "calibrated or liggghts");
+  damping.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (c.given("form")) {
+      s.setHertzDamping(c.str("form") == "calibrated" ? physics::HertzDamping::Calibrated
+                                                      : physics::HertzDamping::Liggghts);
+    }
+    return Value(std::string(physics::hertzDampingName(s.hertzDamping())));
+  });
+
   Command& pair = r.add("law pair", "Sets the law of one pair of materials, or returns it.");
   pair.arg("a", materialRef(), "a material");
   pair.arg("b", materialRef(), "another (or the same) material");

@@ -273,7 +273,10 @@ Real obliqueLedger(LawKind lawKind, Real e, Real mu, Real tangentialSpeed, Real 
       friction += c.frictionLoss;
       springWork += c.springWork;
       elastic = c.elasticEnergy;
-      EXPECT_GE(c.dampingLoss, 0);
+      // At the turning point the half-step vn and the force-time velocity it is charged at
+      // (contact.hpp) may differ in sign for one step: a loss of order dt^2 below 0 (1e-8 of
+      // the energy here).
+      EXPECT_GE(c.dampingLoss, -1e-7 * ke0);
       EXPECT_GE(c.frictionLoss, 0);
     } else if (started) {
       vel = hv;

@@ -18,20 +18,22 @@ namespace demlab::physics {
 namespace {
 
 PairParams pair(LawKind law, Real e = 0.5, Real mu = 0.5,
-                CoulombCriterion coulomb = CoulombCriterion::Total) {
+                CoulombCriterion coulomb = CoulombCriterion::Total,
+                HertzDamping damping = HertzDamping::Calibrated) {
   MaterialDef m;
   m.density = 2500;
   m.young = 5e6;
   m.poisson = 0.3;
   m.restitution = e;
   m.friction = mu;
-  PairParams p = mixPair(law, m, m);
+  PairParams p = mixPair(law, m, m, damping);
   p.coulomb = coulomb;
   return p;
 }
 
 TEST(PhysicsLaw, HertzMatchesLiggghtsFormulas) {
-  const PairParams p = pair(LawKind::HertzMindlin, 0.5, 0.5, CoulombCriterion::Spring);
+  const PairParams p =
+      pair(LawKind::HertzMindlin, 0.5, 0.5, CoulombCriterion::Spring, HertzDamping::Liggghts);
   const Real ystar = 5e6 / (2 * (1 - 0.09)), gstar = 5e6 / (4 * 1.7 * 1.3);
   const Real delta = 3e-6, rstar = 5e-4, mstar = 5e-6, vn = -0.3, dt = 1e-6;
   const Vec3 n(0, 0, 1), vt(0.2, -0.1, 0);

@@ -36,8 +36,9 @@ PairParams liggghtsMaterial() {
   m.poisson = 0.3;
   m.restitution = 0.5;
   m.friction = 0.5;
-  PairParams p = mixPair(LawKind::HertzMindlin, m, m);
-  p.coulomb = CoulombCriterion::Spring;  // LIGGGHTS's Coulomb test
+  // LIGGGHTS's damping and Coulomb test.
+  PairParams p = mixPair(LawKind::HertzMindlin, m, m, HertzDamping::Liggghts);
+  p.coulomb = CoulombCriterion::Spring;
   return p;
 }
 

