@@ -190,9 +190,8 @@ PairParams mixPair(LawKind law, const MaterialDef& a, const MaterialDef& b, Hert
   b.check();
   PairParams p;
   p.law = law;
-  p.friction = std::min(a.friction, b.friction);
-  // sqrt(e e) rounds to e exactly for the common one-material pair (sqrt is correctly rounded).
-  p.restitution = std::sqrt(a.restitution * b.restitution);
+  p.friction = mixFriction(a, b);
+  p.restitution = mixRestitution(a, b);
   // The two sums are written in a fixed order of (a, b) terms; both are commutative additions
   // of two terms, so the mix is bit-for-bit symmetric.
   p.youngEff = 1 / ((1 - a.poisson * a.poisson) / a.young + (1 - b.poisson * b.poisson) / b.young);

@@ -12,6 +12,8 @@
 // for a pair table written with these rules, the constants here equal its constants.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string_view>
 
@@ -129,6 +131,16 @@ Real hertzDampingFactor(Real e);
 
 // Returns LIGGGHTS's beta = ln e / sqrt(ln^2 e + pi^2) (<= 0) for e in (0, 1]. Changes nothing.
 Real liggghtsBeta(Real e);
+
+// Return the pair's restitution sqrt(e_a e_b) and friction min(mu_a, mu_b), the mixing rules
+// above (mixPair's, and those of a query that needs no law constants). Change nothing.
+inline Real mixRestitution(const MaterialDef& a, const MaterialDef& b) {
+  // sqrt(e e) rounds to e exactly for the common one-material pair (sqrt is correctly rounded).
+  return std::sqrt(a.restitution * b.restitution);
+}
+inline Real mixFriction(const MaterialDef& a, const MaterialDef& b) {
+  return std::min(a.friction, b.friction);
+}
 
 // Returns the constants of `law` for the pair (a, b), Hertz-Mindlin's dampers by `damping`;
 // symmetric: mixPair(l, a, b) and mixPair(l, b, a) are equal. Changes nothing. Throws

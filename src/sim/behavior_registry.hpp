@@ -45,8 +45,7 @@ std::unique_ptr<Behavior<D>> makeBehavior(std::string_view type,
 // ---- helpers for the types' factories and params() --------------------------------------
 
 // Returns the parameter named name, or null.
-inline const BehaviorParam* findParam(const std::vector<BehaviorParam>& ps,
-                                      std::string_view name) {
+inline const BehaviorParam* findParam(const std::vector<BehaviorParam>& ps, std::string_view name) {
   for (const BehaviorParam& p : ps) {
     if (p.name == name) return &p;
   }
@@ -59,8 +58,7 @@ inline Vec3d paramVec(const std::vector<BehaviorParam>& ps, std::string_view nam
   return p ? Vec3d{p->numbers[0], p->numbers[1], p->numbers[2]} : def;
 }
 // Returns the number parameter named name, or def when absent.
-inline double paramNumber(const std::vector<BehaviorParam>& ps, std::string_view name,
-                          double def) {
+inline double paramNumber(const std::vector<BehaviorParam>& ps, std::string_view name, double def) {
   const BehaviorParam* p = findParam(ps, name);
   return p ? p->numbers[0] : def;
 }
@@ -74,6 +72,17 @@ inline BehaviorParam numberParam(std::string name, double x) {
 inline BehaviorParam targetParam(GrainId grain, const std::string& tag) {
   if (!grain.isNull()) return {"element", {}, {}, grain};
   return {"tag", {}, tag, {}};
+}
+// Calls fn(dense index) for a behavior's target: the grain (nothing once it is gone), or each
+// grain carrying tag now.
+template <int D, class F>
+void forEachTarget(const Scene<D>& s, GrainId grain, const std::string& tag, F&& fn) {
+  if (!grain.isNull()) {
+    const uint32_t i = s.grains.pool().findDense(grain);
+    if (i != HandlePool<GrainKind>::kNpos) fn(i);
+  } else {
+    s.grains.tags().forEach(tag, [&](GrainId id) { fn(s.grains.pool().denseIndex(id)); });
+  }
 }
 // Returns `grain 1.1` or `tag "bed"`.
 inline std::string targetText(GrainId grain, const std::string& tag) {

@@ -125,7 +125,8 @@ double SimulationManager<D>::criticalTimeStep() const {
       if (!used[k]) continue;
       const int8_t o = s_.pairLawOverride[m * nm + k];
       const LawKind law = o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
-      const physics::PairParams p = physics::mixPair(law, s_.materials[m], s_.materials[k], s_.hertzDamping);
+      const physics::PairParams p =
+          physics::mixPair(law, s_.materials[m], s_.materials[k], s_.hertzDamping);
       for (const size_t side : {m, k}) {
         if (!std::isfinite(rmin[side])) continue;  // a wall's material: no grain of it
         const Real r = rmin[side];
@@ -281,9 +282,10 @@ PairCoefficients SimulationManager<D>::pairCoefficients(const std::string& a,
   const uint32_t i = materialIndex(a), j = materialIndex(b);
   const auto [ma, mb] = s_.pairMaterials(i, j);
   PairCoefficients c;
-  // The mixing rules (physics/pair_params.hpp, sim/rolling_resistance.hpp, sim/cohesion.hpp).
-  c.restitution = physics::mixPair(pairLaw(a, b), ma, mb).restitution;
-  c.friction = std::min(ma.friction, mb.friction);
+  // The mixing rules (physics/pair_params.hpp, sim/pair_table.hpp), without the law's
+  // constants (mixPair would solve Hertz's damping calibration for a query).
+  c.restitution = physics::mixRestitution(ma, mb);
+  c.friction = physics::mixFriction(ma, mb);
   c.rolling = std::min(ma.rollingFriction, mb.rollingFriction);
   c.cohesion = std::min(ma.cohesion, mb.cohesion);
   return c;

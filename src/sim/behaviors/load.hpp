@@ -15,7 +15,7 @@ namespace demlab::sim {
 template <int D>
 class LoadBehavior final : public Behavior<D> {
  public:
-  GrainId grain;            // null: tag
+  GrainId grain;  // null: tag
   std::string tag;
   Vec3d force{}, torque{};  // constants (2D: force x y, torque z)
   std::array<TimeFunction, 3> forceFn{}, torqueFn{};
@@ -62,12 +62,7 @@ class LoadBehavior final : public Behavior<D> {
         work += dotAngular(T, halfStepAngularVelocity(s, i)) * s.stepDt;
       }
     };
-    if (!grain.isNull()) {
-      const uint32_t i = s.grains.pool().findDense(grain);
-      if (i != HandlePool<GrainKind>::kNpos) one(i);
-    } else {
-      s.grains.tags().forEach(tag, [&](GrainId id) { one(s.grains.pool().denseIndex(id)); });
-    }
+    forEachTarget(s, grain, tag, one);
   }
   bool addsTorque() const override {
     for (int k = 0; k < 3; ++k) {

@@ -39,7 +39,8 @@ class TorqueRampBehavior final : public Behavior<D> {
     b->t0_ = toAngular<D>(paramVec(p, "torque"), "torque");
     b->rate_ = toAngular<D>(paramVec(p, "rate"), "rate");
     b->start_ = paramNumber(p, "start", 0);
-    if (!std::isfinite(b->start_)) throwBad("start", physics::formatReal(b->start_), "must be finite");
+    if (!std::isfinite(b->start_))
+      throwBad("start", physics::formatReal(b->start_), "must be finite");
     if (findParam(p, "max")) {
       b->max_ = paramNumber(p, "max", 0);
       checkPositive(b->max_, "max");
@@ -72,19 +73,14 @@ class TorqueRampBehavior final : public Behavior<D> {
       a.t[i] += T;
       work += dotAngular(T, halfStepAngularVelocity(s, i)) * s.stepDt;
     };
-    if (!grain_.isNull()) {
-      const uint32_t i = s.grains.pool().findDense(grain_);
-      if (i != HandlePool<GrainKind>::kNpos) one(i);
-    } else {
-      s.grains.tags().forEach(tag_, [&](GrainId id) { one(s.grains.pool().denseIndex(id)); });
-    }
+    forEachTarget(s, grain_, tag_, one);
   }
   bool addsTorque() const override { return squaredNorm(t0_) != 0 || squaredNorm(rate_) != 0; }
   std::string describe() const override {
     std::string s = "torque ramp on " + targetText(grain_, tag_) + ": (" +
                     formatVec(fromAngular(t0_), 3) + ") N m + (" +
-                    formatVec(fromAngular(rate_), 3) + ") N m/s from t = " +
-                    physics::formatReal(start_) + " s";
+                    formatVec(fromAngular(rate_), 3) +
+                    ") N m/s from t = " + physics::formatReal(start_) + " s";
     if (std::isfinite(max_)) s += ", at most " + physics::formatReal(max_) + " N m";
     return s;
   }
