@@ -1,6 +1,7 @@
 # The simulation core (issue 3): SimulationManager, SimLoop and its modules, over src/core,
 # src/search and src/physics. Public API: src/sim/simulation.hpp.
-file(GLOB DEMLAB_SIM_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/sim/*.cpp)
+file(GLOB DEMLAB_SIM_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/sim/*.cpp
+     ${CMAKE_CURRENT_SOURCE_DIR}/src/sim/shapes/*.cpp)
 add_library(demlab_sim STATIC ${DEMLAB_SIM_SOURCES})
 target_link_libraries(demlab_sim PUBLIC demlab_physics demlab_core)
 

@@ -2,9 +2,11 @@
 // types, with the checks every Def goes through before anything is created.
 #pragma once
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/math.hpp"
@@ -86,6 +88,33 @@ inline std::array<double, 4> fromRotation(const Rotation2& r) {
 }
 inline std::array<double, 4> fromRotation(const Quat& q) {
   return {q.w(), q.x(), q.y(), q.z()};
+}
+
+// Returns the orientation o (3D: a quaternion {w x y z}, normalised; 2D: {angle}; empty: the
+// identity). Throws {VALUE ORIENTATION} for the wrong count, a non-finite number or a zero
+// quaternion.
+template <int D>
+RotationD<D> toRotation(const std::vector<double>& o) {
+  std::string text;
+  for (double x : o) text += (text.empty() ? "" : " ") + physics::formatReal(x);
+  if constexpr (D == 2) {
+    if (o.empty()) return Rotation2::identity();
+    if (o.size() != 1 || !std::isfinite(o[0])) {
+      throwBad("orientation", text, "must be one finite angle (rad) in 2D");
+    }
+    return Rotation2{o[0]};
+  } else {
+    if (o.empty()) return Quat::Identity();
+    const bool finite = std::all_of(o.begin(), o.end(), [](double x) { return std::isfinite(x); });
+    if (o.size() != 4 || !finite) {
+      throwBad("orientation", text, "must be a quaternion of four finite numbers w x y z");
+    }
+    Quat q(o[0], o[1], o[2], o[3]);
+    const double n = q.norm();
+    if (!(n > 0 && std::isfinite(n))) throwBad("orientation", text, "must not be zero");
+    q.coeffs() /= n;
+    return q;
+  }
 }
 
 // Throws {VALUE <FIELD>} unless x is a positive finite number.

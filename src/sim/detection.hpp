@@ -167,6 +167,12 @@ class DetectionModule final : public SimModule<D> {
     // The grain pairs kept are compacted to the front of pairs_ and then copied once into a
     // candidate array of exactly their number (grown by doubling it would hold up to twice).
     size_t kept = 0, touching = 0, wallPairs = 0;
+    // Pairs with an element that is not a ball go to the shape contact pass (its bounding
+    // sphere made them candidates); a scene of balls only never looks.
+    s.shapeCandidates.clear();
+    s.shapeWallCandidates.clear();
+    const bool shapes = s.anyShapes;
+    const auto isShape = [&](uint32_t i) { return a.geometry[i] != 0; };
     for (const search::IndexPair& p : pairs_) {
       if (p.second < n) {
         // Boxes overlap for pairs up to sqrt(D) times farther apart than spheres can come
@@ -176,8 +182,15 @@ class DetectionModule final : public SimModule<D> {
         if (d2 > reach * reach) continue;
         if (d2 < rs * rs) touching += 1;
         // The lower slot first: the contact loop keeps each spring in that orientation.
-        pairs_[kept++] =
+        const search::IndexPair q =
             a.slot[p.first] < a.slot[p.second] ? p : search::IndexPair{p.second, p.first};
+        if (shapes && (isShape(q.first) || isShape(q.second))) {
+          s.shapeCandidates.push_back({q.first, q.second});
+          continue;
+        }
+        pairs_[kept++] = q;
+      } else if (shapes && p.first < n && isShape(p.first)) {
+        s.shapeWallCandidates.emplace_back(p.first, wallOfBox_[p.second - n]);
       } else if (p.first < n) {
         s.wallCandidates[wallOfBox_[p.second - n]].push_back(p.first);
         wallPairs += 1;

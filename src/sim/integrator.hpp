@@ -153,6 +153,10 @@ inline bool isZeroBits(const Vec3& w) {
 template <int D>
 class PredictRotationModule final : public SimModule<D> {
  public:
+  // skipRigid: the scene has elements of anisotropic inertia (invInertia 0), which
+  // sim/rigid_body.hpp turns; this module then leaves them, and the SIMD kernel, which would
+  // not, is not used.
+  explicit PredictRotationModule(bool skipRigid = false) : skipRigid_(skipRigid) {}
   std::string_view name() const override { return "rotation"; }
   SimLevel level() const override { return SimLevel::Predict; }
 
@@ -169,9 +173,10 @@ class PredictRotationModule final : public SimModule<D> {
     // 3D: the grains go W at a time through the SIMD kernel when the platform has one
     // (contact_kernel.hpp: the same arithmetic, bit for bit), the last n % W here.
     size_t first = 0;
-    if constexpr (D == 3) first = kernelPass(s);
+    if constexpr (D == 3) first = skipRigid_ ? 0 : kernelPass(s);
     auto pass = [&](auto syncTag) {
       for (size_t i = first; i < n; ++i) {
+        if (skipRigid_ && invInertia[i] == 0) continue;
         // An idle grain (no torque, no spin, both +0 bit for bit, as every grain of a falling
         // lattice) stays as it is: only its last torque becomes +0. The same bits as the update.
         if (isZeroBits(t[i]) && isZeroBits(w[i])) {
@@ -197,6 +202,7 @@ class PredictRotationModule final : public SimModule<D> {
   }
 
  private:
+  bool skipRigid_;
   struct Turn {
     RotationD<D>* q;
     Real dt;

@@ -9,7 +9,9 @@
 #include "sim/contacts.hpp"
 #include "sim/detection.hpp"
 #include "sim/integrator.hpp"
+#include "sim/rigid_body.hpp"
 #include "sim/rolling_resistance.hpp"
+#include "sim/shape_contacts.hpp"
 #include "sim/touch.hpp"
 #include "sim/watchdog.hpp"
 
@@ -26,6 +28,11 @@ SceneUse sceneUse(const Scene<D>& s) {
     grainMat[a.material[i]] = true;
     anyMat[a.material[i]] = true;
     if (squaredNorm(a.w[i]) != 0) spinning = true;
+  }
+  for (size_t i = 0; i < a.size() && s.geometries.size() > 1; ++i) {
+    if (a.geometry[i] == 0) continue;
+    f.shapes = true;
+    if (a.invInertia[i] == 0) f.rigid = true;
   }
   for (const Wall<D>& w : s.walls.items) anyMat[w.material] = true;
   int law = -2;
@@ -46,7 +53,9 @@ SceneUse sceneUse(const Scene<D>& s) {
         static_cast<long>(std::find(grainMat.begin(), grainMat.end(), true) - grainMat.begin());
     f.grainPair = m * static_cast<long>(nm) + m;
   }
-  f.rotating = s.rotationEnabled && (f.anyFriction || s.behaviors.hasTorqueLoads() || spinning);
+  // A shape's normal forces act off its centre: it turns with or without friction.
+  f.rotating = s.rotationEnabled &&
+               (f.anyFriction || s.behaviors.hasTorqueLoads() || spinning || f.shapes);
   f.walls = s.walls.size() > 0;
   f.movingWalls = s.walls.anyMoving();
   return f;
@@ -70,7 +79,11 @@ struct Rows {
   static constexpr ModuleRow<D> rows[] = {
       {"integrate", always<D>, plain<D, PredictModule>},
       {"rotation", [](const Scene<D>&, const SceneUse& u) { return u.rotating; },
-       plain<D, PredictRotationModule>},
+       [](const Scene<D>&, const SceneUse& u, ModuleList<D>& out) {
+         out.push_back(std::make_unique<PredictRotationModule<D>>(u.rigid));
+       }},
+      {"rigid-rotation", [](const Scene<D>&, const SceneUse& u) { return u.rotating && u.rigid; },
+       plain<D, PredictRigidRotationModule>},
       {"walls", [](const Scene<D>&, const SceneUse& u) { return u.movingWalls; },
        plain<D, WallMotionModule>},
       {"detection", always<D>,
@@ -84,6 +97,8 @@ struct Rows {
            out.push_back(std::move(c));
          }
        }},
+      {"shape-contacts", [](const Scene<D>&, const SceneUse& u) { return u.shapes; },
+       plain<D, ShapeContactModule>},
       {"rolling",
        [](const Scene<D>& s, const SceneUse& u) { return u.rotating && anyRollingFriction(s); },
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
@@ -105,6 +120,8 @@ struct Rows {
       // After every force: it cancels what acts along a blocked degree of freedom.
       {"constraints", [](const Scene<D>& s, const SceneUse&) { return !s.blocked.empty(); },
        plain<D, ConstraintModule>},
+      {"rigid-correct", [](const Scene<D>&, const SceneUse& u) { return u.rotating && u.rigid; },
+       plain<D, CorrectRigidRotationModule>},
       {"integrate-correct", always<D>, plain<D, CorrectModule>},
       {"watchdog", [](const Scene<D>& s, const SceneUse&) { return s.watchdog.enabled; },
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {

@@ -19,6 +19,8 @@ namespace demlab::sim {
 // (and the scene's options) rather than scanning the scene each.
 struct SceneUse {
   bool anyFriction = false, rotating = false, walls = false, movingWalls = false;
+  // Some element is not a ball; some element's inertia is not isotropic (sim/rigid_body.hpp).
+  bool shapes = false, rigid = false;
   int law = 0;  // the one law of every pair in use, or -1 when they differ
   // The material pair (index into Scene::pairParams) of every grain-grain contact when all
   // grains have one material, else -1.

@@ -25,10 +25,13 @@ struct GrainArrays {
   std::vector<Real> r, invMass, invInertia;
   std::vector<uint32_t> material;  // index into the scene's material table
   std::vector<uint32_t> slot;      // handle slot index: the id used for pair histories
+  // Index into the scene's geometries (Scene::geometries, sim/shape.hpp): 0 is the ball, whose
+  // size is r; an element of another shape has r as its bounding radius.
+  std::vector<uint32_t> geometry;
 
   // Appends one grain at rest-initialised forces. Changes every array.
   void push(const VecD<D>& xi, const VecD<D>& vi, const AngularD<D>& wi, Real ri, Real invM,
-            Real invI, uint32_t mat, uint32_t sl) {
+            Real invI, uint32_t mat, uint32_t sl, uint32_t geom = 0) {
     x.push_back(xi);
     v.push_back(vi);
     f.push_back(VecD<D>::Zero());
@@ -42,6 +45,7 @@ struct GrainArrays {
     invInertia.push_back(invI);
     material.push_back(mat);
     slot.push_back(sl);
+    geometry.push_back(geom);
   }
 
   // Applies a swap-remove to every array.
@@ -69,7 +73,7 @@ struct GrainArrays {
   static void forEachArray(Self& self, F&& fn) {
     fn(self.x), fn(self.v), fn(self.f), fn(self.fPrev), fn(self.q), fn(self.w), fn(self.t);
     fn(self.tPrev), fn(self.r), fn(self.invMass), fn(self.invInertia), fn(self.material);
-    fn(self.slot);
+    fn(self.slot), fn(self.geometry);
   }
 
   static RotationD<D> identityRotation() {
@@ -132,9 +136,9 @@ class SimObjManager {
   // names and tags (the caller has checked the name is free and the tags valid).
   GrainId add(const VecD<D>& x, const VecD<D>& v, const AngularD<D>& w, Real r, Real invM,
               Real invI, uint32_t mat, const std::string& name,
-              const std::vector<std::string>& tagList) {
+              const std::vector<std::string>& tagList, uint32_t geometry = 0) {
     const GrainId id = pool_.allocate();
-    a.push(x, v, w, r, invM, invI, mat, id.index);
+    a.push(x, v, w, r, invM, invI, mat, id.index, geometry);
     if (!name.empty()) names_.add(name, id);
     for (const std::string& t : tagList) tags_.add(id, t);
     return id;

@@ -20,10 +20,13 @@ struct RecordGeometry {
 };
 
 // Returns the geometry of record c of scene s, or nothing when the pair no longer overlaps
-// (it always does within the step that recorded it). Changes nothing.
+// (it always does within the step that recorded it) or when an element is not a ball. Changes
+// nothing.
 template <int D>
 std::optional<RecordGeometry<D>> recordGeometry(const Scene<D>& s, const ContactRecord<D>& c) {
   const GrainArrays<D>& a = s.grains.a;
+  // The modules that read records (rolling resistance, cohesion) are ball models.
+  if (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0)) return std::nullopt;
   const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
   RecordGeometry<D> out;
   out.radiusA = a.r[c.a];

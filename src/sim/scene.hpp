@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <tuple>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +21,7 @@
 #include "sim/behavior.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/pair_springs.hpp"
+#include "sim/shape.hpp"
 #include "sim/wall.hpp"
 
 namespace demlab::sim {
@@ -103,6 +106,20 @@ struct BlockedElement {
   uint8_t dofs;  // dof:: mask, never 0 (an element with none blocked leaves the list)
 };
 
+// The key of one contact point's tangential spring in a pair with a non-ball element
+// (sim/shape_contacts.hpp): the two slots (a wall's as wallPairId) and the point's index.
+struct ShapeSpringKey {
+  uint32_t a, b, point;
+  friend auto operator<=>(const ShapeSpringKey&, const ShapeSpringKey&) = default;
+};
+
+// Returns the Geometry list a new scene starts with: the ball's, at index 0.
+template <int D>
+std::vector<Shareable<Geometry<D>>> ballGeometryOnly() {
+  return {Shareable<Geometry<D>>::make(ShapeTable<D>::get().makeGeometry(
+      ShapeTable<D>::get().type(ShapeTable<D>::ball()).name(), {}))};
+}
+
 template <int D>
 struct Scene {
   // ---- objects ----
@@ -111,6 +128,16 @@ struct Scene {
   BehaviorManager<D> behaviors;
   std::vector<BlockedElement> blocked;  // in the order they were blocked
   DeferredChanges deferred;             // empty at every step boundary
+
+  // ---- element shapes (sim/shape.hpp) ----
+  // The shared Geometry components; GrainArrays::geometry indexes them. [0] is the ball's.
+  std::vector<Shareable<Geometry<D>>> geometries = ballGeometryOnly<D>();
+  // Some element is not a ball (set when the loop is built): the search then hands the pairs
+  // with such an element to the shape contact pass instead of the ball passes.
+  bool anyShapes = false;
+  std::vector<CandidatePair> shapeCandidates;                    // element-element
+  std::vector<std::pair<uint32_t, uint32_t>> shapeWallCandidates;  // (element, wall) dense
+  std::map<ShapeSpringKey, physics::TangentialHistory<D>> shapeSprings;
 
   // ---- materials and laws ----
   std::vector<std::string> materialNames;

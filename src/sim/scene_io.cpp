@@ -285,6 +285,63 @@ void readPairOverrides(Reader& r, Scene<D>& s) {
   }
 }
 
+// Writes the shape section's body: geometries, per-element indices, shape springs.
+template <int D>
+void writeShapes(Writer& w, const Scene<D>& s) {
+  const ShapeTable<D>& t = ShapeTable<D>::get();
+  w.list(s.geometries, [&](const Shareable<Geometry<D>>& g) {
+    w.str(std::string(t.type(g->shape).name()));
+    w.list(g->params, [&](double x) { w.f64(x); });
+  });
+  w.list(s.grains.a.geometry, [&](uint32_t g) { w.u32(g); });
+  w.u64(s.shapeSprings.size());
+  for (const auto& [k, h] : s.shapeSprings) {
+    w.u32(k.a);
+    w.u32(k.b);
+    w.u32(k.point);
+    w.vec<D>(h.spring);
+  }
+}
+
+// Reads the shape section's body (after the grains). Throws {LOAD FORMAT}, or {LOAD SHAPE} for
+// a shape type this process has not registered.
+template <int D>
+void readShapes(Reader& r, Scene<D>& s) {
+  const ShapeTable<D>& t = ShapeTable<D>::get();
+  s.geometries.resize(r.count(9));
+  if (s.geometries.empty()) Reader::bad("shape geometries");
+  for (size_t k = 0; k < s.geometries.size(); ++k) {
+    const std::string name = r.str();
+    std::vector<double> params(r.count(8));
+    for (double& x : params) x = r.f64();
+    if (t.find(name) == nullptr) {
+      throw Error("can't load a checkpoint with elements of shape type \"" + name +
+                      "\": it is not registered in this demlab",
+                  {"LOAD", "SHAPE"});
+    }
+    try {
+      s.geometries[k] = Shareable<Geometry<D>>::make(t.makeGeometry(name, params));
+    } catch (const Error&) {
+      Reader::bad("shape parameters");
+    }
+    if ((k == 0) != (s.geometries[k]->shape == ShapeTable<D>::ball())) Reader::bad("shape table");
+  }
+  std::vector<uint32_t>& g = s.grains.a.geometry;
+  if (r.count(4) != g.size()) Reader::bad("shape count");
+  for (uint32_t& x : g) {
+    x = r.u32();
+    if (x >= s.geometries.size()) Reader::bad("shape index");
+  }
+  const uint64_t n = r.count(12 + 8 * D);
+  for (uint64_t k = 0; k < n; ++k) {
+    ShapeSpringKey key;
+    key.a = r.u32();
+    key.b = r.u32();
+    key.point = r.u32();
+    s.shapeSprings[key].spring = r.vec<D>();
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -445,6 +502,11 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
       for (double x : {o.c.restitution, o.c.friction, o.c.rolling, o.c.cohesion}) body.f64(x);
     });
     writeSection(w, kPairTag, body);
+  }
+  if (s.geometries.size() > 1) {
+    Writer body;
+    writeShapes(body, s);
+    writeSection(w, kShapeTag, body);
   }
 }
 
@@ -636,6 +698,8 @@ void readScene(Reader& r, Scene<D>& s) {
       readBlocked(b, s);
     } else if (std::memcmp(tag, kPairTag, 4) == 0) {
       readPairOverrides(b, s);
+    } else if (std::memcmp(tag, kShapeTag, 4) == 0) {
+      readShapes(b, s);
     } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {
       if (b.count(8) != s.materials.size()) Reader::bad("cohesion count");
       for (physics::MaterialDef& m : s.materials) {

@@ -152,6 +152,10 @@ inline constexpr char kCohesionTag[5] = "COHE";
 // The pairs' own coefficients (Scene::pairOverrides), when any: u64 count, then per pair u32 a,
 // u32 b (material indices, a <= b) and f64 restitution, friction, rolling, cohesion (NaN: unset).
 inline constexpr char kPairTag[5] = "PAIR";
+// The element shapes (sim/shape.hpp), written only when some Geometry beyond the ball's exists:
+// the Geometry table by shape type name and parameters, each element's Geometry index, and the
+// tangential springs of the shape contact points.
+inline constexpr char kShapeTag[5] = "SHAP";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

@@ -62,11 +62,6 @@ using TimeFunction = std::function<double(double t)>;
 // Throws {VALUE LAW} otherwise: `bad law "x": must be linear or hertz_mindlin`.
 LawKind lawFromName(std::string_view name);
 
-enum class ElementShape : uint8_t;
-// Returns the shape's name as the commands spell it ("sphere", "disc").
-std::string_view elementShapeName(ElementShape shape);
-// Returns the shape named name. Throws {VALUE SHAPE}: `bad shape "x": must be sphere or disc`.
-ElementShape elementShapeFromName(std::string_view name);
 // Returns the names of the degrees of freedom in a dof:: mask, space separated ("x y rz").
 std::string dofNames(unsigned mask);
 // Returns the dof:: bit named name (x y z rx ry rz). Throws {VALUE DOF}.
@@ -97,11 +92,8 @@ inline constexpr unsigned all(int dim) {
 }
 }  // namespace dof
 
-// The shapes of elements. Spheres in 3D and discs in 2D today; the name the commands take.
-enum class ElementShape : uint8_t { Sphere, Disc };
-
-// One grain: a disc in 2D, a sphere in 3D, of uniform density (mass and inertia from the
-// material's density and the radius).
+// One element, of uniform density (mass and inertia from the material's density and the
+// shape: sim/shape.hpp).
 struct GrainDef {
   Vec3d position{};
   Vec3d velocity{};
@@ -110,9 +102,15 @@ struct GrainDef {
   std::string material;           // an existing material: else LOOKUP MATERIAL
   std::vector<std::string> tags;  // each a valid tag: else VALUE TAG
   std::string name;               // optional, unique: else EXISTS NAME / VALUE NAME
-  // The element's shape: Sphere needs a 3D scene, Disc a 2D one (else VALUE SHAPE); unset:
-  // the one of the scene's dimension.
-  std::optional<ElementShape> shape;
+  // The element's shape type, a name in the dimension's ShapeTable (sim/shape.hpp: the ball,
+  // "sphere" in 3D and "disc" in 2D, first; else VALUE SHAPE); "": the ball. The ball takes no
+  // parameters and is sized by radius; any other type takes shapeParams (checked by the type:
+  // VALUE SHAPE) and no radius (VALUE RADIUS), its bounding radius following from them.
+  std::string shape;
+  std::vector<double> shapeParams;
+  // The orientation: 3D a quaternion {w x y z} (normalised; VALUE ORIENTATION if zero or not
+  // finite), 2D {angle}; empty: the identity.
+  std::vector<double> orientation;
   unsigned blocked = 0;  // dof:: mask of blocked degrees of freedom (VALUE DOF)
 };
 
@@ -188,11 +186,13 @@ struct GrainState {
   std::string name;
   std::vector<std::string> tags;
   std::string material;
-  double radius = 0, mass = 0, inertia = 0;
+  double radius = 0, mass = 0, inertia = 0;  // inertia: the largest principal moment
+  std::array<double, 3> principalInertia{};  // 2D: {I, I, I}, the moment about z
   Vec3d position{}, velocity{}, angularVelocity{}, force{}, torque{};
   std::array<double, 4> orientation{};  // 3D: quaternion w x y z; 2D: {angle, 0, 0, 0}
-  ElementShape shape = ElementShape::Sphere;
-  unsigned blocked = 0;  // dof:: mask
+  std::string shape;                // its shape type's name
+  std::vector<double> shapeParams;  // its parameters (none for the ball)
+  unsigned blocked = 0;             // dof:: mask
 };
 
 struct WallState {
@@ -435,6 +435,15 @@ class Simulation {
   virtual void setMaterial(const std::string& name, const MaterialDef& def) = 0;
   virtual MaterialDef material(const std::string& name) const = 0;  // LOOKUP MATERIAL
   virtual std::vector<std::string> materialNames() const = 0;       // in creation order
+  // Returns the dimension's shape types (sim/shape.hpp) as {name, parameters' description},
+  // the ball first.
+  virtual std::vector<std::pair<std::string, std::string>> shapeTypes() const = 0;
+  // Returns the names of shapeTypes(), the ball first.
+  std::vector<std::string> shapeNames() const {
+    std::vector<std::string> out;
+    for (auto& t : shapeTypes()) out.push_back(t.first);
+    return out;
+  }
   // Sets the law for every pair that has no pair-specific law (default: Hertz-Mindlin).
   virtual void setContactLaw(LawKind law) = 0;
   virtual LawKind contactLaw() const = 0;

@@ -14,19 +14,9 @@
 #include "sim/behaviors/load.hpp"
 #include "sim/convert.hpp"
 #include "sim/history_store.hpp"
+#include "sim/rigid_body.hpp"
 
 namespace demlab::sim {
-
-std::string_view elementShapeName(ElementShape shape) {
-  return shape == ElementShape::Disc ? "disc" : "sphere";
-}
-
-ElementShape elementShapeFromName(std::string_view name) {
-  if (name == "sphere") return ElementShape::Sphere;
-  if (name == "disc") return ElementShape::Disc;
-  throw Error("bad shape \"" + std::string(name) + "\": must be sphere or disc",
-              {"VALUE", "SHAPE"});
-}
 
 std::string dofNames(unsigned mask) {
   static const char* const kNames[] = {"x", "y", "z", "rx", "ry", "rz"};
@@ -113,14 +103,26 @@ double SimulationManager<D>::criticalTimeStep() const {
   std::vector<Real> rmin(nm, inf);
   std::vector<bool> used(nm, false);
   const GrainArrays<D>& a = s_.grains.a;
+  // Elements of other shapes: their least mass and least volume-equivalent radius per
+  // material (the ball's formulas below take a mass and a radius).
+  std::vector<Real> shapeMass(nm, inf), shapeR(nm, inf);
   for (size_t i = 0; i < a.size(); ++i) {
-    rmin[a.material[i]] = std::min(rmin[a.material[i]], a.r[i]);
-    used[a.material[i]] = true;
+    const uint32_t m = a.material[i];
+    used[m] = true;
+    if (a.geometry[i] == 0) {
+      rmin[m] = std::min(rmin[m], a.r[i]);
+      continue;
+    }
+    const Geometry<D>& g = *s_.geometries[a.geometry[i]];
+    shapeMass[m] = std::min(shapeMass[m], 1 / a.invMass[i]);
+    const Real req = D == 3 ? std::cbrt(g.volume * 3 / (4 * std::numbers::pi))
+                            : std::sqrt(g.volume / std::numbers::pi);
+    shapeR[m] = std::min(shapeR[m], req);
   }
   for (const Wall<D>& w : s_.walls.items) used[w.material] = true;
   Real best = inf;
   for (size_t m = 0; m < nm; ++m) {
-    if (!std::isfinite(rmin[m])) continue;
+    if (!std::isfinite(rmin[m]) && !std::isfinite(shapeR[m])) continue;
     for (size_t k = 0; k < nm; ++k) {
       if (!used[k]) continue;
       const int8_t o = s_.pairLawOverride[m * nm + k];
@@ -128,12 +130,19 @@ double SimulationManager<D>::criticalTimeStep() const {
       const physics::PairParams p =
           physics::mixPair(law, s_.materials[m], s_.materials[k], s_.hertzDamping);
       for (const size_t side : {m, k}) {
-        if (!std::isfinite(rmin[side])) continue;  // a wall's material: no grain of it
-        const Real r = rmin[side];
-        const Real mass = grainMass<D>(s_.materials[side].density, r);
-        best = std::min(best, physics::criticalTimeStep(p, mass, r));
-        if (law == LawKind::HertzMindlin) {
-          best = std::min(best, physics::rayleighTimeStep(s_.materials[side], r));
+        if (std::isfinite(rmin[side])) {  // else a wall's material, or shapes only
+          const Real r = rmin[side];
+          const Real mass = grainMass<D>(s_.materials[side].density, r);
+          best = std::min(best, physics::criticalTimeStep(p, mass, r));
+          if (law == LawKind::HertzMindlin) {
+            best = std::min(best, physics::rayleighTimeStep(s_.materials[side], r));
+          }
+        }
+        if (std::isfinite(shapeR[side])) {
+          best = std::min(best, physics::criticalTimeStep(p, shapeMass[side], shapeR[side]));
+          if (law == LawKind::HertzMindlin) {
+            best = std::min(best, physics::rayleighTimeStep(s_.materials[side], shapeR[side]));
+          }
         }
       }
     }
@@ -180,9 +189,10 @@ void SimulationManager<D>::setMaterial(const std::string& name, const MaterialDe
   GrainArrays<D>& a = s_.grains.a;
   for (size_t i = 0; i < a.size(); ++i) {
     if (a.material[i] != m) continue;
-    const Real mass = grainMass<D>(def.density, a.r[i]);
-    a.invMass[i] = 1 / mass;
-    a.invInertia[i] = 1 / grainInertia<D>(mass, a.r[i]);
+    const auto [invMass, invInertia] =
+        inverseMassAndInertia(*s_.geometries[a.geometry[i]], def.density, a.r[i]);
+    a.invMass[i] = invMass;
+    a.invInertia[i] = invInertia;
   }
   s_.ledger.reference += ledgerSum() - before;
   touchConfig();
@@ -294,11 +304,35 @@ PairCoefficients SimulationManager<D>::pairCoefficients(const std::string& a,
 // ---- grains --------------------------------------------------------------------------------
 
 template <int D>
+uint32_t SimulationManager<D>::geometryIndex(const Geometry<D>& g) {
+  for (size_t k = 0; k < s_.geometries.size(); ++k) {
+    const Geometry<D>& h = *s_.geometries[k];
+    if (h.shape == g.shape && h.params == g.params) return static_cast<uint32_t>(k);
+  }
+  s_.geometries.push_back(Shareable<Geometry<D>>::make(g));
+  return static_cast<uint32_t>(s_.geometries.size() - 1);
+}
+
+template <int D>
 typename SimulationManager<D>::CheckedGrain SimulationManager<D>::checkGrain(
     const GrainDef& def) const {
   CheckedGrain c;
-  checkPositive(def.radius, "radius");
-  c.r = def.radius;
+  const ShapeTable<D>& table = ShapeTable<D>::get();
+  const std::string_view shape =
+      def.shape.empty() ? table.type(ShapeTable<D>::ball()).name() : std::string_view(def.shape);
+  c.geometry = table.makeGeometry(shape, def.shapeParams);
+  if (c.geometry.boundRadius == 0) {
+    checkPositive(def.radius, "radius");
+    c.r = def.radius;
+  } else {
+    if (def.radius != 0) {
+      throw Error("bad radius: a " + std::string(shape) +
+                      " takes no radius (its size is in its parameters)",
+                  {"VALUE", "RADIUS"});
+    }
+    c.r = c.geometry.boundRadius;
+  }
+  c.q = toRotation<D>(def.orientation);
   c.x = toVec<D>(def.position, "position");
   c.v = toVec<D>(def.velocity, "velocity");
   c.w = toAngular<D>(def.angularVelocity, "angular velocity");
@@ -308,32 +342,26 @@ typename SimulationManager<D>::CheckedGrain SimulationManager<D>::checkGrain(
     checkObjectName("grain", def.name);
     if (s_.grains.names().find(def.name)) throwNameExists("grain", def.name);
   }
-  if (def.shape && *def.shape != (D == 2 ? ElementShape::Disc : ElementShape::Sphere)) {
-    throw Error("bad shape \"" + std::string(elementShapeName(*def.shape)) + "\": a " +
-                    std::to_string(D) + "D scene takes " + (D == 2 ? "disc" : "sphere") +
-                    " elements",
-                {"VALUE", "SHAPE"});
-  }
   checkDofMask(def.blocked);
   c.blocked = static_cast<uint8_t>(def.blocked);
-  const Real mass = grainMass<D>(s_.materials[c.material].density, c.r);
-  c.invMass = 1 / mass;
-  c.invInertia = 1 / grainInertia<D>(mass, c.r);
+  std::tie(c.invMass, c.invInertia) =
+      inverseMassAndInertia(c.geometry, s_.materials[c.material].density, c.r);
   return c;
 }
 
 template <int D>
 double SimulationManager<D>::grainEnergy(uint32_t i) const {
   const GrainArrays<D>& a = s_.grains.a;
-  return 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * squaredNorm(a.w[i]) / a.invInertia[i] -
+  return 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * twiceRotationalEnergy(s_, i) -
          s_.behaviors.gravity().dot(a.x[i]) / a.invMass[i];
 }
 
 template <int D>
 GrainId SimulationManager<D>::addGrain(const GrainDef& def) {
   const CheckedGrain c = checkGrain(def);
-  const GrainId id =
-      s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material, def.name, def.tags);
+  const GrainId id = s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
+                                   def.name, def.tags, geometryIndex(c.geometry));
+  s_.grains.a.q.back() = c.q;
   if (c.blocked != 0) s_.blocked.push_back({id, c.blocked});
   s_.ledger.reference += grainEnergy(static_cast<uint32_t>(s_.grains.size() - 1));
   s_.needRebuild = true;
@@ -361,7 +389,8 @@ std::vector<GrainId> SimulationManager<D>::addGrains(const std::vector<GrainDef>
   for (size_t k = 0; k < defs.size(); ++k) {
     const CheckedGrain& c = checked[k];
     ids.push_back(s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
-                                defs[k].name, defs[k].tags));
+                                defs[k].name, defs[k].tags, geometryIndex(c.geometry)));
+    a.q.back() = c.q;
     if (c.blocked != 0) s_.blocked.push_back({ids.back(), c.blocked});
     s_.ledger.reference += grainEnergy(static_cast<uint32_t>(n0 + k));
   }
@@ -384,6 +413,7 @@ void SimulationManager<D>::removeGrain(GrainId id) {
   dropBlocked([&](GrainId g) { return g == id; });
   const uint32_t slot = s_.grains.remove(id);
   if (s_.keepHistory) s_.histories.removeId(slot);
+  std::erase_if(s_.shapeSprings, [&](const auto& e) { return e.first.a == slot || e.first.b == slot; });
   s_.needRebuild = true;
   touchConfig();
 }
@@ -406,6 +436,9 @@ void SimulationManager<D>::removeGrainSet(const std::vector<GrainId>& ids) {
     slots.insert(s_.grains.remove(id));
   }
   dropBlocked([&](GrainId g) { return slots.contains(g.index); });
+  std::erase_if(s_.shapeSprings, [&](const auto& e) {
+    return slots.contains(e.first.a) || slots.contains(e.first.b);
+  });
   if (s_.keepHistory) {
     std::vector<std::pair<uint32_t, uint32_t>> drop;
     s_.histories.forEach([&](const auto& p, auto&) {
@@ -428,14 +461,20 @@ GrainState SimulationManager<D>::grain(GrainId id) const {
   g.material = s_.materialNames[a.material[i]];
   g.radius = a.r[i];
   g.mass = 1 / a.invMass[i];
-  g.inertia = 1 / a.invInertia[i];
+  const Geometry<D>& geom = *s_.geometries[a.geometry[i]];
+  const Vec3 moments =
+      geom.boundRadius == 0 ? Vec3::Constant(1 / a.invInertia[i])
+                            : Vec3(s_.materials[a.material[i]].density * geom.principalMoments);
+  g.inertia = moments.maxCoeff();
+  g.principalInertia = {moments.x(), moments.y(), moments.z()};
   g.position = fromVec<D>(a.x[i]);
   g.velocity = fromVec<D>(a.v[i]);
   g.angularVelocity = fromAngular(a.w[i]);
   g.force = fromVec<D>(a.f[i]);
   g.torque = fromAngular(a.t[i]);
   g.orientation = fromRotation(a.q[i]);
-  g.shape = D == 2 ? ElementShape::Disc : ElementShape::Sphere;
+  g.shape = ShapeTable<D>::get().type(geom.shape).name();
+  g.shapeParams = geom.params;
   for (const BlockedElement& b : s_.blocked) {
     if (b.id == id) g.blocked = b.dofs;
   }
@@ -507,6 +546,8 @@ void SimulationManager<D>::forgetCandidates() {
   parkSprings(s_);
   s_.candidates.clear();
   s_.wallCandidates.clear();
+  s_.shapeCandidates.clear();
+  s_.shapeWallCandidates.clear();
   s_.contacts.clear();
   s_.needRebuild = true;
 }

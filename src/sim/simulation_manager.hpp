@@ -37,6 +37,12 @@ class SimulationManager final : public Simulation {
   void setMaterial(const std::string& name, const MaterialDef& def) override;
   MaterialDef material(const std::string& name) const override;
   std::vector<std::string> materialNames() const override { return s_.materialNames; }
+  std::vector<std::pair<std::string, std::string>> shapeTypes() const override {
+    const ShapeTable<D>& t = ShapeTable<D>::get();
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const std::string& n : t.names()) out.emplace_back(n, t.find(n)->parameters());
+    return out;
+  }
   void setContactLaw(LawKind law) override;
   LawKind contactLaw() const override { return s_.defaultLaw; }
   void setCoulombCriterion(physics::CoulombCriterion c) override;
@@ -135,7 +141,11 @@ class SimulationManager final : public Simulation {
     Real r, invMass, invInertia;
     uint32_t material;
     uint8_t blocked;
+    RotationD<D> q;
+    Geometry<D> geometry;
   };
+  // Returns the index of g in the scene's geometries, adding it if no equal one is there.
+  uint32_t geometryIndex(const Geometry<D>& g);
   CheckedGrain checkGrain(const GrainDef& def) const;
   // Throws {VALUE DOF} if mask has a degree of freedom this dimension lacks.
   void checkDofMask(unsigned mask) const;

@@ -19,6 +19,8 @@
 #include "sim/detection.hpp"
 #include "sim/integrator.hpp"
 #include "sim/module_table.hpp"
+#include "sim/rigid_body.hpp"
+#include "sim/shape_contacts.hpp"
 #include "sim/simulation_manager.hpp"
 #include "sim/touch.hpp"
 #include "sim/watchdog.hpp"
@@ -46,6 +48,7 @@ template <int D>
 void SimulationManager<D>::prepare() {
   if (configDirty_) {
     const SceneUse f = sceneUse(s_);
+    if (f.shapes) checkShapeRoutines(s_);
     const double dt = timeStep();
     const size_t nm = s_.nMat();
     s_.pairParams.resize(nm * nm);
@@ -69,6 +72,10 @@ void SimulationManager<D>::prepare() {
       s_.needRebuild = true;
     }
     s_.keepHistory = f.anyFriction;
+    if (f.shapes != s_.anyShapes) {
+      s_.anyShapes = f.shapes;
+      s_.needRebuild = true;
+    }
     if (f.rotating && !s_.rotating) {
       // Torques were not accumulated while rotation was off: start from none.
       for (auto& t : s_.grains.a.t) t = GrainArrays<D>::zeroAngular();
@@ -425,7 +432,7 @@ double SimulationManager<D>::ledgerSum() const {
   const GrainArrays<D>& a = s_.grains.a;
   double k = 0;
   for (size_t i = 0; i < a.size(); ++i) {
-    k += 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * squaredNorm(a.w[i]) / a.invInertia[i];
+    k += 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * twiceRotationalEnergy(s_, i);
   }
   return s_.ledger.balanceSum(k, potential());
 }
@@ -436,7 +443,7 @@ EnergyLedger SimulationManager<D>::energy() const {
   const GrainArrays<D>& a = s_.grains.a;
   for (size_t i = 0; i < a.size(); ++i) {
     e.kineticTranslational += 0.5 * a.v[i].squaredNorm() / a.invMass[i];
-    e.kineticRotational += 0.5 * squaredNorm(a.w[i]) / a.invInertia[i];
+    e.kineticRotational += 0.5 * twiceRotationalEnergy(s_, i);
   }
   const LedgerSums& l = s_.ledger;
   e.gravitational = potential();

@@ -38,7 +38,10 @@ Dict stateDict(const sim::GrainState& g, int d) {
            {"force", vecValue(g.force, d)},
            {"torque", vecValue(g.torque, d, true)},
            {"tags", tags},
-           {"shape", std::string(sim::elementShapeName(g.shape))},
+           {"shape", g.shape},
+           {"params", Value(Reals{g.shapeParams, 0})},
+           {"principalinertia",
+            Value(Reals{{g.principalInertia.begin(), g.principalInertia.end()}, 0})},
            {"fixed", static_cast<int64_t>(g.blocked == sim::dof::all(d))},
            {"blocked", wordList(sim::dofNames(g.blocked))}};
   return out;
@@ -47,7 +50,7 @@ Dict stateDict(const sim::GrainState& g, int d) {
 const char* const kStateFields[] = {
     "id",       "name",     "material",        "radius",      "mass",  "inertia",
     "position", "velocity", "angularvelocity", "orientation", "force", "torque",
-    "tags",     "shape",    "fixed",           "blocked"};
+    "tags",     "shape",    "params",          "principalinertia", "fixed", "blocked"};
 
 // Returns the dof:: mask of the -block list (names x y z rx ry rz), or every degree of
 // freedom of the dimension with -fixed 1, or nothing when neither is given. Throws {VALUE DOF}
@@ -107,8 +110,11 @@ void registerElementCommands(Registry& r) {
   r.describe("element", "Elements (grains): spheres in 3D, discs in 2D.");
 
   Command& add = r.add("element add", "Adds one element; returns its id.");
-  add.option("radius", real().positive().withUnit("m"), "radius")
-      .require()
+  add.details =
+      "The shape is a type of the dimension's shape table: the ball (sphere in 3D, disc in 2D), "
+      "sized by -radius, or a type registered by a plug-in, described by -params (its bounding "
+      "radius follows from them) and oriented by -orientation. `element shapes` lists them.";
+  add.option("radius", real().positive().withUnit("m"), "radius (the ball's; required for it)")
       .to(&sim::GrainDef::radius);
   add.option("material", materialRef(), "its material (default: the first material defined)")
       .to(&sim::GrainDef::material);
@@ -117,8 +123,12 @@ void registerElementCommands(Registry& r) {
   add.option("angularvelocity", spin().withUnit("rad/s"), "angular velocity (a number in 2D)");
   add.option("tags", text("list of tags"), "tags to give it");
   add.option("name", name(), "a unique name").to(&sim::GrainDef::name);
-  add.option("shape", choice({"sphere", "disc"}),
-             "its shape: sphere (3D) or disc (2D), the default of the dimension");
+  add.option("shape", text("shape type"),
+             "its shape type: sphere (3D) or disc (2D), the default, or another of `element "
+             "shapes`");
+  add.option("params", reals(), "the shape's parameters (none for the ball)");
+  add.option("orientation", reals(),
+             "3D a quaternion {w x y z} (normalised), 2D an angle (rad); default: the identity");
   blockOptions(add);
   add.onCheck([](Call& c) {
     auto& s = session(c).scene();
@@ -134,7 +144,15 @@ void registerElementCommands(Registry& r) {
     checkNameFree(s, d.name);
     if (c.has("velocity")) d.velocity = vec3(c.vec("velocity"));
     if (c.has("angularvelocity")) d.angularVelocity = vec3(c.vec("angularvelocity"), true);
-    if (c.given("shape")) d.shape = sim::elementShapeFromName(c.str("shape"));
+    if (c.given("shape")) d.shape = c.str("shape");
+    if (c.given("params")) d.shapeParams = c.get<std::vector<double>>("params");
+    if (c.given("orientation")) d.orientation = c.get<std::vector<double>>("orientation");
+    const auto names = s.shapeNames();
+    if (!c.given("radius") && (d.shape.empty() || d.shape == names.front())) {
+      throw Error("missing required option -radius: a " + names.front() +
+                      " needs it (the other shapes take -params)",
+                  {"ARGS"});
+    }
     if (auto mask = blockedMask(c, s.dim())) d.blocked = *mask;
     if (c.has("tags")) {
       for (auto& t : splitList(c.str("tags"))) {
@@ -146,6 +164,16 @@ void registerElementCommands(Registry& r) {
   });
   add.run([](Call& c) {
     return Value(scriptId(session(c).scene().addGrain(std::any_cast<sim::GrainDef>(c.prepared))));
+  });
+
+  Command& shapes = r.add("element shapes",
+                          "Returns the shape types of the scene's dimension as a dict: name, "
+                          "then what its -params are.");
+  shapes.changesScene = false;
+  shapes.run([](Call& c) {
+    Dict d;
+    for (auto& [name, params] : session(c).scene().shapeTypes()) d.emplace_back(name, params);
+    return Value(d);
   });
 
   Command& get =

@@ -135,9 +135,16 @@ TEST_P(SimConstraint, BadMasksAndShapesChangeNothing) {
     EXPECT_EQ(codeOf([&] { s->setGrainBlocked(id, dof::Rx); }), (Code{"VALUE", "DOF"}));
   }
   GrainDef g = grain({0.1, 0, 0}, 0.01, "glass");
-  g.shape = d == 2 ? ElementShape::Sphere : ElementShape::Disc;
+  g.shape = d == 2 ? "sphere" : "disc";
   EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "SHAPE"}));
-  g.shape.reset();
+  g.shape = d == 2 ? "disc" : "sphere";
+  g.shapeParams = {0.01};
+  EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "SHAPE"}));
+  g.shapeParams.clear();
+  g.orientation = {0, 0, 0, 0};
+  EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "ORIENTATION"}));
+  g.orientation.clear();
+  g.shape.clear();
   g.blocked = 1u << 7;
   EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "DOF"}));
   EXPECT_EQ(codeOf([&] {

@@ -1,0 +1,165 @@
+// The contact pass of pairs with an element that is not a ball (the ball pairs run through
+// sim/contacts.hpp's passes). For each candidate the ShapeTable's row for the two shape types
+// gives the contact points (sim/shape.hpp); each point goes through the scene's contact law for
+// the material pair, with the lever arms from each element's centre to the point, so normal
+// forces off the centre line turn the elements. Each point keeps its own tangential spring,
+// keyed by the pair's slots and the point's index (Scene::shapeSprings); a point that stops
+// touching drops its spring.
+//
+// The effective mass is m_a m_b / (m_a + m_b), as the ball pass and LIGGGHTS's superquadric
+// pair take it (not the mass along the normal through the lever arms); the effective radius is
+// the row's curvature at the point.
+#pragma once
+
+#include <algorithm>
+#include <map>
+#include <vector>
+
+#include "sim/contacts.hpp"
+#include "sim/scene.hpp"
+#include "sim/shape.hpp"
+#include "sim/sim_loop.hpp"
+
+namespace demlab::sim {
+
+// Returns element i of s as the contact routines see it.
+template <int D>
+ElementRef<D> elementRef(const Scene<D>& s, uint32_t i) {
+  const GrainArrays<D>& a = s.grains.a;
+  return {a.x[i], a.q[i], a.r[i], s.geometries[a.geometry[i]].get()};
+}
+
+// Returns a's contact points with b from the table (normals from a to b), into out. Throws
+// {LOOKUP INTERACTION} if no routine serves the pair (the run checks before it starts).
+template <int D>
+int elementPairPoints(const Scene<D>& s, uint32_t i, uint32_t j, ContactPoint<D>* out) {
+  const ShapeTable<D>& t = ShapeTable<D>::get();
+  const ElementRef<D> A = elementRef(s, i), B = elementRef(s, j);
+  const auto* e = t.pair(A.g->shape, B.g->shape);
+  if (e == nullptr) throwNoRoutine(t.type(A.g->shape).name(), t.type(B.g->shape).name());
+  if (!e->swapped()) return e->fn(A, B, out);
+  const int n = e->fn(B, A, out);
+  for (int k = 0; k < n; ++k) out[k].g.normal = -out[k].g.normal;
+  return n;
+}
+
+// Returns element i's contact points with wall w, into out.
+template <int D>
+int elementWallPoints(const Scene<D>& s, uint32_t i, const Wall<D>& w, ContactPoint<D>* out) {
+  const ShapeTable<D>& t = ShapeTable<D>::get();
+  const ElementRef<D> A = elementRef(s, i);
+  const ElementWallEntry<D>* e = t.wall(A.g->shape, w.kind);
+  if (e == nullptr || e->fn == nullptr) throwNoRoutine(t.type(A.g->shape).name(), "a wall");
+  const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
+  return e->fn(A, shape, out);
+}
+
+// Throws {LOOKUP INTERACTION} unless the ShapeTable has a routine for every pair of shape types
+// among s's elements and for every shape type against every kind of wall in s (balls with
+// balls and walls excepted: the ball passes serve them). Changes nothing.
+template <int D>
+void checkShapeRoutines(const Scene<D>& s) {
+  const ShapeTable<D>& t = ShapeTable<D>::get();
+  std::vector<bool> present(s.geometries.size(), false);
+  for (uint32_t g : s.grains.a.geometry) present[g] = true;
+  std::vector<TypeId> types;
+  for (size_t g = 0; g < present.size(); ++g) {
+    const TypeId id = s.geometries[g]->shape;
+    if (present[g] && std::find(types.begin(), types.end(), id) == types.end()) types.push_back(id);
+  }
+  for (size_t x = 0; x < types.size(); ++x) {
+    for (size_t y = x; y < types.size(); ++y) {
+      if (types[x] == ShapeTable<D>::ball() && types[y] == ShapeTable<D>::ball()) continue;
+      if (t.pair(types[x], types[y]) == nullptr) {
+        throwNoRoutine(t.type(types[x]).name(), t.type(types[y]).name());
+      }
+    }
+    if (types[x] == ShapeTable<D>::ball()) continue;
+    for (const Wall<D>& w : s.walls.items) {
+      const ElementWallEntry<D>* e = t.wall(types[x], w.kind);
+      if (e == nullptr || e->fn == nullptr) throwNoRoutine(t.type(types[x]).name(), "a wall");
+    }
+  }
+}
+
+template <int D>
+class ShapeContactModule final : public SimModule<D> {
+ public:
+  std::string_view name() const override { return "shape-contacts"; }
+  SimLevel level() const override { return SimLevel::Contacts; }
+
+  void run(Scene<D>& s) override {
+    GrainArrays<D>& a = s.grains.a;
+    const Real dt = s.stepDt, lag = velocityLag(s);
+    const size_t nMat = s.nMat();
+    const bool history = s.keepHistory, rotating = s.rotating;
+    PassEnergy e;
+    next_.clear();
+    ContactPoint<D> pts[kMaxContactPoints];
+    // One contact point through the law: returns the force on B.
+    const auto apply = [&](const ContactPoint<D>& p, const VecD<D>& vrel, Real effMass, size_t pair,
+                           const ShapeSpringKey& key) {
+      physics::TangentialHistory<D>* h = nullptr;
+      if (history) {
+        auto old = s.shapeSprings.find(key);
+        h = &next_.emplace(key, old == s.shapeSprings.end() ? physics::TangentialHistory<D>{}
+                                                             : old->second)
+                 .first->second;
+      }
+      const physics::ContactKinematics<D> k{vrel, effMass, p.effRadius, lag};
+      const physics::ContactForce<D> f = s.pairLawFn[pair](s.pairParams[pair], p.g, k, h, dt);
+      e.add(f);
+      return f.force;
+    };
+    for (const CandidatePair& c : s.shapeCandidates) {
+      const uint32_t i = c.i, j = c.j;
+      const int n = elementPairPoints(s, i, j, pts);
+      const size_t pair = a.material[i] * nMat + a.material[j];
+      const Real effMass = 1 / (a.invMass[i] + a.invMass[j]);
+      for (int k = 0; k < n; ++k) {
+        const VecD<D> ra = pts[k].g.point - a.x[i], rb = pts[k].g.point - a.x[j];
+        VecD<D> vrel = a.v[j] - a.v[i];
+        if (rotating) vrel += cross(a.w[j], rb) - cross(a.w[i], ra);
+        const VecD<D> f =
+            apply(pts[k], vrel, effMass, pair, {a.slot[i], a.slot[j], static_cast<uint32_t>(k)});
+        a.f[j] += f;
+        a.f[i] -= f;
+        if (rotating) {
+          a.t[j] += cross(rb, f);
+          a.t[i] -= cross(ra, f);
+        }
+        if (s.recordContacts) appendRecord<D>(s.contacts, {i, j, false, f});
+      }
+    }
+    for (const auto& [i, w] : s.shapeWallCandidates) {
+      Wall<D>& wall = s.walls.items[w];
+      const int n = elementWallPoints(s, i, wall, pts);
+      const size_t pair = a.material[i] * nMat + wall.material;
+      const uint32_t wallKey = wallPairId(s.walls.pool().handleAt(w).index);
+      for (int k = 0; k < n; ++k) {
+        const VecD<D> ra = pts[k].g.point - a.x[i];
+        const VecD<D> vWall = wall.surfaceVelocity(pts[k].g.point);
+        VecD<D> vrel = vWall - a.v[i];
+        if (rotating) vrel -= cross(a.w[i], ra);
+        const VecD<D> f = apply(pts[k], vrel, 1 / a.invMass[i], pair,
+                                {a.slot[i], wallKey, static_cast<uint32_t>(k)});
+        a.f[i] -= f;
+        if (rotating) a.t[i] -= cross(ra, f);
+        wall.force += f;
+        if (wall.moving) e.wallWork -= f.dot(vWall) * dt;
+        if (s.recordContacts) appendRecord<D>(s.contacts, {i, w, true, f});
+      }
+    }
+    s.shapeSprings.swap(next_);
+    s.ledger.elastic += e.elastic;
+    s.ledger.dampingLoss += e.damping;
+    s.ledger.frictionLoss += e.friction;
+    s.ledger.springWork += e.springWork;
+    s.ledger.wallWork += e.wallWork;
+  }
+
+ private:
+  std::map<ShapeSpringKey, physics::TangentialHistory<D>> next_;
+};
+
+}  // namespace demlab::sim
