@@ -77,11 +77,11 @@ inline void freeRotor(Quat& Q, Vec3& pi, const Vec3& I, Real dt) {
     Q = Q * r;
   };
   const Real h = 0.5 * dt;
-  turn(0, 0.5 * h);
+  turn(0, h);
   turn(1, h);
   turn(2, dt);
   turn(1, h);
-  turn(0, 0.5 * h);
+  turn(0, h);
   Q.normalize();
 }
 

@@ -285,7 +285,8 @@ void readPairOverrides(Reader& r, Scene<D>& s) {
   }
 }
 
-// Writes the shape section's body: geometries, per-element indices, shape springs.
+// Writes the shape section's body: geometries, per-element indices, the shape candidates and
+// the shape springs.
 template <int D>
 void writeShapes(Writer& w, const Scene<D>& s) {
   const ShapeTable<D>& t = ShapeTable<D>::get();
@@ -294,6 +295,15 @@ void writeShapes(Writer& w, const Scene<D>& s) {
     w.list(g->params, [&](double x) { w.f64(x); });
   });
   w.list(s.grains.a.geometry, [&](uint32_t g) { w.u32(g); });
+  w.u8(s.anyShapes);
+  w.list(s.shapeCandidates, [&](const CandidatePair& c) {
+    w.u32(c.i);
+    w.u32(c.j);
+  });
+  w.list(s.shapeWallCandidates, [&](const std::pair<uint32_t, uint32_t>& c) {
+    w.u32(c.first);
+    w.u32(c.second);
+  });
   w.u64(s.shapeSprings.size());
   for (const auto& [k, h] : s.shapeSprings) {
     w.u32(k.a);
@@ -331,6 +341,19 @@ void readShapes(Reader& r, Scene<D>& s) {
   for (uint32_t& x : g) {
     x = r.u32();
     if (x >= s.geometries.size()) Reader::bad("shape index");
+  }
+  s.anyShapes = r.u8() != 0;
+  s.shapeCandidates.resize(r.count(8));
+  for (CandidatePair& c : s.shapeCandidates) {
+    c.i = r.u32();
+    c.j = r.u32();
+    if (c.i >= g.size() || c.j >= g.size()) Reader::bad("shape candidate index");
+  }
+  s.shapeWallCandidates.resize(r.count(8));
+  for (auto& c : s.shapeWallCandidates) {
+    c.first = r.u32();
+    c.second = r.u32();
+    if (c.first >= g.size() || c.second >= s.walls.size()) Reader::bad("shape candidate index");
   }
   const uint64_t n = r.count(12 + 8 * D);
   for (uint64_t k = 0; k < n; ++k) {

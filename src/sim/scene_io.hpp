@@ -153,8 +153,8 @@ inline constexpr char kCohesionTag[5] = "COHE";
 // u32 b (material indices, a <= b) and f64 restitution, friction, rolling, cohesion (NaN: unset).
 inline constexpr char kPairTag[5] = "PAIR";
 // The element shapes (sim/shape.hpp), written only when some Geometry beyond the ball's exists:
-// the Geometry table by shape type name and parameters, each element's Geometry index, and the
-// tangential springs of the shape contact points.
+// the Geometry table by shape type name and parameters, each element's Geometry index, the
+// shape candidate pairs, and the tangential springs of the shape contact points.
 inline constexpr char kShapeTag[5] = "SHAP";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a

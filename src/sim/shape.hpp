@@ -94,6 +94,9 @@ template <int D>
 struct ContactPoint {
   physics::ContactGeometry<D> g;
   Real effRadius = 0;
+  // Which feature of the pair touches (a vertex's index, say), stable from step to step: the
+  // point's tangential spring is kept under it, as Box2D keys its warm starts by feature ids.
+  uint32_t feature = 0;
 };
 
 // A pair may touch at up to this many points (a box face down on a plane: four corners).

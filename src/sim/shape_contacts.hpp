@@ -3,8 +3,8 @@
 // gives the contact points (sim/shape.hpp); each point goes through the scene's contact law for
 // the material pair, with the lever arms from each element's centre to the point, so normal
 // forces off the centre line turn the elements. Each point keeps its own tangential spring,
-// keyed by the pair's slots and the point's index (Scene::shapeSprings); a point that stops
-// touching drops its spring.
+// keyed by the pair's slots and the point's feature id (Scene::shapeSprings); a point that
+// stops touching drops its spring.
 //
 // The effective mass is m_a m_b / (m_a + m_b), as the ball pass and LIGGGHTS's superquadric
 // pair take it (not the mass along the normal through the lever arms); the effective radius is
@@ -55,21 +55,30 @@ int elementWallPoints(const Scene<D>& s, uint32_t i, const Wall<D>& w, ContactPo
 }
 
 // Throws {LOOKUP INTERACTION} unless the ShapeTable has a routine for every pair of shape types
-// among s's elements and for every shape type against every kind of wall in s (balls with
+// that can meet among s's elements and for every shape type against every kind of wall in s (balls with
 // balls and walls excepted: the ball passes serve them). Changes nothing.
 template <int D>
 void checkShapeRoutines(const Scene<D>& s) {
   const ShapeTable<D>& t = ShapeTable<D>::get();
-  std::vector<bool> present(s.geometries.size(), false);
-  for (uint32_t g : s.grains.a.geometry) present[g] = true;
+  std::vector<size_t> present(s.geometries.size(), 0);
+  for (uint32_t g : s.grains.a.geometry) present[g] += 1;
   std::vector<TypeId> types;
+  std::vector<size_t> counts;  // elements of each type
   for (size_t g = 0; g < present.size(); ++g) {
+    if (present[g] == 0) continue;
     const TypeId id = s.geometries[g]->shape;
-    if (present[g] && std::find(types.begin(), types.end(), id) == types.end()) types.push_back(id);
+    const auto it = std::find(types.begin(), types.end(), id);
+    if (it == types.end()) {
+      types.push_back(id);
+      counts.push_back(present[g]);
+    } else {
+      counts[static_cast<size_t>(it - types.begin())] += present[g];
+    }
   }
   for (size_t x = 0; x < types.size(); ++x) {
     for (size_t y = x; y < types.size(); ++y) {
       if (types[x] == ShapeTable<D>::ball() && types[y] == ShapeTable<D>::ball()) continue;
+      if (x == y && counts[x] < 2) continue;  // a lone element of its type meets no other
       if (t.pair(types[x], types[y]) == nullptr) {
         throwNoRoutine(t.type(types[x]).name(), t.type(types[y]).name());
       }
@@ -121,7 +130,7 @@ class ShapeContactModule final : public SimModule<D> {
         VecD<D> vrel = a.v[j] - a.v[i];
         if (rotating) vrel += cross(a.w[j], rb) - cross(a.w[i], ra);
         const VecD<D> f =
-            apply(pts[k], vrel, effMass, pair, {a.slot[i], a.slot[j], static_cast<uint32_t>(k)});
+            apply(pts[k], vrel, effMass, pair, {a.slot[i], a.slot[j], pts[k].feature});
         a.f[j] += f;
         a.f[i] -= f;
         if (rotating) {
@@ -142,7 +151,7 @@ class ShapeContactModule final : public SimModule<D> {
         VecD<D> vrel = vWall - a.v[i];
         if (rotating) vrel -= cross(a.w[i], ra);
         const VecD<D> f = apply(pts[k], vrel, 1 / a.invMass[i], pair,
-                                {a.slot[i], wallKey, static_cast<uint32_t>(k)});
+                                {a.slot[i], wallKey, pts[k].feature});
         a.f[i] -= f;
         if (rotating) a.t[i] -= cross(ra, f);
         wall.force += f;
