@@ -29,6 +29,7 @@
 #include <type_traits>
 
 #include "sim/contact_kernel.hpp"
+#include "sim/rigid_body.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -313,6 +314,13 @@ template <int D>
 inline AngularD<D> halfStepAngularVelocity(const Scene<D>& s, size_t i) {
   const GrainArrays<D>& a = s.grains.a;
   if (s.integrator == IntegratorKind::Synchronized) {
+    if constexpr (D == 3) {
+      // An element of anisotropic inertia (sim/rigid_body.hpp) took its estimate through its
+      // world inertia tensor.
+      if (a.invInertia[i] == 0) {
+        return a.w[i] - rigidInverseInertiaTimes(s, i, 0.5 * s.stepDt * a.tPrev[i]);
+      }
+    }
     return a.w[i] - (0.5 * s.stepDt * a.invInertia[i]) * a.tPrev[i];
   }
   return a.w[i];

@@ -60,6 +60,14 @@ inline Vec3 angularMomentum(const Scene<3>& s, size_t i) {
   return Q * principalInertia(g, elementDensity(s, i)).cwiseProduct(wb);
 }
 
+// Returns I_world^-1 x for element i of anisotropic inertia (invInertia 0), x in the world frame.
+inline Vec3 rigidInverseInertiaTimes(const Scene<3>& s, size_t i, const Vec3& x) {
+  const GrainArrays<3>& a = s.grains.a;
+  const Geometry<3>& g = *s.geometries[a.geometry[i]];
+  const Quat Q = a.q[i] * g.principal;
+  return Q * (Q.conjugate() * x).cwiseQuotient(principalInertia(g, elementDensity(s, i)));
+}
+
 // Turns the principal frame Q and the body-frame angular momentum pi as the free rotor with
 // principal moments I over time dt (the splitting above). Changes Q and pi.
 inline void freeRotor(Quat& Q, Vec3& pi, const Vec3& I, Real dt) {
@@ -131,11 +139,8 @@ class CorrectRigidRotationModule final : public SimModule<D> {
       const bool sync = s.integrator == IntegratorKind::Synchronized;
       for (size_t i = 0; i < a.size(); ++i) {
         if (a.invInertia[i] != 0) continue;
-        const Geometry<3>& g = *s.geometries[a.geometry[i]];
-        const Vec3 I = principalInertia(g, elementDensity(s, i));
-        const Quat Q = a.q[i] * g.principal;
         const Vec3 kick = h * (sync ? Vec3(a.t[i] - a.tPrev[i]) : a.t[i]);
-        a.w[i] += Q * (Q.conjugate() * kick).cwiseQuotient(I);
+        a.w[i] += rigidInverseInertiaTimes(s, i, kick);
       }
     }
   }

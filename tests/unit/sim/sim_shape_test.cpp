@@ -332,6 +332,67 @@ TEST_F(SimShape, CheckpointContinuesBitForBit) {
   EXPECT_EQ(t->stateDigest(), s->stateDigest());
 }
 
+// ---- 2D: a square of half side p[0], corners on planes --------------------------------------
+
+class ToySquare final : public ShapeType<2> {
+ public:
+  std::string_view name() const override { return "toysquare"; }
+  std::string_view parameters() const override { return "a: half side (m)"; }
+  void check(std::span<const double> p) const override {
+    if (p.size() != 1 || !(p[0] > 0)) throw Error("bad toysquare", {"VALUE", "SHAPE"});
+  }
+  Real boundingRadius(std::span<const double> p) const override { return p[0] * std::sqrt(2.0); }
+  MassProperties<2> massProperties(std::span<const double> p) const override {
+    MassProperties<2> m;
+    m.volume = 4 * p[0] * p[0];
+    m.inertia(2, 2) = m.volume * 2.0 / 3.0 * p[0] * p[0];
+    return m;
+  }
+};
+
+int toysquarePlane(const ElementRef<2>& a, const void* wall, ContactPoint<2>* out) {
+  const auto& pl = *static_cast<const physics::PlaneShape<2>*>(wall);
+  const Real h = a.g->params[0];
+  int n = 0;
+  for (int c = 0; c < 4; ++c) {
+    const Vec2 v = a.x + rotate(a.q, Vec2((c & 1 ? 1 : -1) * h, (c & 2 ? 1 : -1) * h));
+    const Real d = (v - pl.point).dot(pl.normal);
+    if (d >= 0) continue;
+    out[n] = {{-pl.normal, -d, v - 0.5 * d * pl.normal}, h, static_cast<uint32_t>(c)};
+    ++n;
+  }
+  return n;
+}
+
+TEST(SimShape2D, SquareSettlesFlatOnItsCorners) {
+  static const bool once = [] {
+    ShapeTable<2>::get().add(std::make_unique<ToySquare>());
+    ShapeTable<2>::get().addWall("toysquare", WallShape::Plane, {toysquarePlane, false});
+    return true;
+  }();
+  (void)once;
+  auto s = makeSimulation(2);
+  s->addMaterial("glass", material(1e7, 0.4, 0.5));
+  const WallId floor = s->addWall(plane({0, 0, 0}, {0, 1, 0}, "glass"));
+  s->addGravity({0, -9.81, 0});
+  GrainDef b = grain({0, 0.0102, 0}, 0, "glass", {0, 0, 0});
+  b.shape = "toysquare";
+  b.shapeParams = {0.01};
+  b.orientation = {0.05};  // a corner lands first
+  const GrainId id = s->addGrain(b);
+  const GrainState g0 = s->grain(id);
+  EXPECT_NEAR(g0.mass, 2500 * 4e-4, 1e-12);
+  EXPECT_NEAR(g0.inertia, g0.mass * 2.0 / 3.0 * 1e-4, 1e-15);
+  RunOptions o;
+  o.steps = 40000;
+  s->run(o);
+  const GrainState g = s->grain(id);
+  EXPECT_NEAR(g.orientation[0], 0, 1e-6);  // it tipped onto its face
+  EXPECT_LT(std::hypot(g.velocity[0], g.velocity[1]), 1e-6);
+  EXPECT_NEAR(s->wall(floor).force[1], -g.mass * 9.81, 1e-6 * g.mass * 9.81);
+  EXPECT_EQ(s->contactCount(), 2u);
+}
+
 // ---- rigid-body rotation (sim/rigid_body.hpp) ----------------------------------------------
 
 // Returns a free toybox (half extents 0.03 0.02 0.01: moments in the ratio 5 : 10 : 13 about
