@@ -1,4 +1,5 @@
 // The checks run before any rendering (scene.hpp), and the RenderWall makers.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -151,6 +152,28 @@ void checkScene(const RenderScene& s) {
                       ": must be a finite number",
                   {"VALUE", "ANGLE"});
   for (size_t i = 0; i < s.walls.size(); ++i) checkWall(s.walls[i], i, s.dim);
+  if (!s.meshOf.empty()) {
+    checkLength("mesh indices", s.meshOf.size(), n);
+    if (s.dim == 3) checkLength("orientations", s.orientations.size(), 4 * n);
+    for (size_t i = 0; i < n; ++i) {
+      if (s.meshOf[i] < -1 || s.meshOf[i] >= static_cast<long>(s.meshes.size()))
+        throw Error("bad mesh index "" + std::to_string(s.meshOf[i]) + "" for " +
+                        indexed("grain", i) + ": must be -1 or below the number of meshes",
+                    {"VALUE", "MESH"});
+    }
+    for (size_t i = 0; i < s.orientations.size(); ++i)
+      if (!std::isfinite(s.orientations[i]))
+        throw Error("bad orientation for " + indexed("grain", i / 4) + ": must be finite numbers",
+                    {"VALUE", "ORIENTATION"});
+    for (size_t m = 0; m < s.meshes.size(); ++m) {
+      const bool finite = std::all_of(s.meshes[m].begin(), s.meshes[m].end(),
+                                      [](const Vec3& p) { return p.allFinite(); });
+      if (s.meshes[m].size() % 3 != 0 || !finite)
+        throw Error("bad mesh " + std::to_string(m) +
+                        ": must be triangles (3 points each) of finite coordinates",
+                    {"VALUE", "MESH"});
+    }
+  }
   if (std::isinf(s.time))
     throw Error("bad time \"" + num(s.time) + "\": must be a finite number or NaN for none",
                 {"VALUE", "TIME"});

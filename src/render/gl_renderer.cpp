@@ -95,6 +95,16 @@ class GlRenderer : public Renderer {
                      GL_STREAM_DRAW);
       gl_.DrawElements(GL_TRIANGLES, GLsizei(6 * drawn), GL_UNSIGNED_INT, nullptr);
     }
+    if (!meshFaces_.empty()) {
+      // Opaque shapes, depth tested and written like the balls.
+      gl_.UseProgram(faceProgram_);
+      setMatrices(faceProgram_, viewM, projM);
+      gl_.BindVertexArray(faceVao_);
+      gl_.BindBuffer(GL_ARRAY_BUFFER, faceBuffer_);
+      gl_.BufferData(GL_ARRAY_BUFFER, meshFaces_.size() * sizeof(FaceVertex), meshFaces_.data(),
+                     GL_STREAM_DRAW);
+      gl_.DrawArrays(GL_TRIANGLES, 0, GLsizei(meshFaces_.size()));
+    }
     if (!walls_.lines.empty()) {
       gl_.UseProgram(lineProgram_);
       setMatrices(lineProgram_, viewM, projM);
@@ -168,12 +178,16 @@ class GlRenderer : public Renderer {
   void fillGrains(const RenderScene& scene, const RenderOptions& options, const View& view) {
     grainColours(scene, options, colours_);
     const size_t n = scene.size();
-    if (scene.dim == 3 && options.cullHidden) {
+    // A mesh's bounding sphere is no occluder (the shape leaves gaps in it): no culling then.
+    if (scene.dim == 3 && options.cullHidden && scene.meshOf.empty()) {
       cullHiddenGrains(scene, view, keep_);
     } else {
-      keep_.resize(n);
-      for (size_t i = 0; i < n; ++i) keep_[i] = std::uint32_t(i);
+      keep_.clear();
+      for (size_t i = 0; i < n; ++i) {
+        if (scene.meshOf.empty() || scene.meshOf[i] < 0) keep_.push_back(std::uint32_t(i));
+      }
     }
+    fillMeshes(scene, view);
     grains_.resize(4 * keep_.size());
     const bool marks = scene.dim == 2 && !scene.angles.empty();
     const Vec3& anchor = view.anchor;
@@ -189,6 +203,36 @@ class GlRenderer : public Renderer {
       g.rgba[3] = marks ? 255 : 0;
       g.angle = marks ? float(scene.angles[i]) : 0.0f;
       grains_[4 * m + 1] = grains_[4 * m + 2] = grains_[4 * m + 3] = g;
+    }
+  }
+
+  // Returns nothing; fills meshFaces_ with the triangles of the grains drawn as meshes
+  // (RenderScene::meshOf), placed and turned, lit by their flat normals, in their colours.
+  void fillMeshes(const RenderScene& scene, const View& view) {
+    meshFaces_.clear();
+    for (size_t i = 0; i < scene.meshOf.size(); ++i) {
+      if (scene.meshOf[i] < 0) continue;
+      Mat3 r = Mat3::Identity();
+      if (scene.dim == 3) {
+        const double* q = &scene.orientations[4 * i];
+        r = Quat(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+      } else if (!scene.angles.empty()) {
+        r = AngleAxis(scene.angles[i], Vec3::UnitZ()).toRotationMatrix();
+      }
+      const Vec3 c = grainCentre(scene, i) - view.anchor;
+      const std::vector<Vec3>& mesh = scene.meshes[size_t(scene.meshOf[i])];
+      for (size_t t = 0; t + 2 < mesh.size(); t += 3) {
+        const Vec3 p[3] = {c + r * mesh[t], c + r * mesh[t + 1], c + r * mesh[t + 2]};
+        Vec3 nrm = (p[1] - p[0]).cross(p[2] - p[0]);
+        nrm = nrm.squaredNorm() > 0 ? Vec3(nrm.normalized()) : Vec3::UnitZ();
+        for (const Vec3& v : p) {
+          FaceVertex f;
+          for (int k = 0; k < 3; ++k) f.p[k] = float(v[k]), f.n[k] = float(nrm[k]);
+          std::memcpy(f.rgba, &colours_[4 * i], 3);
+          f.rgba[3] = 255;
+          meshFaces_.push_back(f);
+        }
+      }
     }
   }
 
@@ -320,6 +364,7 @@ class GlRenderer : public Renderer {
   std::vector<std::uint32_t> keep_;
   std::vector<std::uint8_t> pixels_;
   WallGeometry walls_;
+  std::vector<FaceVertex> meshFaces_;  // the grains drawn as meshes (fillMeshes)
 };
 
 }  // namespace

@@ -67,6 +67,13 @@ struct RenderScene {
   std::string fieldName;                   // the legend's title, e.g. "speed"
   std::vector<std::string> categoryNames;  // categorical legend labels by integer value
   std::span<const double> angles;          // 2D: orientation angles (rad) for the rotation mark
+  // Grains drawn as triangle meshes instead of spheres or discs (the shape table's render rows,
+  // sim/shape.hpp): grain i with meshOf[i] >= 0 is meshes[meshOf[i]], triangles in its body
+  // frame (3 points each; 2D: z = 0), turned by orientations (3D: 4 per grain, w x y z) or, in
+  // 2D, angles, and placed at its centre. Empty meshOf: every grain a ball.
+  std::span<const int32_t> meshOf;
+  std::span<const double> orientations;
+  std::vector<std::vector<Vec3>> meshes;
   std::vector<RenderWall> walls;
   double time = std::numeric_limits<double>::quiet_NaN();  // NaN: no time stamp
   Bounds bounds;  // empty: computed from the grains and the finite walls

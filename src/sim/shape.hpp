@@ -77,6 +77,9 @@ class ShapeType {
   virtual Real boundingRadius(std::span<const double> params) const = 0;
   // Returns the volume, centroid and inertia tensor per unit density.
   virtual MassProperties<D> massProperties(std::span<const double> params) const = 0;
+  // The renderer's row: the shape as triangles in its body frame (3 points each; 2D: z = 0),
+  // which snapshots draw turned and placed. Empty (the default): drawn as its bounding ball.
+  virtual std::vector<Vec3> renderTriangles(std::span<const double>) const { return {}; }
 };
 
 // An element as a contact routine sees it: pose, bounding radius and shared geometry.

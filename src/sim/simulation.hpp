@@ -601,6 +601,14 @@ class Simulation {
   virtual std::vector<double> orientations() const = 0;
   virtual std::vector<double> forces() const = 0;
   virtual std::vector<double> radii() const = 0;
+  // Returns how the renderer draws the elements (sim/shape.hpp, ShapeType::renderTriangles):
+  // per element in dense order the index of its mesh in meshes, or -1 for a ball (drawn as a
+  // sphere or disc). meshOf is empty when no element has a mesh.
+  struct ElementMeshes {
+    std::vector<int32_t> meshOf;
+    std::vector<std::vector<Vec3d>> meshes;  // body-frame triangles, 3 points each
+  };
+  virtual ElementMeshes elementMeshes() const = 0;
 
   // -- whole scene --
   // Returns a 64-bit hash of everything that determines the future of the scene (state,

@@ -304,6 +304,25 @@ PairCoefficients SimulationManager<D>::pairCoefficients(const std::string& a,
 // ---- grains --------------------------------------------------------------------------------
 
 template <int D>
+typename Simulation::ElementMeshes SimulationManager<D>::elementMeshes() const {
+  ElementMeshes out;
+  if (s_.geometries.size() < 2) return out;
+  const ShapeTable<D>& t = ShapeTable<D>::get();
+  std::vector<int32_t> meshOfGeometry(s_.geometries.size(), -1);
+  for (size_t k = 1; k < s_.geometries.size(); ++k) {
+    const Geometry<D>& g = *s_.geometries[k];
+    const std::vector<Vec3> tri = t.type(g.shape).renderTriangles(g.params);
+    if (tri.empty()) continue;
+    meshOfGeometry[k] = static_cast<int32_t>(out.meshes.size());
+    out.meshes.emplace_back();
+    for (const Vec3& p : tri) out.meshes.back().push_back({p.x(), p.y(), p.z()});
+  }
+  if (out.meshes.empty()) return out;
+  for (uint32_t g : s_.grains.a.geometry) out.meshOf.push_back(meshOfGeometry[g]);
+  return out;
+}
+
+template <int D>
 uint32_t SimulationManager<D>::geometryIndex(const Geometry<D>& g) {
   for (size_t k = 0; k < s_.geometries.size(); ++k) {
     const Geometry<D>& h = *s_.geometries[k];

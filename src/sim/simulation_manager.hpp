@@ -37,6 +37,7 @@ class SimulationManager final : public Simulation {
   void setMaterial(const std::string& name, const MaterialDef& def) override;
   MaterialDef material(const std::string& name) const override;
   std::vector<std::string> materialNames() const override { return s_.materialNames; }
+  ElementMeshes elementMeshes() const override;
   std::vector<std::pair<std::string, std::string>> shapeTypes() const override {
     const ShapeTable<D>& t = ShapeTable<D>::get();
     std::vector<std::pair<std::string, std::string>> out;

@@ -246,8 +246,9 @@ std::vector<RenderWall> renderWalls(const sim::Simulation& s) {
 
 // The arrays a RenderScene views; they must outlive the render call.
 struct FrameData {
-  std::vector<double> centres, radii, field, angles;
+  std::vector<double> centres, radii, field, angles, orientations;
   std::vector<float> colours;
+  std::vector<int32_t> meshOf;
   render::RenderScene scene;
 };
 
@@ -316,6 +317,17 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f) {
   sc.fieldName = o.fixed ? "" : by == "tag" ? "tag" : by;
   sc.angles = d == 2 ? std::span<const double>(f.angles) : std::span<const double>();
   sc.walls = renderWalls(s);
+  // Elements of shapes with a render row are drawn as their meshes.
+  sim::Simulation::ElementMeshes m = s.elementMeshes();
+  f.meshOf = std::move(m.meshOf);
+  sc.meshes.clear();
+  for (const auto& mesh : m.meshes) {
+    sc.meshes.emplace_back();
+    for (const sim::Vec3d& p : mesh) sc.meshes.back().push_back(Vec3(p[0], p[1], p[2]));
+  }
+  if (!f.meshOf.empty() && d == 3) f.orientations = s.orientations();
+  sc.meshOf = f.meshOf;
+  sc.orientations = d == 3 ? std::span<const double>(f.orientations) : std::span<const double>();
   sc.time = o.timeStamp ? s.time() : std::numeric_limits<double>::quiet_NaN();
 }
 

@@ -1,5 +1,6 @@
 // What frames show: grains at their projected pixel positions with their colours, background
 // elsewhere, correct depth where grains overlap, the 2D rotation mark, walls, supersampling.
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -205,6 +206,51 @@ TEST(RenderFrame, WallsIn3D) {
   // Outside the bounds (widened by 2% of their diagonal): background.
   EXPECT_TRUE(isWhite(img, 150, 100));
   EXPECT_TRUE(isWhite(img, 5, 5));
+}
+
+// A cube of half side h as 12 triangles, in its body frame.
+std::vector<Vec3> cubeMesh(double h) {
+  std::vector<Vec3> t;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double side : {-h, h}) {
+      Vec3 c[4];
+      for (int k = 0; k < 4; ++k) {
+        c[k][axis] = side;
+        c[k][(axis + 1) % 3] = (k == 1 || k == 2) ? h : -h;
+        c[k][(axis + 2) % 3] = k >= 2 ? h : -h;
+      }
+      t.insert(t.end(), {c[0], c[1], c[2], c[0], c[2], c[3]});
+    }
+  }
+  return t;
+}
+
+TEST(RenderFrame, MeshElementsAreDrawnTurnedWhereTheyAre) {
+  Grains g;
+  g.add(Vec3(-2, 0, 0), std::sqrt(3.0), red);  // a cube of half side 1, turned 45 degrees
+  g.add(Vec3(2, 0, 0), 1, green);               // a ball beside it
+  RenderScene s = g.scene();
+  const std::vector<int32_t> meshOf{0, -1};
+  const Quat q(AngleAxis(std::numbers::pi / 4, Vec3::UnitZ()));
+  const std::vector<double> orientations{q.w(), q.x(), q.y(), q.z(), 1, 0, 0, 0};
+  s.meshOf = meshOf;
+  s.orientations = orientations;
+  s.meshes = {cubeMesh(1)};
+  const Image img = sharedRenderer().render(s, topView(true));  // 20 pixels per unit
+  // The turned cube's top face is a diamond: its corners on the axes at sqrt(2) from the centre.
+  EXPECT_EQ(dominant(img, 60, 100), kRed);
+  EXPECT_EQ(dominant(img, 60 - 26, 100), kRed);
+  EXPECT_EQ(dominant(img, 60, 100 - 26), kRed);
+  // Inside its bounding ball but off the diamond: background, not a sphere.
+  EXPECT_TRUE(isWhite(img, 60 - 22, 100 - 22));
+  EXPECT_TRUE(isWhite(img, 60 - 31, 100));
+  // The ball is drawn as a sphere.
+  EXPECT_EQ(dominant(img, 140, 100), kGreen);
+  EXPECT_TRUE(isWhite(img, 140 + 23, 100));
+  // A bad mesh index is refused before drawing.
+  const std::vector<int32_t> bad{1, -1};
+  s.meshOf = bad;
+  EXPECT_THROW(sharedRenderer().render(s, topView(true)), Error);
 }
 
 TEST(RenderFrame, ColourByFieldAndCategories) {
