@@ -6,9 +6,12 @@
 // keyed by the pair's slots and the point's feature id (Scene::shapeSprings); a point that
 // stops touching drops its spring.
 //
-// The effective mass is m_a m_b / (m_a + m_b), as the ball pass and LIGGGHTS's superquadric
-// pair take it (not the mass along the normal through the lever arms); the effective radius is
-// the row's curvature at the point.
+// The effective mass is the mass along the normal at the point, lever arms included:
+// 1/m* = 1/m_a + 1/m_b + (r_a x n) . I_a^-1 (r_a x n) + (r_b x n) . I_b^-1 (r_b x n), so that
+// the damping calibrated for a restitution e gives e in the normal velocity of the contact
+// point whatever the point (a corner of a box as much as a ball's centre line, where the lever
+// terms vanish). LIGGGHTS's superquadric pair keeps m_a m_b / (m_a + m_b), which over-damps a
+// corner's impact. The effective radius is the row's curvature at the point.
 #pragma once
 
 #include <algorithm>
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include "sim/contacts.hpp"
+#include "sim/rigid_body.hpp"
 #include "sim/scene.hpp"
 #include "sim/shape.hpp"
 #include "sim/sim_loop.hpp"
@@ -91,6 +95,18 @@ void checkShapeRoutines(const Scene<D>& s) {
   }
 }
 
+// Returns (r x n) . I^-1 (r x n) for element i: the rotational part of its compliance along the
+// normal n at the lever arm r (0 when the scene does not rotate).
+template <int D>
+Real angularCompliance(const Scene<D>& s, uint32_t i, const VecD<D>& r, const VecD<D>& n) {
+  if (!s.rotating) return 0;
+  const AngularD<D> rn = cross(r, n);
+  if constexpr (D == 3) {
+    if (s.grains.a.invInertia[i] == 0) return rn.dot(rigidInverseInertiaTimes(s, i, rn));
+  }
+  return squaredNorm(rn) * s.grains.a.invInertia[i];
+}
+
 template <int D>
 class ShapeContactModule final : public SimModule<D> {
  public:
@@ -124,9 +140,11 @@ class ShapeContactModule final : public SimModule<D> {
       const uint32_t i = c.i, j = c.j;
       const int n = elementPairPoints(s, i, j, pts);
       const size_t pair = a.material[i] * nMat + a.material[j];
-      const Real effMass = 1 / (a.invMass[i] + a.invMass[j]);
       for (int k = 0; k < n; ++k) {
         const VecD<D> ra = pts[k].g.point - a.x[i], rb = pts[k].g.point - a.x[j];
+        const VecD<D>& nrm = pts[k].g.normal;
+        const Real effMass = 1 / (a.invMass[i] + a.invMass[j] + angularCompliance(s, i, ra, nrm) +
+                                  angularCompliance(s, j, rb, nrm));
         VecD<D> vrel = a.v[j] - a.v[i];
         if (rotating) vrel += cross(a.w[j], rb) - cross(a.w[i], ra);
         const VecD<D> f =
@@ -150,7 +168,8 @@ class ShapeContactModule final : public SimModule<D> {
         const VecD<D> vWall = wall.surfaceVelocity(pts[k].g.point);
         VecD<D> vrel = vWall - a.v[i];
         if (rotating) vrel -= cross(a.w[i], ra);
-        const VecD<D> f = apply(pts[k], vrel, 1 / a.invMass[i], pair,
+        const Real effMass = 1 / (a.invMass[i] + angularCompliance(s, i, ra, pts[k].g.normal));
+        const VecD<D> f = apply(pts[k], vrel, effMass, pair,
                                 {a.slot[i], wallKey, pts[k].feature});
         a.f[i] -= f;
         if (rotating) a.t[i] -= cross(ra, f);

@@ -103,8 +103,11 @@ double SimulationManager<D>::criticalTimeStep() const {
   std::vector<Real> rmin(nm, inf);
   std::vector<bool> used(nm, false);
   const GrainArrays<D>& a = s_.grains.a;
-  // Elements of other shapes: their least mass and least volume-equivalent radius per
-  // material (the ball's formulas below take a mass and a radius).
+  // Elements of other shapes: per material their least mass along a contact normal and least
+  // volume-equivalent radius (the ball's formulas below take a mass and a radius). The mass
+  // along a normal at a point at lever arm r is at least 1 / (1/m + R^2 / I_min) with R the
+  // bounding radius (sim/shape_contacts.hpp's effective mass): a corner contact is stiffer for
+  // its mass than the centre line.
   std::vector<Real> shapeMass(nm, inf), shapeR(nm, inf);
   for (size_t i = 0; i < a.size(); ++i) {
     const uint32_t m = a.material[i];
@@ -114,7 +117,10 @@ double SimulationManager<D>::criticalTimeStep() const {
       continue;
     }
     const Geometry<D>& g = *s_.geometries[a.geometry[i]];
-    shapeMass[m] = std::min(shapeMass[m], 1 / a.invMass[i]);
+    const Real rho = s_.materials[m].density;
+    const Real iMin = D == 2 ? rho * g.principalMoments[2] : rho * g.principalMoments.minCoeff();
+    const Real lever = s_.rotationEnabled ? g.boundRadius * g.boundRadius / iMin : 0;
+    shapeMass[m] = std::min(shapeMass[m], 1 / (a.invMass[i] + lever));
     const Real req = D == 3 ? std::cbrt(g.volume * 3 / (4 * std::numbers::pi))
                             : std::sqrt(g.volume / std::numbers::pi);
     shapeR[m] = std::min(shapeR[m], req);

@@ -164,6 +164,7 @@ std::pair<double, double> impact(const GrainDef& a, const GrainDef& b, double e)
   auto s = makeSimulation(3);
   s->addMaterial("glass", material(1e7, e, 0));
   const GrainId ia = s->addGrain(a), ib = s->addGrain(b);
+  s->setTimeStep(2e-5);  // one step for every variant (a shape's automatic step is smaller)
   RunOptions o;
   o.steps = 4000;
   s->run(o);
@@ -237,6 +238,7 @@ TEST_F(SimShape, ToyballRestsOnAPlaneAsASphereDoes) {
     s->addGravity({0, 0, -9.81});
     const GrainId id = s->addGrain(k == 0 ? grain({0, 0, 0.0101}, 0.01, "glass")
                                           : toy({0, 0, 0.0101}, 0.01));
+    s->setTimeStep(2e-5);
     RunOptions o;
     o.steps = 20000;
     s->run(o);
@@ -275,9 +277,7 @@ TEST_F(SimShape, BoxRestsFaceDownWithoutJitter) {
 }
 
 // A tilted, spinning box dropped on a plane with damping and friction: the ledger's residual is
-// the discretisation error of the shape path, and it converges. (The effective mass of a corner
-// contact leaves out the lever arm, as LIGGGHTS's superquadrics do, so the default step resolves
-// a corner's impact coarsely: 0.13 at 0.2 of the critical step, 0.004 at 0.05.)
+// the discretisation error of the shape path, and it converges with the step.
 TEST_F(SimShape, DroppedTiltedBoxLandsAndTheLedgerConverges) {
   double residual[2];
   for (int k = 0; k < 2; ++k) {
@@ -304,7 +304,7 @@ TEST_F(SimShape, DroppedTiltedBoxLandsAndTheLedgerConverges) {
     EXPECT_GT(e.frictionLoss, 0.001);
     residual[k] = std::abs(e.residual);
   }
-  EXPECT_LT(residual[1], 1e-2);
+  EXPECT_LT(residual[1], 3e-3);
   EXPECT_GT(residual[0] / residual[1], 5);
 }
 
