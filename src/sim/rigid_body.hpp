@@ -35,12 +35,11 @@ Real elementDensity(const Scene<D>& s, size_t i) {
   return s.materials[s.grains.a.material[i]].density;
 }
 
-// Returns twice the rotational kinetic energy of element i: w . I w.
+// Returns twice the rotational kinetic energy of element i of anisotropic inertia: w . I w.
 template <int D>
-Real twiceRotationalEnergy(const Scene<D>& s, size_t i) {
-  const GrainArrays<D>& a = s.grains.a;
-  if (a.invInertia[i] != 0) return squaredNorm(a.w[i]) / a.invInertia[i];
+[[gnu::noinline]] Real twiceRigidRotationalEnergy(const Scene<D>& s, size_t i) {
   if constexpr (D == 3) {
+    const GrainArrays<3>& a = s.grains.a;
     const Geometry<3>& g = *s.geometries[a.geometry[i]];
     const Quat Q = a.q[i] * g.principal;
     const Vec3 wb = Q.conjugate() * a.w[i];
@@ -48,6 +47,15 @@ Real twiceRotationalEnergy(const Scene<D>& s, size_t i) {
   } else {
     return 0;
   }
+}
+
+// Returns twice the rotational kinetic energy of element i: w . I w (the energy passes call it
+// per element: the ball's case inline).
+template <int D>
+[[gnu::always_inline]] inline Real twiceRotationalEnergy(const Scene<D>& s, size_t i) {
+  const GrainArrays<D>& a = s.grains.a;
+  if (a.invInertia[i] != 0) [[likely]] return squaredNorm(a.w[i]) / a.invInertia[i];
+  return twiceRigidRotationalEnergy(s, i);
 }
 
 // Returns the world-frame angular momentum of element i (3D).

@@ -330,7 +330,8 @@ typename Simulation::ElementMeshes SimulationManager<D>::elementMeshes() const {
 
 template <int D>
 uint32_t SimulationManager<D>::geometryIndex(const Geometry<D>& g) {
-  for (size_t k = 0; k < s_.geometries.size(); ++k) {
+  if (g.shape == ShapeTable<D>::ball()) return 0;
+  for (size_t k = 1; k < s_.geometries.size(); ++k) {
     const Geometry<D>& h = *s_.geometries[k];
     if (h.shape == g.shape && h.params == g.params) return static_cast<uint32_t>(k);
   }
@@ -345,7 +346,10 @@ typename SimulationManager<D>::CheckedGrain SimulationManager<D>::checkGrain(
   const ShapeTable<D>& table = ShapeTable<D>::get();
   const std::string_view shape =
       def.shape.empty() ? table.type(ShapeTable<D>::ball()).name() : std::string_view(def.shape);
-  c.geometry = table.makeGeometry(shape, def.shapeParams);
+  // The ball's Geometry is the scene's first; any other is made (and checked) from the table.
+  c.geometry = def.shape.empty() && def.shapeParams.empty()
+                   ? *s_.geometries[0]
+                   : table.makeGeometry(shape, def.shapeParams);
   if (c.geometry.boundRadius == 0) {
     checkPositive(def.radius, "radius");
     c.r = def.radius;
