@@ -16,6 +16,9 @@ namespace demlab::sim {
 namespace {
 
 constexpr std::string_view kIntegrators[] = {"synchronized", "verlet"};
+// In the order of the values in sim/law_models.hpp.
+constexpr std::string_view kTangential[] = {"history", "none"};
+constexpr std::string_view kSwitch[] = {"on", "off", "auto"};
 
 // get and set of an option held in one scene field (or a member of one).
 template <class T>
@@ -214,6 +217,24 @@ struct Rows {
         kTagged},
        getField<D, &S::touchCorrection>,
        setField<D, &S::touchCorrection>},
+      {{"law", "tangential", OptionType::Choice, std::string("history"),
+        "history: a tangential spring with Coulomb's limit (the default); none: no tangential "
+        "force, whatever the friction coefficients",
+        kTangential},
+       getField<D, &S::tangentialModel>,
+       setField<D, &S::tangentialModel>},
+      {{"law", "rolling", OptionType::Choice, std::string("auto"),
+        "rolling resistance: auto (the default) where a pair's rolling friction is non-zero, "
+        "on, or off whatever the coefficients",
+        kSwitch},
+       getField<D, &S::rollingModel>,
+       setField<D, &S::rollingModel>},
+      {{"law", "cohesion", OptionType::Choice, std::string("auto"),
+        "cohesion: auto (the default) where a pair's cohesion is non-zero, on, or off "
+        "whatever the coefficients",
+        kSwitch},
+       getField<D, &S::cohesionModel>,
+       setField<D, &S::cohesionModel>},
   };
 };
 
@@ -246,6 +267,14 @@ constexpr OptionGroup kGroups[] = {
      "not corrected. LIGGGHTS has no such correction: leave it off to reproduce LIGGGHTS. "
      "Part of the scene (saved with it).",
      true, true, kTouchTag},
+    {"law", "Selects the contact law's sub-models; returns the choice as a dict.",
+     "In the spirit of LAMMPS's pair granular: -normal is the default law (law default; a pair "
+     "with its own law keeps it), -damping Hertz's (law damping), -tangential the tangential "
+     "model, -rolling and -cohesion whether those sub-models run. auto, their default, runs "
+     "one where a pair's coefficient (material -rolling, -cohesion, law coefficients) is "
+     "non-zero; off leaves it out whatever the coefficients; on keeps it in the loop. A choice "
+     "other than the default is saved with the scene.",
+     false, false},
 };
 
 // Returns the options' names joined as the command layer lists alternatives.
