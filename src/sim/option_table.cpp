@@ -1,6 +1,7 @@
-// The option table (sim/options.hpp, sim/option_table.hpp): one row per option, its checks and
-// its checkpoint records. The rows of the options that existed before the table keep the
-// bytes those options had (Header and Tagged stores); a new option takes the Section store.
+// The option table (sim/options.hpp, sim/option_table.hpp): one row per option and the checks
+// every value goes through; the rows' checkpoint records are option_io.cpp. The rows of the
+// options that existed before the table keep the bytes those options had (Header and Tagged
+// stores); a new option takes the Section store.
 #include "sim/option_table.hpp"
 
 #include <algorithm>
@@ -66,173 +67,129 @@ struct Rows {
   static constexpr OptionEffect kLoop = OptionEffect::Loop, kSearch = OptionEffect::Search;
   // Header options in the order of their slots; tagged groups' options in their records' order.
   static inline const OptionRow<D> rows[] = {
-      {{"integrator",
-        "name",
-        OptionType::Choice,
-        std::string("synchronized"),
-        "the integrator: synchronized (the default) or verlet",
-        kIntegrators,
-        -kInf,
-        kInf,
-        false,
-        false,
-        {},
-        kHeader},
+      {{.group = "integrator",
+        .name = "name",
+        .type = OptionType::Choice,
+        .def = std::string("synchronized"),
+        .help = "the integrator: synchronized (the default) or verlet",
+        .choices = kIntegrators,
+        .store = kHeader},
        getField<D, &S::integrator>,
        setField<D, &S::integrator>},
-      {{"rotation",
-        "on",
-        OptionType::Boolean,
-        true,
-        "rotate the elements (default 1); off, they keep their orientation and angular "
-        "velocity and contact torques are ignored",
-        {},
-        -kInf,
-        kInf,
-        false,
-        false,
-        {},
-        kHeader},
+      {{.group = "rotation",
+        .name = "on",
+        .type = OptionType::Boolean,
+        .def = true,
+        .help = "rotate the elements (default 1); off, they keep their orientation and angular "
+                "velocity and contact torques are ignored",
+        .store = kHeader},
        getField<D, &S::rotationEnabled>,
        setField<D, &S::rotationEnabled>},
-      {{"detection",
-        "cellfactor",
-        OptionType::Real,
-        0.0,
-        "CGrid cell = factor x size statistic (0: CGrid's default)",
-        {},
-        0,
-        kInf,
-        false,
-        false,
-        {},
-        kHeader,
-        kSearch},
+      {{.group = "detection",
+        .name = "cellfactor",
+        .type = OptionType::Real,
+        .def = 0.0,
+        .help = "CGrid cell = factor x size statistic (0: CGrid's default)",
+        .lo = 0,
+        .store = kHeader,
+        .effect = kSearch},
        getField<D, &S::cellFactor>,
        setField<D, &S::cellFactor>},
-      {{"detection",
-        "skin",
-        OptionType::Real,
-        -1.0,
-        "Verlet skin (negative: automatic, 0: search every step)",
-        {},
-        -kInf,
-        kInf,
-        false,
-        false,
-        "m",
-        kHeader,
-        kSearch},
+      {{.group = "detection",
+        .name = "skin",
+        .type = OptionType::Real,
+        .def = -1.0,
+        .help = "Verlet skin (negative: automatic, 0: search every step)",
+        .unit = "m",
+        .store = kHeader,
+        .effect = kSearch},
        getField<D, &S::skinOption>,
        setField<D, &S::skinOption>},
-      {{"watchdog",
-        "on",
-        OptionType::Boolean,
-        true,
-        "run the watchdog (default 1)",
-        {},
-        -kInf,
-        kInf,
-        false,
-        false,
-        {},
-        kTagged,
-        kLoop},
+      {{.group = "watchdog",
+        .name = "on",
+        .type = OptionType::Boolean,
+        .def = true,
+        .help = "run the watchdog (default 1)",
+        .store = kTagged,
+        .effect = kLoop},
        getMember<D, &S::watchdog, &W::enabled>,
        setMember<D, &S::watchdog, &W::enabled>},
-      {{"watchdog",
-        "overlap",
-        OptionType::Real,
-        2.0,
-        "largest overlap during a run, as a fraction of the smaller radius (default 2: a grain "
-        "gone through another; 0.2 suits stiff materials; 0: no check)",
-        {},
-        0,
-        kInf,
-        false,
-        false,
-        {},
-        kTagged,
-        kLoop},
+      {{.group = "watchdog",
+        .name = "overlap",
+        .type = OptionType::Real,
+        .def = 2.0,
+        .help = "largest overlap during a run, as a fraction of the smaller radius (default 2: "
+                "a grain gone through another; 0.2 suits stiff materials; 0: no check)",
+        .lo = 0,
+        .store = kTagged,
+        .effect = kLoop},
        getMember<D, &S::watchdog, &W::overlap>,
        setMember<D, &S::watchdog, &W::overlap>},
-      {{"watchdog",
-        "placed",
-        OptionType::Real,
-        0.5,
-        "largest overlap of the scene as set up, checked before its first step (default 0.5; "
-        "0: no check)",
-        {},
-        0,
-        kInf,
-        false,
-        false,
-        {},
-        kTagged,
-        kLoop},
+      {{.group = "watchdog",
+        .name = "placed",
+        .type = OptionType::Real,
+        .def = 0.5,
+        .help = "largest overlap of the scene as set up, checked before its first step "
+                "(default 0.5; 0: no check)",
+        .lo = 0,
+        .store = kTagged,
+        .effect = kLoop},
        getMember<D, &S::watchdog, &W::placed>,
        setMember<D, &S::watchdog, &W::placed>},
-      {{"watchdog",
-        "energy",
-        OptionType::Real,
-        0.5,
-        "largest growth of the energy balance as a fraction of the energy scale (default 0.5; "
-        "0: no check)",
-        {},
-        0,
-        kInf,
-        false,
-        false,
-        {},
-        kTagged,
-        kLoop},
+      {{.group = "watchdog",
+        .name = "energy",
+        .type = OptionType::Real,
+        .def = 0.5,
+        .help = "largest growth of the energy balance as a fraction of the energy scale "
+                "(default 0.5; 0: no check)",
+        .lo = 0,
+        .store = kTagged,
+        .effect = kLoop},
        getMember<D, &S::watchdog, &W::energy>,
        setMember<D, &S::watchdog, &W::energy>},
-      {{"watchdog",
-        "speed",
-        OptionType::Boolean,
-        true,
-        "check that no element outruns the skin (default 1)",
-        {},
-        -kInf,
-        kInf,
-        false,
-        false,
-        {},
-        kTagged,
-        kLoop},
+      {{.group = "watchdog",
+        .name = "speed",
+        .type = OptionType::Boolean,
+        .def = true,
+        .help = "check that no element outruns the skin (default 1)",
+        .store = kTagged,
+        .effect = kLoop},
        getMember<D, &S::watchdog, &W::speed>,
        setMember<D, &S::watchdog, &W::speed>},
-      {{"touch",
-        "on",
-        OptionType::Boolean,
-        false,
-        "integrate each contact's onset and release within its step (default 0)",
-        {},
-        -kInf,
-        kInf,
-        false,
-        false,
-        {},
-        kTagged},
+      {{.group = "touch",
+        .name = "on",
+        .type = OptionType::Boolean,
+        .def = false,
+        .help = "integrate each contact's onset and release within its step (default 0)",
+        .store = kTagged},
        getField<D, &S::touchCorrection>,
        setField<D, &S::touchCorrection>},
-      {{"law", "tangential", OptionType::Choice, std::string("history"),
-        "history: a tangential spring with Coulomb's limit (the default); none: no tangential "
-        "force, whatever the friction coefficients",
-        kTangential},
+      // The law's sub-model choices (sim/law_models.hpp), in the options section.
+      {{.group = "law",
+        .name = "tangential",
+        .type = OptionType::Choice,
+        .def = std::string("history"),
+        .help = "history: a tangential spring with Coulomb's limit (the default); none: no "
+                "tangential force, whatever the friction coefficients",
+        .choices = kTangential},
        getField<D, &S::tangentialModel>,
        setField<D, &S::tangentialModel>},
-      {{"law", "rolling", OptionType::Choice, std::string("auto"),
-        "rolling resistance: auto (the default) where a pair's rolling friction is non-zero, "
-        "on, or off whatever the coefficients",
-        kSwitch},
+      {{.group = "law",
+        .name = "rolling",
+        .type = OptionType::Choice,
+        .def = std::string("auto"),
+        .help = "rolling resistance: auto (the default) where a pair's rolling friction is "
+                "non-zero, on, or off whatever the coefficients",
+        .choices = kSwitch},
        getField<D, &S::rollingModel>,
        setField<D, &S::rollingModel>},
-      {{"law", "cohesion", OptionType::Choice, std::string("auto"),
-        "cohesion: auto (the default) where a pair's cohesion is non-zero, on, or off "
-        "whatever the coefficients",
-        kSwitch},
+      {{.group = "law",
+        .name = "cohesion",
+        .type = OptionType::Choice,
+        .def = std::string("auto"),
+        .help = "cohesion: auto (the default) where a pair's cohesion is non-zero, on, or off "
+                "whatever the coefficients",
+        .choices = kSwitch},
        getField<D, &S::cohesionModel>,
        setField<D, &S::cohesionModel>},
   };
@@ -301,35 +258,6 @@ std::string rangeFault(const OptionSpec& o, double x) {
   const bool above = o.hiOpen ? !(x < o.hi) : !(x <= o.hi);
   if (!below && !above) return "";
   return "must be " + optionRange(o);
-}
-
-// Returns the tagged group's record state: a group whose tag alone is its record holds one
-// boolean, on when the tag is there.
-bool tagAlone(const OptionGroup& g) {
-  const auto opts = groupOptions(g.name);
-  return opts.size() == 1 && opts[0]->type == OptionType::Boolean && !std::get<bool>(opts[0]->def);
-}
-
-// Returns x read as o's value from r (u8 for a boolean or choice, f64 for a real), checked.
-double readRaw(Reader& r, const OptionSpec& o) {
-  if (o.type == OptionType::Real) {
-    const double x = r.f64();
-    if (!rangeFault(o, x).empty()) Reader::bad(std::string(o.group) + " options");
-    return x;
-  }
-  const uint8_t b = r.u8();
-  if (o.type == OptionType::Choice && b >= o.choices.size()) {
-    Reader::bad(std::string(o.group) + " options");
-  }
-  return o.type == OptionType::Boolean ? (b != 0) : b;
-}
-
-void writeRaw(Writer& w, const OptionSpec& o, double x) {
-  if (o.type == OptionType::Real) {
-    w.f64(x);
-  } else {
-    w.u8(static_cast<uint8_t>(x));
-  }
 }
 
 }  // namespace
@@ -439,115 +367,7 @@ OptionValue optionFromRaw(const OptionSpec& o, double x) {
   return std::string(o.choices[static_cast<size_t>(x)]);
 }
 
-template <int D>
-void writeHeaderOptions(Writer& w, const Scene<D>& s) {
-  for (const OptionRow<D>& row : optionTable<D>()) {
-    if (row.spec.store == OptionStore::Header) writeRaw(w, row.spec, row.get(s));
-  }
-}
-
-template <int D>
-void readHeaderOptions(Reader& r, Scene<D>& s) {
-  for (const OptionRow<D>& row : optionTable<D>()) {
-    if (row.spec.store == OptionStore::Header) row.set(s, readRaw(r, row.spec));
-  }
-}
-
-template <int D>
-void writeTaggedOptions(Writer& w, const Scene<D>& s) {
-  for (const OptionGroup& g : kGroups) {
-    if (*g.tag == 0) continue;
-    bool differs = false;
-    for (const OptionRow<D>& row : optionTable<D>()) {
-      if (row.spec.group == g.name && row.get(s) != optionRaw(row.spec, row.spec.def)) {
-        differs = true;
-      }
-    }
-    if (!differs) continue;
-    w.bytes.append(g.tag, 4);
-    if (tagAlone(g)) continue;
-    for (const OptionRow<D>& row : optionTable<D>()) {
-      if (row.spec.group == g.name) writeRaw(w, row.spec, row.get(s));
-    }
-  }
-}
-
-template <int D>
-bool readTaggedOptions(Reader& r, Scene<D>& s, const char* tag) {
-  for (const OptionGroup& g : kGroups) {
-    if (*g.tag == 0 || std::memcmp(tag, g.tag, 4) != 0) continue;
-    for (const OptionRow<D>& row : optionTable<D>()) {
-      if (row.spec.group == g.name) row.set(s, tagAlone(g) ? 1.0 : readRaw(r, row.spec));
-    }
-    return true;
-  }
-  return false;
-}
-
-template <int D>
-bool writeOptionSection(Writer& body, const Scene<D>& s) {
-  std::vector<const OptionRow<D>*> differ;
-  for (const OptionRow<D>& row : optionTable<D>()) {
-    if (row.spec.store == OptionStore::Section && row.get(s) != optionRaw(row.spec, row.spec.def))
-      differ.push_back(&row);
-  }
-  if (differ.empty()) return false;
-  // By group and name, with the value's type; a choice by its name: a later build may reorder
-  // the table or a choice list without misreading this one.
-  body.list(differ, [&](const OptionRow<D>* row) {
-    body.str(std::string(row->spec.group));
-    body.str(std::string(row->spec.name));
-    body.u8(static_cast<uint8_t>(row->spec.type));
-    const double x = row->get(s);
-    if (row->spec.type == OptionType::Choice) {
-      body.str(std::string(row->spec.choices[static_cast<size_t>(x)]));
-    } else {
-      writeRaw(body, row->spec, x);
-    }
-  });
-  return true;
-}
-
-template <int D>
-void readOptionSection(Reader& body, Scene<D>& s) {
-  const size_t n = body.count(18);
-  for (size_t k = 0; k < n; ++k) {
-    const std::string group = body.str(), name = body.str();
-    const auto rows = optionTable<D>();
-    const auto it = std::find_if(rows.begin(), rows.end(), [&](const OptionRow<D>& r) {
-      return r.spec.group == group && r.spec.name == name;
-    });
-    if (it == rows.end()) {
-      throw Error("can't load a checkpoint with the option \"" + group + " -" + name +
-                      "\": it was written by a later demlab",
-                  {"LOAD", "SECTION"});
-    }
-    const OptionSpec& o = it->spec;
-    if (body.u8() != static_cast<uint8_t>(o.type)) Reader::bad(group + " options");
-    if (o.type == OptionType::Choice) {
-      const std::string word = body.str();
-      const auto c = std::find(o.choices.begin(), o.choices.end(), word);
-      if (c == o.choices.end()) Reader::bad(group + " options");
-      it->set(s, static_cast<double>(c - o.choices.begin()));
-    } else {
-      it->set(s, readRaw(body, o));
-    }
-  }
-}
-
 template std::span<const OptionRow<2>> optionTable<2>();
 template std::span<const OptionRow<3>> optionTable<3>();
-template void writeHeaderOptions<2>(Writer&, const Scene<2>&);
-template void writeHeaderOptions<3>(Writer&, const Scene<3>&);
-template void readHeaderOptions<2>(Reader&, Scene<2>&);
-template void readHeaderOptions<3>(Reader&, Scene<3>&);
-template void writeTaggedOptions<2>(Writer&, const Scene<2>&);
-template void writeTaggedOptions<3>(Writer&, const Scene<3>&);
-template bool readTaggedOptions<2>(Reader&, Scene<2>&, const char*);
-template bool readTaggedOptions<3>(Reader&, Scene<3>&, const char*);
-template bool writeOptionSection<2>(Writer&, const Scene<2>&);
-template bool writeOptionSection<3>(Writer&, const Scene<3>&);
-template void readOptionSection<2>(Reader&, Scene<2>&);
-template void readOptionSection<3>(Reader&, Scene<3>&);
 
 }  // namespace demlab::sim

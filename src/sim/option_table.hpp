@@ -35,6 +35,7 @@ OptionValue optionFromRaw(const OptionSpec& o, double x);
 // keeps the bytes it had before the option existed.
 inline constexpr char kOptionTag[5] = "OPTN";
 
+// The checkpoint records (option_io.cpp).
 // Writes the Header-store options, in table order, at their slot of the header. Changes w.
 template <int D>
 void writeHeaderOptions(Writer& w, const Scene<D>& s);
