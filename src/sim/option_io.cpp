@@ -12,8 +12,8 @@ namespace demlab::sim {
 
 namespace {
 
-// Returns the tagged group's record state: a group whose tag alone is its record holds one
-// boolean, on when the tag is there.
+// Returns true if g's record is its tag alone: a group of one boolean that is off by default
+// (the touch flag) writes the tag when it is on, and nothing after it.
 bool tagAlone(const OptionGroup& g) {
   const auto opts = groupOptions(g.name);
   return opts.size() == 1 && opts[0]->type == OptionType::Boolean && !std::get<bool>(opts[0]->def);
@@ -37,6 +37,7 @@ double readRaw(Reader& r, const OptionSpec& o) {
   return o.type == OptionType::Boolean ? (b != 0) : b;
 }
 
+// Writes x as o's value (u8 for a boolean or choice, f64 for a real). Changes w.
 void writeRaw(Writer& w, const OptionSpec& o, double x) {
   if (o.type == OptionType::Real) {
     w.f64(x);

@@ -94,6 +94,20 @@ TEST_P(SimOptions, CheckpointsKeepEveryOption) {
   EXPECT_EQ(saved(*s), plain);
 }
 
+// An option a later build added (here: a name this build does not know) is refused by name.
+TEST_P(SimOptions, AnUnknownOptionIsRefused) {
+  const int d = GetParam();
+  auto s = makeSimulation(d);
+  s->setOption("law", "rolling", std::string("off"));
+  std::string bytes = saved(*s);
+  const size_t at = bytes.rfind("rolling");
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + 6] = 'x';  // "rollinx": the section keeps its length
+  std::istringstream in(bytes);
+  auto t = makeSimulation(d);
+  EXPECT_EQ(codeOf([&] { t->load(in); }), (Code{"LOAD", "SECTION"}));
+}
+
 INSTANTIATE_TEST_SUITE_P(Dims, SimOptions, ::testing::Values(2, 3));
 
 }  // namespace
