@@ -264,10 +264,11 @@ std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Optio
     s->addWall(w);
   }
   s->addGravity({0, 0, -9.81});
-  s->setRotation(v.rotation);
-  s->setTouchCorrection(v.touch);
-  s->setDetection({o.cellFactor, o.skin});
-  if (!o.integrator.empty()) s->setIntegrator(o.integrator);
+  s->setOptions({{"rotation", "on", v.rotation},
+                 {"touch", "on", v.touch},
+                 {"detection", "cellfactor", o.cellFactor},
+                 {"detection", "skin", o.skin}});
+  if (!o.integrator.empty()) s->setOption("integrator", "name", o.integrator);
 
   s->reserveGrains(d.size());
   std::vector<sim::GrainDef> batch;

@@ -10,6 +10,7 @@
 #include "sim/detection.hpp"
 #include "sim/integrator.hpp"
 #include "sim/rigid_body.hpp"
+#include "sim/law_models.hpp"
 #include "sim/rolling_resistance.hpp"
 #include "sim/shape_contacts.hpp"
 #include "sim/touch.hpp"
@@ -40,7 +41,7 @@ SceneUse sceneUse(const Scene<D>& s) {
     if (!grainMat[m]) continue;
     for (size_t k = 0; k < nm; ++k) {
       if (!anyMat[k]) continue;
-      const auto [ma, mk] = s.pairMaterials(m, k);
+      const auto [ma, mk] = modelMaterials(s, m, k);
       if (ma.friction > 0 && mk.friction > 0) f.anyFriction = true;
       const int8_t o = s.pairLawOverride[m * nm + k];
       const int l = o < 0 ? static_cast<int>(s.defaultLaw) : o;
@@ -100,11 +101,16 @@ struct Rows {
       {"shape-contacts", [](const Scene<D>&, const SceneUse& u) { return u.shapes; },
        plain<D, ShapeContactModule>},
       {"rolling",
-       [](const Scene<D>& s, const SceneUse& u) { return u.rotating && anyRollingFriction(s); },
+       [](const Scene<D>& s, const SceneUse& u) {
+         return u.rotating && subModelRuns(s.rollingModel, anyRollingFriction(s));
+       },
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
          out.push_back(std::make_unique<RollingResistanceModule<D>>(s));
        }},
-      {"cohesion", [](const Scene<D>& s, const SceneUse&) { return anyCohesion(s); },
+      {"cohesion",
+       [](const Scene<D>& s, const SceneUse&) {
+         return subModelRuns(s.cohesionModel, anyCohesion(s));
+       },
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
          out.push_back(std::make_unique<CohesionModule<D>>(s));
        }},

@@ -1,11 +1,13 @@
 // A table of one contact coefficient per pair of materials, for the sub-models beside the laws
 // (rolling resistance, cohesion): the smaller of the two materials' values (the rule of the
-// sliding friction), or the pair's own (Scene::pairMaterials puts it into both).
+// sliding friction), or the pair's own (Scene::pairMaterials puts it into both); zero for a
+// sub-model the scene switched off (modelMaterials).
 #pragma once
 
 #include <algorithm>
 #include <vector>
 
+#include "sim/law_models.hpp"
 #include "sim/scene.hpp"
 
 namespace demlab::sim {
@@ -17,7 +19,7 @@ class PairTable {
   PairTable(const Scene<D>& s, Real physics::MaterialDef::*field) : nm_(s.nMat()), v_(nm_ * nm_) {
     for (size_t m = 0; m < nm_; ++m) {
       for (size_t k = 0; k < nm_; ++k) {
-        const auto [a, b] = s.pairMaterials(m, k);
+        const auto [a, b] = modelMaterials(s, m, k);
         v_[m * nm_ + k] = std::min(a.*field, b.*field);
       }
     }

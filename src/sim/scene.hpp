@@ -199,6 +199,11 @@ struct Scene {
   bool rotating = false;    // the rotation modules run
   LedgerSums ledger;
 
+  // ---- the law's sub-model choices (`law model`; sim/law_models.hpp names the values) ----
+  uint8_t tangentialModel = 0;  // history, none
+  uint8_t rollingModel = 2;     // on, off, auto (auto: when a coefficient is non-zero)
+  uint8_t cohesionModel = 2;    // on, off, auto
+
   size_t nMat() const { return materials.size(); }
 
   // Returns the two materials m and k as the pair's mixing should see them: copies with the

@@ -7,6 +7,7 @@
 
 #include "sim/behaviors/gravity.hpp"
 #include "sim/behaviors/load.hpp"
+#include "sim/option_table.hpp"
 
 namespace demlab::sim {
 
@@ -385,10 +386,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   // Options and time.
   w.f64(s.dt);
   w.f64(s.autoFraction);
-  w.u8(static_cast<uint8_t>(s.integrator));
-  w.u8(s.rotationEnabled);
-  w.f64(s.cellFactor);
-  w.f64(s.skinOption);
+  writeHeaderOptions(w, s);  // the integrator, rotation, detection (sim/option_table.hpp)
   w.f64(s.time);
   w.u64(s.steps);
   w.f64(s.stepDt);
@@ -486,19 +484,10 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.f64(x);
   }
   w.u8(l.started);
-  // The watchdog's options, only when they differ from the defaults: a scene with the default
-  // watchdog writes the bytes it wrote before the watchdog existed (same digest, and older
-  // checkpoints load as scenes with the default watchdog).
-  if (!(s.watchdog == WatchdogOptions{})) {
-    w.bytes.append(kWatchdogTag, 4);
-    w.u8(s.watchdog.enabled);
-    w.f64(s.watchdog.overlap);
-    w.f64(s.watchdog.placed);
-    w.f64(s.watchdog.energy);
-    w.u8(s.watchdog.speed);
-  }
-  // The touch correction likewise, only when on.
-  if (s.touchCorrection) w.bytes.append(kTouchTag, 4);
+  // The watchdog's options and the touch correction, each only when not the defaults: a
+  // default scene writes the bytes it wrote before they existed (same digest, and older
+  // checkpoints load as scenes with the defaults).
+  writeTaggedOptions(w, s);
   // And the calibrated Hertz damping (scene_io.hpp says why its absence means liggghts).
   if (s.hertzDamping == physics::HertzDamping::Calibrated) w.bytes.append(kDampingTag, 4);
   if (!s.blocked.empty()) {
@@ -531,6 +520,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     writeShapes(body, s);
     writeSection(w, kShapeTag, body);
   }
+  if (Writer body; writeOptionSection(body, s)) writeSection(w, kOptionTag, body);
 }
 
 template <int D>
@@ -560,10 +550,7 @@ void readScene(Reader& r, Scene<D>& s) {
   s.coulomb = static_cast<physics::CoulombCriterion>(coulomb);
   s.dt = r.f64();
   s.autoFraction = r.f64();
-  s.integrator = static_cast<IntegratorKind>(r.u8());
-  s.rotationEnabled = r.u8();
-  s.cellFactor = r.f64();
-  s.skinOption = r.f64();
+  readHeaderOptions(r, s);
   s.time = r.f64();
   s.steps = r.u64();
   s.stepDt = r.f64();
@@ -695,22 +682,7 @@ void readScene(Reader& r, Scene<D>& s) {
     return true;
   };
   bool tagged = readTag();
-  if (tagged && std::memcmp(tag, kWatchdogTag, 4) == 0) {
-    s.watchdog.enabled = r.u8();
-    s.watchdog.overlap = r.f64();
-    s.watchdog.placed = r.f64();
-    s.watchdog.energy = r.f64();
-    s.watchdog.speed = r.u8();
-    const bool ok = s.watchdog.overlap >= 0 && std::isfinite(s.watchdog.overlap) &&
-                    s.watchdog.placed >= 0 && std::isfinite(s.watchdog.placed) &&
-                    s.watchdog.energy >= 0 && std::isfinite(s.watchdog.energy);
-    if (!ok) Reader::bad("watchdog options");
-    tagged = readTag();
-  }
-  if (tagged && std::memcmp(tag, kTouchTag, 4) == 0) {
-    s.touchCorrection = true;
-    tagged = readTag();
-  }
+  while (tagged && readTaggedOptions(r, s, tag)) tagged = readTag();
   const bool calibrated = tagged && std::memcmp(tag, kDampingTag, 4) == 0;
   s.hertzDamping = calibrated ? physics::HertzDamping::Calibrated : physics::HertzDamping::Liggghts;
   if (calibrated) tagged = readTag();
@@ -723,6 +695,8 @@ void readScene(Reader& r, Scene<D>& s) {
       readPairOverrides(b, s);
     } else if (std::memcmp(tag, kShapeTag, 4) == 0) {
       readShapes(b, s);
+    } else if (std::memcmp(tag, kOptionTag, 4) == 0) {
+      readOptionSection(b, s);
     } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {
       if (b.count(8) != s.materials.size()) Reader::bad("cohesion count");
       for (physics::MaterialDef& m : s.materials) {

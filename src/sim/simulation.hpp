@@ -36,6 +36,7 @@
 #include "core/handle.hpp"
 #include "physics/material.hpp"
 #include "physics/pair_params.hpp"
+#include "sim/options.hpp"
 
 namespace demlab::sim {
 
@@ -168,17 +169,6 @@ struct LoadDef {
   std::array<TimeFunction, 3> torqueFn{};
 };
 
-// Contact detection options. cellFactor: CGrid cell = factor x its size statistic (0: CGrid's
-// default). skin: Verlet skin distance in metres (< 0: automatic, 0.2 x the mean grain
-// radius; 0: search every step). VALUE CELLFACTOR / VALUE SKIN on NaN or bad signs.
-struct DetectionOptions {
-  double cellFactor = 0;
-  double skin = -1;
-};
-
-// Integrators by name: "verlet" (plain velocity Verlet, as LAMMPS/LIGGGHTS) and "synchronized"
-// (the default: Vyas et al. 2025, forces and tangential springs evaluated with velocities
-// synchronized at the full step; physical for static friction at large size ratios).
 // ---- results ---------------------------------------------------------------------------
 
 struct GrainState {
@@ -523,28 +513,20 @@ class Simulation {
   virtual void removeBehavior(BehaviorId id) = 0;  // LOOKUP HANDLE
   virtual std::vector<BehaviorInfo> behaviors() const = 0;
 
+  // -- options (sim/options.hpp: the modules' options and the law's sub-model choices) --
+  // Sets the options given, all or none: every setting is checked first (its group, its name,
+  // its value against the option's type and range). Takes effect at the next step; returns
+  // nothing. Throws LOOKUP MODULE, VALUE OPTION, VALUE <NAME> (`bad skin "inf": must be a
+  // finite number`) and changes nothing then.
+  virtual void setOptions(const std::vector<OptionSetting>& settings) = 0;
+  // Returns the value of option name of group. Throws LOOKUP MODULE, VALUE OPTION.
+  virtual OptionValue option(std::string_view group, std::string_view name) const = 0;
+  // Sets one option (setOptions with one setting).
+  void setOption(std::string_view group, std::string_view name, OptionValue value) {
+    setOptions({{std::string(group), std::string(name), std::move(value)}});
+  }
+
   // -- modules --
-  // Sets the integrator by name ("synchronized" or "verlet"). VALUE INTEGRATOR.
-  virtual void setIntegrator(const std::string& name) = 0;
-  virtual std::string integrator() const = 0;
-  // Turns grain rotation on (the default) or off. Off, grains keep their orientation and
-  // angular velocity and contact torques are ignored: a cheaper, less physical model (the
-  // benchmark's "rotation off" bed).
-  virtual void setRotation(bool enabled) = 0;
-  virtual bool rotation() const = 0;
-  // Turns the sub-step treatment of contact onset and release on or off (off by default): the
-  // "touch" module (sim/touch.hpp) corrects the impulse of each step in which a contact's
-  // normal force begins or ends to the integral over the part of the step it acted, which
-  // makes impacts second order in dt at any touch phase and keeps an elastic gas's energy from
-  // wandering (doc/design.md, "Touch and release"). LIGGGHTS has no such correction.
-  virtual void setTouchCorrection(bool enabled) = 0;
-  virtual bool touchCorrection() const = 0;
-  // Sets contact detection options. VALUE CELLFACTOR, VALUE SKIN.
-  virtual void setDetection(const DetectionOptions& options) = 0;
-  virtual DetectionOptions detection() const = 0;
-  // Sets the watchdog's options (see WatchdogOptions). VALUE OVERLAP, PLACED, ENERGY.
-  virtual void setWatchdog(const WatchdogOptions& options) = 0;
-  virtual WatchdogOptions watchdog() const = 0;
   // Returns the names of the modules the next step runs, in loop order (e.g. "behaviors",
   // "integrate", "rotation", "walls", "detection", "contacts" or "contacts-friction",
   // "wall-contacts" or "wall-contacts-friction", "gravity", "loads" and one module per other

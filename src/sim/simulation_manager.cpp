@@ -15,6 +15,7 @@
 #include "sim/convert.hpp"
 #include "sim/history_store.hpp"
 #include "sim/rigid_body.hpp"
+#include "sim/option_table.hpp"
 
 namespace demlab::sim {
 
@@ -694,65 +695,34 @@ std::vector<BehaviorInfo> SimulationManager<D>::behaviors() const {
 // ---- options -------------------------------------------------------------------------------
 
 template <int D>
-void SimulationManager<D>::setIntegrator(const std::string& name) {
-  if (name == "synchronized") {
-    s_.integrator = IntegratorKind::Synchronized;
-  } else if (name == "verlet") {
-    s_.integrator = IntegratorKind::Verlet;
+void SimulationManager<D>::setOptions(const std::vector<OptionSetting>& settings) {
+  // All checked before any is stored, so a bad one changes nothing.
+  std::vector<std::pair<size_t, double>> raw;
+  for (const OptionSetting& st : settings) {
+    const auto [o, k] = findOption(st.group, st.name);
+    raw.emplace_back(k, optionRaw(*o, st.value));
+  }
+  if (raw.empty()) return;
+  OptionEffect effect = OptionEffect::Loop;
+  for (const auto& [k, x] : raw) {
+    const OptionRow<D>& row = optionTable<D>()[k];
+    row.set(s_, x);
+    effect = std::max(effect, row.spec.effect);
+  }
+  if (effect == OptionEffect::Search) s_.needRebuild = true;
+  if (effect == OptionEffect::Loop) {
+    // Only the loop is rebuilt (a module comes or goes): the forces of the last step stay, so
+    // such an option (the watchdog's) never changes the trajectory.
+    configDirty_ = true;
   } else {
-    throw Error("bad integrator \"" + name + "\": must be synchronized or verlet",
-                {"VALUE", "INTEGRATOR"});
+    touchConfig();
   }
-  touchConfig();
 }
 
 template <int D>
-std::string SimulationManager<D>::integrator() const {
-  return s_.integrator == IntegratorKind::Synchronized ? "synchronized" : "verlet";
-}
-
-template <int D>
-void SimulationManager<D>::setRotation(bool enabled) {
-  s_.rotationEnabled = enabled;
-  touchConfig();
-}
-
-template <int D>
-void SimulationManager<D>::setTouchCorrection(bool enabled) {
-  s_.touchCorrection = enabled;
-  touchConfig();
-}
-
-template <int D>
-void SimulationManager<D>::setDetection(const DetectionOptions& o) {
-  if (!(std::isfinite(o.cellFactor) && o.cellFactor >= 0)) {
-    throwBad("cell factor", physics::formatReal(o.cellFactor), "must be a non-negative number");
-  }
-  if (!std::isfinite(o.skin)) throwBad("skin", physics::formatReal(o.skin), "must be finite");
-  s_.cellFactor = o.cellFactor;
-  s_.skinOption = o.skin;
-  s_.needRebuild = true;
-  touchConfig();
-}
-
-template <int D>
-void SimulationManager<D>::setWatchdog(const WatchdogOptions& o) {
-  if (!(o.overlap >= 0 && std::isfinite(o.overlap))) {
-    throwBad("overlap", physics::formatReal(o.overlap),
-             "must be a non-negative number (0: no overlap check)");
-  }
-  if (!(o.placed >= 0 && std::isfinite(o.placed))) {
-    throwBad("placed", physics::formatReal(o.placed),
-             "must be a non-negative number (0: no check)");
-  }
-  if (!(o.energy >= 0 && std::isfinite(o.energy))) {
-    throwBad("energy", physics::formatReal(o.energy),
-             "must be a non-negative number (0: no energy check)");
-  }
-  s_.watchdog = o;
-  // Only the loop is rebuilt (the module comes or goes): the forces of the last step stay, so
-  // turning the watchdog on or off never changes the trajectory.
-  configDirty_ = true;
+OptionValue SimulationManager<D>::option(std::string_view group, std::string_view name) const {
+  const auto [o, k] = findOption(group, name);
+  return optionFromRaw(*o, optionTable<D>()[k].get(s_));
 }
 
 template class SimulationManager<2>;

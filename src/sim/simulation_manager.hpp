@@ -91,16 +91,8 @@ class SimulationManager final : public Simulation {
   void removeBehavior(BehaviorId id) override;
   std::vector<BehaviorInfo> behaviors() const override;
 
-  void setIntegrator(const std::string& name) override;
-  std::string integrator() const override;
-  void setRotation(bool enabled) override;
-  bool rotation() const override { return s_.rotationEnabled; }
-  void setTouchCorrection(bool enabled) override;
-  bool touchCorrection() const override { return s_.touchCorrection; }
-  void setDetection(const DetectionOptions& options) override;
-  DetectionOptions detection() const override { return {s_.cellFactor, s_.skinOption}; }
-  void setWatchdog(const WatchdogOptions& options) override;
-  WatchdogOptions watchdog() const override { return s_.watchdog; }
+  void setOptions(const std::vector<OptionSetting>& settings) override;
+  OptionValue option(std::string_view group, std::string_view name) const override;
   std::vector<std::string> listModules() const override;
 
   OutputId addOutput(const OutputDef& def) override;

@@ -18,6 +18,7 @@
 #include "sim/convert.hpp"
 #include "sim/detection.hpp"
 #include "sim/integrator.hpp"
+#include "sim/law_models.hpp"
 #include "sim/module_table.hpp"
 #include "sim/rigid_body.hpp"
 #include "sim/shape_contacts.hpp"
@@ -57,7 +58,7 @@ void SimulationManager<D>::prepare() {
       for (size_t k = 0; k < nm; ++k) {
         const int8_t o = s_.pairLawOverride[m * nm + k];
         const LawKind law = o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
-        const auto [ma, mk] = s_.pairMaterials(m, k);
+        const auto [ma, mk] = modelMaterials(s_, m, k);
         s_.pairParams[m * nm + k] = physics::mixPair(law, ma, mk, s_.hertzDamping);
         s_.pairParams[m * nm + k].coulomb = s_.coulomb;
         s_.pairLawFn[m * nm + k] = physics::contactLawFor<D>(law);

@@ -109,8 +109,8 @@ class Runner {
 inline void setIntegrator(sim::Simulation& s, const std::string& name) {
   constexpr std::string_view kTouch = "+touch";
   const bool touch = name.size() > kTouch.size() && name.ends_with(kTouch);
-  s.setIntegrator(touch ? name.substr(0, name.size() - kTouch.size()) : name);
-  s.setTouchCorrection(touch);
+  s.setOptions({{"integrator", "name", touch ? name.substr(0, name.size() - kTouch.size()) : name},
+                {"touch", "on", touch}});
 }
 
 // Returns a Quantity.

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "cmd/commands/commands.hpp"
+#include "cmd/commands/option_commands.hpp"
 #include "physics/pair_params.hpp"
 
 namespace demlab::cmd {
@@ -121,7 +122,8 @@ void registerMaterialCommands(Registry& r) {
   });
 
   r.describe("law",
-             "Contact laws: the default law, the law of a pair of materials and its coefficients.");
+             "Contact laws: the default law, its sub-models, the law of a pair of materials and "
+             "its coefficients.");
   Command& def =
       r.add("law default", "Sets the law of every pair without its own law, or returns it.");
   def.optionalArg("law", lawChoice(), "linear or hertz_mindlin (prefixes accepted)");
@@ -164,6 +166,37 @@ void registerMaterialCommands(Registry& r) {
                                                       : physics::HertzDamping::Liggghts);
     }
     return Value(std::string(physics::hertzDampingName(s.hertzDamping())));
+  });
+
+  // The sub-models: -normal and -damping are law default's and law damping's choices, the
+  // others the option table's "law" rows (sim/options.hpp).
+  const sim::OptionGroup& models = sim::findOptionGroup("law");
+  Command& model = r.add("law model", std::string(models.summary));
+  model.details = std::string(models.details);
+  model.option("normal", choice({"linear", "hertz"}),
+               "the law of every pair without its own: linear or hertz (Hertz-Mindlin)");
+  model.option("damping", choice({"calibrated", "liggghts"}),
+               "Hertz-Mindlin's damping: calibrated or liggghts (law damping)");
+  addOptionParams(model, "law");
+  model.run([](Call& c) {
+    auto& s = session(c).scene();
+    // Every value was checked by its pipe, so none of these throws once the first has run.
+    const auto given = givenOptions(c, "law");
+    if (!given.empty()) s.setOptions(given);
+    if (c.given("normal")) {
+      s.setContactLaw(c.str("normal") == "linear" ? physics::LawKind::Linear
+                                                  : physics::LawKind::HertzMindlin);
+    }
+    if (c.given("damping")) {
+      s.setHertzDamping(c.str("damping") == "calibrated" ? physics::HertzDamping::Calibrated
+                                                         : physics::HertzDamping::Liggghts);
+    }
+    Dict d{{"normal", std::string(s.contactLaw() == physics::LawKind::Linear ? "linear" : "hertz")},
+           {"damping", std::string(physics::hertzDampingName(s.hertzDamping()))}};
+    for (const sim::OptionSpec* o : sim::groupOptions("law")) {
+      d.emplace_back(std::string(o->name), optionValue(s.option("law", o->name)));
+    }
+    return Value(d);
   });
 
   Command& pair = r.add("law pair", "Sets the law of one pair of materials, or returns it.");

@@ -1,7 +1,104 @@
-// The "module" group: the stages of the time step a scene runs, and their options.
+// The "module" group: the stages of the time step a scene runs, and their options. Every
+// option command is built from the option table (sim/options.hpp): `module NAME` for each
+// module with options, and the generic `module set` / `module get`.
+#include <algorithm>
+#include <limits>
+#include <map>
+
 #include "cmd/commands/commands.hpp"
+#include "cmd/commands/option_commands.hpp"
+#include "cmd/words.hpp"
 
 namespace demlab::cmd {
+
+namespace {
+
+// Returns the names of the groups under `module`, in table order.
+std::vector<std::string> moduleGroups() {
+  std::vector<std::string> out;
+  for (const sim::OptionGroup& g : sim::optionGroups()) {
+    if (g.isModule) out.emplace_back(g.name);
+  }
+  return out;
+}
+
+// Declares `module NAME` for group g: its options as parameters; it sets those given and
+// returns the option's value (a positional group) or the group's dict.
+void addGroupCommand(Registry& r, const sim::OptionGroup& g) {
+  const std::string group(g.name);
+  Command& cmd = r.add("module " + group, std::string(g.summary));
+  cmd.details = std::string(g.details);
+  addOptionParams(cmd, group);
+  cmd.run([group, positional = g.positional](Call& c) {
+    auto& s = session(c).scene();
+    const auto given = givenOptions(c, group);
+    if (!given.empty()) s.setOptions(given);
+    if (positional) return optionValue(s.option(group, sim::groupOptions(group)[0]->name));
+    return optionDict(s, group);
+  });
+}
+
+// Declares `module set`: every module option once (an option name two modules share has one
+// type), each call taking those of the module named.
+void addSetCommand(Registry& r) {
+  Command& set = r.add("module set", "Sets options of a module; returns its options as a dict.");
+  set.details = "The options are those of `module NAME` (help module NAME): one of " +
+                alternatives(moduleGroups()) + ". Given none, it sets nothing.";
+  set.arg("module", choice(moduleGroups()), "the module");
+  std::map<std::string, std::pair<const sim::OptionSpec*, std::string>> names;  // name: help
+  std::vector<std::string> order;
+  for (const std::string& group : moduleGroups()) {
+    for (const sim::OptionSpec* o : sim::groupOptions(group)) {
+      auto [it, fresh] = names.try_emplace(std::string(o->name), o, "");
+      if (fresh) order.emplace_back(o->name);
+      if (!fresh && it->second.first->type != o->type) {
+        throw Error("internal: module option -" + std::string(o->name) + " has two types",
+                    {"INTERNAL"});
+      }
+      it->second.second += (fresh ? "" : "; ") + group + ": " + std::string(o->help);
+    }
+  }
+  for (const std::string& n : order) {
+    const auto& [o, help] = names.at(n);
+    PipeType pipe = optionPipe(*o);
+    if (o->type == sim::OptionType::Choice) {
+      // Matched against the module's own choices in the check phase.
+      pipe = text(std::string(pipe.label));
+    } else if (help.find("; ") != std::string::npos) {
+      // Shared: each module's range is checked by setOptions, in the same words.
+      pipe.lo.reset();
+      pipe.hi.reset();
+    }
+    set.option(n, pipe, help);
+  }
+  // The check phase: each option given must be the module's, a choice is matched as
+  // `module NAME` matches it (unique prefixes); the settings go to the execute phase.
+  set.onCheck([](Call& c) {
+    const std::string group = c.str("module");
+    std::vector<sim::OptionSetting> given;
+    for (const Slot& slot : c.stack().slots()) {
+      if (!slot.given || slot.param->positional) continue;
+      const sim::OptionSpec& o = *sim::findOption(group, slot.param->name).first;
+      sim::OptionValue v;
+      if (auto* b = std::any_cast<bool>(&slot.value)) v = *b;
+      if (auto* x = std::any_cast<double>(&slot.value)) v = *x;
+      if (auto* w = std::any_cast<std::string>(&slot.value)) {
+        v = matchChoice(*w, std::vector<std::string>(o.choices.begin(), o.choices.end()), o.name,
+                        {"VALUE", codeWord(o.name)});
+      }
+      given.push_back({group, slot.param->name, sim::checkOption(o, v)});
+    }
+    c.prepared = given;
+  });
+  set.run([](Call& c) {
+    auto& s = session(c).scene();
+    const auto& given = std::any_cast<const std::vector<sim::OptionSetting>&>(c.prepared);
+    if (!given.empty()) s.setOptions(given);
+    return optionDict(s, c.str("module"));
+  });
+}
+
+}  // namespace
 
 void registerModuleCommands(Registry& r) {
   r.describe("module", "The modules of the time step: which run, and their options.");
@@ -14,105 +111,20 @@ void registerModuleCommands(Registry& r) {
     return Value(l);
   });
 
-  Command& integ = r.add("module integrator", "Sets the integrator, or returns it.");
-  integ.details =
-      "synchronized (the default; Vyas et al. 2025, physical for static friction at large size "
-      "ratios) "
-      "or verlet (plain velocity Verlet, as LAMMPS and LIGGGHTS).";
-  integ.optionalArg("name", choice({"synchronized", "verlet"}), "the integrator");
-  integ.run([](Call& c) {
-    auto& s = session(c).scene();
-    if (c.given("name")) s.setIntegrator(c.str("name"));
-    return Value(s.integrator());
-  });
+  for (const sim::OptionGroup& g : sim::optionGroups()) {
+    if (g.isModule) addGroupCommand(r, g);
+  }
+  addSetCommand(r);
 
-  Command& rot =
-      r.add("module rotation", "Turns element rotation on or off, or returns whether it is on.");
-  rot.optionalArg("on", boolean(), "a boolean");
-  rot.run([](Call& c) {
-    auto& s = session(c).scene();
-    if (c.given("on")) s.setRotation(c.get<bool>("on"));
-    return Value(s.rotation());
-  });
-
-  Command& touch = r.add("module touch",
-                         "Turns the sub-step treatment of contact onset and release on or off, or "
-                         "returns whether it is on.");
-  touch.details =
-      "Off by default. On, the step in which a contact's normal force begins or ends (a touch, "
-      "a release, a damped force reaching its cut-off) receives the integral of the force over "
-      "the part of the step the force acted instead of the trapezoid's half step, and the energy "
-      "ledger books the damper's loss to match: impacts become second order in the time step "
-      "whatever the phase of the touch, and the energy of an elastic gas stops wandering by "
-      "O(dt^2) per collision (doc/design.md, \"Touch and release\"). The tangential force is "
-      "not corrected. LIGGGHTS has no such correction: leave it off to reproduce LIGGGHTS. "
-      "Part of the scene (saved with it).";
-  touch.optionalArg("on", boolean(), "a boolean");
-  touch.run([](Call& c) {
-    auto& s = session(c).scene();
-    if (c.given("on")) s.setTouchCorrection(c.get<bool>("on"));
-    return Value(s.touchCorrection());
-  });
-
-  Command& det =
-      r.add("module detection", "Sets contact detection (CGrid) options; returns them as a dict.");
-  det.option("cellfactor", real().nonNegative(),
-             "CGrid cell = factor x size statistic (0: CGrid's default)")
-      .to(&sim::DetectionOptions::cellFactor);
-  det.option("skin", real().withUnit("m"),
-             "Verlet skin (negative: automatic, 0: search every step)")
-      .to(&sim::DetectionOptions::skin);
-  det.run([](Call& c) {
-    auto& s = session(c).scene();
-    if (c.given("cellfactor") || c.given("skin")) {
-      sim::DetectionOptions o = s.detection();
-      c.fill(o);
-      s.setDetection(o);
-    }
-    sim::DetectionOptions o = s.detection();
-    return Value(Dict{{"cellfactor", o.cellFactor}, {"skin", o.skin}});
-  });
-
-  Command& wd = r.add("module watchdog",
-                      "Sets the watchdog's options (on by default); returns them as a dict.");
-  wd.details =
-      "After every step (and before the first step of a run) the watchdog checks that no "
-      "position or velocity is non-finite (NAN), no element moves more in one step than the "
-      "neighbour search tracks, half the skin (SPEED), no contact overlaps by more than a "
-      "fraction of the smaller radius (OVERLAP; another fraction, -placed, for the scene as "
-      "set up, before its first step) and the energy balance has not grown by more "
-      "than a fraction of the energy scale (ENERGY). When one fails the run stops at that step "
-      "with the error DEMLAB WATCHDOG <check>, naming the elements, the likely cause and the "
-      "fix. The options are part of the scene (saved with it).";
-  wd.option("on", boolean(), "run the watchdog (default 1)").to(&sim::WatchdogOptions::enabled);
-  wd.option("overlap", real().nonNegative(),
-            "largest overlap during a run, as a fraction of the smaller radius (default 2: a "
-            "grain gone through another; 0.2 suits stiff materials; 0: no check)")
-      .to(&sim::WatchdogOptions::overlap);
-  wd.option("placed", real().nonNegative(),
-            "largest overlap of the scene as set up, checked before its first step (default "
-            "0.5; 0: no check)")
-      .to(&sim::WatchdogOptions::placed);
-  wd.option("energy", real().nonNegative(),
-            "largest growth of the energy balance as a fraction of the energy scale (default "
-            "0.5; 0: no check)")
-      .to(&sim::WatchdogOptions::energy);
-  wd.option("speed", boolean(), "check that no element outruns the skin (default 1)")
-      .to(&sim::WatchdogOptions::speed);
-  wd.run([](Call& c) {
-    auto& s = session(c).scene();
-    if (c.given("on") || c.given("overlap") || c.given("placed") || c.given("energy") ||
-        c.given("speed")) {
-      sim::WatchdogOptions o = s.watchdog();
-      c.fill(o);
-      s.setWatchdog(o);
-    }
-    sim::WatchdogOptions o = s.watchdog();
-    return Value(Dict{{"on", o.enabled},
-                      {"overlap", o.overlap},
-                      {"placed", o.placed},
-                      {"energy", o.energy},
-                      {"speed", o.speed}});
+  Command& get = r.add("module get", "Returns a module's options as a dict, or one of them.");
+  get.changesScene = false;
+  get.arg("module", choice(moduleGroups()), "the module");
+  get.optionalArg("option", text("option"), "an option's name, without the -");
+  get.run([](Call& c) {
+    const auto& s = session(c).scene();
+    const std::string group = c.str("module");
+    if (!c.given("option")) return optionDict(s, group);
+    return optionValue(s.option(group, sim::findOption(group, c.str("option")).first->name));
   });
 }
 

@@ -33,7 +33,7 @@ Value info(const sim::Simulation& s) {
   d.emplace_back("walls", s.wallCount());
   d.emplace_back("materials", s.materialNames().size());
   d.emplace_back("behaviors", s.behaviors().size());
-  d.emplace_back("integrator", s.integrator());
+  d.emplace_back("integrator", std::get<std::string>(s.option("integrator", "name")));
   List mods;
   for (const auto& m : s.listModules()) mods.emplace_back(m);
   d.emplace_back("modules", mods);

@@ -626,7 +626,7 @@ Value execute(Call& c) {
       for (int rep = 0; rep < p.repeat; ++rep) {
         sim::Simulation& sc = buildScene(s, p, where);
         try {
-          sc.setIntegrator(integ);
+          sc.setOption("integrator", "name", integ);
           sc.setTimeStep(dt);
         } catch (const Error& e) {
           rethrowIn(e, where);

@@ -17,6 +17,7 @@ using testing::grain;
 using testing::latticeGrains;
 using testing::material;
 using testing::plane;
+using testing::setWatchdog;
 
 class SimApi : public ::testing::TestWithParam<int> {};
 
@@ -74,8 +75,12 @@ TEST_P(SimApi, BadDefsAreRejectedAndChangeNothing) {
   shaken.motion = WallMotion{.amplitude = {0, 0.01, 0}, .frequency = 0};
   EXPECT_EQ(codeOf([&] { s->addWall(shaken); }), (Code{"VALUE", "FREQUENCY"}));
   EXPECT_EQ(codeOf([&] { s->addLoad(LoadDef{}); }), (Code{"VALUE", "TARGET"}));
-  EXPECT_EQ(codeOf([&] { s->setIntegrator("euler"); }), (Code{"VALUE", "INTEGRATOR"}));
-  EXPECT_EQ(codeOf([&] { s->setDetection({.cellFactor = -1}); }), (Code{"VALUE", "CELLFACTOR"}));
+  EXPECT_EQ(codeOf([&] { s->setOption("integrator", "name", std::string("euler")); }),
+            (Code{"VALUE", "NAME"}));
+  EXPECT_EQ(codeOf([&] { s->setOption("detection", "cellfactor", -1.0); }),
+            (Code{"VALUE", "CELLFACTOR"}));
+  EXPECT_EQ(codeOf([&] { s->setOption("detection", "spacing", 1.0); }), (Code{"VALUE", "OPTION"}));
+  EXPECT_EQ(codeOf([&] { s->setOption("integrate", "name", 1.0); }), (Code{"LOOKUP", "MODULE"}));
   EXPECT_EQ(codeOf([&] { s->setGrainVelocity(g, {NAN, 0, 0}); }), (Code{"VALUE", "VELOCITY"}));
   if (d == 2) {
     EXPECT_EQ(codeOf([&] {
@@ -118,7 +123,7 @@ TEST_P(SimApi, ModulesFollowTheScene) {
   // "rough" against "slick" has no friction (min rule), but rough against rough has.
   EXPECT_EQ(s->listModules(), (Names{"integrate", "rotation", "detection", "contacts-friction",
                                      "integrate-correct", "watchdog"}));
-  s->setRotation(false);
+  s->setOption("rotation", "on", false);
   EXPECT_EQ(s->listModules(), (Names{"integrate", "detection", "contacts-friction",
                                      "integrate-correct", "watchdog"}));
   addBox(*s, 1.0, "slick");
@@ -139,7 +144,7 @@ TEST_P(SimApi, ModulesFollowTheScene) {
   // The watchdog is on by default and can be turned off.
   WatchdogOptions off;
   off.enabled = false;
-  s->setWatchdog(off);
+  setWatchdog(*s, off);
   EXPECT_EQ(s->listModules().back(), "integrate-correct");
 }
 

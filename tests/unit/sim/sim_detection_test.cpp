@@ -19,6 +19,7 @@ namespace {
 
 using testing::grain;
 using testing::material;
+using testing::setWatchdog;
 
 // Returns the grain-grain pairs (by handle bits, ordered) that overlap now, by brute force.
 std::set<std::pair<uint64_t, uint64_t>> bruteForce(const Simulation& s) {
@@ -83,7 +84,7 @@ void checkFastMoversAreNeverMissed(int d, double origin) {
   WatchdogOptions wd;
   wd.overlap = 0;
   wd.placed = 0;
-  s->setWatchdog(wd);
+  setWatchdog(*s, wd);
   uint64_t checked = 0, rebuilds = 0;
   for (int step = 0; step < 400; ++step) {
     rebuilds += s->step().neighborRebuilds;

@@ -340,8 +340,8 @@ std::unique_ptr<Simulation> settlingBed(bool spring, bool verlet, bool rotation)
   s->addGravity({0, -9.81, 0});
   s->setAutoTimeStep(0.2);
   if (spring) s->setCoulombCriterion(physics::CoulombCriterion::Spring);
-  if (verlet) s->setIntegrator("verlet");
-  s->setRotation(rotation);
+  if (verlet) s->setOption("integrator", "name", "verlet");
+  s->setOption("rotation", "on", rotation);
   return s;
 }
 

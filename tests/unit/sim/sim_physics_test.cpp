@@ -171,7 +171,7 @@ Pile pile(int d, const std::string& integrator) {
   s->addMaterial("m", material(1e10, 0.5, 0.5));
   // A light large grain, so the small ones carry it with overlaps of 0.1 % of their radius.
   s->addMaterial("light", material(1e10, 0.5, 0.5, d == 2 ? 2.5 : 25));
-  s->setIntegrator(integrator);
+  s->setOption("integrator", "name", integrator);
   Vec3d n{0, 0, 0}, g{0, 0, 0};
   n[up(d)] = 1;
   g[up(d)] = -kG;

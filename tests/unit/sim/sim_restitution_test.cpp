@@ -15,6 +15,7 @@ namespace {
 using physics::HertzDamping;
 using testing::grain;
 using testing::material;
+using testing::setWatchdog;
 
 constexpr double kR = 1e-3, kV0 = 1, kYoung = 5e6;
 
@@ -78,8 +79,8 @@ TEST(SimRestitution, DampingChoiceIsPartOfTheScene) {
     if (others) {
       WatchdogOptions w;
       w.overlap = 0.3;
-      s->setWatchdog(w);
-      s->setTouchCorrection(true);
+      setWatchdog(*s, w);
+      s->setOption("touch", "on", true);
     }
     for (HertzDamping d : {HertzDamping::Calibrated, HertzDamping::Liggghts}) {
       s->setHertzDamping(d);
@@ -88,12 +89,12 @@ TEST(SimRestitution, DampingChoiceIsPartOfTheScene) {
       auto t = makeSimulation(3);
       t->load(io);
       EXPECT_EQ(t->hertzDamping(), d) << others;
-      EXPECT_EQ(t->touchCorrection(), others);
+      EXPECT_EQ(std::get<bool>(t->option("touch", "on")), others);
       EXPECT_EQ(t->stateDigest(), s->stateDigest()) << others;
     }
   }
-  s->setTouchCorrection(false);
-  s->setWatchdog(WatchdogOptions{});
+  s->setOption("touch", "on", false);
+  setWatchdog(*s, WatchdogOptions{});
   std::stringstream io;
   s->setHertzDamping(HertzDamping::Calibrated);
   s->save(io);

@@ -23,6 +23,8 @@ using testing::codeOf;
 using testing::grain;
 using testing::material;
 using testing::plane;
+using testing::setWatchdog;
+using testing::watchdogOf;
 
 constexpr double kG = 9.81;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -226,7 +228,7 @@ TEST(Stability, Impact100MetresPerSecondOnAThinWall) {
     // With the watchdog off the grain passes through the plate: the failure it prevents.
     WatchdogOptions off;
     off.enabled = false;
-    s->setWatchdog(off);
+    setWatchdog(*s, off);
     s->runSteps(2);
     EXPECT_GT(s->grain(g).position[0], r);
   }
@@ -307,10 +309,10 @@ TEST(Stability, BadParametersAreRejected) {
     EXPECT_EQ(codeOf([&] { s->addMaterial("x", m); }), (Code{"VALUE", "NORMALSTIFFNESS"}));
     WatchdogOptions o;
     o.overlap = bad;
-    EXPECT_EQ(codeOf([&] { s->setWatchdog(o); }), (Code{"VALUE", "OVERLAP"}));
+    EXPECT_EQ(codeOf([&] { setWatchdog(*s, o); }), (Code{"VALUE", "OVERLAP"}));
     o = {};
     o.energy = bad;
-    EXPECT_EQ(codeOf([&] { s->setWatchdog(o); }), (Code{"VALUE", "ENERGY"}));
+    EXPECT_EQ(codeOf([&] { setWatchdog(*s, o); }), (Code{"VALUE", "ENERGY"}));
   }
   MaterialDef m = material(1e8, 0.5, 0.3);
   m.poisson = kNaN;
@@ -327,13 +329,13 @@ TEST(Stability, BadParametersAreRejected) {
   EXPECT_EQ(codeOf([&] { s->relax(0.01, 0); }), (Code{"VALUE", "ITERATIONS"}));
   WatchdogOptions o;
   o.overlap = std::numeric_limits<double>::infinity();
-  EXPECT_EQ(codeOf([&] { s->setWatchdog(o); }), (Code{"VALUE", "OVERLAP"}));
+  EXPECT_EQ(codeOf([&] { setWatchdog(*s, o); }), (Code{"VALUE", "OVERLAP"}));
   o = {};
   o.energy = std::numeric_limits<double>::infinity();
-  EXPECT_EQ(codeOf([&] { s->setWatchdog(o); }), (Code{"VALUE", "ENERGY"}));
+  EXPECT_EQ(codeOf([&] { setWatchdog(*s, o); }), (Code{"VALUE", "ENERGY"}));
   o = {};
   o.placed = -1;
-  EXPECT_EQ(codeOf([&] { s->setWatchdog(o); }), (Code{"VALUE", "PLACED"}));
+  EXPECT_EQ(codeOf([&] { setWatchdog(*s, o); }), (Code{"VALUE", "PLACED"}));
   EXPECT_EQ(s->stateDigest(), digest);
   row("zero, negative and NaN parameters", 0, "rejected (DEMLAB VALUE ...), nothing changed");
 }
@@ -376,7 +378,7 @@ TEST(Stability, WatchdogStopsABlowUp) {
     o.speed = false;
     o.overlap = std::string(only) == "OVERLAP" ? 0.2 : 0;
     o.energy = std::string(only) == "ENERGY" ? 0.5 : 0;
-    s->setWatchdog(o);
+    setWatchdog(*s, o);
     EXPECT_EQ(tripOf([&] { s->runSteps(100000); }), only);
   }
   // With the watchdog off the same scene flies apart: the grains leave with energy the
@@ -384,7 +386,7 @@ TEST(Stability, WatchdogStopsABlowUp) {
   auto s = unstableScene(factor);
   WatchdogOptions off;
   off.enabled = false;
-  s->setWatchdog(off);
+  setWatchdog(*s, off);
   s->runSteps(20000);
   EXPECT_GT(s->energy().residual, 0.5);
 }
@@ -424,11 +426,11 @@ TEST(Stability, WatchdogChangesNothingAndIsSaved) {
   EXPECT_EQ(on->stateDigest(), off->stateDigest());
   WatchdogOptions o;
   o.enabled = false;
-  off->setWatchdog(o);
+  setWatchdog(*off, o);
   EXPECT_NE(on->stateDigest(), off->stateDigest());
   on->runSteps(500);
   off->runSteps(300);
-  off->setWatchdog(WatchdogOptions{});  // back on mid-run: the trajectory does not notice
+  setWatchdog(*off, WatchdogOptions{});  // back on mid-run: the trajectory does not notice
   off->runSteps(200);
   EXPECT_EQ(on->positions(), off->positions());
   EXPECT_EQ(on->velocities(), off->velocities());
@@ -442,15 +444,15 @@ TEST(Stability, WatchdogChangesNothingAndIsSaved) {
   o = {};
   o.overlap = 0.3;
   o.speed = false;
-  on->setWatchdog(o);
+  setWatchdog(*on, o);
   std::ostringstream saved;
   on->save(saved);
   auto back = makeSimulation(3);
   std::istringstream in(saved.str());
   back->load(in);
-  EXPECT_EQ(back->watchdog(), o);
+  EXPECT_EQ(watchdogOf(*back), o);
   EXPECT_EQ(back->stateDigest(), on->stateDigest());
-  EXPECT_EQ(on->clone()->watchdog(), o);
+  EXPECT_EQ(watchdogOf(*on->clone()), o);
 }
 
 }  // namespace

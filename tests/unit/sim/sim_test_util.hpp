@@ -28,6 +28,23 @@ std::vector<std::string> codeOf(F&& f) {
   return {};
 }
 
+// Sets the watchdog's options from one struct, through the generic option pair.
+inline void setWatchdog(Simulation& s, const WatchdogOptions& o) {
+  s.setOptions({{"watchdog", "on", o.enabled},
+                {"watchdog", "overlap", o.overlap},
+                {"watchdog", "placed", o.placed},
+                {"watchdog", "energy", o.energy},
+                {"watchdog", "speed", o.speed}});
+}
+
+// Returns the watchdog's options of s as one struct.
+inline WatchdogOptions watchdogOf(const Simulation& s) {
+  const auto get = [&](const char* n) { return s.option("watchdog", n); };
+  return {std::get<bool>(get("on")), std::get<double>(get("overlap")),
+          std::get<double>(get("placed")), std::get<double>(get("energy")),
+          std::get<bool>(get("speed"))};
+}
+
 // Returns the vertical axis of a dim-dimensional scene (y in 2D, z in 3D).
 inline int up(int d) {
   return d == 2 ? 1 : 2;
