@@ -270,11 +270,11 @@ std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Optio
                  {"detection", "skin", o.skin}});
   if (!o.integrator.empty()) s->setOption("integrator", "name", o.integrator);
 
-  s->reserveGrains(d.size());
-  std::vector<sim::GrainDef> batch;
+  s->reserveElements(d.size());
+  std::vector<sim::ElementDef> batch;
   batch.reserve(std::min(kBatch, d.size()));
   for (std::size_t i = 0; i < d.size(); ++i) {
-    sim::GrainDef g;
+    sim::ElementDef g;
     g.position = {d.positions[i].x(), d.positions[i].y(), d.positions[i].z()};
     if (!d.velocities.empty()) {
       const auto& u = d.velocities[i];
@@ -286,7 +286,7 @@ std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Optio
     g.material = materialOf.at(d.densities[i]);
     batch.push_back(std::move(g));
     if (batch.size() == kBatch || i + 1 == d.size()) {
-      s->addGrains(batch);
+      s->addElements(batch);
       batch.clear();
     }
   }

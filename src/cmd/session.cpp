@@ -55,9 +55,9 @@ H lookup(std::string_view word, std::string_view kind, Find find, Probe probe) {
 PipeType elementRef() {
   return custom("element", [](std::string_view w, const Param&, const Context& c) -> std::any {
     const sim::Simulation& s = session(c).scene();
-    return lookup<sim::GrainId>(
-        w, "element", [&](const std::string& n) { return s.findGrain(n); },
-        [&](sim::GrainId h) { s.grain(h); });
+    return lookup<sim::ElementId>(
+        w, "element", [&](const std::string& n) { return s.findElement(n); },
+        [&](sim::ElementId h) { s.element(h); });
   });
 }
 

@@ -80,7 +80,7 @@ H fromScriptId(std::int64_t id) {
 }
 
 // Pipes over the scene, for the check phase.
-// An element by id or name; value: sim::GrainId. {LOOKUP ELEMENT} if there is none.
+// An element by id or name; value: sim::ElementId. {LOOKUP ELEMENT} if there is none.
 PipeType elementRef();
 // A wall by id or name; value: sim::WallId. {LOOKUP WALL}.
 PipeType wallRef();

@@ -27,7 +27,7 @@ class GravityModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Behaviors; }
   void run(Scene<D>& s) override {
     const VecD<D> g = s.behaviors.gravity();
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const size_t n = a.size();
     // Gravity along one axis (as usual): one division per grain, not D. Adding the other
     // components' 0 would change nothing (a force sum is never -0), so this is bit-identical.

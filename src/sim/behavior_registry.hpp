@@ -69,23 +69,23 @@ inline BehaviorParam numberParam(std::string name, double x) {
   return {std::move(name), {x}, {}, {}};
 }
 // Returns the "element" or "tag" parameter naming a behavior's target.
-inline BehaviorParam targetParam(GrainId grain, const std::string& tag) {
+inline BehaviorParam targetParam(ElementId grain, const std::string& tag) {
   if (!grain.isNull()) return {"element", {}, {}, grain};
   return {"tag", {}, tag, {}};
 }
 // Calls fn(dense index) for a behavior's target: the grain (nothing once it is gone), or each
 // grain carrying tag now.
 template <int D, class F>
-void forEachTarget(const Scene<D>& s, GrainId grain, const std::string& tag, F&& fn) {
+void forEachTarget(const Scene<D>& s, ElementId grain, const std::string& tag, F&& fn) {
   if (!grain.isNull()) {
-    const uint32_t i = s.grains.pool().findDense(grain);
-    if (i != HandlePool<GrainKind>::kNpos) fn(i);
+    const uint32_t i = s.elements.pool().findDense(grain);
+    if (i != HandlePool<ElementKind>::kNpos) fn(i);
   } else {
-    s.grains.tags().forEach(tag, [&](GrainId id) { fn(s.grains.pool().denseIndex(id)); });
+    s.elements.tags().forEach(tag, [&](ElementId id) { fn(s.elements.pool().denseIndex(id)); });
   }
 }
 // Returns `grain 1.1` or `tag "bed"`.
-inline std::string targetText(GrainId grain, const std::string& tag) {
+inline std::string targetText(ElementId grain, const std::string& tag) {
   return grain.isNull() ? "tag \"" + tag + "\"" : "grain " + toString(grain);
 }
 

@@ -56,7 +56,7 @@ class CohesionModule final : public SimModule<D> {
   bool readsContactRecords() const override { return true; }
 
   void run(Scene<D>& s) override {
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     double work = 0;
     for (ContactRecord<D>& c : s.contacts) {

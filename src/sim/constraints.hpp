@@ -20,12 +20,12 @@ class ConstraintModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Behaviors; }
 
   void run(Scene<D>& s) override {
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     double work = 0;
     for (const BlockedElement& b : s.blocked) {
-      const uint32_t i = s.grains.pool().findDense(b.id);
-      if (i == HandlePool<GrainKind>::kNpos) continue;
+      const uint32_t i = s.elements.pool().findDense(b.id);
+      if (i == HandlePool<ElementKind>::kNpos) continue;
       for (int k = 0; k < D; ++k) {
         if (b.dofs & (dof::X << k)) {
           work -= a.f[i][k] * a.v[i][k] * dt;

@@ -1,7 +1,7 @@
 // SIMD kernels of the 3D step: the grain-grain contact pass of Hertz-Mindlin beds over
 // structure-of-arrays batches (several contacts per register, 2 with SSE2, 4 with AVX2 or
 // AVX-512, instead of one 3-vector per register), and the rotation update, the drift and the
-// kick over several grains per register. GrainContactModule (contacts.hpp) calls the contact
+// kick over several grains per register. BallContactModule (contacts.hpp) calls the contact
 // pass for the scenes it covers (3D, every pair Hertz-Mindlin), the integrator modules
 // (integrator.hpp) the others for every 3D scene; 2D scenes and the other laws keep the
 // Eigen loops.
@@ -45,7 +45,7 @@ struct SpringSlots {
   void (*release)(void* owner, size_t k) = nullptr;
 };
 
-// One grain-grain contact pass: what GrainContactModule<3, HertzMindlin, ...>::pass reads and
+// One grain-grain contact pass: what BallContactModule<3, HertzMindlin, ...>::pass reads and
 // writes, as plain arrays (3-vectors as 3 consecutive doubles).
 struct HertzPassArgs {
   // Grains (dense order). w and t are read and written only with rotation.

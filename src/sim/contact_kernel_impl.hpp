@@ -4,7 +4,7 @@
 // (DEMLAB_KERNEL_NS), so no function here is shared between translation units compiled for
 // different instruction sets. Nothing from Eigen or the standard library's templates.
 //
-// The arithmetic is GrainContactModule::pass's (contacts.hpp) and hertzMindlinContactWith's
+// The arithmetic is BallContactModule::pass's (contacts.hpp) and hertzMindlinContactWith's
 // with coulombSpringStep<Project> (law_hertz_mindlin.hpp, tangential.hpp), operation by
 // operation, each lane one contact; the law's branches become selects (both sides computed,
 // one kept, which changes no bit of the kept side), except three that are rarely taken and

@@ -8,7 +8,7 @@ namespace {
 
 template <int D, int Law, bool History, bool Rotation>
 void addPair(std::vector<std::unique_ptr<SimModule<D>>>& out, bool walls, long grainPair) {
-  out.push_back(std::make_unique<GrainContactModule<D, Law, History, Rotation>>(grainPair));
+  out.push_back(std::make_unique<BallContactModule<D, Law, History, Rotation>>(grainPair));
   if (walls) {
     out.push_back(std::make_unique<WallContactModule<D, Law, History, Rotation>>(grainPair));
   }

@@ -107,7 +107,7 @@ bool isOnePair(long grainPair, const Scene<D>& s) {
 // grain arrays a (Eigen's fixed-size vectors are their D doubles, so they are plain doubles);
 // the spin and torque arrays only when grains rotate.
 template <bool Rotation, class Args, int D>
-void bindGrainArrays(Args& k, GrainArrays<D>& a) {
+void bindGrainArrays(Args& k, ElementArrays<D>& a) {
   k.x = reinterpret_cast<const double*>(a.x.data());
   k.v = reinterpret_cast<const double*>(a.v.data());
   k.f = reinterpret_cast<double*>(a.f.data());
@@ -121,11 +121,11 @@ void bindGrainArrays(Args& k, GrainArrays<D>& a) {
 }
 
 template <int D, int Law, bool History, bool Rotation>
-class GrainContactModule final : public SimModule<D> {
+class BallContactModule final : public SimModule<D> {
  public:
   // grainPair: the index into s.pairParams of every pair when all grains have one material
   // (makeContactModules), else -1.
-  explicit GrainContactModule(long grainPair = -1) : grainPair_(grainPair) {}
+  explicit BallContactModule(long grainPair = -1) : grainPair_(grainPair) {}
   std::string_view name() const override { return History ? "contacts-friction" : "contacts"; }
   SimLevel level() const override { return SimLevel::Contacts; }
 
@@ -179,7 +179,7 @@ class GrainContactModule final : public SimModule<D> {
     static_assert(sizeof(VecD<D>) == D * sizeof(double) &&
                   sizeof(AngularD<D>) == D * sizeof(double));
     static_assert(sizeof(CandidatePair) == 2 * sizeof(uint32_t));
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const bool one = isOnePair(grainPair_, s);
     const size_t nPairs = one ? 1 : s.pairParams.size();
     kernelPairs_.resize(nPairs);
@@ -241,7 +241,7 @@ class GrainContactModule final : public SimModule<D> {
   template <bool OnePair>
   void pass(Scene<D>& s) {
     using Call = LawCall<D, Law>;
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
     const Real lag = velocityLag(s);
@@ -375,7 +375,7 @@ class WallContactModule final : public SimModule<D> {
   }
   SimLevel level() const override { return SimLevel::Contacts; }
 
-  // grainPair: as GrainContactModule's (the one grain material m's pair m * nMat + m, or -1).
+  // grainPair: as BallContactModule's (the one grain material m's pair m * nMat + m, or -1).
   explicit WallContactModule(long grainPair = -1) : grainPair_(grainPair) {}
 
   void run(Scene<D>& s) override {
@@ -392,7 +392,7 @@ class WallContactModule final : public SimModule<D> {
   // OnePair: every grain has one material, so each wall has one PairParams, read once.
   template <bool OnePair>
   void pass(Scene<D>& s) {
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
     const Real lag = velocityLag(s);
@@ -503,7 +503,7 @@ class WallContactModule final : public SimModule<D> {
     const kernel::WallPassFn fn = kernel::wallPass(isa, History, Rotation);
     if (fn == nullptr) return false;
     static_assert(sizeof(physics::ContactGeometry<D>) == 7 * sizeof(double));
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     Wall<D>& wall = s.walls.items[w];
     const size_t nMat = s.nMat();
     const bool one = isOnePair(grainPair_, s);

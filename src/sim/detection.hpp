@@ -71,7 +71,7 @@ class DetectionModule final : public SimModule<D> {
   }
 
   // Searches anew: fills s.candidates and s.wallCandidates, resets the skin bookkeeping; at
-  // every s.grains.reorderEvery-th search (counting from the first) first sorts the grains'
+  // every s.elements.reorderEvery-th search (counting from the first) first sorts the grains'
   // dense order spatially (sim/reorder.hpp), which renumbers every dense index. Changes
   // s.contacts' capacity (sized for the coming steps); of its scratch keeps only the grid's
   // arrays, and those only when searches are frequent.
@@ -85,9 +85,9 @@ class DetectionModule final : public SimModule<D> {
     std::vector<CandidatePair>().swap(s.candidates);
     std::vector<ContactRecord<D>>().swap(s.contacts);
     std::vector<VecD<D>>().swap(s.xAtBuild);
-    const uint32_t every = s.grains.reorderEvery;
+    const uint32_t every = s.elements.reorderEvery;
     if (every > 0 && s.rebuilds % every == 0) reorderGrains(s);
-    const GrainArrays<D>& a = s.grains.a;
+    const ElementArrays<D>& a = s.elements.a;
     const size_t n = a.size();
     const Real half = 0.5 * s.skin;
     // Room for the walls too: growing past n would double the largest array of the search.

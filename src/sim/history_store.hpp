@@ -32,7 +32,7 @@ namespace demlab::sim {
 template <int D>
 void parkSprings(Scene<D>& s) {
   if (!s.keepHistory) return;
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   const size_t n = std::min(s.pairSprings.size(), s.candidates.size());
   for (size_t k = 0; k < n; ++k) {
     const VecD<D> sp = s.pairSprings.spring(k);
@@ -57,7 +57,7 @@ void parkSprings(Scene<D>& s) {
 template <int D>
 void unparkSprings(Scene<D>& s) {
   if (!s.keepHistory) return;
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   s.pairSprings.reset(s.candidates.size(), false);
   s.wallSprings.resize(s.wallCandidates.size());
   for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
@@ -93,8 +93,8 @@ class SpringTransfer {
     entries_.clear();
     rowStart_.clear();
     if (!s.keepHistory) return;
-    const GrainArrays<D>& a = s.grains.a;
-    const uint32_t rows = s.grains.pool().slotCount();
+    const ElementArrays<D>& a = s.elements.a;
+    const uint32_t rows = s.elements.pool().slotCount();
     rowStart_.assign(static_cast<size_t>(rows) + 1, 0);
     // Pass 1 counts the springs per row (lower slot), pass 2 places them.
     auto each = [&](auto&& put) {
@@ -136,7 +136,7 @@ class SpringTransfer {
   // the grain pairs in contact now, which sizes the spring pool.
   void give(Scene<D>& s, size_t touching) {
     if (!s.keepHistory) return;
-    const GrainArrays<D>& a = s.grains.a;
+    const ElementArrays<D>& a = s.elements.a;
     s.pairSprings.reset(s.candidates.size(), true);
     // Room for the pairs touching now and a sixteenth more, for the contacts that form before
     // the next search. Past that the pool grows by an eighth, and each growth holds the old

@@ -42,7 +42,7 @@ class PredictModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Predict; }
 
   void run(Scene<D>& s) override {
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt, h = 0.5 * dt;
     const bool sync = s.integrator == IntegratorKind::Synchronized;
     const size_t n = a.size();
@@ -162,7 +162,7 @@ class PredictRotationModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Predict; }
 
   void run(Scene<D>& s) override {
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt, h = 0.5 * dt;
     const bool sync = s.integrator == IntegratorKind::Synchronized;
     const size_t n = a.size();
@@ -181,7 +181,7 @@ class PredictRotationModule final : public SimModule<D> {
         // An idle grain (no torque, no spin, both +0 bit for bit, as every grain of a falling
         // lattice) stays as it is: only its last torque becomes +0. The same bits as the update.
         if (isZeroBits(t[i]) && isZeroBits(w[i])) {
-          if (!isZeroBits(tPrev[i])) tPrev[i] = GrainArrays<D>::zeroAngular();
+          if (!isZeroBits(tPrev[i])) tPrev[i] = ElementArrays<D>::zeroAngular();
           continue;
         }
         const AngularD<D> alpha = t[i] * invInertia[i];
@@ -196,7 +196,7 @@ class PredictRotationModule final : public SimModule<D> {
           w[i] = wHalf;
         }
         tPrev[i] = t[i];
-        t[i] = GrainArrays<D>::zeroAngular();
+        t[i] = ElementArrays<D>::zeroAngular();
       }
     };
     sync ? pass(std::true_type{}) : pass(std::false_type{});
@@ -221,7 +221,7 @@ class PredictRotationModule final : public SimModule<D> {
     const kernel::RotationPassFn fn = kernel::rotationPass(isa);
     if (fn == nullptr) return 0;
     static_assert(sizeof(Quat) == 4 * sizeof(double) && sizeof(AngularD<D>) == 3 * sizeof(double));
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     Turn t{a.q.data(), s.stepDt};
     kernel::RotationArgs k;
     k.q = reinterpret_cast<double*>(a.q.data());
@@ -246,7 +246,7 @@ class CorrectModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Correct; }
 
   void run(Scene<D>& s) override {
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const Real h = 0.5 * s.stepDt;
     const size_t n = a.size();
     VecD<D>* __restrict v = a.v.data();
@@ -302,7 +302,7 @@ class CorrectModule final : public SimModule<D> {
 // velocity the drift used, whatever the integrator keeps in v.
 template <int D>
 inline VecD<D> halfStepVelocity(const Scene<D>& s, size_t i) {
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   if (s.integrator == IntegratorKind::Synchronized) {
     return a.v[i] - (0.5 * s.stepDt * a.invMass[i]) * a.fPrev[i];
   }
@@ -312,7 +312,7 @@ inline VecD<D> halfStepVelocity(const Scene<D>& s, size_t i) {
 // Returns the half-step angular velocity of grain i during the force phase (as above).
 template <int D>
 inline AngularD<D> halfStepAngularVelocity(const Scene<D>& s, size_t i) {
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   if (s.integrator == IntegratorKind::Synchronized) {
     if constexpr (D == 3) {
       // An element of anisotropic inertia (sim/rigid_body.hpp) took its estimate through its

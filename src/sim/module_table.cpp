@@ -23,7 +23,7 @@ SceneUse sceneUse(const Scene<D>& s) {
   SceneUse f;
   const size_t nm = s.nMat();
   std::vector<bool> grainMat(nm, false), anyMat(nm, false);
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   bool spinning = false;
   for (size_t i = 0; i < a.size(); ++i) {
     grainMat[a.material[i]] = true;

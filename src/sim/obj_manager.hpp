@@ -18,7 +18,7 @@
 namespace demlab::sim {
 
 template <int D>
-struct GrainArrays {
+struct ElementArrays {
   std::vector<VecD<D>> x, v, f, fPrev;   // position, velocity, force now, force of last step
   std::vector<RotationD<D>> q;           // orientation
   std::vector<AngularD<D>> w, t, tPrev;  // angular velocity, torque now and last step
@@ -68,7 +68,7 @@ struct GrainArrays {
     return bytes;
   }
 
-  // Applies fn to every array of self (a GrainArrays, const or not).
+  // Applies fn to every array of self (a ElementArrays, const or not).
   template <class Self, class F>
   static void forEachArray(Self& self, F&& fn) {
     fn(self.x), fn(self.v), fn(self.f), fn(self.fPrev), fn(self.q), fn(self.w), fn(self.t);
@@ -96,7 +96,7 @@ struct GrainArrays {
 // 2D grains are discs of unit thickness: m = rho pi r^2, I = m r^2 / 2 (the disc's 2/3 rolling
 // factor); 3D grains are spheres: m = 4/3 rho pi r^3, I = 2/5 m r^2.
 template <int D>
-inline Real grainMass(Real rho, Real r) {
+inline Real ballMass(Real rho, Real r) {
   if constexpr (D == 2) {
     return rho * std::numbers::pi * r * r;
   } else {
@@ -104,7 +104,7 @@ inline Real grainMass(Real rho, Real r) {
   }
 }
 template <int D>
-inline Real grainInertia(Real mass, Real r) {
+inline Real ballInertia(Real mass, Real r) {
   return (D == 2 ? 0.5 : 0.4) * mass * r * r;
 }
 
@@ -113,7 +113,7 @@ class SimObjManager {
  public:
   SimObjManager() : pool_("grain"), names_("grain") {}
 
-  GrainArrays<D> a;  // the hot state; dense index i is pool().handleAt(i)
+  ElementArrays<D> a;  // the hot state; dense index i is pool().handleAt(i)
 
   // The neighbor search sorts the dense order spatially at every reorderEvery-th search
   // (sim/reorder.hpp); 0: never. A tuning knob, not part of the scene: checkpoints do not
@@ -122,22 +122,22 @@ class SimObjManager {
   uint32_t reorderEvery = kDefaultReorderEvery;
   static constexpr uint32_t kDefaultReorderEvery = 10;
 
-  const HandlePool<GrainKind>& pool() const { return pool_; }
-  HandlePool<GrainKind>& pool() { return pool_; }
-  NameLookup<GrainId>& names() { return names_; }
-  const NameLookup<GrainId>& names() const { return names_; }
-  TagTable<GrainKind>& tags() { return tags_; }
-  const TagTable<GrainKind>& tags() const { return tags_; }
+  const HandlePool<ElementKind>& pool() const { return pool_; }
+  HandlePool<ElementKind>& pool() { return pool_; }
+  NameLookup<ElementId>& names() { return names_; }
+  const NameLookup<ElementId>& names() const { return names_; }
+  TagTable<ElementKind>& tags() { return tags_; }
+  const TagTable<ElementKind>& tags() const { return tags_; }
 
   // Returns the dense index of id. Throws {LOOKUP HANDLE}.
-  uint32_t index(GrainId id) const { return pool_.denseIndex(id); }
+  uint32_t index(ElementId id) const { return pool_.denseIndex(id); }
 
   // Adds a grain whose Def was checked. Returns its handle. Changes every array, the pool,
   // names and tags (the caller has checked the name is free and the tags valid).
-  GrainId add(const VecD<D>& x, const VecD<D>& v, const AngularD<D>& w, Real r, Real invM,
+  ElementId add(const VecD<D>& x, const VecD<D>& v, const AngularD<D>& w, Real r, Real invM,
               Real invI, uint32_t mat, const std::string& name,
               const std::vector<std::string>& tagList, uint32_t geometry = 0) {
-    const GrainId id = pool_.allocate();
+    const ElementId id = pool_.allocate();
     a.push(x, v, w, r, invM, invI, mat, id.index, geometry);
     if (!name.empty()) names_.add(name, id);
     for (const std::string& t : tagList) tags_.add(id, t);
@@ -145,7 +145,7 @@ class SimObjManager {
   }
 
   // Removes the grain id (live). Returns its slot index (for the pair histories to forget).
-  uint32_t remove(GrainId id) {
+  uint32_t remove(ElementId id) {
     const SwapRemove m = pool_.free(id);
     a.remove(m);
     names_.remove(id);
@@ -156,9 +156,9 @@ class SimObjManager {
   size_t size() const { return a.size(); }
 
  private:
-  HandlePool<GrainKind> pool_;
-  NameLookup<GrainId> names_;
-  TagTable<GrainKind> tags_;
+  HandlePool<ElementKind> pool_;
+  NameLookup<ElementId> names_;
+  TagTable<ElementKind> tags_;
 };
 
 }  // namespace demlab::sim

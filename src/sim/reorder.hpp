@@ -50,7 +50,7 @@ inline uint64_t spreadBits(uint64_t x) {
 // Returns the permutation that sorts the grains along a Morton curve: perm[k] is the old
 // dense index of the grain that goes to dense index k. Changes nothing.
 template <int D>
-std::vector<uint32_t> mortonOrder(const GrainArrays<D>& a) {
+std::vector<uint32_t> mortonOrder(const ElementArrays<D>& a) {
   const size_t n = a.size();
   std::vector<uint32_t> perm(n);
   if (n == 0) return perm;
@@ -96,16 +96,16 @@ void gatherInPlace(std::vector<T, A>& v, const std::vector<uint32_t>& perm) {
 // only where those are rebuilt next, with the pair springs collected by slot beforehand.
 template <int D>
 bool reorderGrains(Scene<D>& s) {
-  GrainArrays<D>& a = s.grains.a;
+  ElementArrays<D>& a = s.elements.a;
   const std::vector<uint32_t> perm = mortonOrder(a);
   bool identity = true;
   for (size_t k = 0; k < perm.size() && identity; ++k) identity = perm[k] == k;
   if (identity) return false;
-  GrainArrays<D>::forEachArray(a, [&](auto& arr) { gatherInPlace(arr, perm); });
+  ElementArrays<D>::forEachArray(a, [&](auto& arr) { gatherInPlace(arr, perm); });
   if (s.xAtBuild.size() == perm.size()) gatherInPlace(s.xAtBuild, perm);
-  auto st = s.grains.pool().saveState();
+  auto st = s.elements.pool().saveState();
   gatherInPlace(st.dense, perm);
-  s.grains.pool().restoreState(st);
+  s.elements.pool().restoreState(st);
   s.contacts.clear();
   return true;
 }

@@ -32,14 +32,14 @@ inline Vec3 principalInertia(const Geometry<3>& g, Real rho) {
 // Returns the density element i's inertia was computed from: its mass over its volume.
 template <int D>
 Real elementDensity(const Scene<D>& s, size_t i) {
-  return s.materials[s.grains.a.material[i]].density;
+  return s.materials[s.elements.a.material[i]].density;
 }
 
 // Returns twice the rotational kinetic energy of element i of anisotropic inertia: w . I w.
 template <int D>
 [[gnu::noinline]] Real twiceRigidRotationalEnergy(const Scene<D>& s, size_t i) {
   if constexpr (D == 3) {
-    const GrainArrays<3>& a = s.grains.a;
+    const ElementArrays<3>& a = s.elements.a;
     const Geometry<3>& g = *s.geometries[a.geometry[i]];
     const Quat Q = a.q[i] * g.principal;
     const Vec3 wb = Q.conjugate() * a.w[i];
@@ -53,14 +53,14 @@ template <int D>
 // per element: the ball's case inline).
 template <int D>
 [[gnu::always_inline]] inline Real twiceRotationalEnergy(const Scene<D>& s, size_t i) {
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   if (a.invInertia[i] != 0) [[likely]] return squaredNorm(a.w[i]) / a.invInertia[i];
   return twiceRigidRotationalEnergy(s, i);
 }
 
 // Returns the world-frame angular momentum of element i (3D).
 inline Vec3 angularMomentum(const Scene<3>& s, size_t i) {
-  const GrainArrays<3>& a = s.grains.a;
+  const ElementArrays<3>& a = s.elements.a;
   if (a.invInertia[i] != 0) return a.w[i] / a.invInertia[i];
   const Geometry<3>& g = *s.geometries[a.geometry[i]];
   const Quat Q = a.q[i] * g.principal;
@@ -70,7 +70,7 @@ inline Vec3 angularMomentum(const Scene<3>& s, size_t i) {
 
 // Returns I_world^-1 x for element i of anisotropic inertia (invInertia 0), x in the world frame.
 inline Vec3 rigidInverseInertiaTimes(const Scene<3>& s, size_t i, const Vec3& x) {
-  const GrainArrays<3>& a = s.grains.a;
+  const ElementArrays<3>& a = s.elements.a;
   const Geometry<3>& g = *s.geometries[a.geometry[i]];
   const Quat Q = a.q[i] * g.principal;
   return Q * (Q.conjugate() * x).cwiseQuotient(principalInertia(g, elementDensity(s, i)));
@@ -111,7 +111,7 @@ class PredictRigidRotationModule final : public SimModule<D> {
 
   void run(Scene<D>& s) override {
     if constexpr (D == 3) {
-      GrainArrays<3>& a = s.grains.a;
+      ElementArrays<3>& a = s.elements.a;
       const Real dt = s.stepDt, h = 0.5 * dt;
       const bool sync = s.integrator == IntegratorKind::Synchronized;
       for (size_t i = 0; i < a.size(); ++i) {
@@ -142,7 +142,7 @@ class CorrectRigidRotationModule final : public SimModule<D> {
 
   void run(Scene<D>& s) override {
     if constexpr (D == 3) {
-      GrainArrays<3>& a = s.grains.a;
+      ElementArrays<3>& a = s.elements.a;
       const Real h = 0.5 * s.stepDt;
       const bool sync = s.integrator == IntegratorKind::Synchronized;
       for (size_t i = 0; i < a.size(); ++i) {

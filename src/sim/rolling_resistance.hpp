@@ -45,7 +45,7 @@ class RollingResistanceModule final : public SimModule<D> {
 
   void run(Scene<D>& s) override {
     if (!s.rotating || !(s.stepDt > 0)) return;
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     double loss = 0;
     for (const ContactRecord<D>& c : s.contacts) {

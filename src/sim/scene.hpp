@@ -94,15 +94,15 @@ struct PairOverride {
 // applies them at the end of the step (SimulationManager::applyDeferred), when no pass holds a
 // dense index, and the loop goes on from the changed scene.
 struct DeferredChanges {
-  std::vector<GrainDef> create;  // checked when applied, all or none
-  std::vector<GrainId> destroy;  // a handle already gone is skipped
+  std::vector<ElementDef> create;  // checked when applied, all or none
+  std::vector<ElementId> destroy;  // a handle already gone is skipped
   bool empty() const { return create.empty() && destroy.empty(); }
 };
 
 // An element with blocked degrees of freedom (sim/constraints.hpp). Few elements are: a list
 // beside the hot arrays, so a scene without any pays nothing, not a byte per element.
 struct BlockedElement {
-  GrainId id;
+  ElementId id;
   uint8_t dofs;  // dof:: mask, never 0 (an element with none blocked leaves the list)
 };
 
@@ -123,14 +123,14 @@ std::vector<Shareable<Geometry<D>>> ballGeometryOnly() {
 template <int D>
 struct Scene {
   // ---- objects ----
-  SimObjManager<D> grains;
+  SimObjManager<D> elements;
   WallSet<D> walls;
   BehaviorManager<D> behaviors;
   std::vector<BlockedElement> blocked;  // in the order they were blocked
   DeferredChanges deferred;             // empty at every step boundary
 
   // ---- element shapes (sim/shape.hpp) ----
-  // The shared Geometry components; GrainArrays::geometry indexes them. [0] is the ball's.
+  // The shared Geometry components; ElementArrays::geometry indexes them. [0] is the ball's.
   std::vector<Shareable<Geometry<D>>> geometries = ballGeometryOnly<D>();
   // Some element is not a ball (set when the loop is built): the search then hands the pairs
   // with such an element to the shape contact pass instead of the ball passes.

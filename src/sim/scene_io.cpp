@@ -188,7 +188,7 @@ void writeBehavior(Writer& w, const Behavior<D>& b) {
   }
   w.u8(gravity ? 0 : 1);
   w.vec<D>(gravity ? gravity->g() : VecD<D>::Zero());
-  w.u64(load ? load->grain.bits() : GrainId().bits());
+  w.u64(load ? load->grain.bits() : ElementId().bits());
   w.str(load ? load->tag : std::string());
   for (int k = 0; k < 3; ++k) {
     w.f64(load ? load->force[k] : 0.0);
@@ -210,7 +210,7 @@ std::unique_ptr<Behavior<D>> readBehavior(Reader& r) {
       p.numbers.resize(r.count(8));
       for (double& x : p.numbers) x = r.f64();
       p.text = r.str();
-      p.grain = GrainId::fromBits(r.u64());
+      p.grain = ElementId::fromBits(r.u64());
     }
     try {
       return makeBehavior<D>(type, ps);
@@ -220,7 +220,7 @@ std::unique_ptr<Behavior<D>> readBehavior(Reader& r) {
   }
   if (code > 1) Reader::bad("unknown behavior record");
   const VecD<D> g = r.vec<D>();
-  const GrainId grain = GrainId::fromBits(r.u64());
+  const ElementId grain = ElementId::fromBits(r.u64());
   const std::string tag = r.str();
   Vec3d force{}, torque{};
   for (int c = 0; c < 3; ++c) {
@@ -258,7 +258,7 @@ void readBlocked(Reader& r, Scene<D>& s) {
     b.id.index = r.u32();
     b.id.generation = r.u32();
     b.dofs = r.u8();
-    if (!s.grains.pool().valid(b.id)) Reader::bad("blocked element handle");
+    if (!s.elements.pool().valid(b.id)) Reader::bad("blocked element handle");
     if (b.dofs == 0 || (b.dofs & ~dof::all(D)) != 0) Reader::bad("blocked degrees of freedom");
   }
 }
@@ -295,7 +295,7 @@ void writeShapes(Writer& w, const Scene<D>& s) {
     w.str(std::string(t.type(g->shape).name()));
     w.list(g->params, [&](double x) { w.f64(x); });
   });
-  w.list(s.grains.a.geometry, [&](uint32_t g) { w.u32(g); });
+  w.list(s.elements.a.geometry, [&](uint32_t g) { w.u32(g); });
   w.u8(s.anyShapes);
   w.list(s.shapeCandidates, [&](const CandidatePair& c) {
     w.u32(c.i);
@@ -337,7 +337,7 @@ void readShapes(Reader& r, Scene<D>& s) {
     }
     if ((k == 0) != (s.geometries[k]->shape == ShapeTable<D>::ball())) Reader::bad("shape table");
   }
-  std::vector<uint32_t>& g = s.grains.a.geometry;
+  std::vector<uint32_t>& g = s.elements.a.geometry;
   if (r.count(4) != g.size()) Reader::bad("shape count");
   for (uint32_t& x : g) {
     x = r.u32();
@@ -391,8 +391,8 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   w.u64(s.steps);
   w.f64(s.stepDt);
   // Grains.
-  const GrainArrays<D>& a = s.grains.a;
-  writePool(w, s.grains.pool());
+  const ElementArrays<D>& a = s.elements.a;
+  writePool(w, s.elements.pool());
   for (size_t i = 0; i < a.size(); ++i) {
     w.vec<D>(a.x[i]);
     w.vec<D>(a.v[i]);
@@ -407,7 +407,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.f64(a.invInertia[i]);
     w.u32(a.material[i]);
   }
-  writeNamesTags(w, s.grains.names(), s.grains.tags());
+  writeNamesTags(w, s.elements.names(), s.elements.tags());
   // Walls.
   writePool(w, s.walls.pool());
   for (const Wall<D>& x : s.walls.items) {
@@ -554,9 +554,9 @@ void readScene(Reader& r, Scene<D>& s) {
   s.time = r.f64();
   s.steps = r.u64();
   s.stepDt = r.f64();
-  readPool(r, s.grains.pool());
-  GrainArrays<D>& a = s.grains.a;
-  const uint32_t n = s.grains.pool().size();
+  readPool(r, s.elements.pool());
+  ElementArrays<D>& a = s.elements.a;
+  const uint32_t n = s.elements.pool().size();
   for (uint32_t i = 0; i < n; ++i) {
     const VecD<D> x = r.vec<D>(), v = r.vec<D>(), f = r.vec<D>(), fp = r.vec<D>();
     const RotationD<D> q = r.rot<RotationD<D>>();
@@ -564,14 +564,14 @@ void readScene(Reader& r, Scene<D>& s) {
     const Real rad = r.f64(), im = r.f64(), ii = r.f64();
     const uint32_t mat = r.u32();
     if (mat >= nm) Reader::bad("grain material index");
-    a.push(x, v, w, rad, im, ii, mat, s.grains.pool().handleAt(i).index);
+    a.push(x, v, w, rad, im, ii, mat, s.elements.pool().handleAt(i).index);
     a.f.back() = f;
     a.fPrev.back() = fp;
     a.q.back() = q;
     a.t.back() = t;
     a.tPrev.back() = tp;
   }
-  readNamesTags(r, s.grains.pool(), s.grains.names(), s.grains.tags());
+  readNamesTags(r, s.elements.pool(), s.elements.names(), s.elements.tags());
   readPool(r, s.walls.pool());
   const uint32_t nw = s.walls.pool().size();
   for (uint32_t k = 0; k < nw; ++k) {

@@ -134,15 +134,15 @@ void throwNoRoutine(std::string_view a, std::string_view b) {
 
 template <int D>
 Real elementMass(const Geometry<D>& g, Real rho, Real r) {
-  if (g.boundRadius == 0) return grainMass<D>(rho, r);
+  if (g.boundRadius == 0) return ballMass<D>(rho, r);
   return rho * g.volume;
 }
 
 template <int D>
 std::pair<Real, Real> inverseMassAndInertia(const Geometry<D>& g, Real rho, Real r) {
   if (g.boundRadius == 0) {
-    const Real mass = grainMass<D>(rho, r);
-    return {1 / mass, 1 / grainInertia<D>(mass, r)};
+    const Real mass = ballMass<D>(rho, r);
+    return {1 / mass, 1 / ballInertia<D>(mass, r)};
   }
   const Real invMass = 1 / (rho * g.volume);
   if (D == 2) return {invMass, 1 / (rho * g.principalMoments[2])};

@@ -29,7 +29,7 @@ namespace demlab::sim {
 // Returns element i of s as the contact routines see it.
 template <int D>
 ElementRef<D> elementRef(const Scene<D>& s, uint32_t i) {
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   return {a.x[i], a.q[i], a.r[i], s.geometries[a.geometry[i]].get()};
 }
 
@@ -65,7 +65,7 @@ template <int D>
 void checkShapeRoutines(const Scene<D>& s) {
   const ShapeTable<D>& t = ShapeTable<D>::get();
   std::vector<size_t> present(s.geometries.size(), 0);
-  for (uint32_t g : s.grains.a.geometry) present[g] += 1;
+  for (uint32_t g : s.elements.a.geometry) present[g] += 1;
   std::vector<TypeId> types;
   std::vector<size_t> counts;  // elements of each type
   for (size_t g = 0; g < present.size(); ++g) {
@@ -102,9 +102,9 @@ Real angularCompliance(const Scene<D>& s, uint32_t i, const VecD<D>& r, const Ve
   if (!s.rotating) return 0;
   const AngularD<D> rn = cross(r, n);
   if constexpr (D == 3) {
-    if (s.grains.a.invInertia[i] == 0) return rn.dot(rigidInverseInertiaTimes(s, i, rn));
+    if (s.elements.a.invInertia[i] == 0) return rn.dot(rigidInverseInertiaTimes(s, i, rn));
   }
-  return squaredNorm(rn) * s.grains.a.invInertia[i];
+  return squaredNorm(rn) * s.elements.a.invInertia[i];
 }
 
 template <int D>
@@ -114,7 +114,7 @@ class ShapeContactModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Contacts; }
 
   void run(Scene<D>& s) override {
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
     const bool history = s.keepHistory, rotating = s.rotating;

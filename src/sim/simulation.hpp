@@ -7,7 +7,7 @@
 // - Vectors are std::array<double, 3> (Vec3d). In 2D the z component of a position, velocity,
 //   force or point must be 0 and an angular velocity or torque has only a z component (x and y
 //   must be 0): a Def that breaks this is rejected with DEMLAB VALUE <FIELD>.
-// - Bulk getters return flat std::vector<double> in dense order (grainIds() gives the same
+// - Bulk getters return flat std::vector<double> in dense order (elementIds() gives the same
 //   order), with dim() components per vector (positions, velocities, forces), 1 (2D) or 3 (3D)
 //   per angular quantity, 1 (2D angle) or 4 (3D quaternion w x y z) per orientation.
 // - Every mutating call checks its whole input first and either succeeds or throws
@@ -44,11 +44,11 @@ using Vec3d = std::array<double, 3>;
 using MaterialDef = physics::MaterialDef;
 using LawKind = physics::LawKind;
 
-struct GrainKind {};
+struct ElementKind {};
 struct WallKind {};
 struct BehaviorKind {};
 struct OutputKind {};
-using GrainId = Handle<GrainKind>;
+using ElementId = Handle<ElementKind>;
 using WallId = Handle<WallKind>;
 using BehaviorId = Handle<BehaviorKind>;
 using OutputId = Handle<OutputKind>;
@@ -95,7 +95,7 @@ inline constexpr unsigned all(int dim) {
 
 // One element, of uniform density (mass and inertia from the material's density and the
 // shape: sim/shape.hpp).
-struct GrainDef {
+struct ElementDef {
   Vec3d position{};
   Vec3d velocity{};
   Vec3d angularVelocity{};        // 2D: z only
@@ -161,7 +161,7 @@ struct WallDef {
 // For each component a TimeFunction, when set, replaces the constant. Exactly one of grain and
 // tag must be given (VALUE TARGET). Loads with a TimeFunction cannot be saved in a checkpoint.
 struct LoadDef {
-  GrainId grain;    // null: use tag
+  ElementId grain;    // null: use tag
   std::string tag;  // GroupBehavior over the grains carrying it at each step
   Vec3d force{};
   Vec3d torque{};  // 2D: z only
@@ -171,8 +171,8 @@ struct LoadDef {
 
 // ---- results ---------------------------------------------------------------------------
 
-struct GrainState {
-  GrainId id;
+struct ElementState {
+  ElementId id;
   std::string name;
   std::vector<std::string> tags;
   std::string material;
@@ -194,7 +194,7 @@ struct WallState {
   Vec3d point{};     // reference point now
   Vec3d velocity{};  // of the reference point now
   Vec3d angularVelocity{};
-  std::array<double, 4> orientation{};  // as GrainState
+  std::array<double, 4> orientation{};  // as ElementState
   Vec3d force{};                        // total force the grains exert on the wall in the last step
   Vec3d boundsLo{}, boundsHi{};
   // The geometry now (after any prescribed motion), for renderers and writers. Unit vectors.
@@ -221,8 +221,8 @@ struct MemoryReport {
 };
 
 struct ContactInfo {
-  GrainId a;  // always a grain
-  GrainId b;  // the other grain, or null when the contact is with wall
+  ElementId a;  // always a grain
+  ElementId b;  // the other grain, or null when the contact is with wall
   WallId wall;
   Vec3d point{}, normal{};  // normal from a towards b (or the wall)
   double overlap = 0;
@@ -285,14 +285,14 @@ struct WatchdogTrip {
   uint64_t step = 0;  // the scene's step count at the boundary where the run stopped
   double time = 0;
   bool atStart = false;         // found before the first step of the run (the scene as set up)
-  std::vector<GrainId> grains;  // the elements concerned (one or two)
+  std::vector<ElementId> grains;  // the elements concerned (one or two)
   WallId wall;                  // the wall concerned, if any
   std::string what;             // e.g. "overlap by 45% of the smaller radius (limit 20%)"
   std::string cause, fix;       // the likely cause and the fix, in words
   // Returns "run stopped at step N (t = T s) by the watchdog: <subject> <what>; likely cause:
   // ...; fix: ...", naming the elements and the wall with the given functions (the core passes
   // handles, the Tcl layer its script ids).
-  std::string message(const std::function<std::string(GrainId)>& grainName,
+  std::string message(const std::function<std::string(ElementId)>& grainName,
                       const std::function<std::string(WallId)>& wallName) const;
 };
 
@@ -335,7 +335,7 @@ struct BehaviorParam {
   std::string name;
   std::vector<double> numbers;  // Number: 1; Vector: 3 (2D: z = 0); Angular: 3 (2D: z only)
   std::string text;             // Tag
-  GrainId grain;                // Element
+  ElementId grain;                // Element
 };
 
 enum class BehaviorParamKind : uint8_t { Number, Vector, Angular, Element, Tag };
@@ -462,27 +462,27 @@ class Simulation {
   virtual PairCoefficients pairOverrides(const std::string& a, const std::string& b) const = 0;
 
   // -- grains --
-  virtual GrainId addGrain(const GrainDef& def) = 0;
+  virtual ElementId addElement(const ElementDef& def) = 0;
   // Adds all or none: every Def is checked (and names checked against each other) first.
-  virtual std::vector<GrainId> addGrains(const std::vector<GrainDef>& defs) = 0;
+  virtual std::vector<ElementId> addElements(const std::vector<ElementDef>& defs) = 0;
   // Makes room for n grains in all (those present included), exactly: adding them then, in
   // batches or one by one, reallocates no per-grain array (grown as they come, the arrays
   // would hold up to half as much again as they use). Changes nothing observable.
-  virtual void reserveGrains(size_t n) = 0;
+  virtual void reserveElements(size_t n) = 0;
   // Removes a grain (its tags, name and contact histories go with it). LOOKUP HANDLE.
-  virtual void removeGrain(GrainId id) = 0;
+  virtual void removeElement(ElementId id) = 0;
   // Removes every grain carrying tag; returns how many.
-  virtual size_t removeGrains(const std::string& tag) = 0;
-  virtual GrainState grain(GrainId id) const = 0;                // LOOKUP HANDLE
-  virtual GrainId findGrain(const std::string& name) const = 0;  // LOOKUP NAME
+  virtual size_t removeElements(const std::string& tag) = 0;
+  virtual ElementState element(ElementId id) const = 0;                // LOOKUP HANDLE
+  virtual ElementId findElement(const std::string& name) const = 0;  // LOOKUP NAME
   // Changes a grain's state; unset fields stay. LOOKUP HANDLE, VALUE <FIELD>.
-  virtual void setGrainPosition(GrainId id, const Vec3d& p) = 0;
-  virtual void setGrainVelocity(GrainId id, const Vec3d& v) = 0;
-  virtual void setGrainAngularVelocity(GrainId id, const Vec3d& w) = 0;
+  virtual void setElementPosition(ElementId id, const Vec3d& p) = 0;
+  virtual void setElementVelocity(ElementId id, const Vec3d& v) = 0;
+  virtual void setElementAngularVelocity(ElementId id, const Vec3d& w) = 0;
   // Blocks the degrees of freedom in mask (dof::) and frees the others; the velocities stay as
   // they are. LOOKUP HANDLE, VALUE DOF (a bit the dimension does not have).
-  virtual void setGrainBlocked(GrainId id, unsigned mask) = 0;
-  virtual size_t grainCount() const = 0;
+  virtual void setElementBlocked(ElementId id, unsigned mask) = 0;
+  virtual size_t elementCount() const = 0;
 
   // -- walls --
   virtual WallId addWall(const WallDef& def) = 0;
@@ -493,9 +493,9 @@ class Simulation {
   virtual size_t wallCount() const = 0;
 
   // -- tags (Tk canvas model: idempotent; an unknown tag is empty) --
-  virtual void tagGrain(GrainId id, const std::string& tag) = 0;    // LOOKUP HANDLE, VALUE TAG
-  virtual void untagGrain(GrainId id, const std::string& tag) = 0;  // LOOKUP HANDLE
-  virtual std::vector<GrainId> grainsTagged(const std::string& tag) const = 0;
+  virtual void tagElement(ElementId id, const std::string& tag) = 0;    // LOOKUP HANDLE, VALUE TAG
+  virtual void untagElement(ElementId id, const std::string& tag) = 0;  // LOOKUP HANDLE
+  virtual std::vector<ElementId> elementsTagged(const std::string& tag) const = 0;
   virtual void tagWall(WallId id, const std::string& tag) = 0;
   virtual void untagWall(WallId id, const std::string& tag) = 0;
   virtual std::vector<WallId> wallsTagged(const std::string& tag) const = 0;
@@ -576,7 +576,7 @@ class Simulation {
   virtual MemoryReport memory() const = 0;
   // Returns the box holding every grain and finite wall {lo, hi}; empty scene: zeros.
   virtual std::array<Vec3d, 2> bounds() const = 0;
-  virtual std::vector<GrainId> grainIds() const = 0;  // dense order
+  virtual std::vector<ElementId> elementIds() const = 0;  // dense order
   virtual std::vector<double> positions() const = 0;
   virtual std::vector<double> velocities() const = 0;
   virtual std::vector<double> angularVelocities() const = 0;

@@ -103,7 +103,7 @@ double SimulationManager<D>::criticalTimeStep() const {
   const Real inf = std::numeric_limits<Real>::infinity();
   std::vector<Real> rmin(nm, inf);
   std::vector<bool> used(nm, false);
-  const GrainArrays<D>& a = s_.grains.a;
+  const ElementArrays<D>& a = s_.elements.a;
   // Elements of other shapes: per material their least mass along a contact normal and least
   // volume-equivalent radius (the ball's formulas below take a mass and a radius). The mass
   // along a normal at a point at lever arm r is at least 1 / (1/m + R^2 / I_min) with R the
@@ -139,7 +139,7 @@ double SimulationManager<D>::criticalTimeStep() const {
       for (const size_t side : {m, k}) {
         if (std::isfinite(rmin[side])) {  // else a wall's material, or shapes only
           const Real r = rmin[side];
-          const Real mass = grainMass<D>(s_.materials[side].density, r);
+          const Real mass = ballMass<D>(s_.materials[side].density, r);
           best = std::min(best, physics::criticalTimeStep(p, mass, r));
           if (law == LawKind::HertzMindlin) {
             best = std::min(best, physics::rayleighTimeStep(s_.materials[side], r));
@@ -193,7 +193,7 @@ void SimulationManager<D>::setMaterial(const std::string& name, const MaterialDe
   def.check();
   const double before = ledgerSum();
   s_.materials[m] = def;
-  GrainArrays<D>& a = s_.grains.a;
+  ElementArrays<D>& a = s_.elements.a;
   for (size_t i = 0; i < a.size(); ++i) {
     if (a.material[i] != m) continue;
     const auto [invMass, invInertia] =
@@ -325,7 +325,7 @@ typename Simulation::ElementMeshes SimulationManager<D>::elementMeshes() const {
     for (const Vec3& p : tri) out.meshes.back().push_back({p.x(), p.y(), p.z()});
   }
   if (out.meshes.empty()) return out;
-  for (uint32_t g : s_.grains.a.geometry) out.meshOf.push_back(meshOfGeometry[g]);
+  for (uint32_t g : s_.elements.a.geometry) out.meshOf.push_back(meshOfGeometry[g]);
   return out;
 }
 
@@ -341,9 +341,9 @@ uint32_t SimulationManager<D>::geometryIndex(const Geometry<D>& g) {
 }
 
 template <int D>
-typename SimulationManager<D>::CheckedGrain SimulationManager<D>::checkGrain(
-    const GrainDef& def) const {
-  CheckedGrain c;
+typename SimulationManager<D>::CheckedElement SimulationManager<D>::checkElement(
+    const ElementDef& def) const {
+  CheckedElement c;
   const ShapeTable<D>& table = ShapeTable<D>::get();
   const std::string_view shape =
       def.shape.empty() ? table.type(ShapeTable<D>::ball()).name() : std::string_view(def.shape);
@@ -370,7 +370,7 @@ typename SimulationManager<D>::CheckedGrain SimulationManager<D>::checkGrain(
   for (const std::string& t : def.tags) checkTagName(t);
   if (!def.name.empty()) {
     checkObjectName("grain", def.name);
-    if (s_.grains.names().find(def.name)) throwNameExists("grain", def.name);
+    if (s_.elements.names().find(def.name)) throwNameExists("grain", def.name);
   }
   checkDofMask(def.blocked);
   c.blocked = static_cast<uint8_t>(def.blocked);
@@ -380,49 +380,49 @@ typename SimulationManager<D>::CheckedGrain SimulationManager<D>::checkGrain(
 }
 
 template <int D>
-double SimulationManager<D>::grainEnergy(uint32_t i) const {
-  const GrainArrays<D>& a = s_.grains.a;
+double SimulationManager<D>::elementEnergy(uint32_t i) const {
+  const ElementArrays<D>& a = s_.elements.a;
   return 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * twiceRotationalEnergy(s_, i) -
          s_.behaviors.gravity().dot(a.x[i]) / a.invMass[i];
 }
 
 template <int D>
-GrainId SimulationManager<D>::addGrain(const GrainDef& def) {
-  const CheckedGrain c = checkGrain(def);
-  const GrainId id = s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
+ElementId SimulationManager<D>::addElement(const ElementDef& def) {
+  const CheckedElement c = checkElement(def);
+  const ElementId id = s_.elements.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
                                    def.name, def.tags, geometryIndex(c.geometry));
-  s_.grains.a.q.back() = c.q;
+  s_.elements.a.q.back() = c.q;
   if (c.blocked != 0) s_.blocked.push_back({id, c.blocked});
-  s_.ledger.reference += grainEnergy(static_cast<uint32_t>(s_.grains.size() - 1));
+  s_.ledger.reference += elementEnergy(static_cast<uint32_t>(s_.elements.size() - 1));
   s_.needRebuild = true;
   touchConfig();
   return id;
 }
 
 template <int D>
-std::vector<GrainId> SimulationManager<D>::addGrains(const std::vector<GrainDef>& defs) {
-  std::vector<CheckedGrain> checked;
+std::vector<ElementId> SimulationManager<D>::addElements(const std::vector<ElementDef>& defs) {
+  std::vector<CheckedElement> checked;
   checked.reserve(defs.size());
   std::unordered_set<std::string> names;
-  for (const GrainDef& d : defs) {
-    checked.push_back(checkGrain(d));
+  for (const ElementDef& d : defs) {
+    checked.push_back(checkElement(d));
     if (!d.name.empty() && !names.insert(d.name).second) throwNameExists("grain", d.name);
   }
-  std::vector<GrainId> ids;
+  std::vector<ElementId> ids;
   ids.reserve(defs.size());
-  GrainArrays<D>& a = s_.grains.a;
+  ElementArrays<D>& a = s_.elements.a;
   const size_t n0 = a.size();
   const size_t n1 = n0 + defs.size();
   // Batches after the first grow the arrays by half (not to exactly n1: a reallocation per
-  // batch would copy every grain each time); reserveGrains() sizes them exactly.
-  if (a.x.capacity() < n1) reserveGrains(n0 == 0 ? n1 : std::max(n1, n0 + n0 / 2));
+  // batch would copy every grain each time); reserveElements() sizes them exactly.
+  if (a.x.capacity() < n1) reserveElements(n0 == 0 ? n1 : std::max(n1, n0 + n0 / 2));
   for (size_t k = 0; k < defs.size(); ++k) {
-    const CheckedGrain& c = checked[k];
-    ids.push_back(s_.grains.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
+    const CheckedElement& c = checked[k];
+    ids.push_back(s_.elements.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
                                 defs[k].name, defs[k].tags, geometryIndex(c.geometry)));
     a.q.back() = c.q;
     if (c.blocked != 0) s_.blocked.push_back({ids.back(), c.blocked});
-    s_.ledger.reference += grainEnergy(static_cast<uint32_t>(n0 + k));
+    s_.ledger.reference += elementEnergy(static_cast<uint32_t>(n0 + k));
   }
   s_.needRebuild = true;
   touchConfig();
@@ -430,18 +430,18 @@ std::vector<GrainId> SimulationManager<D>::addGrains(const std::vector<GrainDef>
 }
 
 template <int D>
-void SimulationManager<D>::reserveGrains(size_t n) {
-  s_.grains.a.reserve(n);
-  s_.grains.pool().reserve(static_cast<uint32_t>(std::min<size_t>(n, UINT32_MAX)));
+void SimulationManager<D>::reserveElements(size_t n) {
+  s_.elements.a.reserve(n);
+  s_.elements.pool().reserve(static_cast<uint32_t>(std::min<size_t>(n, UINT32_MAX)));
 }
 
 template <int D>
-void SimulationManager<D>::removeGrain(GrainId id) {
-  const uint32_t i = s_.grains.index(id);
-  s_.ledger.reference -= grainEnergy(i);
+void SimulationManager<D>::removeElement(ElementId id) {
+  const uint32_t i = s_.elements.index(id);
+  s_.ledger.reference -= elementEnergy(i);
   forgetCandidates();
-  dropBlocked([&](GrainId g) { return g == id; });
-  const uint32_t slot = s_.grains.remove(id);
+  dropBlocked([&](ElementId g) { return g == id; });
+  const uint32_t slot = s_.elements.remove(id);
   if (s_.keepHistory) s_.histories.removeId(slot);
   std::erase_if(s_.shapeSprings, [&](const auto& e) { return e.first.a == slot || e.first.b == slot; });
   s_.needRebuild = true;
@@ -449,23 +449,23 @@ void SimulationManager<D>::removeGrain(GrainId id) {
 }
 
 template <int D>
-size_t SimulationManager<D>::removeGrains(const std::string& tag) {
-  const std::vector<GrainId> ids = s_.grains.tags().objects(tag);
+size_t SimulationManager<D>::removeElements(const std::string& tag) {
+  const std::vector<ElementId> ids = s_.elements.tags().objects(tag);
   if (ids.empty()) return 0;
-  removeGrainSet(ids);
+  removeElementSet(ids);
   return ids.size();
 }
 
 template <int D>
-void SimulationManager<D>::removeGrainSet(const std::vector<GrainId>& ids) {
+void SimulationManager<D>::removeElementSet(const std::vector<ElementId>& ids) {
   forgetCandidates();
   std::unordered_set<uint32_t> slots;
-  for (GrainId id : ids) {
+  for (ElementId id : ids) {
     // The element takes its energy out of the scene: the ledger's reference goes with it.
-    s_.ledger.reference -= grainEnergy(s_.grains.index(id));
-    slots.insert(s_.grains.remove(id));
+    s_.ledger.reference -= elementEnergy(s_.elements.index(id));
+    slots.insert(s_.elements.remove(id));
   }
-  dropBlocked([&](GrainId g) { return slots.contains(g.index); });
+  dropBlocked([&](ElementId g) { return slots.contains(g.index); });
   std::erase_if(s_.shapeSprings, [&](const auto& e) {
     return slots.contains(e.first.a) || slots.contains(e.first.b);
   });
@@ -481,13 +481,13 @@ void SimulationManager<D>::removeGrainSet(const std::vector<GrainId>& ids) {
 }
 
 template <int D>
-GrainState SimulationManager<D>::grain(GrainId id) const {
-  const uint32_t i = s_.grains.index(id);
-  const GrainArrays<D>& a = s_.grains.a;
-  GrainState g;
+ElementState SimulationManager<D>::element(ElementId id) const {
+  const uint32_t i = s_.elements.index(id);
+  const ElementArrays<D>& a = s_.elements.a;
+  ElementState g;
   g.id = id;
-  if (auto n = s_.grains.names().nameOf(id)) g.name = std::string(*n);
-  for (std::string_view t : s_.grains.tags().tagsOf(id)) g.tags.emplace_back(t);
+  if (auto n = s_.elements.names().nameOf(id)) g.name = std::string(*n);
+  for (std::string_view t : s_.elements.tags().tagsOf(id)) g.tags.emplace_back(t);
   g.material = s_.materialNames[a.material[i]];
   g.radius = a.r[i];
   g.mass = 1 / a.invMass[i];
@@ -512,38 +512,38 @@ GrainState SimulationManager<D>::grain(GrainId id) const {
 }
 
 template <int D>
-GrainId SimulationManager<D>::findGrain(const std::string& name) const {
-  return s_.grains.names().get(name);
+ElementId SimulationManager<D>::findElement(const std::string& name) const {
+  return s_.elements.names().get(name);
 }
 
 template <int D>
-void SimulationManager<D>::setGrainPosition(GrainId id, const Vec3d& p) {
-  const uint32_t i = s_.grains.index(id);
+void SimulationManager<D>::setElementPosition(ElementId id, const Vec3d& p) {
+  const uint32_t i = s_.elements.index(id);
   const VecD<D> x = toVec<D>(p, "position");
-  const double before = grainEnergy(i);
-  s_.grains.a.x[i] = x;
-  s_.ledger.reference += grainEnergy(i) - before;
+  const double before = elementEnergy(i);
+  s_.elements.a.x[i] = x;
+  s_.ledger.reference += elementEnergy(i) - before;
   s_.needRebuild = true;
   s_.forcesReady = false;
 }
 
 template <int D>
-void SimulationManager<D>::setGrainVelocity(GrainId id, const Vec3d& v) {
-  const uint32_t i = s_.grains.index(id);
+void SimulationManager<D>::setElementVelocity(ElementId id, const Vec3d& v) {
+  const uint32_t i = s_.elements.index(id);
   const VecD<D> x = toVec<D>(v, "velocity");
-  const double before = grainEnergy(i);
-  s_.grains.a.v[i] = x;
-  s_.ledger.reference += grainEnergy(i) - before;
+  const double before = elementEnergy(i);
+  s_.elements.a.v[i] = x;
+  s_.ledger.reference += elementEnergy(i) - before;
   s_.forcesReady = false;
 }
 
 template <int D>
-void SimulationManager<D>::setGrainAngularVelocity(GrainId id, const Vec3d& w) {
-  const uint32_t i = s_.grains.index(id);
+void SimulationManager<D>::setElementAngularVelocity(ElementId id, const Vec3d& w) {
+  const uint32_t i = s_.elements.index(id);
   const AngularD<D> x = toAngular<D>(w, "angular velocity");
-  const double before = grainEnergy(i);
-  s_.grains.a.w[i] = x;
-  s_.ledger.reference += grainEnergy(i) - before;
+  const double before = elementEnergy(i);
+  s_.elements.a.w[i] = x;
+  s_.ledger.reference += elementEnergy(i) - before;
   touchConfig();
 }
 
@@ -557,10 +557,10 @@ void SimulationManager<D>::checkDofMask(unsigned mask) const {
 }
 
 template <int D>
-void SimulationManager<D>::setGrainBlocked(GrainId id, unsigned mask) {
-  s_.grains.index(id);
+void SimulationManager<D>::setElementBlocked(ElementId id, unsigned mask) {
+  s_.elements.index(id);
   checkDofMask(mask);
-  dropBlocked([&](GrainId g) { return g == id; });
+  dropBlocked([&](ElementId g) { return g == id; });
   if (mask != 0) s_.blocked.push_back({id, static_cast<uint8_t>(mask)});
   touchConfig();
 }
@@ -585,20 +585,20 @@ void SimulationManager<D>::forgetCandidates() {
 // ---- tags ----------------------------------------------------------------------------------
 
 template <int D>
-void SimulationManager<D>::tagGrain(GrainId id, const std::string& tag) {
-  s_.grains.index(id);
-  s_.grains.tags().add(id, tag);
+void SimulationManager<D>::tagElement(ElementId id, const std::string& tag) {
+  s_.elements.index(id);
+  s_.elements.tags().add(id, tag);
 }
 
 template <int D>
-void SimulationManager<D>::untagGrain(GrainId id, const std::string& tag) {
-  s_.grains.index(id);
-  s_.grains.tags().remove(id, tag);
+void SimulationManager<D>::untagElement(ElementId id, const std::string& tag) {
+  s_.elements.index(id);
+  s_.elements.tags().remove(id, tag);
 }
 
 template <int D>
-std::vector<GrainId> SimulationManager<D>::grainsTagged(const std::string& tag) const {
-  return s_.grains.tags().objects(tag);
+std::vector<ElementId> SimulationManager<D>::elementsTagged(const std::string& tag) const {
+  return s_.elements.tags().objects(tag);
 }
 
 template <int D>
@@ -635,7 +635,7 @@ BehaviorId SimulationManager<D>::addLoad(const LoadDef& def) {
   if (def.grain.isNull() == def.tag.empty()) {
     throw Error("bad target: give exactly one of a grain or a tag", {"VALUE", "TARGET"});
   }
-  if (!def.grain.isNull()) s_.grains.index(def.grain);
+  if (!def.grain.isNull()) s_.elements.index(def.grain);
   if (!def.tag.empty()) checkTagName(def.tag);
   toVec<D>(def.force, "force");
   toAngular<D>(def.torque, "torque");
@@ -660,7 +660,7 @@ BehaviorId SimulationManager<D>::addBehavior(const std::string& type,
                                              const std::vector<BehaviorParam>& params) {
   std::unique_ptr<Behavior<D>> b = makeBehavior<D>(type, params);
   for (const BehaviorParam& p : params) {
-    if (!p.grain.isNull()) s_.grains.index(p.grain);
+    if (!p.grain.isNull()) s_.elements.index(p.grain);
     if (!p.text.empty()) checkTagName(p.text);
   }
   // A uniform field changes the potential: the ledger is rebased as for any edit.

@@ -57,18 +57,18 @@ class SimulationManager final : public Simulation {
   PairCoefficients pairCoefficients(const std::string& a, const std::string& b) const override;
   PairCoefficients pairOverrides(const std::string& a, const std::string& b) const override;
 
-  GrainId addGrain(const GrainDef& def) override;
-  std::vector<GrainId> addGrains(const std::vector<GrainDef>& defs) override;
-  void reserveGrains(size_t n) override;
-  void removeGrain(GrainId id) override;
-  size_t removeGrains(const std::string& tag) override;
-  GrainState grain(GrainId id) const override;
-  GrainId findGrain(const std::string& name) const override;
-  void setGrainPosition(GrainId id, const Vec3d& p) override;
-  void setGrainVelocity(GrainId id, const Vec3d& v) override;
-  void setGrainAngularVelocity(GrainId id, const Vec3d& w) override;
-  void setGrainBlocked(GrainId id, unsigned mask) override;
-  size_t grainCount() const override { return s_.grains.size(); }
+  ElementId addElement(const ElementDef& def) override;
+  std::vector<ElementId> addElements(const std::vector<ElementDef>& defs) override;
+  void reserveElements(size_t n) override;
+  void removeElement(ElementId id) override;
+  size_t removeElements(const std::string& tag) override;
+  ElementState element(ElementId id) const override;
+  ElementId findElement(const std::string& name) const override;
+  void setElementPosition(ElementId id, const Vec3d& p) override;
+  void setElementVelocity(ElementId id, const Vec3d& v) override;
+  void setElementAngularVelocity(ElementId id, const Vec3d& w) override;
+  void setElementBlocked(ElementId id, unsigned mask) override;
+  size_t elementCount() const override { return s_.elements.size(); }
 
   WallId addWall(const WallDef& def) override;
   void removeWall(WallId id) override;
@@ -77,9 +77,9 @@ class SimulationManager final : public Simulation {
   std::vector<WallId> wallIds() const override;
   size_t wallCount() const override { return s_.walls.size(); }
 
-  void tagGrain(GrainId id, const std::string& tag) override;
-  void untagGrain(GrainId id, const std::string& tag) override;
-  std::vector<GrainId> grainsTagged(const std::string& tag) const override;
+  void tagElement(ElementId id, const std::string& tag) override;
+  void untagElement(ElementId id, const std::string& tag) override;
+  std::vector<ElementId> elementsTagged(const std::string& tag) const override;
   void tagWall(WallId id, const std::string& tag) override;
   void untagWall(WallId id, const std::string& tag) override;
   std::vector<WallId> wallsTagged(const std::string& tag) const override;
@@ -108,7 +108,7 @@ class SimulationManager final : public Simulation {
   std::vector<ContactInfo> contacts() const override;
   MemoryReport memory() const override;
   std::array<Vec3d, 2> bounds() const override;
-  std::vector<GrainId> grainIds() const override;
+  std::vector<ElementId> elementIds() const override;
   std::vector<double> positions() const override;
   std::vector<double> velocities() const override;
   std::vector<double> angularVelocities() const override;
@@ -127,8 +127,8 @@ class SimulationManager final : public Simulation {
  private:
   // Returns the index of the material named name. Throws {LOOKUP MATERIAL}.
   uint32_t materialIndex(const std::string& name) const;
-  // Checks a GrainDef; returns the converted values. Throws as addGrain documents.
-  struct CheckedGrain {
+  // Checks a ElementDef; returns the converted values. Throws as addElement documents.
+  struct CheckedElement {
     VecD<D> x, v;
     AngularD<D> w;
     Real r, invMass, invInertia;
@@ -139,7 +139,7 @@ class SimulationManager final : public Simulation {
   };
   // Returns the index of g in the scene's geometries, adding it if no equal one is there.
   uint32_t geometryIndex(const Geometry<D>& g);
-  CheckedGrain checkGrain(const GrainDef& def) const;
+  CheckedElement checkElement(const ElementDef& def) const;
   // Throws {VALUE DOF} if mask has a degree of freedom this dimension lacks.
   void checkDofMask(unsigned mask) const;
   // Removes the blocked-list entries of the grains for which gone(id) is true.
@@ -166,14 +166,14 @@ class SimulationManager final : public Simulation {
   // Returns the ledger's balance sum now (state terms plus cumulated terms).
   double ledgerSum() const;
   // Returns the grain's kinetic plus gravitational energy (for rebasing the ledger on edits).
-  double grainEnergy(uint32_t i) const;
+  double elementEnergy(uint32_t i) const;
   // Applies the changes the step's modules deferred (Scene::deferred): removes, then adds, then
   // makes the scene ready to step on (loop, step, forces of the changed scene). Returns true if
-  // there were any. Throws as addGrains does for a bad Def (the removals done stay done).
+  // there were any. Throws as addElements does for a bad Def (the removals done stay done).
   bool applyDeferred();
   // Removes the live grains ids (distinct), their springs, histories and blocked entries, the
   // ledger rebased. Changes the scene and marks the configuration changed.
-  void removeGrainSet(const std::vector<GrainId>& ids);
+  void removeElementSet(const std::vector<ElementId>& ids);
   // Parks the springs and drops the candidate pairs and contact records, which hold dense
   // indices: call before grains or walls are removed (the dense order changes).
   void forgetCandidates();

@@ -79,8 +79,8 @@ void SimulationManager<D>::prepare() {
     }
     if (f.rotating && !s_.rotating) {
       // Torques were not accumulated while rotation was off: start from none.
-      for (auto& t : s_.grains.a.t) t = GrainArrays<D>::zeroAngular();
-      for (auto& t : s_.grains.a.tPrev) t = GrainArrays<D>::zeroAngular();
+      for (auto& t : s_.elements.a.t) t = ElementArrays<D>::zeroAngular();
+      for (auto& t : s_.elements.a.tPrev) t = ElementArrays<D>::zeroAngular();
     }
     s_.rotating = f.rotating;
     s_.stepDt = dt;
@@ -89,7 +89,7 @@ void SimulationManager<D>::prepare() {
       // Summed in sorted order: the value must not depend on the dense order, which spatial
       // reordering changes; a one-ulp change here would force an extra search after a load
       // and break bit-identical continuation from a checkpoint.
-      std::vector<Real> radii = s_.grains.a.r;
+      std::vector<Real> radii = s_.elements.a.r;
       std::sort(radii.begin(), radii.end());
       double sum = 0;
       for (Real r : radii) sum += r;
@@ -109,9 +109,9 @@ void SimulationManager<D>::prepare() {
     const double before = ledgerSum();
     const double dt = s_.stepDt;
     s_.stepDt = 0;
-    GrainArrays<D>& a = s_.grains.a;
+    ElementArrays<D>& a = s_.elements.a;
     for (auto& f : a.f) f.setZero();
-    for (auto& t : a.t) t = GrainArrays<D>::zeroAngular();
+    for (auto& t : a.t) t = ElementArrays<D>::zeroAngular();
     s_.contacts.clear();
     s_.ledger.elastic = 0;
     loop_.forcesOnly(s_);
@@ -128,10 +128,10 @@ void SimulationManager<D>::prepare() {
 
 template <int D>
 void SimulationManager<D>::checkFinite() const {
-  const GrainArrays<D>& a = s_.grains.a;
+  const ElementArrays<D>& a = s_.elements.a;
   for (size_t i = 0; i < a.size(); ++i) {
     if (!a.x[i].allFinite() || !a.v[i].allFinite()) {
-      throw Error("grain " + toString(s_.grains.pool().handleAt(static_cast<uint32_t>(i))) +
+      throw Error("grain " + toString(s_.elements.pool().handleAt(static_cast<uint32_t>(i))) +
                       " has a non-finite state at step " + std::to_string(s_.steps) +
                       ": the time step is too large for the contacts",
                   {"INTEGRATION", "NAN"});
@@ -202,14 +202,14 @@ template <int D>
 bool SimulationManager<D>::applyDeferred() {
   DeferredChanges changes = std::move(s_.deferred);
   s_.deferred = {};
-  std::vector<GrainId> gone;
+  std::vector<ElementId> gone;
   std::unordered_set<uint64_t> seenIds;
-  for (GrainId id : changes.destroy) {
-    if (s_.grains.pool().valid(id) && seenIds.insert(id.bits()).second) gone.push_back(id);
+  for (ElementId id : changes.destroy) {
+    if (s_.elements.pool().valid(id) && seenIds.insert(id.bits()).second) gone.push_back(id);
   }
   if (gone.empty() && changes.create.empty()) return false;
-  if (!gone.empty()) removeGrainSet(gone);
-  if (!changes.create.empty()) addGrains(changes.create);
+  if (!gone.empty()) removeElementSet(gone);
+  if (!changes.create.empty()) addElements(changes.create);
   prepare();
   return true;
 }
@@ -237,7 +237,7 @@ std::string percent(double x) {
 
 }  // namespace
 
-std::string WatchdogTrip::message(const std::function<std::string(GrainId)>& grainName,
+std::string WatchdogTrip::message(const std::function<std::string(ElementId)>& grainName,
                                   const std::function<std::string(WallId)>& wallName) const {
   std::string who;
   if (grains.size() == 1 && wall.isNull()) {
@@ -254,7 +254,7 @@ std::string WatchdogTrip::message(const std::function<std::string(GrainId)>& gra
 
 RunStopped::RunStopped(WatchdogTrip trip, RunReport report)
     : Error(
-          trip.message([](GrainId g) { return toString(g); }, [](WallId w) { return toString(w); }),
+          trip.message([](ElementId g) { return toString(g); }, [](WallId w) { return toString(w); }),
           {"WATCHDOG", trip.check}),
       trip_(std::move(trip)),
       report_(std::move(report)) {}
@@ -265,7 +265,7 @@ WatchdogTrip SimulationManager<D>::describeTrip(const WatchdogHit& h, bool atSta
   t.step = s_.steps;
   t.time = s_.time;
   t.atStart = atStart;
-  const auto grainId = [&](uint32_t i) { return s_.grains.pool().handleAt(i); };
+  const auto grainId = [&](uint32_t i) { return s_.elements.pool().handleAt(i); };
   t.grains.push_back(grainId(h.a));
   if (h.hasB) {
     if (h.wall) {
@@ -339,14 +339,14 @@ WatchdogTrip SimulationManager<D>::describeTrip(const WatchdogHit& h, bool atSta
 
 template <int D>
 double SimulationManager<D>::worstOverlap(double fraction, bool push, std::vector<bool>* moved) {
-  GrainArrays<D>& a = s_.grains.a;
+  ElementArrays<D>& a = s_.elements.a;
   const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
   std::vector<bool> pinned;
   if (push && !s_.blocked.empty()) {
     pinned.assign(a.size(), false);
     for (const BlockedElement& b : s_.blocked) {
-      const uint32_t i = s_.grains.pool().findDense(b.id);
-      if (i != HandlePool<GrainKind>::kNpos && (b.dofs & (dof::X | dof::Y | dof::Z)) != 0)
+      const uint32_t i = s_.elements.pool().findDense(b.id);
+      if (i != HandlePool<ElementKind>::kNpos && (b.dofs & (dof::X | dof::Y | dof::Z)) != 0)
         pinned[i] = true;
     }
   }
@@ -396,9 +396,9 @@ RelaxReport SimulationManager<D>::relax(double fraction, uint64_t maxIterations)
     throw Error("bad iterations \"0\": must be at least 1", {"VALUE", "ITERATIONS"});
   }
   RelaxReport rep;
-  if (s_.grains.size() == 0) return rep;
+  if (s_.elements.size() == 0) return rep;
   prepare();  // the contacts at the current positions
-  std::vector<bool> moved(s_.grains.size(), false);
+  std::vector<bool> moved(s_.elements.size(), false);
   rep.before = rep.after = worstOverlap(fraction, false);
   while (rep.after > fraction && rep.iterations < maxIterations) {
     const double before = ledgerSum();
@@ -422,7 +422,7 @@ template <int D>
 double SimulationManager<D>::potential() const {
   const VecD<D> g = s_.behaviors.gravity();
   if (g.squaredNorm() == 0) return 0;
-  const GrainArrays<D>& a = s_.grains.a;
+  const ElementArrays<D>& a = s_.elements.a;
   double u = 0;
   for (size_t i = 0; i < a.size(); ++i) u -= g.dot(a.x[i]) / a.invMass[i];
   return u;
@@ -430,7 +430,7 @@ double SimulationManager<D>::potential() const {
 
 template <int D>
 double SimulationManager<D>::ledgerSum() const {
-  const GrainArrays<D>& a = s_.grains.a;
+  const ElementArrays<D>& a = s_.elements.a;
   double k = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     k += 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * twiceRotationalEnergy(s_, i);
@@ -441,7 +441,7 @@ double SimulationManager<D>::ledgerSum() const {
 template <int D>
 EnergyLedger SimulationManager<D>::energy() const {
   EnergyLedger e;
-  const GrainArrays<D>& a = s_.grains.a;
+  const ElementArrays<D>& a = s_.elements.a;
   for (size_t i = 0; i < a.size(); ++i) {
     e.kineticTranslational += 0.5 * a.v[i].squaredNorm() / a.invMass[i];
     e.kineticRotational += 0.5 * twiceRotationalEnergy(s_, i);
@@ -468,7 +468,7 @@ MemoryReport SimulationManager<D>::memory() const {
   // Returns the bytes a vector's capacity holds.
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   MemoryReport m;
-  m.grains = s_.grains.a.heapBytes() + s_.grains.pool().heapBytes();
+  m.grains = s_.elements.a.heapBytes() + s_.elements.pool().heapBytes();
   m.detection = bytes(s_.candidates) + bytes(s_.wallCandidates) + bytes(s_.xAtBuild);
   for (const auto& list : s_.wallCandidates) m.detection += bytes(list);
   m.search = loop_.workingBytes();
@@ -482,11 +482,11 @@ template <int D>
 std::vector<ContactInfo> SimulationManager<D>::contacts() const {
   std::vector<ContactInfo> out;
   out.reserve(s_.contacts.size());
-  const GrainArrays<D>& a = s_.grains.a;
+  const ElementArrays<D>& a = s_.elements.a;
   const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
   for (const ContactRecord<D>& c : s_.contacts) {
     ContactInfo ci;
-    ci.a = s_.grains.pool().handleAt(c.a);
+    ci.a = s_.elements.pool().handleAt(c.a);
     const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
     std::optional<physics::ContactGeometry<D>> g;
     if (c.wall) {
@@ -495,7 +495,7 @@ std::vector<ContactInfo> SimulationManager<D>::contacts() const {
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
       g = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
     } else {
-      ci.b = s_.grains.pool().handleAt(c.b);
+      ci.b = s_.elements.pool().handleAt(c.b);
       g = physics::intersect<D>(sa, physics::SphereShape<D>{a.x[c.b], a.r[c.b]});
     }
     if (g) {
@@ -518,7 +518,7 @@ std::array<Vec3d, 2> SimulationManager<D>::bounds() const {
     lo[k] = std::min(lo[k], l);
     hi[k] = std::max(hi[k], h);
   };
-  const GrainArrays<D>& a = s_.grains.a;
+  const ElementArrays<D>& a = s_.elements.a;
   for (size_t i = 0; i < a.size(); ++i) {
     any = true;
     for (int k = 0; k < D; ++k) grow(k, a.x[i][k] - a.r[i], a.x[i][k] + a.r[i]);
@@ -539,8 +539,8 @@ std::array<Vec3d, 2> SimulationManager<D>::bounds() const {
 }
 
 template <int D>
-std::vector<GrainId> SimulationManager<D>::grainIds() const {
-  const auto h = s_.grains.pool().handles();
+std::vector<ElementId> SimulationManager<D>::elementIds() const {
+  const auto h = s_.elements.pool().handles();
   return {h.begin(), h.end()};
 }
 
@@ -562,38 +562,38 @@ inline void appendAngular(std::vector<double>& out, const Vec3& w) {
 template <int D>
 std::vector<double> SimulationManager<D>::positions() const {
   std::vector<double> out;
-  out.reserve(D * s_.grains.size());
-  for (const auto& x : s_.grains.a.x) appendVec<D>(out, x);
+  out.reserve(D * s_.elements.size());
+  for (const auto& x : s_.elements.a.x) appendVec<D>(out, x);
   return out;
 }
 
 template <int D>
 std::vector<double> SimulationManager<D>::velocities() const {
   std::vector<double> out;
-  out.reserve(D * s_.grains.size());
-  for (const auto& x : s_.grains.a.v) appendVec<D>(out, x);
+  out.reserve(D * s_.elements.size());
+  for (const auto& x : s_.elements.a.v) appendVec<D>(out, x);
   return out;
 }
 
 template <int D>
 std::vector<double> SimulationManager<D>::forces() const {
   std::vector<double> out;
-  out.reserve(D * s_.grains.size());
-  for (const auto& x : s_.grains.a.f) appendVec<D>(out, x);
+  out.reserve(D * s_.elements.size());
+  for (const auto& x : s_.elements.a.f) appendVec<D>(out, x);
   return out;
 }
 
 template <int D>
 std::vector<double> SimulationManager<D>::angularVelocities() const {
   std::vector<double> out;
-  for (const auto& w : s_.grains.a.w) appendAngular(out, w);
+  for (const auto& w : s_.elements.a.w) appendAngular(out, w);
   return out;
 }
 
 template <int D>
 std::vector<double> SimulationManager<D>::orientations() const {
   std::vector<double> out;
-  for (const auto& q : s_.grains.a.q) {
+  for (const auto& q : s_.elements.a.q) {
     const auto o = fromRotation(q);
     for (int k = 0; k < (D == 2 ? 1 : 4); ++k) out.push_back(o[k]);
   }
@@ -602,7 +602,7 @@ std::vector<double> SimulationManager<D>::orientations() const {
 
 template <int D>
 std::vector<double> SimulationManager<D>::radii() const {
-  return s_.grains.a.r;
+  return s_.elements.a.r;
 }
 
 // ---- whole scene ---------------------------------------------------------------------------

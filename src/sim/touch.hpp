@@ -58,7 +58,7 @@ class TouchModule final : public SimModule<D> {
     double loss = 0, wallWork = 0;
     grainPairs(s, loss);
     walls(s, loss, wallWork);
-    VecD<D>* v = s.grains.a.v.data();
+    VecD<D>* v = s.elements.a.v.data();
     for (const auto& [i, dv] : kicks_) v[i] += dv;
     s.ledger.dampingLoss += loss;
     s.ledger.wallWork += wallWork;
@@ -69,7 +69,7 @@ class TouchModule final : public SimModule<D> {
   // positions at the step's start and vBefore_ with the velocities the laws saw then (see the
   // file's comment), once per step rather than once per candidate.
   void velocities(const Scene<D>& s) {
-    const GrainArrays<D>& a = s.grains.a;
+    const ElementArrays<D>& a = s.elements.a;
     const size_t n = a.size();
     const Real dt = s.stepDt, h = 0.5 * dt;
     vHalf_.resize(n);
@@ -119,7 +119,7 @@ class TouchModule final : public SimModule<D> {
   }
 
   void grainPairs(const Scene<D>& s, double& loss) {
-    const GrainArrays<D>& a = s.grains.a;
+    const ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
     const VecD<D>* __restrict x = a.x.data();
@@ -206,7 +206,7 @@ class TouchModule final : public SimModule<D> {
   }
 
   void walls(const Scene<D>& s, double& loss, double& wallWork) {
-    const GrainArrays<D>& a = s.grains.a;
+    const ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
     const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();

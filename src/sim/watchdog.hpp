@@ -59,7 +59,7 @@ struct WatchdogHit {
 template <int D>
 Real watchdogStepLimit(const Scene<D>& s) {
   Real rmin = std::numeric_limits<Real>::infinity();
-  for (Real r : s.grains.a.r) rmin = std::min(rmin, r);
+  for (Real r : s.elements.a.r) rmin = std::min(rmin, r);
   return std::max(0.5 * s.skin, 0.5 * rmin);
 }
 
@@ -69,7 +69,7 @@ Real watchdogStepLimit(const Scene<D>& s) {
 // overlap); false instantiates the loop without the test. Changes nothing.
 template <bool Shapes, int D>
 std::pair<const ContactRecord<D>*, Real> deepestRecord(const Scene<D>& s, Real f) {
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
   const ContactRecord<D>* worst = nullptr;
   Real worstRatio = f;
@@ -121,7 +121,7 @@ std::pair<const ContactRecord<D>*, Real> deepestRecord(const Scene<D>& s, Real f
 template <int D>
 void watchdogCheck(const Scene<D>& s, Real stepLimit, bool placed = false) {
   const WatchdogOptions& o = s.watchdog;
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   const size_t n = a.size();
   // One streaming pass, no division: a sum that is not finite when some x, v or w is not (NaN
   // and infinities propagate through sums), and the largest squared speed. As fast as a plain
@@ -189,7 +189,7 @@ bool watchdogEnergyOver(const Scene<D>& s, WatchdogHit& h) {
   const WatchdogOptions& o = s.watchdog;
   const LedgerSums& l = s.ledger;
   if (!(o.energy > 0) || !l.started) return false;
-  const GrainArrays<D>& a = s.grains.a;
+  const ElementArrays<D>& a = s.elements.a;
   const size_t n = a.size();
   const VecD<D> g = s.behaviors.gravity();
   double k2 = 0, u = 0;

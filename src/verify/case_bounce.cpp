@@ -26,10 +26,10 @@ CaseResult bounce(const RunSpec& spec) {
   s->addMaterial("m", mat);
   s->setContactLaw(sim::LawKind::Linear);
   s->addWall(planeWall({0, 0, 0}, axisVec(up, 1), "m"));
-  const sim::GrainId id = s->addGrain(grainDef(axisVec(up, r + h0), r, "m"));
+  const sim::ElementId id = s->addElement(grainDef(axisVec(up, r + h0), r, "m"));
   s->addGravity(axisVec(up, -kGravity));
   ImpactLaw law;
-  law.mass = s->grain(id).mass;
+  law.mass = s->element(id).mass;
   law.radius = r;
   law.kn = youngEff(mat) * r;
   law.cn = 2 * physics::linearDampingRatio(e) * std::sqrt(law.mass * law.kn);
@@ -43,7 +43,7 @@ CaseResult bounce(const RunSpec& spec) {
   std::string textbook;
   for (int b = 1; b <= 3; ++b) {
     // Fly to just before the touch in one run, then step through the contact.
-    sim::GrainState g = s->grain(id);
+    sim::ElementState g = s->element(id);
     const double gap = g.position[up] - r, v = g.velocity[up];
     const double tHit = (v + std::sqrt(v * v + 2 * kGravity * gap)) / kGravity;
     const double ahead = std::floor(tHit / dt) - 2;
@@ -51,7 +51,7 @@ CaseResult bounce(const RunSpec& spec) {
     bool touched = false;
     for (int k = 0; k < 100000; ++k) {
       run.step();
-      g = s->grain(id);
+      g = s->element(id);
       const double overlap = r - g.position[up];
       if (overlap > 0) touched = true;
       if (touched && overlap < 0 && g.velocity[up] > 0) break;

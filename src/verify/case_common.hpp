@@ -65,9 +65,9 @@ inline sim::WallDef planeWall(const Vec3d& point, const Vec3d& normal, const std
   return w;
 }
 
-inline sim::GrainDef grainDef(const Vec3d& x, double r, const std::string& mat, const Vec3d& v = {},
+inline sim::ElementDef grainDef(const Vec3d& x, double r, const std::string& mat, const Vec3d& v = {},
                               const Vec3d& w = {}) {
-  sim::GrainDef g;
+  sim::ElementDef g;
   g.position = x;
   g.radius = r;
   g.material = mat;

@@ -36,7 +36,7 @@ CaseResult elasticGas(const RunSpec& spec) {
   const double pitch = 5 * r, side = (perAxis + 1) * pitch;
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<sim::GrainDef> defs;
+  std::vector<sim::ElementDef> defs;
   for (int k = 0; k < n; ++k) {
     Vec3d x{0, 0, 0}, v{0, 0, 0};
     int c = k;
@@ -47,13 +47,13 @@ CaseResult elasticGas(const RunSpec& spec) {
     }
     defs.push_back(grainDef(x, r, "m", v));
   }
-  s->addGrains(defs);
+  s->addElements(defs);
   for (int a = 0; a < d; ++a) {
     s->addWall(planeWall({0, 0, 0}, axisVec(a, 1), "m"));
     s->addWall(planeWall(axisVec(a, side), axisVec(a, -1), "m"));
   }
   std::vector<double> mass;
-  for (sim::GrainId id : s->grainIds()) mass.push_back(s->grain(id).mass);
+  for (sim::ElementId id : s->elementIds()) mass.push_back(s->element(id).mass);
   const double tc = std::numbers::pi * std::sqrt(0.5 * mass[0] / kn);
   s->setTimeStep(tc / spec.stepsPerTime);
   out.timeScale = tc;

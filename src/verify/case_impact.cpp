@@ -42,15 +42,15 @@ ImpactMeasure measureImpact(const ImpactSetup& setup, const RunSpec& spec, CaseR
   // Direction of approach: A moves along -up onto the floor, or A (left) and B (right) meet
   // along x. The tangential velocity (oblique impacts) is along x for the floor, y for spheres.
   const int tAxis = setup.sphere ? 1 : 0;
-  sim::GrainId a, b;
+  sim::ElementId a, b;
   if (setup.sphere) {
-    a = s->addGrain(grainDef({0, 0, 0}, rA, "m"));
-    b = s->addGrain(grainDef({rA + rB + 1, 0, 0}, rB, "m"));
+    a = s->addElement(grainDef({0, 0, 0}, rA, "m"));
+    b = s->addElement(grainDef({rA + rB + 1, 0, 0}, rB, "m"));
   } else {
     s->addWall(planeWall({0, 0, 0}, axisVec(up, 1), "m"));
-    a = s->addGrain(grainDef(axisVec(up, rA + 1), rA, "m"));
+    a = s->addElement(grainDef(axisVec(up, rA + 1), rA, "m"));
   }
-  const double mA = s->grain(a).mass, mB = setup.sphere ? s->grain(b).mass : 0;
+  const double mA = s->element(a).mass, mB = setup.sphere ? s->element(b).mass : 0;
   const ImpactLaw law = impactLaw(setup, mA, mB);
   const double tc =
       law.hertz ? hertzElastic(law, kSpeed).duration : linearDamped(law, kSpeed).duration;
@@ -65,24 +65,24 @@ ImpactMeasure measureImpact(const ImpactSetup& setup, const RunSpec& spec, CaseR
     // Relative velocity of B against A: -v0 along x (approach) and +vt along y; split by
     // momentum so the centre of mass stays at rest.
     const double fa = mB / (mA + mB), fb = mA / (mA + mB);
-    s->setGrainPosition(b, {rA + rB + gap, 0, 0});
+    s->setElementPosition(b, {rA + rB + gap, 0, 0});
     Vec3d va{fa * kSpeed, 0, 0}, vb{-fb * kSpeed, 0, 0};
     va[tAxis] -= fa * vt;
     vb[tAxis] += fb * vt;
-    s->setGrainVelocity(a, va);
-    s->setGrainVelocity(b, vb);
+    s->setElementVelocity(a, va);
+    s->setElementVelocity(b, vb);
   } else {
-    s->setGrainPosition(a, axisVec(up, rA + gap));
+    s->setElementPosition(a, axisVec(up, rA + gap));
     Vec3d v = axisVec(up, -kSpeed);
     v[tAxis] = vt;
-    s->setGrainVelocity(a, v);
+    s->setElementVelocity(a, v);
   }
   Runner run(*s, out);
   // Samples per step: overlap, normal force.
   std::vector<double> delta, force;
   auto overlapNow = [&]() {
-    if (!setup.sphere) return rA - s->grain(a).position[up];
-    const Vec3d xa = s->grain(a).position, xb = s->grain(b).position;
+    if (!setup.sphere) return rA - s->element(a).position[up];
+    const Vec3d xa = s->element(a).position, xb = s->element(b).position;
     const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
     return rA + rB - std::sqrt(dx * dx + dy * dy + dz * dz);
   };
@@ -139,9 +139,9 @@ ImpactMeasure measureImpact(const ImpactSetup& setup, const RunSpec& spec, CaseR
                     : force[kf];
   // Velocities after the impact (free flight): normal rebound and tangential velocity and spin
   // of the contact point.
-  const sim::GrainState ga = s->grain(a);
+  const sim::ElementState ga = s->element(a);
   if (setup.sphere) {
-    const sim::GrainState gb = s->grain(b);
+    const sim::ElementState gb = s->element(b);
     m.restitution = (gb.velocity[0] - ga.velocity[0]) / kSpeed;
     m.tangential = gb.velocity[tAxis] - ga.velocity[tAxis];
     // Surface speed of the contact points from spin (about z for tangential motion along y).

@@ -25,7 +25,7 @@ constexpr double kRadius = 0.01, kYoung = 1e8;
 
 struct Resting {
   std::unique_ptr<sim::Simulation> s;
-  sim::GrainId id;
+  sim::ElementId id;
   double tc = 0, dt = 0, mass = 0;
 };
 
@@ -43,8 +43,8 @@ Resting resting(const RunSpec& spec, sim::LawKind law, double theta, double mu, 
   r.s->addMaterial("m", m);
   r.s->setContactLaw(law);
   r.s->addWall(planeWall({0, 0, 0}, axisVec(up, 1), "m"));
-  r.id = r.s->addGrain(grainDef(axisVec(up, 2 * kRadius), kRadius, "m"));
-  r.mass = r.s->grain(r.id).mass;
+  r.id = r.s->addElement(grainDef(axisVec(up, 2 * kRadius), kRadius, "m"));
+  r.mass = r.s->element(r.id).mass;
   const double fn = r.mass * kGravity * std::cos(theta), es = youngEff(m);
   double delta, keff;
   if (law == sim::LawKind::Linear) {
@@ -57,8 +57,8 @@ Resting resting(const RunSpec& spec, sim::LawKind law, double theta, double mu, 
   r.tc = std::numbers::pi * std::sqrt(r.mass / keff);
   r.dt = r.tc / spec.stepsPerTime;
   r.s->setTimeStep(r.dt);
-  r.s->setGrainPosition(r.id, axisVec(up, kRadius - delta));
-  r.s->setGrainVelocity(r.id, {v0, 0, 0});
+  r.s->setElementPosition(r.id, axisVec(up, kRadius - delta));
+  r.s->setElementVelocity(r.id, {v0, 0, 0});
   Vec3d g = axisVec(up, -kGravity * std::cos(theta));
   g[0] = kGravity * std::sin(theta);
   r.s->addGravity(g);
@@ -67,7 +67,7 @@ Resting resting(const RunSpec& spec, sim::LawKind law, double theta, double mu, 
 
 // Returns the spin of the grain as the surface speed w r of rolling along +x (2D: about -z;
 // 3D, z up: about +y).
-double spinSpeed(int d, const sim::GrainState& g) {
+double spinSpeed(int d, const sim::ElementState& g) {
   return (d == 2 ? -g.angularVelocity[2] : g.angularVelocity[1]) * g.radius;
 }
 
@@ -99,7 +99,7 @@ void incline(const RunSpec& spec, sim::LawKind law, double theta, double mu, boo
   while (r.s->time() < 0.15) {
     run.run(chunk);
     if (r.s->time() < 0.05) continue;
-    const sim::GrainState g = r.s->grain(r.id);
+    const sim::ElementState g = r.s->element(r.id);
     t.push_back(r.s->time());
     v.push_back(g.velocity[0]);
     w.push_back(spinSpeed(spec.dim, g));
@@ -151,7 +151,7 @@ CaseResult slideToRoll(const RunSpec& spec) {
     const uint64_t maxSteps = static_cast<uint64_t>(2 * tRoll / r.dt) + 10;
     for (uint64_t n = 0; n < maxSteps && tCross < 0; ++n) {
       run.step();
-      const sim::GrainState g = r.s->grain(r.id);
+      const sim::ElementState g = r.s->element(r.id);
       const double slip = g.velocity[0] - spinSpeed(spec.dim, g), t = r.s->time();
       if (slip <= 0) tCross = tPrev + (t - tPrev) * slipPrev / (slipPrev - slip);
       slipPrev = slip;
@@ -165,7 +165,7 @@ CaseResult slideToRoll(const RunSpec& spec) {
     int count = 0;
     while (r.s->time() < 2.5 * tRoll) {
       run.run(chunk);
-      sum += r.s->grain(r.id).velocity[0];
+      sum += r.s->element(r.id).velocity[0];
       ++count;
     }
     const sim::EnergyLedger e = r.s->energy();

@@ -30,13 +30,13 @@ double rebound(LawKind law, HertzDamping damping, double e, bool wall) {
   s->addMaterial("m", m);
   s->setContactLaw(law);
   s->setHertzDamping(damping);
-  sim::GrainDef a;
+  sim::ElementDef a;
   a.radius = kR;
   a.material = "m";
   a.position = {0, 0, 2 * kR + 1e-9};
   a.velocity = {0, 0, wall ? -kV0 : -0.5 * kV0};
-  const sim::GrainId ga = s->addGrain(a);
-  sim::GrainId gb;
+  const sim::ElementId ga = s->addElement(a);
+  sim::ElementId gb;
   if (wall) {
     sim::WallDef w;
     w.shape = sim::WallShape::Plane;
@@ -45,12 +45,12 @@ double rebound(LawKind law, HertzDamping damping, double e, bool wall) {
     w.material = "m";
     s->addWall(w);
   } else {
-    sim::GrainDef b = a;
+    sim::ElementDef b = a;
     b.position = {0, 0, 0};
     b.velocity = {0, 0, 0.5 * kV0};
-    gb = s->addGrain(b);
+    gb = s->addElement(b);
   }
-  const double mass = s->grain(ga).mass;
+  const double mass = s->element(ga).mass;
   const double mstar = wall ? mass : 0.5 * mass, rstar = wall ? kR : 0.5 * kR;
   const double es = kYoung / (2 * (1 - kPoisson * kPoisson));  // E* of one material
   const double tc = law == LawKind::Linear
@@ -58,7 +58,7 @@ double rebound(LawKind law, HertzDamping damping, double e, bool wall) {
                         : 2.868 * std::pow(mstar * mstar / (rstar * es * es * kV0), 0.2);
   s->setTimeStep(tc / kSteps);
   s->runSteps(static_cast<uint64_t>(4 * kSteps));
-  const double va = s->grain(ga).velocity[2], vb = wall ? 0 : s->grain(gb).velocity[2];
+  const double va = s->element(ga).velocity[2], vb = wall ? 0 : s->element(gb).velocity[2];
   return (va - vb) / kV0;
 }
 

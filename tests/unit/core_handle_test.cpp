@@ -12,12 +12,12 @@
 namespace demlab {
 namespace {
 
-struct GrainKind;
+struct ElementKind;
 struct WallKind;
-using Grain = Handle<GrainKind>;
-using Pool = HandlePool<GrainKind>;
+using Grain = Handle<ElementKind>;
+using Pool = HandlePool<ElementKind>;
 
-static_assert(!std::is_convertible_v<Handle<GrainKind>, Handle<WallKind>>);
+static_assert(!std::is_convertible_v<Handle<ElementKind>, Handle<WallKind>>);
 static_assert(sizeof(Grain) == 8);
 
 void expectError(auto&& f, const std::string& message, std::vector<std::string> code) {

@@ -98,7 +98,7 @@ void declareFromRegistry(Registry& r, const sim::BehaviorTypeInfo& t) {
           break;
         }
         case sim::BehaviorParamKind::Element:
-          p.grain = c.get<sim::GrainId>(o.name);
+          p.grain = c.get<sim::ElementId>(o.name);
           break;
         case sim::BehaviorParamKind::Tag:
           p.text = c.str(o.name);
@@ -175,7 +175,7 @@ void registerBehaviorCommands(Registry& r) {
   load.onCheck([](Call& c) {
     sim::LoadDef d;
     if (c.given("element"))
-      d.grain = c.get<sim::GrainId>("element");
+      d.grain = c.get<sim::ElementId>("element");
     else
       d.tag = c.str("tag");
     if (c.has("force")) loadComponents(c, "force", false, d.force, d.forceFn);

@@ -12,7 +12,7 @@ namespace demlab::cmd {
 
 namespace {
 
-using sim::GrainId;
+using sim::ElementId;
 
 // Returns the words of a space-separated string as a Tcl list.
 List wordList(const std::string& words) {
@@ -21,7 +21,7 @@ List wordList(const std::string& words) {
   return out;
 }
 
-Dict stateDict(const sim::GrainState& g, int d) {
+Dict stateDict(const sim::ElementState& g, int d) {
   List tags;
   for (auto& t : g.tags) tags.emplace_back(t);
   Dict out{{"id", scriptId(g.id)},
@@ -80,9 +80,9 @@ void blockOptions(Command& cmd) {
 }
 
 // The elements a command targets: every element with -tag, or all.
-std::vector<GrainId> targets(const Call& c, const sim::Simulation& s) {
-  if (c.given("tag")) return s.grainsTagged(c.str("tag"));
-  return s.grainIds();
+std::vector<ElementId> targets(const Call& c, const sim::Simulation& s) {
+  if (c.given("tag")) return s.elementsTagged(c.str("tag"));
+  return s.elementIds();
 }
 
 // Throws {EXISTS NAME} in the element's words if name is taken (the core says "grain").
@@ -90,17 +90,17 @@ void checkNameFree(const sim::Simulation& s, const std::string& name) {
   if (name.empty()) return;
   bool taken = true;
   try {
-    s.findGrain(name);
+    s.findElement(name);
   } catch (const Error&) {
     taken = false;
   }
   if (taken) throw Error("element \"" + name + "\" already exists", {"EXISTS", "NAME"});
 }
 
-Value idList(const std::vector<GrainId>& ids) {
+Value idList(const std::vector<ElementId>& ids) {
   List l;
   l.reserve(ids.size());
-  for (GrainId g : ids) l.emplace_back(scriptId(g));
+  for (ElementId g : ids) l.emplace_back(scriptId(g));
   return l;
 }
 
@@ -115,14 +115,14 @@ void registerElementCommands(Registry& r) {
       "sized by -radius, or a type registered by a plug-in, described by -params (its bounding "
       "radius follows from them) and oriented by -orientation. `element shapes` lists them.";
   add.option("radius", real().positive().withUnit("m"), "radius (the ball's; required for it)")
-      .to(&sim::GrainDef::radius);
+      .to(&sim::ElementDef::radius);
   add.option("material", materialRef(), "its material (default: the first material defined)")
-      .to(&sim::GrainDef::material);
+      .to(&sim::ElementDef::material);
   add.option("position", vector().withUnit("m"), "centre (default: the origin)");
   add.option("velocity", vector().withUnit("m/s"), "velocity");
   add.option("angularvelocity", spin().withUnit("rad/s"), "angular velocity (a number in 2D)");
   add.option("tags", text("list of tags"), "tags to give it");
-  add.option("name", name(), "a unique name").to(&sim::GrainDef::name);
+  add.option("name", name(), "a unique name").to(&sim::ElementDef::name);
   add.option("shape", text("shape type"),
              "its shape type: sphere (3D) or disc (2D), the default, or another of `element "
              "shapes`");
@@ -132,7 +132,7 @@ void registerElementCommands(Registry& r) {
   blockOptions(add);
   add.onCheck([](Call& c) {
     auto& s = session(c).scene();
-    sim::GrainDef d;
+    sim::ElementDef d;
     c.fill(d);
     if (!c.given("material")) {
       auto names = s.materialNames();
@@ -163,7 +163,7 @@ void registerElementCommands(Registry& r) {
     c.prepared = d;
   });
   add.run([](Call& c) {
-    return Value(scriptId(session(c).scene().addGrain(std::any_cast<sim::GrainDef>(c.prepared))));
+    return Value(scriptId(session(c).scene().addElement(std::any_cast<sim::ElementDef>(c.prepared))));
   });
 
   Command& shapes = r.add("element shapes",
@@ -184,7 +184,7 @@ void registerElementCommands(Registry& r) {
   get.changesScene = false;
   get.run([](Call& c) {
     auto& s = session(c).scene();
-    Dict d = stateDict(s.grain(c.get<GrainId>("element")), s.dim());
+    Dict d = stateDict(s.element(c.get<ElementId>("element")), s.dim());
     if (c.flagOrder().empty()) return Value(d);
     Dict picked;
     for (const std::string& f : c.flagOrder())
@@ -207,28 +207,28 @@ void registerElementCommands(Registry& r) {
   blockOptions(set);
   set.onCheck([](Call& c) {
     auto& s = session(c).scene();
-    s.grain(c.get<GrainId>("element"));  // LOOKUP HANDLE before anything changes
+    s.element(c.get<ElementId>("element"));  // LOOKUP HANDLE before anything changes
     c.prepared = blockedMask(c, s.dim());
   });
   set.run([](Call& c) {
     auto& s = session(c).scene();
-    GrainId g = c.get<GrainId>("element");
+    ElementId g = c.get<ElementId>("element");
     const auto mask = std::any_cast<std::optional<unsigned>>(c.prepared);
     // The pipes made every vector the right size and the check read the mask, so none of
     // these calls can fail half-way.
-    if (c.has("position")) s.setGrainPosition(g, vec3(c.vec("position")));
+    if (c.has("position")) s.setElementPosition(g, vec3(c.vec("position")));
     const bool fixing = c.given("fixed") && c.get<bool>("fixed");
     if (c.has("velocity")) {
-      s.setGrainVelocity(g, vec3(c.vec("velocity")));
+      s.setElementVelocity(g, vec3(c.vec("velocity")));
     } else if (fixing) {
-      s.setGrainVelocity(g, {0, 0, 0});
+      s.setElementVelocity(g, {0, 0, 0});
     }
     if (c.has("angularvelocity")) {
-      s.setGrainAngularVelocity(g, vec3(c.vec("angularvelocity"), true));
+      s.setElementAngularVelocity(g, vec3(c.vec("angularvelocity"), true));
     } else if (fixing) {
-      s.setGrainAngularVelocity(g, {0, 0, 0});
+      s.setElementAngularVelocity(g, {0, 0, 0});
     }
-    if (mask) s.setGrainBlocked(g, *mask);
+    if (mask) s.setElementBlocked(g, *mask);
     return Value();
   });
 
@@ -243,8 +243,8 @@ void registerElementCommands(Registry& r) {
   clone.option("name", name(), "a unique name for the copy");
   clone.run([](Call& c) {
     auto& s = session(c).scene();
-    sim::GrainState g = s.grain(c.get<GrainId>("element"));
-    sim::GrainDef d;
+    sim::ElementState g = s.element(c.get<ElementId>("element"));
+    sim::ElementDef d;
     d.radius = g.radius;
     d.material = g.material;
     d.tags = g.tags;
@@ -254,7 +254,7 @@ void registerElementCommands(Registry& r) {
     d.blocked = g.blocked;
     if (c.has("name")) d.name = c.str("name");
     checkNameFree(s, d.name);
-    return Value(scriptId(s.addGrain(d)));
+    return Value(scriptId(s.addElement(d)));
   });
 
   Command& rm = r.add("element remove",
@@ -270,13 +270,13 @@ void registerElementCommands(Registry& r) {
   });
   rm.run([](Call& c) {
     auto& s = session(c).scene();
-    if (c.given("tag")) return Value(s.removeGrains(c.str("tag")));
-    std::vector<GrainId> ids = c.all<GrainId>("element");
+    if (c.given("tag")) return Value(s.removeElements(c.str("tag")));
+    std::vector<ElementId> ids = c.all<ElementId>("element");
     std::unordered_set<std::uint64_t> seen;
     std::size_t n = 0;
-    for (GrainId g : ids)
+    for (ElementId g : ids)
       if (seen.insert(g.bits()).second) {  // each id was checked to exist; duplicates once
-        s.removeGrain(g);
+        s.removeElement(g);
         ++n;
       }
     return Value(n);
@@ -293,7 +293,7 @@ void registerElementCommands(Registry& r) {
   count.changesScene = false;
   count.run([](Call& c) {
     auto& s = session(c).scene();
-    return c.given("tag") ? Value(s.grainsTagged(c.str("tag")).size()) : Value(s.grainCount());
+    return c.given("tag") ? Value(s.elementsTagged(c.str("tag")).size()) : Value(s.elementCount());
   });
 
   Command& arr =
@@ -311,7 +311,7 @@ void registerElementCommands(Registry& r) {
   arr.run([](Call& c) {
     auto& s = session(c).scene();
     const std::string& f = c.str("field");
-    std::vector<GrainId> all = s.grainIds();
+    std::vector<ElementId> all = s.elementIds();
     if (f == "id" && !c.given("tag")) return idList(all);
     int d = s.dim();
     int stride = d;
@@ -331,11 +331,11 @@ void registerElementCommands(Registry& r) {
     if (c.given("tag")) {
       std::unordered_map<std::uint64_t, std::size_t> dense;
       for (std::size_t k = 0; k < all.size(); ++k) dense[all[k].bits()] = k;
-      std::vector<GrainId> tagged = s.grainsTagged(c.str("tag"));
+      std::vector<ElementId> tagged = s.elementsTagged(c.str("tag"));
       if (f == "id") return idList(tagged);
       std::vector<double> picked;
       picked.reserve(tagged.size() * std::size_t(stride));
-      for (GrainId g : tagged) {
+      for (ElementId g : tagged) {
         std::size_t k = dense.at(g.bits());
         picked.insert(picked.end(), data.begin() + long(k) * stride,
                       data.begin() + long(k + 1) * stride);
@@ -345,8 +345,8 @@ void registerElementCommands(Registry& r) {
     return Value(Reals{std::move(data), (c.flag("flat") || stride == 1) ? 0 : stride});
   });
 
-  addTagCommands<GrainId>(r, "element", "elements", elementRef(), &sim::Simulation::tagGrain,
-                          &sim::Simulation::untagGrain);
+  addTagCommands<ElementId>(r, "element", "elements", elementRef(), &sim::Simulation::tagElement,
+                          &sim::Simulation::untagElement);
 }
 
 }  // namespace demlab::cmd

@@ -1,4 +1,4 @@
-// The "pack" group: many elements at once, all or none (Simulation::addGrains): a lattice, a
+// The "pack" group: many elements at once, all or none (Simulation::addElements): a lattice, a
 // random non-overlapping packing of a region with a size distribution, or a file. The elements
 // are laid out in the check phase, so a failure adds nothing.
 #include <algorithm>
@@ -128,8 +128,8 @@ void commonOptions(Command& c) {
 }
 
 // Returns the Def every packed element starts from (material, velocity, tags).
-sim::GrainDef baseDef(const Call& c, const sim::Simulation& s) {
-  sim::GrainDef d;
+sim::ElementDef baseDef(const Call& c, const sim::Simulation& s) {
+  sim::ElementDef d;
   if (c.given("material")) {
     d.material = c.str("material");
   } else {
@@ -151,7 +151,7 @@ sim::GrainDef baseDef(const Call& c, const sim::Simulation& s) {
 using sim::kMaxPack;
 
 Value addAll(Call& c) {
-  auto ids = session(c).scene().addGrains(std::any_cast<std::vector<sim::GrainDef>>(c.prepared));
+  auto ids = session(c).scene().addElements(std::any_cast<std::vector<sim::ElementDef>>(c.prepared));
   List l;
   l.reserve(ids.size());
   for (auto g : ids) l.emplace_back(scriptId(g));
@@ -185,9 +185,9 @@ void registerPackCommands(Registry& r) {
     sim::LatticeDef lattice{reg, rad, a, c.str("kind") == "hex"};
     if (sim::latticeCandidates(lattice, d) > double(kMaxPack))
       c.bad("radius", "would make more than 2^27 elements");
-    sim::GrainDef base = baseDef(c, s);
+    sim::ElementDef base = baseDef(c, s);
     base.radius = rad;
-    std::vector<sim::GrainDef> defs;
+    std::vector<sim::ElementDef> defs;
     for (const Vec3d& p : sim::latticeSites(lattice, d)) {
       base.position = p;
       defs.push_back(base);
@@ -233,8 +233,8 @@ void registerPackCommands(Registry& r) {
         sim::drawRadii(dist, reg, d, count, c.given("count") ? 0.0 : c.real("fraction"), rng);
     const std::vector<Vec3d> sites =
         sim::randomSites(reg, d, radii, s.positions(), s.radii(), c.integer("tries"), rng);
-    sim::GrainDef base = baseDef(c, s);
-    std::vector<sim::GrainDef> defs;
+    sim::ElementDef base = baseDef(c, s);
+    std::vector<sim::ElementDef> defs;
     defs.reserve(radii.size());
     for (std::size_t k = 0; k < sites.size(); ++k) {
       base.position = sites[k];
@@ -270,8 +270,8 @@ void registerPackCommands(Registry& r) {
       };
       fmtName = ends(".data") || ends(".data.gz") || ends(".lmp") ? "lammps" : "xyzr";
     }
-    sim::GrainDef base = baseDef(c, s);
-    std::vector<sim::GrainDef> defs;
+    sim::ElementDef base = baseDef(c, s);
+    std::vector<sim::ElementDef> defs;
     if (fmtName == "lammps") {
       io::SphereData data = io::readLammpsData(path);
       for (std::size_t a = 0; a < data.size(); ++a) {

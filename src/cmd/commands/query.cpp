@@ -76,7 +76,7 @@ void registerQueryCommands(Registry& r) {
   cnt.changesScene = false;
   cnt.run([](Call& c) {
     auto& s = session(c).scene();
-    return Value(Dict{{"elements", s.grainCount()},
+    return Value(Dict{{"elements", s.elementCount()},
                       {"walls", s.wallCount()},
                       {"contacts", s.contactCount()},
                       {"behaviors", s.behaviors().size()},

@@ -125,7 +125,7 @@ void warnStep(Session& s) {
 // Returns the watchdog's stop as the Tcl-level error, naming elements and walls by script id.
 Error watchdogError(const sim::RunStopped& e) {
   const sim::WatchdogTrip& t = e.trip();
-  auto g = [](sim::GrainId id) { return std::to_string(scriptId(id)); };
+  auto g = [](sim::ElementId id) { return std::to_string(scriptId(id)); };
   auto w = [](sim::WallId id) { return std::to_string(scriptId(id)); };
   return Error(t.message(g, w), {"WATCHDOG", t.check});
 }

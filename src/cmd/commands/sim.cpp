@@ -29,7 +29,7 @@ Value info(const sim::Simulation& s) {
   } catch (const Error&) {
   }
   d.emplace_back("timestep", dt);
-  d.emplace_back("elements", s.grainCount());
+  d.emplace_back("elements", s.elementCount());
   d.emplace_back("walls", s.wallCount());
   d.emplace_back("materials", s.materialNames().size());
   d.emplace_back("behaviors", s.behaviors().size());

@@ -141,7 +141,7 @@ SnapOptions readOptions(const Call& c, bool now) {
     if (o.colourBy != "value") c.bad("values", "needs -color value");
     if (!now) c.bad("values", "a fixed list of values only fits \"snapshot write\"");
     o.values = c.vec("values");
-    const std::size_t n = session(c.context()).scene().grainCount();
+    const std::size_t n = session(c.context()).scene().elementCount();
     if (o.values.size() != n) {
       c.bad("values", "expected " + std::to_string(n) + " numbers (one per element) but got " +
                           std::to_string(o.values.size()));
@@ -289,22 +289,22 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f) {
     f.field = o.values;
   } else if (by == "id") {
     f.field.clear();
-    for (sim::GrainId id : s.grainIds()) f.field.push_back(double(scriptId(id)));
+    for (sim::ElementId id : s.elementIds()) f.field.push_back(double(scriptId(id)));
   } else if (by == "material") {
     const auto names = s.materialNames();
     f.field.clear();
-    for (sim::GrainId id : s.grainIds()) {
-      const std::string m = s.grain(id).material;
+    for (sim::ElementId id : s.elementIds()) {
+      const std::string m = s.element(id).material;
       f.field.push_back(double(std::find(names.begin(), names.end(), m) - names.begin()));
     }
     sc.categoryNames = names;
   } else {  // tag: the first of o.tags a grain carries; "other" for none
     std::unordered_map<std::uint64_t, std::size_t> dense;
-    const auto ids = s.grainIds();
+    const auto ids = s.elementIds();
     for (std::size_t i = 0; i < ids.size(); ++i) dense[ids[i].bits()] = i;
     f.field.assign(n, double(o.tags.size()));
     for (std::size_t k = o.tags.size(); k-- > 0;)
-      for (sim::GrainId id : s.grainsTagged(o.tags[k])) f.field[dense[id.bits()]] = double(k);
+      for (sim::ElementId id : s.elementsTagged(o.tags[k])) f.field[dense[id.bits()]] = double(k);
     sc.categoryNames = o.tags;
     if (std::any_of(f.field.begin(), f.field.end(),
                     [&](double v) { return v == double(o.tags.size()); }))

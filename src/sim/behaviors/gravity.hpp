@@ -32,7 +32,7 @@ class GravityBehavior final : public Behavior<D> {
   // Adds m g to every grain; no work (the potential accounts for it). The loop does not call
   // this: its gravity module sums the fields first.
   void apply(Scene<D>& s, double&) const override {
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     for (size_t i = 0; i < a.size(); ++i) a.f[i] += g_ / a.invMass[i];
   }
   const VecD<D>* uniformAcceleration() const override { return &g_; }

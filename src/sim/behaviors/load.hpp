@@ -15,7 +15,7 @@ namespace demlab::sim {
 template <int D>
 class LoadBehavior final : public Behavior<D> {
  public:
-  GrainId grain;  // null: tag
+  ElementId grain;  // null: tag
   std::string tag;
   Vec3d force{}, torque{};  // constants (2D: force x y, torque z)
   std::array<TimeFunction, 3> forceFn{}, torqueFn{};
@@ -44,7 +44,7 @@ class LoadBehavior final : public Behavior<D> {
   std::string_view module() const override { return "loads"; }
   void apply(Scene<D>& s, double& work) const override {
     const double t = s.time + s.stepDt;
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     VecD<D> F;
     for (int k = 0; k < D; ++k) F[k] = forceFn[k] ? forceFn[k](t) : force[k];
     AngularD<D> T;

@@ -68,7 +68,7 @@ class TorqueRampBehavior final : public Behavior<D> {
   void apply(Scene<D>& s, double& work) const override {
     const AngularD<D> T = torqueAt(s.time + s.stepDt);
     if (!s.rotating || squaredNorm(T) == 0) return;
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     auto one = [&](uint32_t i) {
       a.t[i] += T;
       work += dotAngular(T, halfStepAngularVelocity(s, i)) * s.stepDt;
@@ -96,7 +96,7 @@ class TorqueRampBehavior final : public Behavior<D> {
   }
 
  private:
-  GrainId grain_;
+  ElementId grain_;
   std::string tag_;
   AngularD<D> t0_{}, rate_{};
   double start_ = 0;

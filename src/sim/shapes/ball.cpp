@@ -24,11 +24,11 @@ class Ball final : public ShapeType<D> {
   }
   // A ball's Geometry is shared by every size: the element's radius is its bound.
   Real boundingRadius(std::span<const double>) const override { return 0; }
-  // Per unit radius: mass and inertia scale with r^D and r^(D+2) (grainMass, grainInertia).
+  // Per unit radius: mass and inertia scale with r^D and r^(D+2) (ballMass, ballInertia).
   MassProperties<D> massProperties(std::span<const double>) const override {
     MassProperties<D> m;
-    m.volume = grainMass<D>(1, 1);
-    const Real i = grainInertia<D>(m.volume, 1);
+    m.volume = ballMass<D>(1, 1);
+    const Real i = ballInertia<D>(m.volume, 1);
     m.inertia = Mat3::Identity() * i;
     return m;
   }

@@ -26,7 +26,7 @@ TEST_P(SimApi, BadDefsAreRejectedAndChangeNothing) {
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e8, 0.5, 0.5));
   s->addWall(plane({0, 0, 0}, d == 3 ? Vec3d{0, 0, 1} : Vec3d{0, 1, 0}, "glass"));
-  const GrainId g = s->addGrain(grain({0.5, 0.5, d == 3 ? 0.5 : 0.0}, 0.01, "glass"));
+  const ElementId g = s->addElement(grain({0.5, 0.5, d == 3 ? 0.5 : 0.0}, 0.01, "glass"));
   s->addGravity({0, d == 2 ? -9.81 : 0, d == 3 ? -9.81 : 0});
   s->setAutoTimeStep(0.2);
   s->runSteps(10);
@@ -34,28 +34,28 @@ TEST_P(SimApi, BadDefsAreRejectedAndChangeNothing) {
 
   using Code = std::vector<std::string>;
   const double z = d == 3 ? 0.5 : 0.0;
-  EXPECT_EQ(codeOf([&] { s->addGrain(grain({0, 0, z}, -1, "glass")); }), (Code{"VALUE", "RADIUS"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(grain({0, 0, z}, -1, "glass")); }), (Code{"VALUE", "RADIUS"}));
   EXPECT_EQ(codeOf([&] {
-              s->addGrain(grain({0, 0, z}, NAN, "glass"));
+              s->addElement(grain({0, 0, z}, NAN, "glass"));
             }),
             (Code{"VALUE", "RADIUS"}));
   EXPECT_EQ(codeOf([&] {
-              s->addGrain(grain({0, 0, z}, 0.01, "steel"));
+              s->addElement(grain({0, 0, z}, 0.01, "steel"));
             }),
             (Code{"LOOKUP", "MATERIAL"}));
   EXPECT_EQ(codeOf([&] {
-              s->addGrain(grain({INFINITY, 0, z}, 0.01, "glass"));
+              s->addElement(grain({INFINITY, 0, z}, 0.01, "glass"));
             }),
             (Code{"VALUE", "POSITION"}));
-  GrainDef tagged = grain({0, 0, z}, 0.01, "glass");
+  ElementDef tagged = grain({0, 0, z}, 0.01, "glass");
   tagged.tags = {"ok", "9bad"};
-  EXPECT_EQ(codeOf([&] { s->addGrain(tagged); }), (Code{"VALUE", "TAG"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(tagged); }), (Code{"VALUE", "TAG"}));
   // A batch with one bad Def adds nothing.
-  std::vector<GrainDef> batch = {grain({0, 0, z}, 0.01, "glass"), grain({0, 0, z}, 0, "glass")};
-  EXPECT_EQ(codeOf([&] { s->addGrains(batch); }), (Code{"VALUE", "RADIUS"}));
-  GrainDef named = grain({0, 0, z}, 0.01, "glass");
+  std::vector<ElementDef> batch = {grain({0, 0, z}, 0.01, "glass"), grain({0, 0, z}, 0, "glass")};
+  EXPECT_EQ(codeOf([&] { s->addElements(batch); }), (Code{"VALUE", "RADIUS"}));
+  ElementDef named = grain({0, 0, z}, 0.01, "glass");
   named.name = "a";
-  EXPECT_EQ(codeOf([&] { s->addGrains({named, named}); }), (Code{"EXISTS", "NAME"}));
+  EXPECT_EQ(codeOf([&] { s->addElements({named, named}); }), (Code{"EXISTS", "NAME"}));
   EXPECT_EQ(codeOf([&] { s->addMaterial("glass", material(1e8, 0.5, 0.5)); }),
             (Code{"EXISTS", "MATERIAL"}));
   EXPECT_EQ(codeOf([&] { s->addMaterial("rubber", material(-1, 0.5, 0.5)); }),
@@ -81,25 +81,25 @@ TEST_P(SimApi, BadDefsAreRejectedAndChangeNothing) {
             (Code{"VALUE", "CELLFACTOR"}));
   EXPECT_EQ(codeOf([&] { s->setOption("detection", "spacing", 1.0); }), (Code{"VALUE", "OPTION"}));
   EXPECT_EQ(codeOf([&] { s->setOption("integrate", "name", 1.0); }), (Code{"LOOKUP", "MODULE"}));
-  EXPECT_EQ(codeOf([&] { s->setGrainVelocity(g, {NAN, 0, 0}); }), (Code{"VALUE", "VELOCITY"}));
+  EXPECT_EQ(codeOf([&] { s->setElementVelocity(g, {NAN, 0, 0}); }), (Code{"VALUE", "VELOCITY"}));
   if (d == 2) {
     EXPECT_EQ(codeOf([&] {
-                s->addGrain(grain({0, 0, 1}, 0.01, "glass"));
+                s->addElement(grain({0, 0, 1}, 0.01, "glass"));
               }),
               (Code{"VALUE", "POSITION"}));
-    GrainDef spin = grain({0, 0, 0}, 0.01, "glass");
+    ElementDef spin = grain({0, 0, 0}, 0.01, "glass");
     spin.angularVelocity = {1, 0, 0};
-    EXPECT_EQ(codeOf([&] { s->addGrain(spin); }), (Code{"VALUE", "ANGULARVELOCITY"}));
+    EXPECT_EQ(codeOf([&] { s->addElement(spin); }), (Code{"VALUE", "ANGULARVELOCITY"}));
   }
   EXPECT_EQ(codeOf([&] { (void)lawFromName("hooke"); }), (Code{"VALUE", "LAW"}));
   EXPECT_EQ(codeOf([&] { (void)makeSimulation(4); }), (Code{"VALUE", "DIMENSION"}));
   // Stale handles.
-  s->removeGrain(g);
+  s->removeElement(g);
   const uint64_t afterRemove = s->stateDigest();
   EXPECT_NE(afterRemove, digest);
-  EXPECT_EQ(codeOf([&] { s->removeGrain(g); }), (Code{"LOOKUP", "HANDLE"}));
-  EXPECT_EQ(codeOf([&] { (void)s->grain(g); }), (Code{"LOOKUP", "HANDLE"}));
-  EXPECT_EQ(codeOf([&] { s->tagGrain(g, "x"); }), (Code{"LOOKUP", "HANDLE"}));
+  EXPECT_EQ(codeOf([&] { s->removeElement(g); }), (Code{"LOOKUP", "HANDLE"}));
+  EXPECT_EQ(codeOf([&] { (void)s->element(g); }), (Code{"LOOKUP", "HANDLE"}));
+  EXPECT_EQ(codeOf([&] { s->tagElement(g, "x"); }), (Code{"LOOKUP", "HANDLE"}));
   std::istringstream junk("not a checkpoint");
   EXPECT_EQ(codeOf([&] { s->load(junk); }), (Code{"LOAD", "FORMAT"}));
   auto other = makeSimulation(d == 2 ? 3 : 2);
@@ -113,13 +113,13 @@ TEST_P(SimApi, ModulesFollowTheScene) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("slick", material(1e8, 0.9, 0.0));
-  s->addGrains(latticeGrains(d, 8, 0.01, 0.1, 0.1, "slick", 1));
+  s->addElements(latticeGrains(d, 8, 0.01, 0.1, 0.1, "slick", 1));
   s->setTimeStep(1e-5);
   using Names = std::vector<std::string>;
   EXPECT_EQ(s->listModules(),
             (Names{"integrate", "detection", "contacts", "integrate-correct", "watchdog"}));
   s->addMaterial("rough", material(1e8, 0.5, 0.5));
-  s->addGrain(grain({0.5, 0.5, d == 3 ? 0.5 : 0.0}, 0.01, "rough"));
+  s->addElement(grain({0.5, 0.5, d == 3 ? 0.5 : 0.0}, 0.01, "rough"));
   // "rough" against "slick" has no friction (min rule), but rough against rough has.
   EXPECT_EQ(s->listModules(), (Names{"integrate", "rotation", "detection", "contacts-friction",
                                      "integrate-correct", "watchdog"}));
@@ -155,25 +155,25 @@ TEST_P(SimApi, TagsRemovalAndQueries) {
   auto defs = latticeGrains(d, 20, 0.01, 0.2, 0.0, "glass", 2);
   for (size_t k = 0; k < defs.size(); ++k) defs[k].tags = {k % 2 ? "odd" : "even"};
   defs[3].name = "third";
-  const auto ids = s->addGrains(defs);
-  EXPECT_EQ(s->grainCount(), 20u);
-  EXPECT_EQ(s->findGrain("third"), ids[3]);
-  EXPECT_EQ(s->grainsTagged("odd").size(), 10u);
-  const GrainState g3 = s->grain(ids[3]);
+  const auto ids = s->addElements(defs);
+  EXPECT_EQ(s->elementCount(), 20u);
+  EXPECT_EQ(s->findElement("third"), ids[3]);
+  EXPECT_EQ(s->elementsTagged("odd").size(), 10u);
+  const ElementState g3 = s->element(ids[3]);
   EXPECT_EQ(g3.name, "third");
   EXPECT_EQ(g3.tags, std::vector<std::string>{"odd"});
   EXPECT_DOUBLE_EQ(g3.radius, 0.01);
   const double m =
       d == 3 ? 2500 * 4.0 / 3 * std::numbers::pi * 1e-6 : 2500 * std::numbers::pi * 1e-4;
   EXPECT_NEAR(g3.mass, m, 1e-12 * m);
-  EXPECT_EQ(s->removeGrains("odd"), 10u);
-  EXPECT_EQ(s->grainCount(), 10u);
-  EXPECT_THROW(s->findGrain("third"), Error);
+  EXPECT_EQ(s->removeElements("odd"), 10u);
+  EXPECT_EQ(s->elementCount(), 10u);
+  EXPECT_THROW(s->findElement("third"), Error);
   EXPECT_EQ(s->positions().size(), 10u * d);
   EXPECT_EQ(s->orientations().size(), 10u * (d == 3 ? 4 : 1));
   EXPECT_EQ(s->angularVelocities().size(), 10u * (d == 3 ? 3 : 1));
-  const auto live = s->grainIds();
-  for (GrainId id : live) EXPECT_EQ(s->grain(id).tags, std::vector<std::string>{"even"});
+  const auto live = s->elementIds();
+  for (ElementId id : live) EXPECT_EQ(s->element(id).tags, std::vector<std::string>{"even"});
   const auto b = s->bounds();
   EXPECT_LT(b[0][0], b[1][0]);
 }
@@ -188,7 +188,7 @@ std::unique_ptr<Simulation> busyScene(int d) {
   auto defs = latticeGrains(d, 60, 0.004, 0.08, 0.2, "glass", 3);
   for (size_t k = 0; k < defs.size(); k += 3) defs[k].material = "steel";
   for (size_t k = 0; k < defs.size(); k += 5) defs[k].tags = {"loaded"};
-  s->addGrains(defs);
+  s->addElements(defs);
   addBox(*s, 0.08, "steel");
   WallDef lid = plane({0, 0.073, 0}, {0, -1, 0}, "glass");
   lid.motion = WallMotion{.velocity = {0, -0.05, 0}, .amplitude = {0, 0.002, 0}, .frequency = 40};
@@ -214,10 +214,10 @@ TEST_P(SimApi, SameSceneTwiceIsBitIdentical) {
   EXPECT_EQ(a->velocities(), b->velocities());
   EXPECT_EQ(a->stateDigest(), b->stateDigest());
   // The digest sees a one-ulp change.
-  const GrainId g = b->grainIds()[7];
-  Vec3d v = b->grain(g).velocity;
+  const ElementId g = b->elementIds()[7];
+  Vec3d v = b->element(g).velocity;
   v[0] = std::nextafter(v[0], 1.0);
-  b->setGrainVelocity(g, v);
+  b->setElementVelocity(g, v);
   EXPECT_NE(a->stateDigest(), b->stateDigest());
 }
 
@@ -292,19 +292,19 @@ TEST_P(SimApi, RemovalDuringARunKeepsTheRestConsistent) {
   const int d = GetParam();
   auto s = busyScene(d);
   s->runSteps(300);
-  const size_t loaded = s->grainsTagged("loaded").size();
-  const size_t n = s->grainCount();
-  EXPECT_EQ(s->removeGrains("loaded"), loaded);
+  const size_t loaded = s->elementsTagged("loaded").size();
+  const size_t n = s->elementCount();
+  EXPECT_EQ(s->removeElements("loaded"), loaded);
   s->removeWall(s->wallIds().front());
-  s->removeGrain(s->grainIds()[3]);
-  EXPECT_EQ(s->grainCount(), n - loaded - 1);
+  s->removeElement(s->elementIds()[3]);
+  EXPECT_EQ(s->elementCount(), n - loaded - 1);
   EXPECT_EQ(s->wallCount(), static_cast<size_t>(2 * d));
   s->runSteps(300);
   // Every reported contact names live objects.
   for (const ContactInfo& c : s->contacts()) {
-    EXPECT_NO_THROW(s->grain(c.a));
+    EXPECT_NO_THROW(s->element(c.a));
     if (!c.b.isNull()) {
-      EXPECT_NO_THROW(s->grain(c.b));
+      EXPECT_NO_THROW(s->element(c.b));
     }
   }
   // And the edited scene still checkpoints and continues bit-identically.

@@ -15,27 +15,27 @@ using testing::material;
 using Code = std::vector<std::string>;
 
 // Returns a scene with one free grain (no contact, no gravity) and dt = 1e-4.
-std::unique_ptr<Simulation> oneGrain(int d, GrainId* id) {
+std::unique_ptr<Simulation> oneGrain(int d, ElementId* id) {
   auto s = makeSimulation(d);
   s->addMaterial("m", material(1e7, 0.5, 0.5));
-  *id = s->addGrain(grain({0, 0, 0}, 0.01, "m"));
+  *id = s->addElement(grain({0, 0, 0}, 0.01, "m"));
   s->setTimeStep(1e-4);
   return s;
 }
 
-std::vector<BehaviorParam> ramp(GrainId g, const Vec3d& t0, const Vec3d& rate) {
+std::vector<BehaviorParam> ramp(ElementId g, const Vec3d& t0, const Vec3d& rate) {
   return {{"element", {}, {}, g}, vecParam("torque", t0), vecParam("rate", rate)};
 }
 
 // Returns the inertia of the grain (2/5 m r^2 in 3D, 1/2 m r^2 in 2D).
-double inertia(const Simulation& s, GrainId g) { return s.grain(g).inertia; }
+double inertia(const Simulation& s, ElementId g) { return s.element(g).inertia; }
 
 class TorqueRamp : public ::testing::TestWithParam<int> {};
 
 // Returns the ledger's (behavior work - rotational energy gained) / energy gained after a
 // ramp's first 0.2 s at time step dt; checks the spin against the analytic answer.
 double rampLedgerError(int d, double dt) {
-  GrainId g;
+  ElementId g;
   auto s = oneGrain(d, &g);
   s->setTimeStep(dt);
   const double T0 = 2e-4, rate = 0.05;
@@ -64,7 +64,7 @@ TEST_P(TorqueRamp, FreeGrainFollowsTheAnalyticSpin) {
 
 TEST_P(TorqueRamp, CapHoldsTheMagnitude) {
   const int d = GetParam();
-  GrainId g;
+  ElementId g;
   auto s = oneGrain(d, &g);
   auto p = ramp(g, {0, 0, 0}, {0, 0, -1.0});
   p.push_back(numberParam("max", 0.01));
@@ -78,13 +78,13 @@ TEST_P(TorqueRamp, CapHoldsTheMagnitude) {
 
 TEST_P(TorqueRamp, TagGroupAndRemoval) {
   const int d = GetParam();
-  GrainId a;
+  ElementId a;
   auto s = oneGrain(d, &a);
-  GrainDef other = grain({1, 0, 0}, 0.01, "m");
+  ElementDef other = grain({1, 0, 0}, 0.01, "m");
   other.tags = {"spun"};
-  const GrainId b = s->addGrain(other);
-  s->tagGrain(a, "spun");
-  const GrainId c = s->addGrain(grain({2, 0, 0}, 0.01, "m"));
+  const ElementId b = s->addElement(other);
+  s->tagElement(a, "spun");
+  const ElementId c = s->addElement(grain({2, 0, 0}, 0.01, "m"));
   std::vector<BehaviorParam> p{{"tag", {}, "spun", {}}, vecParam("rate", {0, 0, 1})};
   const BehaviorId id = s->addBehavior("torque-ramp", p);
   ASSERT_EQ(s->behaviors().size(), 1u);
@@ -107,7 +107,7 @@ TEST_P(TorqueRamp, TagGroupAndRemoval) {
 
 TEST_P(TorqueRamp, SaveLoadAndCloneContinueBitIdentically) {
   const int d = GetParam();
-  GrainId g;
+  ElementId g;
   auto a = oneGrain(d, &g);
   auto p = ramp(g, {0, 0, 1e-4}, {0, 0, 0.02});
   p.push_back(numberParam("start", 0.005));
@@ -133,7 +133,7 @@ TEST_P(TorqueRamp, SaveLoadAndCloneContinueBitIdentically) {
 // A checkpoint naming a type this build does not know is refused with a clear error.
 TEST_P(TorqueRamp, UnknownTypeInACheckpoint) {
   const int d = GetParam();
-  GrainId g;
+  ElementId g;
   auto a = oneGrain(d, &g);
   a->addBehavior("torque-ramp", ramp(g, {0, 0, 0}, {0, 0, 1}));
   std::stringstream ck;
@@ -159,7 +159,7 @@ TEST_P(TorqueRamp, UnknownTypeInACheckpoint) {
 
 TEST_P(TorqueRamp, BadParametersChangeNothing) {
   const int d = GetParam();
-  GrainId g;
+  ElementId g;
   auto s = oneGrain(d, &g);
   const uint64_t before = s->stateDigest();
   EXPECT_EQ(codeOf([&] { s->addBehavior("spring", {}); }), (Code{"LOOKUP", "BEHAVIORTYPE"}));
@@ -176,7 +176,7 @@ TEST_P(TorqueRamp, BadParametersChangeNothing) {
     EXPECT_EQ(codeOf([&] { s->addBehavior("torque-ramp", ramp(g, {1, 0, 0}, {0, 0, 1})); }),
               (Code{"VALUE", "TORQUE"}));
   }
-  s->removeGrain(g);
+  s->removeElement(g);
   EXPECT_EQ(codeOf([&] { s->addBehavior("torque-ramp", ramp(g, {0, 0, 0}, {0, 0, 1})); }),
             (Code{"LOOKUP", "HANDLE"}));
   EXPECT_TRUE(s->behaviors().empty());
@@ -201,7 +201,7 @@ TEST(BehaviorRegistry, ListsTypesAndRefusesUnknownOnes) {
 // The generic path builds the same gravity and load as addGravity and addLoad: equal digests.
 TEST(BehaviorRegistry, GenericAddMatchesTheTypedCalls) {
   for (int d : {2, 3}) {
-    GrainId g1, g2;
+    ElementId g1, g2;
     auto a = oneGrain(d, &g1);
     auto b = oneGrain(d, &g2);
     const Vec3d gv = d == 2 ? Vec3d{0, -9.81, 0} : Vec3d{0, 0, -9.81};

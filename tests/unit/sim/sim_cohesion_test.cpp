@@ -69,7 +69,7 @@ TEST_P(SimCohesion, PullOffFromAWallAtTheModelsForce) {
   n[up(d)] = 1;
   x[up(d)] = kR - rest;  // resting where cohesion and the elastic force balance
   s->addWall(plane({0, 0, 0}, n, "m"));
-  const GrainId id = s->addGrain(grain(x, kR, "m"));
+  const ElementId id = s->addElement(grain(x, kR, "m"));
   const auto modules = s->listModules();
   EXPECT_NE(std::find(modules.begin(), modules.end(), "cohesion"), modules.end());
   // A pull rising from 0 to twice the pull-off over kRamp seconds: slow next to the contact's
@@ -86,7 +86,7 @@ TEST_P(SimCohesion, PullOffFromAWallAtTheModelsForce) {
   const size_t k = static_cast<size_t>(up(d));
   while (s->time() < kRamp) {
     s->runSteps(1);
-    if (kR - s->grain(id).position[k] < p.at) {
+    if (kR - s->element(id).position[k] < p.at) {
       detached = rate * s->time();
       break;
     }
@@ -113,11 +113,11 @@ TEST_P(SimCohesion, HeldAtRestAndNoModuleWithout) {
   n[up(d)] = 1;
   x[up(d)] = kR - 0.5 * rest;  // less pressed than at rest: cohesion pulls it in
   s->addWall(plane({0, 0, 0}, n, "m"));
-  const GrainId id = s->addGrain(grain(x, kR, "m"));
+  const ElementId id = s->addElement(grain(x, kR, "m"));
   // Long enough for the damped oscillation about the rest overlap to die out.
   s->runSteps(static_cast<uint64_t>(0.2 / s->timeStep()));
   EXPECT_EQ(s->contactCount(), 1u);
-  EXPECT_NEAR(kR - s->grain(id).position[static_cast<size_t>(up(d))], rest, 0.02 * rest);
+  EXPECT_NEAR(kR - s->element(id).position[static_cast<size_t>(up(d))], rest, 0.02 * rest);
   // The checkpoint keeps the cohesion; a material without it runs no cohesion module.
   std::stringstream ck;
   s->save(ck);

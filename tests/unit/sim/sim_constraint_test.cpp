@@ -37,20 +37,20 @@ TEST_P(SimConstraint, FixedElementHoldsAFallingOne) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e7, 0.5, 0.5));
-  GrainDef base = grain({0, 0, 0}, 0.01, "glass");
+  ElementDef base = grain({0, 0, 0}, 0.01, "glass");
   base.blocked = dof::all(d);
-  const GrainId fixedId = s->addGrain(base);
+  const ElementId fixedId = s->addElement(base);
   // Slightly off axis, so the fall ends in a rolling contact that pushes the base sideways.
   Vec3d top = along(up(d), 0.025);
   top[0] = 0.002;
-  const GrainId falling = s->addGrain(grain(top, 0.01, "glass"));
+  const ElementId falling = s->addElement(grain(top, 0.01, "glass"));
   s->addGravity(along(up(d), -9.81));
   EXPECT_TRUE(hasModule(*s, "constraints"));
   // A twentieth of the critical step: a damped frictional impact's ledger is first order in
   // the step (doc/verification.md), and this keeps it well inside the bound below.
   s->setAutoTimeStep(0.05);
   runFor(*s, 0.05);
-  const GrainState f = s->grain(fixedId);
+  const ElementState f = s->element(fixedId);
   for (int k = 0; k < 3; ++k) {
     EXPECT_EQ(f.position[k], 0.0) << k;
     EXPECT_EQ(f.velocity[k], 0.0) << k;
@@ -58,7 +58,7 @@ TEST_P(SimConstraint, FixedElementHoldsAFallingOne) {
   }
   EXPECT_EQ(f.blocked, dof::all(d));
   // The falling grain hit it and bounced up: it is above the base, not through it.
-  EXPECT_GT(s->grain(falling).position[up(d)], 0.015);
+  EXPECT_GT(s->element(falling).position[up(d)], 0.015);
   EXPECT_LT(s->energy().residual, 1e-3);
 }
 
@@ -66,9 +66,9 @@ TEST_P(SimConstraint, BlockedAxisKeepsItsVelocityFreeAxisFalls) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e7, 0.5, 0.5));
-  GrainDef g = grain({0, 0, 0}, 0.01, "glass", {0.5, 0, 0});
+  ElementDef g = grain({0, 0, 0}, 0.01, "glass", {0.5, 0, 0});
   g.blocked = dof::X;
-  const GrainId id = s->addGrain(g);
+  const ElementId id = s->addElement(g);
   // Gravity with a horizontal part: the blocked x axis must ignore it.
   Vec3d gr = along(up(d), -9.81);
   gr[0] = 3.0;
@@ -76,7 +76,7 @@ TEST_P(SimConstraint, BlockedAxisKeepsItsVelocityFreeAxisFalls) {
   s->setTimeStep(1e-4);
   s->runSteps(1000);
   const double t = s->time();
-  const GrainState st = s->grain(id);
+  const ElementState st = s->element(id);
   EXPECT_EQ(st.velocity[0], 0.5);
   EXPECT_NEAR(st.position[0], 0.5 * t, 1e-12);
   // Free fall along the vertical, exact for velocity Verlet under a constant force.
@@ -93,14 +93,14 @@ TEST_P(SimConstraint, KinematicPusherKeepsTheLedgerClosed) {
   // Elastic and frictionless, so the only open term of the ledger would be the constraint's
   // work: the free grain gains a kinetic energy of the scale's order from it.
   s->setMaterial("glass", material(1e7, 1.0, 0.0));
-  GrainDef pusher = grain({0, 0, 0}, 0.01, "glass", {0.2, 0, 0});
+  ElementDef pusher = grain({0, 0, 0}, 0.01, "glass", {0.2, 0, 0});
   pusher.blocked = dof::all(d);
-  const GrainId p = s->addGrain(pusher);
-  const GrainId free = s->addGrain(grain({0.03, 0, 0}, 0.01, "glass"));
+  const ElementId p = s->addElement(pusher);
+  const ElementId free = s->addElement(grain({0.03, 0, 0}, 0.01, "glass"));
   runFor(*s, 0.2);
   // The pusher kept its speed and the free grain was knocked ahead of it.
-  EXPECT_EQ(s->grain(p).velocity[0], 0.2);
-  EXPECT_GT(s->grain(free).velocity[0], 0.2);
+  EXPECT_EQ(s->element(p).velocity[0], 0.2);
+  EXPECT_GT(s->element(free).velocity[0], 0.2);
   EXPECT_LT(s->energy().residual, 1e-4);
 }
 
@@ -108,51 +108,51 @@ TEST_P(SimConstraint, SetBlockedFreesAndModulesFollow) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e7, 0.5, 0.5));
-  const GrainId id = s->addGrain(grain({0, 0, 0}, 0.01, "glass"));
+  const ElementId id = s->addElement(grain({0, 0, 0}, 0.01, "glass"));
   s->addGravity(along(up(d), -9.81));
   EXPECT_FALSE(hasModule(*s, "constraints"));
-  s->setGrainBlocked(id, dof::all(d));
+  s->setElementBlocked(id, dof::all(d));
   EXPECT_TRUE(hasModule(*s, "constraints"));
   s->runSteps(100);
-  EXPECT_EQ(s->grain(id).position[up(d)], 0.0);
-  s->setGrainBlocked(id, 0);
+  EXPECT_EQ(s->element(id).position[up(d)], 0.0);
+  s->setElementBlocked(id, 0);
   EXPECT_FALSE(hasModule(*s, "constraints"));
   s->runSteps(100);
-  EXPECT_LT(s->grain(id).position[up(d)], 0.0);
-  EXPECT_EQ(s->grain(id).blocked, 0u);
+  EXPECT_LT(s->element(id).position[up(d)], 0.0);
+  EXPECT_EQ(s->element(id).blocked, 0u);
 }
 
 TEST_P(SimConstraint, BadMasksAndShapesChangeNothing) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e7, 0.5, 0.5));
-  const GrainId id = s->addGrain(grain({0, 0, 0}, 0.01, "glass"));
+  const ElementId id = s->addElement(grain({0, 0, 0}, 0.01, "glass"));
   const uint64_t digest = s->stateDigest();
   using Code = std::vector<std::string>;
-  EXPECT_EQ(codeOf([&] { s->setGrainBlocked(id, 64); }), (Code{"VALUE", "DOF"}));
+  EXPECT_EQ(codeOf([&] { s->setElementBlocked(id, 64); }), (Code{"VALUE", "DOF"}));
   if (d == 2) {
-    EXPECT_EQ(codeOf([&] { s->setGrainBlocked(id, dof::Z); }), (Code{"VALUE", "DOF"}));
-    EXPECT_EQ(codeOf([&] { s->setGrainBlocked(id, dof::Rx); }), (Code{"VALUE", "DOF"}));
+    EXPECT_EQ(codeOf([&] { s->setElementBlocked(id, dof::Z); }), (Code{"VALUE", "DOF"}));
+    EXPECT_EQ(codeOf([&] { s->setElementBlocked(id, dof::Rx); }), (Code{"VALUE", "DOF"}));
   }
-  GrainDef g = grain({0.1, 0, 0}, 0.01, "glass");
+  ElementDef g = grain({0.1, 0, 0}, 0.01, "glass");
   g.shape = d == 2 ? "sphere" : "disc";
-  EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "SHAPE"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(g); }), (Code{"VALUE", "SHAPE"}));
   g.shape = d == 2 ? "disc" : "sphere";
   g.shapeParams = {0.01};
-  EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "SHAPE"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(g); }), (Code{"VALUE", "SHAPE"}));
   g.shapeParams.clear();
   g.orientation = {0, 0, 0, 0};
-  EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "ORIENTATION"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(g); }), (Code{"VALUE", "ORIENTATION"}));
   g.orientation.clear();
   g.shape.clear();
   g.blocked = 1u << 7;
-  EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "DOF"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(g); }), (Code{"VALUE", "DOF"}));
   EXPECT_EQ(codeOf([&] {
-              s->addGrains({grain({0.2, 0, 0}, 0.01, "glass"), g});
+              s->addElements({grain({0.2, 0, 0}, 0.01, "glass"), g});
             }),
             (Code{"VALUE", "DOF"}));
   EXPECT_EQ(s->stateDigest(), digest);
-  EXPECT_EQ(s->grainCount(), 1u);
+  EXPECT_EQ(s->elementCount(), 1u);
   EXPECT_EQ(dofNames(dof::X | dof::Rz), "x rz");
   EXPECT_EQ(dofFromName("ry"), dof::Ry);
   EXPECT_EQ(codeOf([&] { dofFromName("w"); }), (Code{"VALUE", "DOF"}));
@@ -163,11 +163,11 @@ TEST_P(SimConstraint, CheckpointsAndRemovalKeepTheList) {
   auto a = makeSimulation(d);
   a->addMaterial("glass", material(1e7, 0.5, 0.5));
   a->addWall(plane({0, 0, 0}, along(up(d), 1), "glass"));
-  GrainDef g = grain(along(up(d), 0.0105), 0.01, "glass", {0.1, 0, 0});
+  ElementDef g = grain(along(up(d), 0.0105), 0.01, "glass", {0.1, 0, 0});
   g.blocked = dof::X;
-  const GrainId slider = a->addGrain(g);
-  const GrainId other =
-      a->addGrain(grain({0.05, 0.0105 * (d == 2), 0.0105 * (d == 3)}, 0.01, "glass"));
+  const ElementId slider = a->addElement(g);
+  const ElementId other =
+      a->addElement(grain({0.05, 0.0105 * (d == 2), 0.0105 * (d == 3)}, 0.01, "glass"));
   a->addGravity(along(up(d), -9.81));
   a->runSteps(200);
   std::stringstream ck;
@@ -175,14 +175,14 @@ TEST_P(SimConstraint, CheckpointsAndRemovalKeepTheList) {
   auto b = makeSimulation(d);
   b->load(ck);
   EXPECT_EQ(a->stateDigest(), b->stateDigest());
-  EXPECT_EQ(b->grain(slider).blocked, dof::X);
+  EXPECT_EQ(b->element(slider).blocked, dof::X);
   a->runSteps(300);
   b->runSteps(300);
   EXPECT_EQ(a->stateDigest(), b->stateDigest());
   // Removing the blocked element takes its entry: the module goes, the other grain stays free.
-  b->removeGrain(slider);
+  b->removeElement(slider);
   EXPECT_FALSE(hasModule(*b, "constraints"));
-  EXPECT_EQ(b->grain(other).blocked, 0u);
+  EXPECT_EQ(b->element(other).blocked, 0u);
   // A truncated blocked section is a format error, not garbage.
   std::string bytes = ck.str();
   bytes.resize(bytes.size() - 3);
@@ -199,13 +199,13 @@ TEST_P(SimConstraint, RelaxLeavesFixedElementsInPlace) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e7, 0.5, 0.5));
-  GrainDef base = grain({0, 0, 0}, 0.01, "glass");
+  ElementDef base = grain({0, 0, 0}, 0.01, "glass");
   base.blocked = dof::all(d);
-  const GrainId fixedId = s->addGrain(base);
-  const GrainId over = s->addGrain(grain({0.012, 0, 0}, 0.01, "glass"));
+  const ElementId fixedId = s->addElement(base);
+  const ElementId over = s->addElement(grain({0.012, 0, 0}, 0.01, "glass"));
   s->relax(0.01, 50);
-  EXPECT_EQ(s->grain(fixedId).position[0], 0.0);
-  EXPECT_GT(s->grain(over).position[0], 0.0195);
+  EXPECT_EQ(s->element(fixedId).position[0], 0.0);
+  EXPECT_GT(s->element(over).position[0], 0.0195);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dims, SimConstraint, ::testing::Values(2, 3),

@@ -29,8 +29,8 @@ class ToySource final : public SimModule<D> {
   std::string_view name() const override { return "toy-source"; }
   SimLevel level() const override { return SimLevel::Cleanup; }
   void run(Scene<D>& s) override {
-    if (s.steps % 50 != 0 || s.grains.size() >= 8) return;
-    GrainDef g;
+    if (s.steps % 50 != 0 || s.elements.size() >= 8) return;
+    ElementDef g;
     g.radius = 0.005;
     g.material = "hopper";
     g.position[static_cast<size_t>(up(D))] = 0.1;
@@ -49,10 +49,10 @@ class ToySink final : public SimModule<D> {
   std::string_view name() const override { return "toy-sink"; }
   SimLevel level() const override { return SimLevel::Cleanup; }
   void run(Scene<D>& s) override {
-    const GrainArrays<D>& a = s.grains.a;
+    const ElementArrays<D>& a = s.elements.a;
     for (size_t i = 0; i < a.size(); ++i) {
       if (a.x[i][up(D)] >= -0.05) continue;
-      const GrainId id = s.grains.pool().handleAt(static_cast<uint32_t>(i));
+      const ElementId id = s.elements.pool().handleAt(static_cast<uint32_t>(i));
       s.deferred.destroy.push_back(id);
       s.deferred.destroy.push_back(id);
       ++destroyed;
@@ -108,8 +108,8 @@ TEST_P(SimDeferred, SourceAndSinkDuringOneRun) {
   // Each grain falls from 0.1 past -0.05 in about 0.13 s (1300 steps): many come and go.
   EXPECT_GT(made, 8);
   EXPECT_GT(gone, 2);
-  EXPECT_EQ(static_cast<int>(s->grainCount()), made - gone);
-  EXPECT_LE(s->grainCount(), 8u);
+  EXPECT_EQ(static_cast<int>(s->elementCount()), made - gone);
+  EXPECT_LE(s->elementCount(), 8u);
   for (double z : s->positions()) EXPECT_TRUE(std::isfinite(z));
   // What entered and left took its energy with it: the balance of the rest still closes.
   EXPECT_LT(s->energy().residual, 1e-6);

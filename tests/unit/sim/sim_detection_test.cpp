@@ -25,7 +25,7 @@ using testing::setWatchdog;
 std::set<std::pair<uint64_t, uint64_t>> bruteForce(const Simulation& s) {
   const auto x = s.positions();
   const auto r = s.radii();
-  const auto ids = s.grainIds();
+  const auto ids = s.elementIds();
   const int d = s.dim();
   std::set<std::pair<uint64_t, uint64_t>> out;
   for (size_t i = 0; i < ids.size(); ++i) {
@@ -57,7 +57,7 @@ void checkFastMoversAreNeverMissed(int d, double origin) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
   const double side = 0.2;
-  std::vector<GrainDef> defs;
+  std::vector<ElementDef> defs;
   for (int k = 0; k < 300; ++k) {
     Vec3d x{0, 0, 0}, v{0, 0, 0};
     const bool fast = k % 25 == 0;
@@ -68,7 +68,7 @@ void checkFastMoversAreNeverMissed(int d, double origin) {
     // A wide spread of sizes, so some pairs are far more than a cell apart when they meet.
     defs.push_back(grain(x, 0.002 + 0.006 * u(rng), "m", v));
   }
-  s->addGrains(defs);
+  s->addElements(defs);
   for (int k = 0; k < d; ++k) {
     Vec3d n{0, 0, 0}, p{origin, origin, d == 3 ? origin : 0.0};
     n[k] = 1;
@@ -105,8 +105,8 @@ void checkFastMoversAreNeverMissed(int d, double origin) {
     checked += truth.size();
     if (step == 200) {
       // Grains moved by hand far away: the next step must search anew.
-      const auto ids = s->grainIds();
-      s->setGrainPosition(ids[5], s->grain(ids[6]).position);
+      const auto ids = s->elementIds();
+      s->setElementPosition(ids[5], s->element(ids[6]).position);
     }
   }
   EXPECT_GT(checked, 1000u);

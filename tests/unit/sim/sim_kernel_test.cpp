@@ -95,22 +95,22 @@ Scene<3> randomBatch(const BatchOptions& o) {
   const double r0 = 1e-3, side = 0.0085;
   for (int i = 0; i < n; ++i) {
     Vec3 x(side * u(rng), side * u(rng), side * u(rng));
-    if (i == 1) x = s.grains.a.x[0];  // coincident centres
+    if (i == 1) x = s.elements.a.x[0];  // coincident centres
     const double r = r0 * (0.7 + 0.6 * u(rng));
     const double mass = 2500 * 4.0 / 3.0 * std::numbers::pi * r * r * r;
     Vec3 v(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
     Vec3 w = 200 * Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
     if (i % 7 == 3) v.setZero();
     if (i % 5 == 2) w.setZero();
-    s.grains.a.push(x, 0.3 * v, w, r, 1 / mass, 1 / (0.4 * mass * r * r),
+    s.elements.a.push(x, 0.3 * v, w, r, 1 / mass, 1 / (0.4 * mass * r * r),
                     static_cast<uint32_t>(i % nMat), static_cast<uint32_t>(i));
   }
   // Nonzero forces and torques to add to.
   for (int i = 0; i < n; ++i) {
-    s.grains.a.f[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-3;
-    s.grains.a.t[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-7;
+    s.elements.a.f[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-3;
+    s.elements.a.t[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-7;
   }
-  const GrainArrays<3>& a = s.grains.a;
+  const ElementArrays<3>& a = s.elements.a;
   for (uint32_t i = 0; i < static_cast<uint32_t>(n); ++i) {
     for (uint32_t j = i + 1; j < static_cast<uint32_t>(n); ++j) {
       const double reach = 1.15 * (a.r[i] + a.r[j]);
@@ -138,7 +138,7 @@ Scene<3> contactPass(const BatchOptions& o, bool use, kernel::Isa isa) {
   Scene<3> s = randomBatch(o);
   EXPECT_TRUE(kernel::setActive(use, isa));
   const long onePair = o.mixed ? -1 : 0;
-  GrainContactModule<3, kHertz, History, Rotation> module(onePair);
+  BallContactModule<3, kHertz, History, Rotation> module(onePair);
   module.run(s);
   return s;
 }
@@ -156,8 +156,8 @@ void compareContactPasses(const BatchOptions& o) {
   for (kernel::Isa isa : kernels()) {
     SCOPED_TRACE(kernel::isaName(isa));
     const Scene<3> s = contactPass<History, Rotation>(o, true, isa);
-    const GrainArrays<3>& a = s.grains.a;
-    const GrainArrays<3>& b = ref.grains.a;
+    const ElementArrays<3>& a = s.elements.a;
+    const ElementArrays<3>& b = ref.elements.a;
     EXPECT_TRUE(sameBits(a.f, b.f));
     EXPECT_TRUE(sameBits(a.t, b.t));
     EXPECT_TRUE(sameBits(s.pairSprings.perCandidate(), ref.pairSprings.perCandidate()));
@@ -217,18 +217,18 @@ Scene<3> randomSpins(unsigned seed, bool verlet) {
     if (i % 9 == 4) w *= 1000;  // |w dt|^2 beyond the series
     if (i % 6 == 1) w.setZero();
     if (i % 11 == 5) w = Vec3(-0.0, 0.0, -0.0);
-    s.grains.a.push(Vec3::Zero(), Vec3::Zero(), w, 1e-3, 1e3, 1e9 * (1 + 0.5 * u(rng)), 0,
+    s.elements.a.push(Vec3::Zero(), Vec3::Zero(), w, 1e-3, 1e3, 1e9 * (1 + 0.5 * u(rng)), 0,
                     static_cast<uint32_t>(i));
     Quat q(u(rng), u(rng), u(rng), u(rng));
     q.normalize();
-    s.grains.a.q[i] = q;
-    s.grains.a.t[i] = i % 4 == 2 ? Vec3(Vec3::Zero()) : Vec3(1e-6 * Vec3(u(rng), u(rng), u(rng)));
-    s.grains.a.tPrev[i] = i % 3 == 0 ? Vec3(Vec3::Zero()) : Vec3(u(rng), u(rng), u(rng));
+    s.elements.a.q[i] = q;
+    s.elements.a.t[i] = i % 4 == 2 ? Vec3(Vec3::Zero()) : Vec3(1e-6 * Vec3(u(rng), u(rng), u(rng)));
+    s.elements.a.tPrev[i] = i % 3 == 0 ? Vec3(Vec3::Zero()) : Vec3(u(rng), u(rng), u(rng));
     // A run of idle grains (whole registers of them), some with a last torque.
     if (i >= 120 && i < 160) {
-      s.grains.a.w[i].setZero();
-      s.grains.a.t[i].setZero();
-      if (i >= 136) s.grains.a.tPrev[i].setZero();
+      s.elements.a.w[i].setZero();
+      s.elements.a.t[i].setZero();
+      if (i >= 136) s.elements.a.tPrev[i].setZero();
     }
   }
   return s;
@@ -247,10 +247,10 @@ TEST(SimKernel, RotationUpdateMatchesTheEigenLoopBitForBit) {
         ASSERT_TRUE(kernel::setActive(true, isa));
         Scene<3> s = randomSpins(seed, verlet);
         PredictRotationModule<3>().run(s);
-        EXPECT_TRUE(sameBits(s.grains.a.q, ref.grains.a.q));
-        EXPECT_TRUE(sameBits(s.grains.a.w, ref.grains.a.w));
-        EXPECT_TRUE(sameBits(s.grains.a.t, ref.grains.a.t));
-        EXPECT_TRUE(sameBits(s.grains.a.tPrev, ref.grains.a.tPrev));
+        EXPECT_TRUE(sameBits(s.elements.a.q, ref.elements.a.q));
+        EXPECT_TRUE(sameBits(s.elements.a.w, ref.elements.a.w));
+        EXPECT_TRUE(sameBits(s.elements.a.t, ref.elements.a.t));
+        EXPECT_TRUE(sameBits(s.elements.a.tPrev, ref.elements.a.tPrev));
       }
     }
   }
@@ -268,15 +268,15 @@ Scene<3> randomGrains(unsigned seed, bool verlet, bool track, bool rotating) {
   s.maxDisp2 = 1e-12;
   const int n = 205;
   for (int i = 0; i < n; ++i) {
-    s.grains.a.push(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)),
+    s.elements.a.push(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)),
                     Vec3(u(rng), u(rng), u(rng)) * 100, 1e-3, 1e3 * (1 + 0.5 * u(rng)),
                     1e9 * (1 + 0.5 * u(rng)), 0, static_cast<uint32_t>(i));
-    s.grains.a.f[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-3;
-    s.grains.a.fPrev[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-3;
-    s.grains.a.t[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-7;
-    s.grains.a.tPrev[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-7;
+    s.elements.a.f[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-3;
+    s.elements.a.fPrev[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-3;
+    s.elements.a.t[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-7;
+    s.elements.a.tPrev[i] = Vec3(u(rng), u(rng), u(rng)) * 1e-7;
     if (track) {
-      s.xAtBuild.push_back(s.grains.a.x[i] +
+      s.xAtBuild.push_back(s.elements.a.x[i] +
                            Vec3(u(rng), u(rng), u(rng)) * (i % 17 == 3 ? 1e-3 : 1e-6));
     }
   }
@@ -294,8 +294,8 @@ TEST(SimKernel, IntegratorMatchesTheEigenLoopBitForBit) {
       Scene<3> ref = randomGrains(seed, verlet, track, rotating);
       PredictModule<3>().run(ref);
       // (The kick after a drift: the forces are those the drift left, and new ones.)
-      for (size_t i = 0; i < ref.grains.a.size(); ++i)
-        ref.grains.a.f[i] = ref.grains.a.fPrev[i] * 0.75;
+      for (size_t i = 0; i < ref.elements.a.size(); ++i)
+        ref.elements.a.f[i] = ref.elements.a.fPrev[i] * 0.75;
       CorrectModule<3>().run(ref);
       for (kernel::Isa isa : kernels()) {
         SCOPED_TRACE(kernel::isaName(isa));
@@ -303,13 +303,13 @@ TEST(SimKernel, IntegratorMatchesTheEigenLoopBitForBit) {
         Scene<3> s = randomGrains(seed, verlet, track, rotating);
         PredictModule<3>().run(s);
         EXPECT_TRUE(sameBits(s.maxDisp2, ref.maxDisp2));
-        for (size_t i = 0; i < s.grains.a.size(); ++i) s.grains.a.f[i] = s.grains.a.fPrev[i] * 0.75;
+        for (size_t i = 0; i < s.elements.a.size(); ++i) s.elements.a.f[i] = s.elements.a.fPrev[i] * 0.75;
         CorrectModule<3>().run(s);
-        EXPECT_TRUE(sameBits(s.grains.a.x, ref.grains.a.x));
-        EXPECT_TRUE(sameBits(s.grains.a.v, ref.grains.a.v));
-        EXPECT_TRUE(sameBits(s.grains.a.w, ref.grains.a.w));
-        EXPECT_TRUE(sameBits(s.grains.a.f, ref.grains.a.f));
-        EXPECT_TRUE(sameBits(s.grains.a.fPrev, ref.grains.a.fPrev));
+        EXPECT_TRUE(sameBits(s.elements.a.x, ref.elements.a.x));
+        EXPECT_TRUE(sameBits(s.elements.a.v, ref.elements.a.v));
+        EXPECT_TRUE(sameBits(s.elements.a.w, ref.elements.a.w));
+        EXPECT_TRUE(sameBits(s.elements.a.f, ref.elements.a.f));
+        EXPECT_TRUE(sameBits(s.elements.a.fPrev, ref.elements.a.fPrev));
       }
     }
   }
@@ -326,7 +326,7 @@ std::unique_ptr<Simulation> settlingBed(bool spring, bool verlet, bool rotation)
   // The outer layers overlap the walls too.
   const int perAxis = 7;
   const double pitch = 1.8e-3, side = (perAxis - 0.1) * pitch;
-  std::vector<GrainDef> grains;
+  std::vector<ElementDef> grains;
   for (int k = 0; k < perAxis * perAxis * perAxis; ++k) {
     const Vec3d x{pitch * (0.45 + k % perAxis) + 1e-5 * u(rng),
                   pitch * (0.45 + k / perAxis % perAxis) + 1e-5 * u(rng),
@@ -335,7 +335,7 @@ std::unique_ptr<Simulation> settlingBed(bool spring, bool verlet, bool rotation)
     grains.push_back(testing::grain(x, r, k % 3 == 0 ? "steel" : "glass",
                                     {0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng)}));
   }
-  s->addGrains(grains);
+  s->addElements(grains);
   testing::addBox(*s, side, "glass");
   s->addGravity({0, -9.81, 0});
   s->setAutoTimeStep(0.2);

@@ -14,7 +14,7 @@ namespace {
 // Returns the heap one grain's arrays take: memory().grains of a scene with room for 1000.
 double bytesPerGrain() {
   auto s = makeSimulation(3);
-  s->reserveGrains(1000);
+  s->reserveElements(1000);
   return static_cast<double>(s->memory().grains) / 1000;
 }
 
@@ -26,8 +26,8 @@ double boxSide(int side, double r) {
 // Returns defs for a frictional bed of side^3 grains of radius r on a cubic lattice whose pitch
 // is 1% short of a diameter, in the box [0, boxSide(side, r)]^3: every grain presses on its face
 // neighbours and the outer ones on the walls.
-std::vector<GrainDef> pressedBed(int side, double r) {
-  std::vector<GrainDef> defs;
+std::vector<ElementDef> pressedBed(int side, double r) {
+  std::vector<ElementDef> defs;
   const double pitch = 1.98 * r;
   for (int i = 0; i < side; ++i) {
     for (int j = 0; j < side; ++j) {
@@ -47,11 +47,11 @@ std::unique_ptr<Simulation> bedScene(int side, double r, bool reserve) {
   s->addMaterial("m", material(1e7, 0.5, 0.5));
   addBox(*s, boxSide(side, r), "m");
   s->addGravity({0, 0, -9.81});
-  const std::vector<GrainDef> defs = pressedBed(side, r);
-  if (reserve) s->reserveGrains(defs.size());
+  const std::vector<ElementDef> defs = pressedBed(side, r);
+  if (reserve) s->reserveElements(defs.size());
   for (size_t k = 0; k < defs.size(); k += 100) {
     const size_t end = std::min(defs.size(), k + 100);
-    s->addGrains(std::vector<GrainDef>(defs.begin() + k, defs.begin() + end));
+    s->addElements(std::vector<ElementDef>(defs.begin() + k, defs.begin() + end));
   }
   return s;
 }
@@ -104,7 +104,7 @@ TEST(SimMemory, FrequentSearchesKeepOnlyTheGrid) {
   auto s = makeSimulation(3);
   s->addMaterial("m", material(1e7, 0.5, 0.5));
   addBox(*s, 0.1, "m");
-  s->addGrains(latticeGrains(3, 500, 1e-3, 0.1, 2.0, "m", 7));
+  s->addElements(latticeGrains(3, 500, 1e-3, 0.1, 2.0, "m", 7));
   s->setTimeStep(1e-5);
   const RunReport r = s->runSteps(100);
   ASSERT_GE(r.neighborRebuilds, 3u);

@@ -30,7 +30,7 @@ class DragModule final : public SimModule<D> {
   std::string_view name() const override { return "toy-drag"; }
   SimLevel level() const override { return SimLevel::Behaviors; }
   void run(Scene<D>& s) override {
-    GrainArrays<D>& a = s.grains.a;
+    ElementArrays<D>& a = s.elements.a;
     double work = 0;
     for (size_t i = 0; i < a.size(); ++i) {
       const VecD<D> f = (-kDrag / a.invMass[i]) * a.v[i];
@@ -75,7 +75,7 @@ TEST_P(SimModuleTableDim, ModuleFromOutsideJoinsAndRuns) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e7, 0.5, 0.0));
-  const GrainId plain = s->addGrain(grain({0, 0, 0}, 0.01, "glass", {1, 0, 0}));
+  const ElementId plain = s->addElement(grain({0, 0, 0}, 0.01, "glass", {1, 0, 0}));
   auto modules = s->listModules();
   EXPECT_EQ(std::find(modules.begin(), modules.end(), "toy-drag"), modules.end());
   s->addMaterial("syrup", material(1e7, 0.5, 0.0));
@@ -87,11 +87,11 @@ TEST_P(SimModuleTableDim, ModuleFromOutsideJoinsAndRuns) {
   s->setTimeStep(1e-4);
   s->runSteps(2000);
   const double t = s->time();
-  EXPECT_NEAR(s->grain(plain).velocity[0], std::exp(-kDrag * t), 1e-6);
+  EXPECT_NEAR(s->element(plain).velocity[0], std::exp(-kDrag * t), 1e-6);
   // The drag's work is booked with the half-step velocity, first order in the step: the
   // residual is about c dt / 2 of the energy moved.
   EXPECT_LT(s->energy().residual, kDrag * 1e-4);
-  EXPECT_GT(s->energy().behaviorWork, -0.6 * s->grain(plain).mass);
+  EXPECT_GT(s->energy().behaviorWork, -0.6 * s->element(plain).mass);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dims, SimModuleTableDim, ::testing::Values(2, 3),

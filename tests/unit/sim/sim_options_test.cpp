@@ -50,7 +50,7 @@ TEST_P(SimOptions, BadSettingsChangeNothing) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e8, 0.5, 0.5));
-  s->addGrain(grain({0, 0, 0}, 0.01, "glass"));
+  s->addElement(grain({0, 0, 0}, 0.01, "glass"));
   const uint64_t digest = s->stateDigest();
   // The first setting is good, the second not: neither is stored.
   EXPECT_EQ(codeOf([&] {
@@ -75,7 +75,7 @@ TEST_P(SimOptions, CheckpointsKeepEveryOption) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e8, 0.5, 0.5));
-  s->addGrain(grain({0, 0, 0}, 0.01, "glass"));
+  s->addElement(grain({0, 0, 0}, 0.01, "glass"));
   const std::string plain = saved(*s);
   std::vector<OptionSetting> other;
   for (const OptionSpec& o : optionSpecs()) {

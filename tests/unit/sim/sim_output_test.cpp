@@ -16,7 +16,7 @@ std::unique_ptr<Simulation> bed(int dim) {
   auto s = makeSimulation(dim);
   s->addMaterial("glass", material(1e7, 0.8, 0.3));
   addBox(*s, 0.1, "glass");
-  s->addGrains(latticeGrains(dim, 40, 0.004, 0.1, 0.5, "glass", 7));
+  s->addElements(latticeGrains(dim, 40, 0.004, 0.1, 0.5, "glass", 7));
   s->addGravity(dim == 2 ? Vec3d{0, -9.81, 0} : Vec3d{0, 0, -9.81});
   s->setTimeStep(1e-4);
   return s;

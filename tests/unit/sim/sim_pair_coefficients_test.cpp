@@ -25,9 +25,9 @@ class SimPairCoefficients : public ::testing::TestWithParam<int> {};
 
 // Returns the rebound speed over the impact speed of a grain of material "a" dropped with
 // speed 1 on a plane of material "b", no gravity, linear law.
-double rebound(Simulation& s, GrainId id) {
+double rebound(Simulation& s, ElementId id) {
   s.runSteps(static_cast<uint64_t>(0.02 / s.timeStep()));
-  return s.grain(id).velocity[static_cast<size_t>(up(s.dim()))];
+  return s.element(id).velocity[static_cast<size_t>(up(s.dim()))];
 }
 
 TEST_P(SimPairCoefficients, OwnRestitutionGivesTheRebound) {
@@ -41,7 +41,7 @@ TEST_P(SimPairCoefficients, OwnRestitutionGivesTheRebound) {
   x[up(d)] = 0.0101;
   v[up(d)] = -1;
   s->addWall(plane({0, 0, 0}, n, "b"));
-  const GrainId id = s->addGrain(grain(x, 0.01, "a", v));
+  const ElementId id = s->addElement(grain(x, 0.01, "a", v));
   s->setAutoTimeStep(0.02);
   auto t = s->clone();
   EXPECT_NEAR(s->pairCoefficients("a", "b").restitution, std::sqrt(0.9 * 0.5), 1e-15);
@@ -66,7 +66,7 @@ TEST_P(SimPairCoefficients, OwnFrictionAndModulesFollow) {
   n[up(d)] = 1;
   x[up(d)] = 0.01;
   s->addWall(plane({0, 0, 0}, n, "b"));
-  s->addGrain(grain(x, 0.01, "a"));
+  s->addElement(grain(x, 0.01, "a"));
   EXPECT_FALSE(hasModule(*s, "rotation"));  // frictionless: no rotation, no history
   PairCoefficients c;
   c.friction = 0.4;
@@ -97,7 +97,7 @@ TEST_P(SimPairCoefficients, BadValuesChangeNothing) {
   const int d = GetParam();
   auto s = makeSimulation(d);
   s->addMaterial("a", material(1e7, 0.5, 0.3));
-  s->addGrain(grain({0, 0, 0}, 0.01, "a"));
+  s->addElement(grain({0, 0, 0}, 0.01, "a"));
   const uint64_t digest = s->stateDigest();
   using Code = std::vector<std::string>;
   PairCoefficients c;

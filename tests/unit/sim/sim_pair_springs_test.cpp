@@ -114,11 +114,11 @@ TEST(PairSprings, SpringsCrossSearchesAndCheckpointsUnchanged) {
     s->addGravity({0, 0, -9.81});
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(0, 1);
-    std::vector<GrainDef> grains;
+    std::vector<ElementDef> grains;
     for (int i = 0; i < 6; ++i) {
       for (int j = 0; j < 6; ++j) {
         for (int k = 0; k < 4; ++k) {
-          GrainDef g;
+          ElementDef g;
           g.radius = 1e-3 * (0.8 + 0.3 * u(rng));
           g.position = {2.3e-3 * i, 2.3e-3 * j, 1.2e-3 + 2.3e-3 * k};
           g.velocity = {0.05 * (u(rng) - 0.5), 0.05 * (u(rng) - 0.5), 0};
@@ -127,7 +127,7 @@ TEST(PairSprings, SpringsCrossSearchesAndCheckpointsUnchanged) {
         }
       }
     }
-    s->addGrains(grains);
+    s->addElements(grains);
     s->setTimeStep(0.1 * s->criticalTimeStep());
     return s;
   };

@@ -27,7 +27,7 @@ int up(int d) {
 
 // Returns the spin of a grain rolling along +x on a floor below it, as w r / v: 1 when it
 // rolls without slip. In 2D the roll is about -z; in 3D (z up) about +y.
-double rollRatio(int d, const GrainState& g) {
+double rollRatio(int d, const ElementState& g) {
   const double w = d == 2 ? -g.angularVelocity[2] : g.angularVelocity[1];
   return w * g.radius / g.velocity[0];
 }
@@ -50,14 +50,14 @@ Incline incline(int d, double theta, double mu, LawKind law) {
   g[up(d)] = -kG * std::cos(theta);
   x[up(d)] = r;
   s->addWall(plane({0, 0, 0}, n, "m"));
-  const GrainId id = s->addGrain(grain(x, r, "m"));
+  const ElementId id = s->addElement(grain(x, r, "m"));
   s->addGravity(g);
   s->setAutoTimeStep(0.2);
   const double dt = s->timeStep();
   s->runSteps(static_cast<uint64_t>(0.02 / dt));
-  const double t1 = s->time(), v1 = s->grain(id).velocity[0];
+  const double t1 = s->time(), v1 = s->element(id).velocity[0];
   s->runSteps(static_cast<uint64_t>(0.1 / dt));
-  const GrainState b = s->grain(id);
+  const ElementState b = s->element(id);
   return {(b.velocity[0] - v1) / (s->time() - t1), rollRatio(d, b)};
 }
 
@@ -94,12 +94,12 @@ TEST_P(SimPhysics, SlidingTurnsToRollingAtTheRightSpeed) {
   g[up(d)] = -kG;
   x[up(d)] = r * (1 - 2e-4);  // close to the equilibrium overlap: a small bounce only
   s->addWall(plane({0, 0, 0}, n, "m"));
-  const GrainId id = s->addGrain(grain(x, r, "m", {v0, 0, 0}));
+  const ElementId id = s->addElement(grain(x, r, "m", {v0, 0, 0}));
   s->addGravity(g);
   s->setAutoTimeStep(0.2);
   // Rolling starts after 2 v0 / (7 mu g) (sphere) or v0 / (3 mu g) (disc): ~0.1 s.
   s->runSteps(static_cast<uint64_t>(0.25 / s->timeStep()));
-  const GrainState b = s->grain(id);
+  const ElementState b = s->element(id);
   const double expected = (d == 3 ? 5.0 / 7.0 : 2.0 / 3.0) * v0;
   EXPECT_NEAR(b.velocity[0], expected, 0.005 * expected);
   EXPECT_NEAR(rollRatio(d, b), 1.0, 0.01);
@@ -123,9 +123,9 @@ double boxEnergyError(int d, double stepsPerContact, double steps50) {
   const double young = 1e7;
   s->addMaterial("m", material(young, 1.0, 0.0));
   const double r = 0.01, side = 0.15;
-  s->addGrains(latticeGrains(d, d == 3 ? 8 : 6, r, side, 0.5, "m", 7));
+  s->addElements(latticeGrains(d, d == 3 ? 8 : 6, r, side, 0.5, "m", 7));
   addBox(*s, side, "m");
-  const double mass = s->grain(s->grainIds()[0]).mass;
+  const double mass = s->element(s->elementIds()[0]).mass;
   const double es = young / (2 * (1 - 0.09)), rs = r / 2, ms = mass / 2, v = 0.5;
   const double tc = 2.87 * std::pow(ms * ms / (rs * es * es * v), 0.2);
   s->setTimeStep(tc / stepsPerContact);
@@ -183,14 +183,14 @@ Pile pile(int d, const std::string& integrator) {
   xa[0] = -(big + small) * sn;
   xb[0] = (big + small) * sn;
   xa[up(d)] = xb[up(d)] = small;
-  const GrainId L = s->addGrain(grain(xl, big, "light"));
-  const GrainId A = s->addGrain(grain(xa, small, "m"));
-  const GrainId B = s->addGrain(grain(xb, small, "m"));
+  const ElementId L = s->addElement(grain(xl, big, "light"));
+  const ElementId A = s->addElement(grain(xa, small, "m"));
+  const ElementId B = s->addElement(grain(xb, small, "m"));
   s->addGravity(g);
   s->setAutoTimeStep(0.2);
   s->runSteps(static_cast<uint64_t>(0.02 / s->timeStep()));
   Pile p;
-  const GrainState l = s->grain(L), a = s->grain(A), b = s->grain(B);
+  const ElementState l = s->element(L), a = s->element(A), b = s->element(B);
   double v2 = 0;
   for (double x : l.velocity) v2 += x * x;
   p.largeSpeed = std::sqrt(v2);
@@ -227,15 +227,15 @@ TEST_P(SimPhysics, RotatingDrumDragsAGrainIntoRolling) {
   }
   drum.motion = WallMotion{.angularVelocity = {0, 0, omega}};
   const WallId w = s->addWall(drum);
-  const GrainId id = s->addGrain(grain({0, -(R - r), 0}, r, "m"));
+  const ElementId id = s->addElement(grain({0, -(R - r), 0}, r, "m"));
   s->addGravity({0, -kG, 0});
   s->setAutoTimeStep(0.2);
   double maxX = 0;
   for (int k = 0; k < 50; ++k) {
     s->runSteps(static_cast<uint64_t>(0.01 / s->timeStep()));
-    maxX = std::max(maxX, s->grain(id).position[0]);
+    maxX = std::max(maxX, s->element(id).position[0]);
   }
-  const GrainState g = s->grain(id);
+  const ElementState g = s->element(id);
   // The point of the grain touching the drum moves with the drum's surface (rolling).
   const double angle = std::atan2(g.position[0], -g.position[1]);
   const double surface = omega * R;  // speed of the drum's surface
@@ -281,19 +281,19 @@ TEST_P(SimPhysics, GrainsRestOnFiniteAndBoxWalls) {
   auto at = [&](double x, double h) {
     Vec3d p{x, 0, 0};
     p[up(d)] = h;
-    return s->addGrain(grain(p, r, "m"));
+    return s->addElement(grain(p, r, "m"));
   };
-  const GrainId onPlate = at(0, 0.02), onBox = at(0.1, 0.02), beside = at(0.05, 0.02);
+  const ElementId onPlate = at(0, 0.02), onBox = at(0.1, 0.02), beside = at(0.05, 0.02);
   s->addGravity(g);
   s->setAutoTimeStep(0.2);
   s->runSteps(static_cast<uint64_t>(0.3 / s->timeStep()));
-  EXPECT_NEAR(s->grain(onPlate).position[up(d)], r, 0.02 * r);
-  EXPECT_NEAR(s->grain(onBox).position[up(d)], r, 0.02 * r);
-  EXPECT_LT(std::abs(s->grain(onPlate).velocity[up(d)]), 1e-3);
-  EXPECT_LT(std::abs(s->grain(onBox).velocity[up(d)]), 1e-3);
+  EXPECT_NEAR(s->element(onPlate).position[up(d)], r, 0.02 * r);
+  EXPECT_NEAR(s->element(onBox).position[up(d)], r, 0.02 * r);
+  EXPECT_LT(std::abs(s->element(onPlate).velocity[up(d)]), 1e-3);
+  EXPECT_LT(std::abs(s->element(onBox).velocity[up(d)]), 1e-3);
   // Free fall from 0.02 m (velocity Verlet is exact for a constant force).
   const double t = s->time();
-  EXPECT_NEAR(s->grain(beside).position[up(d)], 0.02 - 0.5 * kG * t * t, 1e-9);
+  EXPECT_NEAR(s->element(beside).position[up(d)], 0.02 - 0.5 * kG * t * t, 1e-9);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dims, SimPhysics, ::testing::Values(2, 3),

@@ -30,9 +30,9 @@ Scene<D>& sceneOf(Simulation& s) {
 
 void setReorderEvery(Simulation& s, uint32_t every) {
   if (s.dim() == 2) {
-    sceneOf<2>(s).grains.reorderEvery = every;
+    sceneOf<2>(s).elements.reorderEvery = every;
   } else {
-    sceneOf<3>(s).grains.reorderEvery = every;
+    sceneOf<3>(s).elements.reorderEvery = every;
   }
 }
 
@@ -54,7 +54,7 @@ TEST(SimReorder, MortonOrderSortsByCellKey) {
   // the grain's cell (cell 2 r_max from the lowest corner), ties in the old order.
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
-  GrainArrays<3> a;
+  ElementArrays<3> a;
   for (uint32_t i = 0; i < 500; ++i) {
     a.push(Vec3(u(rng), u(rng), u(rng)), Vec3::Zero(), Vec3::Zero(), 0.01 + 0.02 * u(rng), 1, 1, 0,
            i);
@@ -100,7 +100,7 @@ std::unique_ptr<Simulation> bed(int d, bool polydisperse = false) {
       grains[k].radius *= 0.6 + 0.4 * std::fmod(0.6180339887 * static_cast<double>(k), 1.0);
     }
   }
-  s->addGrains(grains);
+  s->addElements(grains);
   addBox(*s, 0.08, "glass");
   s->addGravity({0, -9.81, 0});
   s->setAutoTimeStep(0.2);
@@ -128,21 +128,21 @@ TEST_P(SimReorderScene, ReorderEverySearchMatchesNeverToRounding) {
   auto never = bed(d), always = bed(d);
   setReorderEvery(*never, 0);
   setReorderEvery(*always, 1);
-  const std::vector<GrainId> ids = never->grainIds();
-  ASSERT_EQ(always->grainIds(), ids);
+  const std::vector<ElementId> ids = never->elementIds();
+  ASSERT_EQ(always->elementIds(), ids);
   const auto r1 = never->runSteps(1500);
   const auto r2 = always->runSteps(1500);
   EXPECT_EQ(r1.neighborRebuilds, r2.neighborRebuilds);
   EXPECT_GT(r2.neighborRebuilds, 2u);
   // The reorder did happen (the lattice order is not a Morton order) and kept every handle
   // on its grain.
-  EXPECT_NE(always->grainIds(), ids);
-  EXPECT_EQ(never->grainIds(), ids);
+  EXPECT_NE(always->elementIds(), ids);
+  EXPECT_EQ(never->elementIds(), ids);
   double vScale = 0;
-  for (GrainId id : ids) vScale = std::max(vScale, e(never->grain(id).velocity).norm());
+  for (ElementId id : ids) vScale = std::max(vScale, e(never->element(id).velocity).norm());
   ASSERT_GT(vScale, 0);
-  for (GrainId id : ids) {
-    const GrainState a = never->grain(id), b = always->grain(id);
+  for (ElementId id : ids) {
+    const ElementState a = never->element(id), b = always->element(id);
     EXPECT_NEAR((e(a.position) - e(b.position)).norm(), 0, 1e-9) << toString(id);
     EXPECT_NEAR((e(a.velocity) - e(b.velocity)).norm(), 0, 1e-6 * vScale) << toString(id);
     EXPECT_NEAR((e(a.angularVelocity) - e(b.angularVelocity)).norm(), 0, 1e-6 * vScale / radius(d));
@@ -203,7 +203,7 @@ TEST_P(SimReorderScene, PolydisperseAutoSkinContinuesAfterLoad) {
   c->load(ck);
   setReorderEvery(*c, 1);
   c->runSteps(400);
-  EXPECT_NE(a->grainIds(), make()->grainIds()) << "no reordering happened: the test is weak";
+  EXPECT_NE(a->elementIds(), make()->elementIds()) << "no reordering happened: the test is weak";
   EXPECT_EQ(c->positions(), a->positions());
   EXPECT_EQ(c->stateDigest(), a->stateDigest());
 }

@@ -31,9 +31,9 @@ double binaryImpact(int dim, LawKind law, double e, HertzDamping damping) {
   xb[up] = 2 * kR + 1e-9;
   va[up] = 0.5 * kV0;
   vb[up] = -0.5 * kV0;
-  const GrainId a = s->addGrain(grain(xa, kR, "m", va));
-  const GrainId b = s->addGrain(grain(xb, kR, "m", vb));
-  const double mstar = 0.5 * s->grain(a).mass, rstar = 0.5 * kR;
+  const ElementId a = s->addElement(grain(xa, kR, "m", va));
+  const ElementId b = s->addElement(grain(xb, kR, "m", vb));
+  const double mstar = 0.5 * s->element(a).mass, rstar = 0.5 * kR;
   const double ystar = kYoung / (2 * (1 - 0.09));
   const double tc =
       law == LawKind::Linear
@@ -42,7 +42,7 @@ double binaryImpact(int dim, LawKind law, double e, HertzDamping damping) {
   s->setTimeStep(tc / 1000);
   s->runSteps(3000);
   EXPECT_EQ(s->contactCount(), 0u);
-  return (s->grain(b).velocity[up] - s->grain(a).velocity[up]) / kV0;
+  return (s->element(b).velocity[up] - s->element(a).velocity[up]) / kV0;
 }
 
 TEST(SimRestitution, BinaryImpactReboundsWithTheMaterialsRestitution) {
@@ -62,7 +62,7 @@ TEST(SimRestitution, BinaryImpactReboundsWithTheMaterialsRestitution) {
 TEST(SimRestitution, DampingChoiceIsPartOfTheScene) {
   auto s = makeSimulation(3);
   s->addMaterial("m", material(kYoung, 0.5, 0));
-  s->addGrain(grain({0, 0, 0}, kR, "m"));
+  s->addElement(grain({0, 0, 0}, kR, "m"));
   EXPECT_EQ(s->hertzDamping(), HertzDamping::Calibrated);
   const uint64_t calibrated = s->stateDigest();
   s->setHertzDamping(HertzDamping::Liggghts);

@@ -34,7 +34,7 @@ double rollingShare(int d) {
 // A scene with a floor below the origin and one grain resting on it (at its equilibrium
 // overlap, nearly), rolling along +x at v0 without slipping, under gravity tilted by theta
 // towards +x. Returns the simulation and the grain.
-std::pair<std::unique_ptr<Simulation>, GrainId> rollingGrain(int d, double muRolling, double v0,
+std::pair<std::unique_ptr<Simulation>, ElementId> rollingGrain(int d, double muRolling, double v0,
                                                              double theta) {
   auto s = makeSimulation(d);
   physics::MaterialDef m = material(1e9, 0.5, 0.8);
@@ -46,14 +46,14 @@ std::pair<std::unique_ptr<Simulation>, GrainId> rollingGrain(int d, double muRol
   g[0] = kG * std::sin(theta);
   g[up(d)] = -kG * std::cos(theta);
   s->addWall(plane({0, 0, 0}, n, "m"));
-  GrainDef def = grain(x, kR, "m", {v0, 0, 0});
+  ElementDef def = grain(x, kR, "m", {v0, 0, 0});
   // Rolling: the contact point at rest. 3D: w = (0, v/R, 0); 2D: w_z = -v/R.
   if (d == 3) {
     def.angularVelocity = {0, v0 / kR, 0};
   } else {
     def.angularVelocity = {0, 0, -v0 / kR};
   }
-  const GrainId id = s->addGrain(def);
+  const ElementId id = s->addElement(def);
   s->addGravity(g);
   s->setAutoTimeStep(0.2);
   return {std::move(s), id};
@@ -68,7 +68,7 @@ TEST_P(SimRolling, RollingGrainStopsInTheAnalyticDistance) {
   const double decel = rollingShare(d) * mu * kG;
   const double tStop = v0 / decel;
   s->runSteps(static_cast<uint64_t>(1.5 * tStop / s->timeStep()));
-  const GrainState b = s->grain(id);
+  const ElementState b = s->element(id);
   const double expected = v0 * v0 / (2 * decel);
   std::cout << "[ figures  ] " << d << "D rolling stop distance " << b.position[0]
             << " m, analytic " << expected << " m, ledger residual " << s->energy().residual
@@ -78,7 +78,7 @@ TEST_P(SimRolling, RollingGrainStopsInTheAnalyticDistance) {
   EXPECT_LT(std::abs(b.velocity[0]), 1e-4 * v0);
   const double x1 = b.position[0];
   s->runSteps(static_cast<uint64_t>(0.2 * tStop / s->timeStep()));
-  EXPECT_LT(std::abs(s->grain(id).position[0] - x1), 1e-6 * expected);
+  EXPECT_LT(std::abs(s->element(id).position[0] - x1), 1e-6 * expected);
   // The kinetic energy went to the rolling couple (booked as friction loss): the ledger closes.
   const EnergyLedger e = s->energy();
   const double kinetic0 = 0.5 * b.mass * v0 * v0 * (1 + (d == 3 ? 0.4 : 0.5));
@@ -93,7 +93,7 @@ TEST_P(SimRolling, HoldsOnAFlatterSlopeRollsOnASteeperOne) {
   {
     auto [s, id] = rollingGrain(d, mu, 0, std::atan(0.5 * mu));
     s->runSteps(static_cast<uint64_t>(0.2 / s->timeStep()));
-    EXPECT_LT(std::abs(s->grain(id).position[0]), 1e-3 * kR);
+    EXPECT_LT(std::abs(s->element(id).position[0]), 1e-3 * kR);
   }
   // tan(theta) = 2 mu: it rolls with a = share g (sin - mu cos).
   {
@@ -103,7 +103,7 @@ TEST_P(SimRolling, HoldsOnAFlatterSlopeRollsOnASteeperOne) {
     s->runSteps(static_cast<uint64_t>(t / s->timeStep()));
     const double a = rollingShare(d) * kG * (std::sin(theta) - mu * std::cos(theta));
     const double tt = s->time();
-    EXPECT_NEAR(s->grain(id).position[0], 0.5 * a * tt * tt, 0.01 * 0.5 * a * tt * tt);
+    EXPECT_NEAR(s->element(id).position[0], 0.5 * a * tt * tt, 0.01 * 0.5 * a * tt * tt);
   }
 }
 
@@ -114,7 +114,7 @@ TEST_P(SimRolling, NoRollingFrictionNoModule) {
   EXPECT_EQ(std::find(modules.begin(), modules.end(), "rolling"), modules.end());
   // Without resistance the grain rolls on at its speed.
   s->runSteps(1000);
-  EXPECT_NEAR(s->grain(id).velocity[0], 0.5, 1e-3);
+  EXPECT_NEAR(s->element(id).velocity[0], 0.5, 1e-3);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dims, SimRolling, ::testing::Values(2, 3),

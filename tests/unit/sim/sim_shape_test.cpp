@@ -147,8 +147,8 @@ void registerToys() {
   (void)once;
 }
 
-GrainDef toy(const Vec3d& x, double r, const Vec3d& v = {}) {
-  GrainDef g = grain(x, 0, "glass", v);
+ElementDef toy(const Vec3d& x, double r, const Vec3d& v = {}) {
+  ElementDef g = grain(x, 0, "glass", v);
   g.shape = "toyball";
   g.shapeParams = {r};
   return g;
@@ -160,15 +160,15 @@ class SimShape : public ::testing::Test {
 };
 
 // Returns the x velocities of two elements after a head-on impact of a on b.
-std::pair<double, double> impact(const GrainDef& a, const GrainDef& b, double e) {
+std::pair<double, double> impact(const ElementDef& a, const ElementDef& b, double e) {
   auto s = makeSimulation(3);
   s->addMaterial("glass", material(1e7, e, 0));
-  const GrainId ia = s->addGrain(a), ib = s->addGrain(b);
+  const ElementId ia = s->addElement(a), ib = s->addElement(b);
   s->setTimeStep(2e-5);  // one step for every variant (a shape's automatic step is smaller)
   RunOptions o;
   o.steps = 4000;
   s->run(o);
-  return {s->grain(ia).velocity[0], s->grain(ib).velocity[0]};
+  return {s->element(ia).velocity[0], s->element(ib).velocity[0]};
 }
 
 TEST_F(SimShape, ToyballReproducesTheSpherePath) {
@@ -189,9 +189,9 @@ TEST_F(SimShape, ToyballReproducesTheSpherePath) {
 TEST_F(SimShape, GeometryIsSharedAndMassFollowsTheShape) {
   auto s = makeSimulation(3);
   s->addMaterial("glass", material(1e7, 0.5, 0));
-  const GrainId a = s->addGrain(toy({0, 0, 0}, 0.01));
-  s->addGrain(toy({1, 0, 0}, 0.01));
-  const GrainState g = s->grain(a);
+  const ElementId a = s->addElement(toy({0, 0, 0}, 0.01));
+  s->addElement(toy({1, 0, 0}, 0.01));
+  const ElementState g = s->element(a);
   EXPECT_EQ(g.shape, "toyball");
   EXPECT_DOUBLE_EQ(g.radius, 0.01);
   EXPECT_NEAR(g.mass, 2500 * 4.0 / 3.0 * std::numbers::pi * 1e-6, 1e-15);
@@ -199,29 +199,29 @@ TEST_F(SimShape, GeometryIsSharedAndMassFollowsTheShape) {
   // Both share one Geometry beside the ball's.
   const auto& m = dynamic_cast<const SimulationManager<3>&>(*s);
   EXPECT_EQ(m.scene().geometries.size(), 2u);
-  EXPECT_EQ(m.scene().grains.a.geometry, (std::vector<uint32_t>{1, 1}));
+  EXPECT_EQ(m.scene().elements.a.geometry, (std::vector<uint32_t>{1, 1}));
 }
 
 TEST_F(SimShape, BadShapesChangeNothing) {
   auto s = makeSimulation(3);
   s->addMaterial("glass", material(1e7, 0.5, 0));
-  s->addGrain(toy({0, 0, 0}, 0.01));
+  s->addElement(toy({0, 0, 0}, 0.01));
   const uint64_t digest = s->stateDigest();
   using Code = std::vector<std::string>;
-  GrainDef g = toy({0.1, 0, 0}, -1);
-  EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "SHAPE"}));
+  ElementDef g = toy({0.1, 0, 0}, -1);
+  EXPECT_EQ(codeOf([&] { s->addElement(g); }), (Code{"VALUE", "SHAPE"}));
   g = toy({0.1, 0, 0}, 0.01);
   g.radius = 0.01;  // a toyball's size is in its parameters
-  EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "RADIUS"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(g); }), (Code{"VALUE", "RADIUS"}));
   g.radius = 0;
   g.shape = "nosuch";
-  EXPECT_EQ(codeOf([&] { s->addGrain(g); }), (Code{"VALUE", "SHAPE"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(g); }), (Code{"VALUE", "SHAPE"}));
   EXPECT_EQ(s->stateDigest(), digest);
   // No routine for toybox-lonely against anything: the run refuses before a step.
-  GrainDef b = grain({0.5, 0, 0}, 0, "glass");
+  ElementDef b = grain({0.5, 0, 0}, 0, "glass");
   b.shape = "toybox-lonely";
   b.shapeParams = {0.01, 0.01, 0.01};
-  s->addGrain(b);
+  s->addElement(b);
   const uint64_t before = s->stateDigest();
   RunOptions o;
   o.steps = 3;
@@ -236,14 +236,14 @@ TEST_F(SimShape, ToyballRestsOnAPlaneAsASphereDoes) {
     s->addMaterial("glass", material(1e7, 0.3, 0.5));
     s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
     s->addGravity({0, 0, -9.81});
-    const GrainId id = s->addGrain(k == 0 ? grain({0, 0, 0.0101}, 0.01, "glass")
+    const ElementId id = s->addElement(k == 0 ? grain({0, 0, 0.0101}, 0.01, "glass")
                                           : toy({0, 0, 0.0101}, 0.01));
     s->setTimeStep(2e-5);
     RunOptions o;
     o.steps = 20000;
     s->run(o);
-    height[k] = s->grain(id).position[2];
-    EXPECT_LT(std::abs(s->grain(id).velocity[2]), 1e-6);
+    height[k] = s->element(id).position[2];
+    EXPECT_LT(std::abs(s->element(id).velocity[2]), 1e-6);
   }
   EXPECT_LT(height[0], 0.01);
   EXPECT_NEAR(height[1], height[0], 1e-12);
@@ -254,14 +254,14 @@ TEST_F(SimShape, BoxRestsFaceDownWithoutJitter) {
   s->addMaterial("glass", material(1e7, 0.3, 0.5));
   const WallId floor = s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
   s->addGravity({0, 0, -9.81});
-  GrainDef b = grain({0, 0, 0.0102}, 0, "glass");
+  ElementDef b = grain({0, 0, 0.0102}, 0, "glass");
   b.shape = "toybox";
   b.shapeParams = {0.02, 0.015, 0.01};
-  const GrainId id = s->addGrain(b);
+  const ElementId id = s->addElement(b);
   RunOptions o;
   o.steps = 30000;
   s->run(o);
-  const GrainState g = s->grain(id);
+  const ElementState g = s->element(id);
   // Settled face down: still, level (orientation the identity), the floor carrying m g.
   EXPECT_LT(std::hypot(g.velocity[0], g.velocity[1], g.velocity[2]), 1e-6);
   EXPECT_LT(std::hypot(g.angularVelocity[0], g.angularVelocity[1], g.angularVelocity[2]), 1e-6);
@@ -271,9 +271,9 @@ TEST_F(SimShape, BoxRestsFaceDownWithoutJitter) {
   EXPECT_NEAR(s->wall(floor).force[2], -g.mass * 9.81, 1e-6 * g.mass * 9.81);
   EXPECT_EQ(s->contactCount(), 4u);
   // And it stays so: another stretch moves it by no more than rounding.
-  const GrainState before = s->grain(id);
+  const ElementState before = s->element(id);
   s->run(o);
-  EXPECT_NEAR(s->grain(id).position[2], before.position[2], 1e-12);
+  EXPECT_NEAR(s->element(id).position[2], before.position[2], 1e-12);
 }
 
 // A tilted, spinning box dropped on a plane with damping and friction: the ledger's residual is
@@ -285,18 +285,18 @@ TEST_F(SimShape, DroppedTiltedBoxLandsAndTheLedgerConverges) {
     s->addMaterial("glass", material(1e7, 0.5, 0.4));
     s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
     s->addGravity({0, 0, -9.81});
-    GrainDef b = grain({0, 0, 0.05}, 0, "glass", {0.05, 0, -0.2});
+    ElementDef b = grain({0, 0, 0.05}, 0, "glass", {0.05, 0, -0.2});
     b.shape = "toybox";
     b.shapeParams = {0.02, 0.015, 0.01};
     const Quat q(AngleAxis(0.4, Vec3(1, 2, 0.5).normalized()));
     b.orientation = {q.w(), q.x(), q.y(), q.z()};
     b.angularVelocity = {1, -2, 3};
-    const GrainId id = s->addGrain(b);
+    const ElementId id = s->addElement(b);
     s->setAutoTimeStep(k == 0 ? 0.2 : 0.05);
     RunOptions o;
     o.steps = k == 0 ? 20000 : 80000;
     s->run(o);
-    const GrainState g = s->grain(id);
+    const ElementState g = s->element(id);
     EXPECT_GT(g.position[2], 0.009);  // on the floor, not through it
     EXPECT_LT(g.position[2], 0.03);
     const EnergyLedger e = s->energy();
@@ -313,12 +313,12 @@ TEST_F(SimShape, CheckpointContinuesBitForBit) {
   s->addMaterial("glass", material(1e7, 0.5, 0.4));
   s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
   s->addGravity({0, 0, -9.81});
-  GrainDef b = grain({0, 0, 0.03}, 0, "glass", {0.05, 0, 0});
+  ElementDef b = grain({0, 0, 0.03}, 0, "glass", {0.05, 0, 0});
   b.shape = "toybox";
   b.shapeParams = {0.02, 0.015, 0.01};
   b.angularVelocity = {1, -2, 3};
-  s->addGrain(b);
-  s->addGrain(toy({0.06, 0, 0.02}, 0.01));
+  s->addElement(b);
+  s->addElement(toy({0.06, 0, 0.02}, 0.01));
   RunOptions o;
   o.steps = 3000;
   s->run(o);
@@ -375,18 +375,18 @@ TEST(SimShape2D, SquareSettlesFlatOnItsCorners) {
   s->addMaterial("glass", material(1e7, 0.4, 0.5));
   const WallId floor = s->addWall(plane({0, 0, 0}, {0, 1, 0}, "glass"));
   s->addGravity({0, -9.81, 0});
-  GrainDef b = grain({0, 0.0102, 0}, 0, "glass", {0, 0, 0});
+  ElementDef b = grain({0, 0.0102, 0}, 0, "glass", {0, 0, 0});
   b.shape = "toysquare";
   b.shapeParams = {0.01};
   b.orientation = {0.05};  // a corner lands first
-  const GrainId id = s->addGrain(b);
-  const GrainState g0 = s->grain(id);
+  const ElementId id = s->addElement(b);
+  const ElementState g0 = s->element(id);
   EXPECT_NEAR(g0.mass, 2500 * 4e-4, 1e-12);
   EXPECT_NEAR(g0.inertia, g0.mass * 2.0 / 3.0 * 1e-4, 1e-15);
   RunOptions o;
   o.steps = 40000;
   s->run(o);
-  const GrainState g = s->grain(id);
+  const ElementState g = s->element(id);
   EXPECT_NEAR(g.orientation[0], 0, 1e-6);  // it tipped onto its face
   EXPECT_LT(std::hypot(g.velocity[0], g.velocity[1]), 1e-6);
   EXPECT_NEAR(s->wall(floor).force[1], -g.mass * 9.81, 1e-6 * g.mass * 9.81);
@@ -401,25 +401,25 @@ std::unique_ptr<Simulation> spinningBox(const Vec3d& w, std::vector<double> para
                                         const Quat& q = Quat::Identity()) {
   auto s = makeSimulation(3);
   s->addMaterial("glass", material(1e7, 0.5, 0));
-  GrainDef b = grain({0, 0, 0}, 0, "glass");
+  ElementDef b = grain({0, 0, 0}, 0, "glass");
   b.shape = "toybox";
   b.shapeParams = std::move(params);
   b.angularVelocity = w;
   b.orientation = {q.w(), q.x(), q.y(), q.z()};
-  s->addGrain(b);
+  s->addElement(b);
   s->setTimeStep(1e-4);
   return s;
 }
 
-Quat orientationOf(const GrainState& g) {
+Quat orientationOf(const ElementState& g) {
   return Quat(g.orientation[0], g.orientation[1], g.orientation[2], g.orientation[3]);
 }
-Vec3 spinOf(const GrainState& g) {
+Vec3 spinOf(const ElementState& g) {
   return Vec3(g.angularVelocity[0], g.angularVelocity[1], g.angularVelocity[2]);
 }
 
 // Returns the world angular momentum of a toybox element g (body frame = principal frame).
-Vec3 momentumOf(const GrainState& g) {
+Vec3 momentumOf(const ElementState& g) {
   const Mat3 r = orientationOf(g).toRotationMatrix();
   const Vec3 I(g.principalInertia[0], g.principalInertia[1], g.principalInertia[2]);
   return r * I.asDiagonal() * r.transpose() * spinOf(g);
@@ -445,8 +445,8 @@ TEST_F(SimShape, InertiaTensorIsDiagonalisedWhateverTheBodyFrame) {
 
 TEST_F(SimShape, FreePrecessionConservesEnergyAndMomentum) {
   auto s = spinningBox({0.3, 0.2, 4});
-  const GrainId id = s->grainIds()[0];
-  const Vec3 l0 = momentumOf(s->grain(id));
+  const ElementId id = s->elementIds()[0];
+  const Vec3 l0 = momentumOf(s->element(id));
 
   const double e0 = s->energy().kineticRotational;
   double worstE = 0, worstL = 0;
@@ -455,10 +455,10 @@ TEST_F(SimShape, FreePrecessionConservesEnergyAndMomentum) {
   for (int k = 0; k < 20; ++k) {
     s->run(o);
     worstE = std::max(worstE, std::abs(s->energy().kineticRotational / e0 - 1));
-    worstL = std::max(worstL, (momentumOf(s->grain(id)) - l0).norm() / l0.norm());
+    worstL = std::max(worstL, (momentumOf(s->element(id)) - l0).norm() / l0.norm());
   }
   // The body precesses: the spin's direction moves in the world.
-  EXPECT_GT((spinOf(s->grain(id)).normalized() - Vec3(0.3, 0.2, 4).normalized()).norm(), 1e-3);
+  EXPECT_GT((spinOf(s->element(id)).normalized() - Vec3(0.3, 0.2, 4).normalized()).norm(), 1e-3);
   EXPECT_LT(worstE, 1e-5);
   EXPECT_LT(worstL, 1e-11);
 }
@@ -470,13 +470,13 @@ TEST_F(SimShape, IntermediateAxisIsUnstableTheOthersAreNot) {
     Vec3d w{1e-3, 1e-3, 1e-3};
     w[axis] = 5;
     auto s = spinningBox(w);
-    const GrainId id = s->grainIds()[0];
+    const ElementId id = s->elementIds()[0];
     double least = 5;
     RunOptions o;
     o.steps = 100;
     for (int k = 0; k < 600; ++k) {
       s->run(o);
-      const GrainState g = s->grain(id);
+      const ElementState g = s->element(id);
       const Vec3 body = orientationOf(g).conjugate() * spinOf(g);
       least = std::min(least, body[axis]);
     }
@@ -499,7 +499,7 @@ TEST_F(SimShape, NonDiagonalInertiaTurnsAsTheDiagonalBody) {
   o.steps = 5000;
   a->run(o);
   b->run(o);
-  const GrainState ga = a->grain(a->grainIds()[0]), gb = b->grain(b->grainIds()[0]);
+  const ElementState ga = a->element(a->elementIds()[0]), gb = b->element(b->elementIds()[0]);
   EXPECT_LT((spinOf(ga) - spinOf(gb)).norm(), 1e-9);
   EXPECT_LT(orientationOf(ga).angularDistance(orientationOf(gb) * tilt.conjugate()), 1e-9);
 }

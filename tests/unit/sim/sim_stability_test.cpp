@@ -66,16 +66,16 @@ TEST(Stability, StiffnessFrom1e3To1e12WithAutoStep) {
     // Start two and a half steps of travel apart, so the stiffest case needs no long approach
     // and the touch falls mid-step (the error of a damped touch depends on its phase in the
     // step, doc/verification.md finding 3).
-    const GrainId a = s->addGrain(grain({-r, 0, 0}, r, "m", {v, 0, 0}));
-    const GrainId b = s->addGrain(grain({r, 0, 0}, r, "m", {-v, 0, 0}));
+    const ElementId a = s->addElement(grain({-r, 0, 0}, r, "m", {v, 0, 0}));
+    const ElementId b = s->addElement(grain({r, 0, 0}, r, "m", {-v, 0, 0}));
     const double dt = s->timeStep();
     EXPECT_DOUBLE_EQ(dt, 0.2 * s->criticalTimeStep());
-    s->setGrainPosition(a, {-r - 2.5 * v * dt, 0, 0});
-    s->setGrainPosition(b, {r + 2.5 * v * dt, 0, 0});
-    const double m = s->grain(a).mass, omega = std::sqrt(kn / (m / 2));
+    s->setElementPosition(a, {-r - 2.5 * v * dt, 0, 0});
+    s->setElementPosition(b, {r + 2.5 * v * dt, 0, 0});
+    const double m = s->element(a).mass, omega = std::sqrt(kn / (m / 2));
     const double tc = std::numbers::pi / omega;  // about; damping lengthens it a little
     s->runSteps(static_cast<uint64_t>(3 * tc / dt) + 10);
-    const double e = (s->grain(b).velocity[0] - s->grain(a).velocity[0]) / (2 * v);
+    const double e = (s->element(b).velocity[0] - s->element(a).velocity[0]) / (2 * v);
     EXPECT_EQ(s->contactCount(), 0u);
     // About 10 steps per contact at 0.2 of the critical step: a few per cent.
     EXPECT_NEAR(e, 0.5, 0.05);
@@ -108,13 +108,13 @@ TEST(Stability, SizeRatio1000WithFrictionRollsWithoutSlip) {
   const double m = 4.0 / 3.0 * std::numbers::pi * r * r * r * mat.density;
   const double zBig = R - hertzOverlap((M + m) * kG, R);
   const double d = R + r - hertzOverlap(m * kG * std::cos(theta), R * r / (R + r));
-  const GrainId big = s->addGrain(grain({0, 0, zBig}, R, "m"));
-  const GrainId small =
-      s->addGrain(grain({d * std::sin(theta), 0, zBig + d * std::cos(theta)}, r, "m"));
+  const ElementId big = s->addElement(grain({0, 0, zBig}, R, "m"));
+  const ElementId small =
+      s->addElement(grain({d * std::sin(theta), 0, zBig + d * std::cos(theta)}, r, "m"));
   s->addGravity({0, 0, -kG});
   const double dt = s->timeStep();
   s->runSteps(20000);
-  const GrainState a = s->grain(big), b = s->grain(small);
+  const ElementState a = s->element(big), b = s->element(small);
   const Vec3d n{b.position[0] - a.position[0], 0, b.position[2] - a.position[2]};
   const double dist = std::hypot(n[0], n[2]);
   const double angle = std::atan2(n[0], n[2]);
@@ -156,8 +156,8 @@ TEST(Stability, MassRatio1e6StackIsStatic) {
   const double m = vol * 1, M = vol * 1e6;
   const double z1 = r - hertzOverlap((M + m) * kG, r);
   const double z2 = z1 + 2 * r - hertzOverlap(M * kG, r / 2);
-  const GrainId lo = s->addGrain(grain({0, 0, z1}, r, "light"));
-  const GrainId hi = s->addGrain(grain({0, 0, z2}, r, "heavy"));
+  const ElementId lo = s->addElement(grain({0, 0, z1}, r, "light"));
+  const ElementId hi = s->addElement(grain({0, 0, z2}, r, "heavy"));
   s->addGravity({0, 0, -kG});
   // The light grain's own Rayleigh step bounds the estimate (the pair's slower material
   // would allow a step 1000 times too large).
@@ -166,8 +166,8 @@ TEST(Stability, MassRatio1e6StackIsStatic) {
   s->runSteps(20000);
   const double floorForce = s->wall(s->wallIds()[0]).force[2];
   EXPECT_NEAR(-floorForce, (M + m) * kG, 0.02 * (M + m) * kG);
-  EXPECT_NEAR(s->grain(hi).position[2], z2, 0.01 * r);
-  EXPECT_NEAR(s->grain(lo).position[2], z1, 0.01 * r);
+  EXPECT_NEAR(s->element(hi).position[2], z2, 0.01 * r);
+  EXPECT_NEAR(s->element(lo).position[2], z1, 0.01 * r);
   EXPECT_LT(s->energy().residual, 0.05);
   char buf[96];
   std::snprintf(buf, sizeof buf, "bounded, static: floor force / weights = %.4f",
@@ -193,10 +193,10 @@ TEST(Stability, Impact100MetresPerSecondOnAThinWall) {
     auto s = makeSimulation(3);
     s->addMaterial("m", material(7e10, 0.5, 0.3));
     s->addWall(plate());
-    const GrainId g = s->addGrain(grain({-r - 1e-4, 0, 0}, r, "m", {v, 0, 0}));
+    const ElementId g = s->addElement(grain({-r - 1e-4, 0, 0}, r, "m", {v, 0, 0}));
     const double dt = s->timeStep();
     s->runSteps(static_cast<uint64_t>(8e-6 / dt));
-    const GrainState b = s->grain(g);
+    const ElementState b = s->element(g);
     EXPECT_LT(b.position[0], -r);        // still on its side: no tunnelling
     EXPECT_LT(b.velocity[0], -0.4 * v);  // rebounded (Hertz, e = 0.5 gives about 0.55)
     EXPECT_GT(b.velocity[0], -0.7 * v);
@@ -211,7 +211,7 @@ TEST(Stability, Impact100MetresPerSecondOnAThinWall) {
     auto s = makeSimulation(3);
     s->addMaterial("m", material(7e10, 0.5, 0.3));
     s->addWall(plate());
-    const GrainId g = s->addGrain(grain({-r - 1e-4, 0, 0}, r, "m", {v, 0, 0}));
+    const ElementId g = s->addElement(grain({-r - 1e-4, 0, 0}, r, "m", {v, 0, 0}));
     s->setTimeStep(3e-5);
     const uint64_t digest0 = s->stateDigest();
     WatchdogTrip t;
@@ -221,7 +221,7 @@ TEST(Stability, Impact100MetresPerSecondOnAThinWall) {
     ASSERT_EQ(t.grains.size(), 1u);
     EXPECT_EQ(t.grains[0], g);
     EXPECT_EQ(s->stepCount(), 0u);
-    EXPECT_EQ(s->grain(g).position[0], -r - 1e-4);
+    EXPECT_EQ(s->element(g).position[0], -r - 1e-4);
     (void)digest0;
     row("100 m/s on a thin plate, dt = 3e-5 s (1.5 diameters per step)", 3e-5,
         "WATCHDOG SPEED before the first step");
@@ -230,7 +230,7 @@ TEST(Stability, Impact100MetresPerSecondOnAThinWall) {
     off.enabled = false;
     setWatchdog(*s, off);
     s->runSteps(2);
-    EXPECT_GT(s->grain(g).position[0], r);
+    EXPECT_GT(s->element(g).position[0], r);
   }
 }
 
@@ -242,22 +242,22 @@ TEST(Stability, DeepInitialOverlapsAreReportedOrRelaxed) {
     auto s = makeSimulation(3);
     s->addMaterial("m", material(1e8, 0.5, 0.3));
     s->addWall(plane({0, 0, 0}, {0, 0, 1}, "m"));
-    s->addGrain(grain({0, 0, 0.01}, r, "m"));
-    s->addGrain(grain({1.4 * r, 0, 0.01}, r, "m"));
-    s->addGrain(grain({0.01, 0, 0.4 * r}, r, "m"));
+    s->addElement(grain({0, 0, 0.01}, r, "m"));
+    s->addElement(grain({1.4 * r, 0, 0.01}, r, "m"));
+    s->addElement(grain({0.01, 0, 0.4 * r}, r, "m"));
     return s;
   };
   auto s = build();
   const double dt = s->timeStep();
-  const std::vector<GrainId> ids = s->grainIds();
+  const std::vector<ElementId> ids = s->elementIds();
   std::vector<Vec3d> x0;
-  for (GrainId id : ids) x0.push_back(s->grain(id).position);
+  for (ElementId id : ids) x0.push_back(s->element(id).position);
   WatchdogTrip t;
   EXPECT_EQ(tripOf([&] { s->runSteps(100); }, &t), "OVERLAP");
   EXPECT_TRUE(t.atStart);
   EXPECT_EQ(s->stepCount(), 0u);
   std::vector<Vec3d> x1;
-  for (GrainId id : ids) x1.push_back(s->grain(id).position);
+  for (ElementId id : ids) x1.push_back(s->element(id).position);
   EXPECT_EQ(x1, x0);
   EXPECT_NE(t.cause.find("placed overlapping"), std::string::npos);
   EXPECT_NE(t.fix.find("sim relax"), std::string::npos);
@@ -284,7 +284,7 @@ TEST(Stability, DeepInitialOverlapsAreReportedOrRelaxed) {
 TEST(Stability, BadParametersAreRejected) {
   auto s = makeSimulation(3);
   s->addMaterial("m", material(1e8, 0.5, 0.3));
-  s->addGrain(grain({0, 0, 0.01}, 1e-3, "m"));
+  s->addElement(grain({0, 0, 0.01}, 1e-3, "m"));
   const uint64_t digest = s->stateDigest();
   using Code = std::vector<std::string>;
   for (double bad : {0.0, -1.0, kNaN}) {
@@ -294,7 +294,7 @@ TEST(Stability, BadParametersAreRejected) {
     EXPECT_EQ(codeOf([&] { s->addMaterial("x", m); }), (Code{"VALUE", "DENSITY"}));
     m = material(bad, 0.5, 0.3);
     EXPECT_EQ(codeOf([&] { s->addMaterial("x", m); }), (Code{"VALUE", "YOUNG"}));
-    EXPECT_EQ(codeOf([&] { s->addGrain(grain({0, 0, 0}, bad, "m")); }), (Code{"VALUE", "RADIUS"}));
+    EXPECT_EQ(codeOf([&] { s->addElement(grain({0, 0, 0}, bad, "m")); }), (Code{"VALUE", "RADIUS"}));
     EXPECT_EQ(codeOf([&] { s->setTimeStep(bad); }), (Code{"VALUE", "TIMESTEP"}));
     EXPECT_EQ(codeOf([&] { s->setAutoTimeStep(bad); }), (Code{"VALUE", "FRACTION"}));
     EXPECT_EQ(codeOf([&] { s->relax(bad, 10); }), (Code{"VALUE", "FRACTION"}));
@@ -318,11 +318,11 @@ TEST(Stability, BadParametersAreRejected) {
   m.poisson = kNaN;
   EXPECT_EQ(codeOf([&] { s->addMaterial("x", m); }), (Code{"VALUE", "POISSON"}));
   EXPECT_EQ(codeOf([&] {
-              s->addGrain(grain({kNaN, 0, 0}, 1e-3, "m"));
+              s->addElement(grain({kNaN, 0, 0}, 1e-3, "m"));
             }),
             (Code{"VALUE", "POSITION"}));
   EXPECT_EQ(codeOf([&] {
-              s->addGrain(grain({0, 0, 0}, 1e-3, "m", {0, kNaN, 0}));
+              s->addElement(grain({0, 0, 0}, 1e-3, "m", {0, kNaN, 0}));
             }),
             (Code{"VALUE", "VELOCITY"}));
   EXPECT_EQ(codeOf([&] { s->addGravity({0, 0, kNaN}); }), (Code{"VALUE", "GRAVITY"}));
@@ -348,7 +348,7 @@ std::unique_ptr<Simulation> unstableScene(double factor) {
   s->setContactLaw(LawKind::Linear);
   const double r = 1e-3;
   s->addWall(plane({0, 0, 0}, {0, 0, 1}, "m"));
-  for (int k = 0; k < 4; ++k) s->addGrain(grain({0, 0, r + 2 * r * k}, r, "m"));
+  for (int k = 0; k < 4; ++k) s->addElement(grain({0, 0, r + 2 * r * k}, r, "m"));
   s->addGravity({0, 0, -kG});
   s->setTimeStep(factor * s->criticalTimeStep());
   return s;
@@ -395,8 +395,8 @@ TEST(Stability, WatchdogStopsABlowUp) {
 TEST(Stability, WatchdogCatchesANonFiniteLoad) {
   auto s = makeSimulation(2);
   s->addMaterial("m", material(1e8, 0.5, 0.3));
-  s->addGrain(grain({0, 0, 0}, 1e-3, "m"));
-  const GrainId g = s->addGrain(grain({0.01, 0, 0}, 1e-3, "m"));
+  s->addElement(grain({0, 0, 0}, 1e-3, "m"));
+  const ElementId g = s->addElement(grain({0.01, 0, 0}, 1e-3, "m"));
   const double dt = s->timeStep();
   LoadDef l;
   l.grain = g;
@@ -418,7 +418,7 @@ TEST(Stability, WatchdogChangesNothingAndIsSaved) {
     auto s = makeSimulation(3);
     s->addMaterial("m", material(1e8, 0.5, 0.5));
     s->addWall(plane({0, 0, 0}, {0, 0, 1}, "m"));
-    s->addGrains(testing::latticeGrains(3, 27, 1e-3, 0.01, 0.05, "m", 7));
+    s->addElements(testing::latticeGrains(3, 27, 1e-3, 0.01, 0.05, "m", 7));
     s->addGravity({0, 0, -kG});
     return s;
   };

@@ -76,8 +76,8 @@ inline WallDef plane(const Vec3d& point, const Vec3d& normal, const std::string&
   return w;
 }
 
-inline GrainDef grain(const Vec3d& x, double r, const std::string& mat, const Vec3d& v = {}) {
-  GrainDef g;
+inline ElementDef grain(const Vec3d& x, double r, const std::string& mat, const Vec3d& v = {}) {
+  ElementDef g;
   g.position = x;
   g.radius = r;
   g.material = mat;
@@ -100,7 +100,7 @@ inline void addBox(Simulation& s, double side, const std::string& mat) {
 
 // Returns defs for n non-overlapping grains of radius r on a jittered lattice inside the box
 // [0, side]^D, with random velocities of magnitude up to vmax (seeded: reproducible).
-inline std::vector<GrainDef> latticeGrains(int dim, int n, double r, double side, double vmax,
+inline std::vector<ElementDef> latticeGrains(int dim, int n, double r, double side, double vmax,
                                            const std::string& mat, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -109,7 +109,7 @@ inline std::vector<GrainDef> latticeGrains(int dim, int n, double r, double side
   int room = 1;
   for (int a = 0; a < dim; ++a) room *= perAxis;
   EXPECT_LE(n, room) << "the lattice does not fit in the box";
-  std::vector<GrainDef> out;
+  std::vector<ElementDef> out;
   for (int k = 0; k < n; ++k) {
     int c = k;
     Vec3d x{0, 0, 0}, v{0, 0, 0};

@@ -40,14 +40,14 @@ Impact impact(int dim, bool wall, double e, double stepsPerTc, double phase, boo
   v[up] = -kV0;
   normal[up] = 1;
   x[up] = 1;
-  const GrainId a = s->addGrain(grain(x, kR, "m", v));
-  const double mass = s->grain(a).mass;
+  const ElementId a = s->addElement(grain(x, kR, "m", v));
+  const double mass = s->element(a).mass;
   const double tc = std::numbers::pi * std::sqrt((wall ? mass : 0.5 * mass) / kKn);
   const double dt = tc / stepsPerTc;
   s->setTimeStep(dt);
   // Apart by what the grain covers in 3 + phase steps: the touch is at `phase` of step 4.
   const double gap = (kV0 + wallSpeed) * dt * (3 + phase);
-  GrainId b;
+  ElementId b;
   if (wall) {
     WallDef floor = plane({0, 0, 0}, normal, "m");
     if (wallSpeed != 0) {
@@ -57,15 +57,15 @@ Impact impact(int dim, bool wall, double e, double stepsPerTc, double phase, boo
     s->addWall(floor);
     x[up] = kR + gap;
   } else {
-    b = s->addGrain(grain({0, 0, 0}, kR, "m"));
+    b = s->addElement(grain({0, 0, 0}, kR, "m"));
     x[up] = 2 * kR + gap;
   }
-  s->setGrainPosition(a, x);
+  s->setElementPosition(a, x);
   s->runSteps(static_cast<uint64_t>(std::ceil(2 * stepsPerTc)) + 8);
   EXPECT_EQ(s->contactCount(), 0u);
   Impact out;
-  const double va = s->grain(a).velocity[up];
-  out.restitution = (wall ? va - wallSpeed : va - s->grain(b).velocity[up]) / (kV0 + wallSpeed);
+  const double va = s->element(a).velocity[up];
+  out.restitution = (wall ? va - wallSpeed : va - s->element(b).velocity[up]) / (kV0 + wallSpeed);
   out.residual = s->energy().residual;
   return out;
 }
@@ -158,7 +158,7 @@ TEST(SimTouch, CheckpointContinuationIsBitIdentical) {
     std::uniform_real_distribution<double> u(-1, 1);
     for (int k = 0; k < 27; ++k) {
       const Vec3d x{0.01 + 0.02 * (k % 3), 0.01 + 0.02 * (k / 3 % 3), 0.01 + 0.02 * (k / 9)};
-      s->addGrain(grain(x, 0.008, "m", {u(rng), u(rng), u(rng)}));
+      s->addElement(grain(x, 0.008, "m", {u(rng), u(rng), u(rng)}));
     }
     s->setTimeStep(2e-5);
     return s;
@@ -184,7 +184,7 @@ TEST(SimTouch, CheckpointContinuationIsBitIdentical) {
 TEST(SimTouch, OptionIsPartOfTheScene) {
   auto s = makeSimulation(3);
   s->addMaterial("m", material(1e7, 1, 0));
-  s->addGrain(grain({0, 0, 0.1}, kR, "m"));
+  s->addElement(grain({0, 0, 0.1}, kR, "m"));
   auto has = [](const Simulation& x) {
     const auto l = x.listModules();
     return std::find(l.begin(), l.end(), "touch") != l.end();

@@ -51,7 +51,7 @@ TEST(SimWallState, GeometryIn2DFollowsTheRotation) {
   pl.normal = {0, 1, 0};
   pl.material = "steel";
   const WallId pn = s->addWall(pl);
-  s->addGrain(testing::grain({0, 0, 0}, 0.01, "steel"));
+  s->addElement(testing::grain({0, 0, 0}, 0.01, "steel"));
   s->setTimeStep(1e-3);
 
   WallState f = s->wall(fin);
