@@ -219,6 +219,8 @@ struct Scene {
         if (!std::isnan(o.c.friction)) d->friction = o.c.friction;
         if (!std::isnan(o.c.rolling)) d->rollingFriction = o.c.rolling;
         if (!std::isnan(o.c.cohesion)) d->cohesion = o.c.cohesion;
+        // Each side's modulus such that the pair's mixing (physics/pair_params.cpp) gives E*.
+        if (!std::isnan(o.c.young)) d->young = 2 * o.c.young * (1 - d->poisson * d->poisson);
       }
     }
     return out;

@@ -515,6 +515,14 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     });
     writeSection(w, kPairTag, body);
   }
+  // The pairs' own moduli, after the pairs they belong to, only when one is set (the PAIR
+  // record's layout is fixed).
+  if (std::any_of(s.pairOverrides.begin(), s.pairOverrides.end(),
+                  [](const PairOverride& o) { return !std::isnan(o.c.young); })) {
+    Writer body;
+    body.list(s.pairOverrides, [&](const PairOverride& o) { body.f64(o.c.young); });
+    writeSection(w, kPairYoungTag, body);
+  }
   if (s.geometries.size() > 1) {
     Writer body;
     writeShapes(body, s);
@@ -693,6 +701,14 @@ void readScene(Reader& r, Scene<D>& s) {
       readBlocked(b, s);
     } else if (std::memcmp(tag, kPairTag, 4) == 0) {
       readPairOverrides(b, s);
+    } else if (std::memcmp(tag, kPairYoungTag, 4) == 0) {
+      if (b.count(8) != s.pairOverrides.size()) Reader::bad("pair moduli count");
+      for (PairOverride& o : s.pairOverrides) {
+        o.c.young = b.f64();
+        if (!(std::isnan(o.c.young) || (o.c.young > 0 && std::isfinite(o.c.young)))) {
+          Reader::bad("pair modulus");
+        }
+      }
     } else if (std::memcmp(tag, kShapeTag, 4) == 0) {
       readShapes(b, s);
     } else if (std::memcmp(tag, kOptionTag, 4) == 0) {

@@ -152,6 +152,9 @@ inline constexpr char kCohesionTag[5] = "COHE";
 // The pairs' own coefficients (Scene::pairOverrides), when any: u64 count, then per pair u32 a,
 // u32 b (material indices, a <= b) and f64 restitution, friction, rolling, cohesion (NaN: unset).
 inline constexpr char kPairTag[5] = "PAIR";
+// The pairs' own effective moduli, when one has any: u64 count (the PAIR section's), then one
+// f64 each in the PAIR section's order (NaN: the mixing rule's). Written after PAIR.
+inline constexpr char kPairYoungTag[5] = "PYNG";
 // The element shapes (sim/shape.hpp), written only when some Geometry beyond the ball's exists:
 // the Geometry table by shape type name and parameters, each element's Geometry index, the
 // shape candidate pairs, and the tangential springs of the shape contact points.

@@ -78,6 +78,10 @@ struct PairCoefficients {
   double friction = std::numeric_limits<double>::quiet_NaN();
   double rolling = std::numeric_limits<double>::quiet_NaN();
   double cohesion = std::numeric_limits<double>::quiet_NaN();
+  // The pair's effective Young's modulus E* = 1 / ((1 - nu_a^2) / E_a + (1 - nu_b^2) / E_b)
+  // (Pa, > 0): the normal stiffness of both laws; the shear modulus follows with the Poisson
+  // ratios.
+  double young = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The degrees of freedom of an element, as bits of a mask: translation along x, y, z and

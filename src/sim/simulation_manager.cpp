@@ -134,8 +134,10 @@ double SimulationManager<D>::criticalTimeStep() const {
       if (!used[k]) continue;
       const int8_t o = s_.pairLawOverride[m * nm + k];
       const LawKind law = o < 0 ? s_.defaultLaw : static_cast<LawKind>(o);
-      const physics::PairParams p =
-          physics::mixPair(law, s_.materials[m], s_.materials[k], s_.hertzDamping);
+      // The pair as the run mixes it: its own coefficients (a stiffer pair, a lower
+      // restitution) change the stable step.
+      const auto [ma, mk] = s_.pairMaterials(m, k);
+      const physics::PairParams p = physics::mixPair(law, ma, mk, s_.hertzDamping);
       for (const size_t side : {m, k}) {
         if (std::isfinite(rmin[side])) {  // else a wall's material, or shapes only
           const Real r = rmin[side];
@@ -275,10 +277,11 @@ void SimulationManager<D>::setPairCoefficients(const std::string& a, const std::
         "a non-negative number", "ROLLINGFRICTION");
   check(c.cohesion, c.cohesion >= 0 && std::isfinite(c.cohesion), "cohesion",
         "a non-negative number", "COHESION");
+  check(c.young, c.young > 0 && std::isfinite(c.young), "young", "a positive number", "YOUNG");
   const uint32_t lo = std::min(i, j), hi = std::max(i, j);
   std::erase_if(s_.pairOverrides, [&](const PairOverride& o) { return o.a == lo && o.b == hi; });
   const bool any = !std::isnan(c.restitution) || !std::isnan(c.friction) ||
-                   !std::isnan(c.rolling) || !std::isnan(c.cohesion);
+                   !std::isnan(c.rolling) || !std::isnan(c.cohesion) || !std::isnan(c.young);
   if (any) s_.pairOverrides.push_back({lo, hi, c});
   touchConfig();
 }
@@ -305,6 +308,11 @@ PairCoefficients SimulationManager<D>::pairCoefficients(const std::string& a,
   c.friction = physics::mixFriction(ma, mb);
   c.rolling = std::min(ma.rollingFriction, mb.rollingFriction);
   c.cohesion = std::min(ma.cohesion, mb.cohesion);
+  // The pair's own modulus as given (the copies' mixing gives it back to rounding).
+  const double own = pairOverrides(a, b).young;
+  c.young = !std::isnan(own) ? own
+                             : 1 / ((1 - ma.poisson * ma.poisson) / ma.young +
+                                    (1 - mb.poisson * mb.poisson) / mb.young);
   return c;
 }
 

@@ -62,6 +62,33 @@ std::string lawWord(physics::LawKind k) {
 
 }  // namespace
 
+namespace {
+
+// The coefficients a pair of materials may have of its own (`law coefficients`), one row each:
+// the option, the API's field, its range and its help.
+struct PairField {
+  const char* name;
+  double sim::PairCoefficients::*field;
+  PipeType (*spec)();
+  const char* help;
+};
+const PairField kPairFields[] = {
+    {"restitution", &sim::PairCoefficients::restitution,
+     [] { return real().min(0, true).max(1); }, "the pair's restitution"},
+    {"friction", &sim::PairCoefficients::friction, [] { return real().nonNegative(); },
+     "the pair's Coulomb friction"},
+    {"rolling", &sim::PairCoefficients::rolling, [] { return real().nonNegative(); },
+     "the pair's rolling friction"},
+    {"cohesion", &sim::PairCoefficients::cohesion,
+     [] { return real().nonNegative().withUnit("Pa"); }, "the pair's cohesion"},
+    {"young", &sim::PairCoefficients::young, [] { return real().positive().withUnit("Pa"); },
+     "the pair's effective Young's modulus E* = 1 / ((1 - nu_a^2) / E_a + (1 - nu_b^2) / E_b), "
+     "which sets both laws' normal stiffness (the shear modulus follows with the Poisson "
+     "ratios)"},
+};
+
+}  // namespace
+
 void registerMaterialCommands(Registry& r) {
   r.describe("material", "Materials: named sets of constants that elements and walls refer to.");
 
@@ -214,40 +241,36 @@ void registerMaterialCommands(Registry& r) {
                         "rules' values, or returns the pair's coefficients.");
   coef.details =
       "The mixing rules: restitution sqrt(e_a e_b), friction, rolling friction and cohesion the "
-      "smaller of the two materials'. A value given here is the pair's whatever its materials "
+      "smaller of the two materials', the effective modulus from both moduli and Poisson "
+      "ratios. A value given here is the pair's whatever its materials "
       "say (LIGGGHTS's peratomtypepair tables); options not given keep the pair's earlier "
       "values, -reset 1 drops them first. Returns the dict of the pair's coefficients in use "
       "and, under \"own\", the names of those that are the pair's own.";
   coef.arg("a", materialRef(), "a material");
   coef.arg("b", materialRef(), "another (or the same) material");
-  coef.option("restitution", real().min(0, true).max(1), "the pair's restitution");
-  coef.option("friction", real().nonNegative(), "the pair's Coulomb friction");
-  coef.option("rolling", real().nonNegative(), "the pair's rolling friction");
-  coef.option("cohesion", real().nonNegative().withUnit("Pa"), "the pair's cohesion");
+  for (const PairField& f : kPairFields) coef.option(f.name, f.spec(), f.help);
   coef.option("reset", boolean(), "1: the mixing rules' values for every coefficient not given");
   coef.run([](Call& c) {
     auto& s = session(c).scene();
     const std::string a = c.str("a"), b = c.str("b");
     sim::PairCoefficients own = s.pairOverrides(a, b);
-    const bool edits = c.given("restitution") || c.given("friction") || c.given("rolling") ||
-                       c.given("cohesion") || c.given("reset");
+    bool edits = c.given("reset");
     if (c.given("reset") && c.get<bool>("reset")) own = {};
-    if (c.given("restitution")) own.restitution = c.get<double>("restitution");
-    if (c.given("friction")) own.friction = c.get<double>("friction");
-    if (c.given("rolling")) own.rolling = c.get<double>("rolling");
-    if (c.given("cohesion")) own.cohesion = c.get<double>("cohesion");
+    for (const PairField& f : kPairFields) {
+      if (!c.given(f.name)) continue;
+      own.*f.field = c.get<double>(f.name);
+      edits = true;
+    }
     if (edits) s.setPairCoefficients(a, b, own);
     const sim::PairCoefficients used = s.pairCoefficients(a, b);
+    Dict out;
     List mine;
-    if (!std::isnan(own.restitution)) mine.emplace_back(std::string("restitution"));
-    if (!std::isnan(own.friction)) mine.emplace_back(std::string("friction"));
-    if (!std::isnan(own.rolling)) mine.emplace_back(std::string("rolling"));
-    if (!std::isnan(own.cohesion)) mine.emplace_back(std::string("cohesion"));
-    return Value(Dict{{"restitution", used.restitution},
-                      {"friction", used.friction},
-                      {"rolling", used.rolling},
-                      {"cohesion", used.cohesion},
-                      {"own", mine}});
+    for (const PairField& f : kPairFields) {
+      out.emplace_back(f.name, used.*f.field);
+      if (!std::isnan(own.*f.field)) mine.emplace_back(std::string(f.name));
+    }
+    out.emplace_back("own", mine);
+    return Value(out);
   });
 }
 

@@ -93,6 +93,43 @@ TEST_P(SimPairCoefficients, OwnFrictionAndModulesFollow) {
   EXPECT_EQ(s->pairCoefficients("a", "b").friction, 0.0);
 }
 
+// Returns the rest overlap of a sphere (3D) of radius 0.01 on a plane under gravity, Hertz.
+double restOverlap(Simulation& s, ElementId id) {
+  s.runSteps(static_cast<uint64_t>(0.3 / s.timeStep()));
+  return 0.01 - s.element(id).position[2];
+}
+
+TEST(SimPairCoefficients3D, OwnModulusSetsTheHertzStiffness) {
+  // delta = (3 m g / (4 E* sqrt(R)))^(2/3) at rest (Hertz, F = 4/3 E* sqrt(R) delta^(3/2)).
+  auto s = makeSimulation(3);
+  s->addMaterial("a", material(1e7, 0.3, 0.0));
+  s->addMaterial("b", material(1e9, 0.3, 0.0));
+  s->addWall(plane({0, 0, 0}, {0, 0, 1}, "b"));
+  s->addGravity({0, 0, -9.81});
+  const ElementId id = s->addElement(grain({0, 0, 0.01}, 0.01, "a"));
+  auto t = s->clone();
+  PairCoefficients c;
+  c.young = 5e8;  // stiffer than the mixed pair's 1.08e7
+  t->setPairCoefficients("a", "b", c);
+  EXPECT_EQ(t->pairCoefficients("b", "a").young, 5e8);
+  const double mixed = 1 / ((1 - 0.09) / 1e7 + (1 - 0.09) / 1e9);
+  EXPECT_NEAR(s->pairCoefficients("a", "b").young, mixed, 1e-6 * mixed);
+  // The step follows the stiffer pair.
+  EXPECT_LT(t->timeStep(), 0.5 * s->timeStep());
+  const double mg = s->element(id).mass * 9.81;
+  for (auto [sim, e] : {std::pair{s.get(), mixed}, std::pair{t.get(), 5e8}}) {
+    const double want = std::pow(3 * mg / (4 * e * std::sqrt(0.01)), 2.0 / 3.0);
+    EXPECT_NEAR(restOverlap(*sim, id), want, 1e-3 * want);
+  }
+  // A checkpoint keeps it.
+  std::stringstream ck;
+  t->save(ck);
+  auto b = makeSimulation(3);
+  b->load(ck);
+  EXPECT_EQ(b->pairOverrides("a", "b").young, 5e8);
+  EXPECT_EQ(b->stateDigest(), t->stateDigest());
+}
+
 TEST_P(SimPairCoefficients, BadValuesChangeNothing) {
   const int d = GetParam();
   auto s = makeSimulation(d);
@@ -111,6 +148,9 @@ TEST_P(SimPairCoefficients, BadValuesChangeNothing) {
   c.friction = NAN;
   c.cohesion = -2;
   EXPECT_EQ(codeOf([&] { s->setPairCoefficients("a", "a", c); }), (Code{"VALUE", "COHESION"}));
+  c.cohesion = NAN;
+  c.young = 0;
+  EXPECT_EQ(codeOf([&] { s->setPairCoefficients("a", "a", c); }), (Code{"VALUE", "YOUNG"}));
   EXPECT_EQ(codeOf([&] { s->setPairCoefficients("a", "zz", {}); }), (Code{"LOOKUP", "MATERIAL"}));
   EXPECT_EQ(s->stateDigest(), digest);
   EXPECT_TRUE(std::isnan(s->pairOverrides("a", "a").restitution));
