@@ -483,6 +483,8 @@ class Simulation {
   virtual void setElementPosition(ElementId id, const Vec3d& p) = 0;
   virtual void setElementVelocity(ElementId id, const Vec3d& v) = 0;
   virtual void setElementAngularVelocity(ElementId id, const Vec3d& w) = 0;
+  // Turns the element to orientation o (as ElementDef::orientation; VALUE ORIENTATION).
+  virtual void setElementOrientation(ElementId id, const std::vector<double>& o) = 0;
   // Blocks the degrees of freedom in mask (dof::) and frees the others; the velocities stay as
   // they are. LOOKUP HANDLE, VALUE DOF (a bit the dimension does not have).
   virtual void setElementBlocked(ElementId id, unsigned mask) = 0;

@@ -556,6 +556,17 @@ void SimulationManager<D>::setElementAngularVelocity(ElementId id, const Vec3d& 
 }
 
 template <int D>
+void SimulationManager<D>::setElementOrientation(ElementId id, const std::vector<double>& o) {
+  const uint32_t i = s_.elements.index(id);
+  const RotationD<D> q = toRotation<D>(o);
+  // A shape's rotational energy (w . I_world w) depends on its orientation: the ledger rebases.
+  const double before = elementEnergy(i);
+  s_.elements.a.q[i] = q;
+  s_.ledger.reference += elementEnergy(i) - before;
+  s_.forcesReady = false;
+}
+
+template <int D>
 void SimulationManager<D>::checkDofMask(unsigned mask) const {
   if ((mask & ~dof::all(D)) != 0) {
     throw Error("bad degrees of freedom \"" + dofNames(mask) + "\": a " + std::to_string(D) +

@@ -67,6 +67,7 @@ class SimulationManager final : public Simulation {
   void setElementPosition(ElementId id, const Vec3d& p) override;
   void setElementVelocity(ElementId id, const Vec3d& v) override;
   void setElementAngularVelocity(ElementId id, const Vec3d& w) override;
+  void setElementOrientation(ElementId id, const std::vector<double>& o) override;
   void setElementBlocked(ElementId id, unsigned mask) override;
   size_t elementCount() const override { return s_.elements.size(); }
 

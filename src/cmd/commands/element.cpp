@@ -194,8 +194,8 @@ void registerElementCommands(Registry& r) {
   });
 
   Command& set = r.add("element set",
-                       "Changes an element's position, velocity, angular velocity or blocked "
-                       "degrees of freedom.");
+                       "Changes an element's position, velocity, angular velocity, orientation "
+                       "or blocked degrees of freedom.");
   set.details =
       "A blocked degree of freedom keeps its velocity whatever the forces (the force or torque "
       "along it is cancelled each step: the constraints module). -fixed 1 blocks all of them "
@@ -204,6 +204,8 @@ void registerElementCommands(Registry& r) {
   set.option("position", vector().withUnit("m"), "new centre");
   set.option("velocity", vector().withUnit("m/s"), "new velocity");
   set.option("angularvelocity", spin().withUnit("rad/s"), "new angular velocity");
+  set.option("orientation", reals(),
+             "new orientation: 3D a quaternion {w x y z} (normalised), 2D an angle (rad)");
   blockOptions(set);
   set.onCheck([](Call& c) {
     auto& s = session(c).scene();
@@ -216,6 +218,9 @@ void registerElementCommands(Registry& r) {
     const auto mask = std::any_cast<std::optional<unsigned>>(c.prepared);
     // The pipes made every vector the right size and the check read the mask, so none of
     // these calls can fail half-way.
+    // The orientation first: the one setter that checks its value (VALUE ORIENTATION), so a
+    // bad one fails before anything has changed.
+    if (c.given("orientation")) s.setElementOrientation(g, c.get<std::vector<double>>("orientation"));
     if (c.has("position")) s.setElementPosition(g, vec3(c.vec("position")));
     const bool fixing = c.given("fixed") && c.get<bool>("fixed");
     if (c.has("velocity")) {
