@@ -157,7 +157,7 @@ void checkScene(const RenderScene& s) {
     if (s.dim == 3) checkLength("orientations", s.orientations.size(), 4 * n);
     for (size_t i = 0; i < n; ++i) {
       if (s.meshOf[i] < -1 || s.meshOf[i] >= static_cast<long>(s.meshes.size()))
-        throw Error("bad mesh index "" + std::to_string(s.meshOf[i]) + "" for " +
+        throw Error("bad mesh index \"" + std::to_string(s.meshOf[i]) + "\" for " +
                         indexed("grain", i) + ": must be -1 or below the number of meshes",
                     {"VALUE", "MESH"});
     }

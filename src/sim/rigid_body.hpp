@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cmath>
+#include <vector>
 
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
@@ -101,6 +102,36 @@ inline void freeRotor(Quat& Q, Vec3& pi, const Vec3& I, Real dt) {
   Q.normalize();
 }
 
+// A rigid element with blocked rotations and its spin before an update. The constraint module
+// cancels the torque along a blocked axis, but a rigid body's spin also turns by the
+// gyroscopic term and through the coupled world tensor: the blocked components are put back
+// after each half of the update, so they keep their velocity as for a ball.
+struct HeldSpin {
+  uint32_t i;
+  unsigned dofs;
+  Vec3 w;
+};
+
+// Returns in out the rigid elements of s with a blocked rotation, with their spins now.
+inline void holdSpins(const Scene<3>& s, std::vector<HeldSpin>& out) {
+  out.clear();
+  for (const BlockedElement& b : s.blocked) {
+    if ((b.dofs & (dof::Rx | dof::Ry | dof::Rz)) == 0) continue;
+    const uint32_t i = s.elements.pool().findDense(b.id);
+    if (i == HandlePool<ElementKind>::kNpos || s.elements.a.invInertia[i] != 0) continue;
+    out.push_back({i, b.dofs, s.elements.a.w[i]});
+  }
+}
+
+// Puts back the blocked components of the held spins. Changes s's angular velocities.
+inline void restoreSpins(Scene<3>& s, const std::vector<HeldSpin>& held) {
+  for (const HeldSpin& h : held) {
+    for (int k = 0; k < 3; ++k) {
+      if (h.dofs & (dof::Rx << k)) s.elements.a.w[h.i][k] = h.w[k];
+    }
+  }
+}
+
 // The predict half of the rigid elements' rotation (after PredictRotationModule, which skips
 // them): kick, free rotor, and the integrator's velocity estimate.
 template <int D>
@@ -114,6 +145,7 @@ class PredictRigidRotationModule final : public SimModule<D> {
       ElementArrays<3>& a = s.elements.a;
       const Real dt = s.stepDt, h = 0.5 * dt;
       const bool sync = s.integrator == IntegratorKind::Synchronized;
+      if (!s.blocked.empty()) holdSpins(s, held_);
       for (size_t i = 0; i < a.size(); ++i) {
         if (a.invInertia[i] != 0) continue;
         const Geometry<3>& g = *s.geometries[a.geometry[i]];
@@ -128,8 +160,12 @@ class PredictRigidRotationModule final : public SimModule<D> {
         a.tPrev[i] = a.t[i];
         a.t[i].setZero();
       }
+      if (!s.blocked.empty()) restoreSpins(s, held_);
     }
   }
+
+ private:
+  std::vector<HeldSpin> held_;
 };
 
 // The correct half: the second kick with the new torque (before CorrectModule, whose kick is
@@ -145,13 +181,18 @@ class CorrectRigidRotationModule final : public SimModule<D> {
       ElementArrays<3>& a = s.elements.a;
       const Real h = 0.5 * s.stepDt;
       const bool sync = s.integrator == IntegratorKind::Synchronized;
+      if (!s.blocked.empty()) holdSpins(s, held_);
       for (size_t i = 0; i < a.size(); ++i) {
         if (a.invInertia[i] != 0) continue;
         const Vec3 kick = h * (sync ? Vec3(a.t[i] - a.tPrev[i]) : a.t[i]);
         a.w[i] += rigidInverseInertiaTimes(s, i, kick);
       }
+      if (!s.blocked.empty()) restoreSpins(s, held_);
     }
   }
+
+ private:
+  std::vector<HeldSpin> held_;
 };
 
 }  // namespace demlab::sim

@@ -348,7 +348,7 @@ void readShapes(Reader& r, Scene<D>& s) {
   for (CandidatePair& c : s.shapeCandidates) {
     c.i = r.u32();
     c.j = r.u32();
-    if (c.i >= g.size() || c.j >= g.size()) Reader::bad("shape candidate index");
+    if (c.i >= g.size() || c.j >= g.size() || c.i == c.j) Reader::bad("shape candidate index");
   }
   s.shapeWallCandidates.resize(r.count(8));
   for (auto& c : s.shapeWallCandidates) {
@@ -362,7 +362,9 @@ void readShapes(Reader& r, Scene<D>& s) {
     key.a = r.u32();
     key.b = r.u32();
     key.point = r.u32();
-    s.shapeSprings[key].spring = r.vec<D>();
+    const VecD<D> spring = r.vec<D>();
+    if (!spring.allFinite()) Reader::bad("shape spring");
+    s.shapeSprings[key].spring = spring;
   }
 }
 
@@ -726,6 +728,18 @@ void readScene(Reader& r, Scene<D>& s) {
     }
     if (!b.atEnd()) Reader::bad("section length");
     tagged = readTag();
+  }
+  // Each element's inverse inertia says which integrator turns it (0: the rigid-body one,
+  // sim/rigid_body.hpp): it must agree with its Geometry, or a corrupt file would send a ball
+  // down the rigid path with no principal moments.
+  const ElementArrays<D>& e = s.elements.a;
+  for (size_t i = 0; i < e.size(); ++i) {
+    const Geometry<D>& g = *s.geometries[e.geometry[i]];
+    const bool rigid = D == 3 && g.boundRadius > 0 && !g.isotropic;
+    const bool ok = e.invMass[i] > 0 && std::isfinite(e.invMass[i]) &&
+                    (rigid ? e.invInertia[i] == 0
+                           : e.invInertia[i] > 0 && std::isfinite(e.invInertia[i]));
+    if (!ok) Reader::bad("element mass or inertia");
   }
 }
 

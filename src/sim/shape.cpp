@@ -108,6 +108,10 @@ Geometry<D> ShapeTable<D>::makeGeometry(std::string_view name,
   if constexpr (D == 2) {
     g.principalMoments = Vec3(0, 0, m.inertia(2, 2));
     g.isotropic = true;
+    if (!(m.inertia(2, 2) > 0 && std::isfinite(m.inertia(2, 2)))) {
+      throw Error("bad shape parameters: the " + std::string(name) + " has no rotational inertia",
+                  {"VALUE", "SHAPE"});
+    }
   } else {
     // The principal axes: a right-handed frame of the symmetric tensor's eigenvectors.
     Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (m.inertia + m.inertia.transpose()));
@@ -116,7 +120,7 @@ Geometry<D> ShapeTable<D>::makeGeometry(std::string_view name,
     g.principalMoments = eig.eigenvalues();
     g.principal = Quat(axes).normalized();
     const Real lo = g.principalMoments.minCoeff(), hi = g.principalMoments.maxCoeff();
-    if (!(lo > 0)) {
+    if (!(lo > 0 && std::isfinite(hi))) {
       throw Error("bad shape parameters: the " + std::string(name) + " has no rotational inertia",
                   {"VALUE", "SHAPE"});
     }

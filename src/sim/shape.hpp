@@ -19,6 +19,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -151,6 +152,8 @@ class ShapeTable {
 
   // Returns the type named name, or null.
   const ShapeType<D>* find(std::string_view name) const;
+  // Returns the id of the type named name, or nothing.
+  std::optional<TypeId> id(std::string_view name) const { return registry_.find(name); }
   const ShapeType<D>& type(TypeId id) const { return *types_[id.value]; }
   // Returns the id of the ball (the sphere in 3D, the disc in 2D): 0.
   static constexpr TypeId ball() { return TypeId{0}; }

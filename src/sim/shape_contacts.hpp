@@ -60,9 +60,10 @@ int elementWallPoints(const Scene<D>& s, uint32_t i, const Wall<D>& w, ContactPo
 
 // Throws {LOOKUP INTERACTION} unless the ShapeTable has a routine for every pair of shape types
 // that can meet among s's elements and for every shape type against every kind of wall in s (balls with
-// balls and walls excepted: the ball passes serve them). Changes nothing.
+// balls and walls excepted: the ball passes serve them), counting the types in extra as
+// elements about to be added. Changes nothing.
 template <int D>
-void checkShapeRoutines(const Scene<D>& s) {
+void checkShapeRoutines(const Scene<D>& s, const std::vector<TypeId>& extra = {}) {
   const ShapeTable<D>& t = ShapeTable<D>::get();
   std::vector<size_t> present(s.geometries.size(), 0);
   for (uint32_t g : s.elements.a.geometry) present[g] += 1;
@@ -77,6 +78,16 @@ void checkShapeRoutines(const Scene<D>& s) {
       counts.push_back(present[g]);
     } else {
       counts[static_cast<size_t>(it - types.begin())] += present[g];
+    }
+  }
+  // Elements about to be created (a deferred change): one more of each type.
+  for (const TypeId id : extra) {
+    const auto it = std::find(types.begin(), types.end(), id);
+    if (it == types.end()) {
+      types.push_back(id);
+      counts.push_back(1);
+    } else {
+      counts[static_cast<size_t>(it - types.begin())] += 1;
     }
   }
   for (size_t x = 0; x < types.size(); ++x) {

@@ -208,6 +208,13 @@ bool SimulationManager<D>::applyDeferred() {
     if (s_.elements.pool().valid(id) && seenIds.insert(id.bits()).second) gone.push_back(id);
   }
   if (gone.empty() && changes.create.empty()) return false;
+  // Shapes the changes bring in need their contact routines: checked before anything changes.
+  std::vector<TypeId> extra;
+  for (const ElementDef& d : changes.create) {
+    if (d.shape.empty()) continue;
+    if (const auto id = ShapeTable<D>::get().id(d.shape)) extra.push_back(*id);
+  }
+  if (!extra.empty()) checkShapeRoutines(s_, extra);
   if (!gone.empty()) removeElementSet(gone);
   if (!changes.create.empty()) addElements(changes.create);
   prepare();
@@ -352,6 +359,8 @@ double SimulationManager<D>::worstOverlap(double fraction, bool push, std::vecto
   }
   double worst = 0;
   for (const ContactRecord<D>& c : s_.contacts) {
+    // Relaxing pushes balls apart along their centre line; a shape's records are left out.
+    if (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0)) continue;
     const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
     std::optional<physics::ContactGeometry<D>> g;
     Real rmin = a.r[c.a];
@@ -484,12 +493,31 @@ std::vector<ContactInfo> SimulationManager<D>::contacts() const {
   out.reserve(s_.contacts.size());
   const ElementArrays<D>& a = s_.elements.a;
   const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+  // A pair with a shape has one record per contact point, in a row, in the order of its
+  // routine's points: they are recomputed once per pair and handed out in that order.
+  ContactPoint<D> pts[kMaxContactPoints];
+  int nPts = 0, next = 0;
+  const ContactRecord<D>* pairOf = nullptr;
   for (const ContactRecord<D>& c : s_.contacts) {
     ContactInfo ci;
     ci.a = s_.elements.pool().handleAt(c.a);
     const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
     std::optional<physics::ContactGeometry<D>> g;
-    if (c.wall) {
+    if (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0)) {
+      if (pairOf == nullptr || pairOf->a != c.a || pairOf->b != c.b || pairOf->wall != c.wall ||
+          next >= nPts) {
+        nPts = c.wall ? elementWallPoints(s_, c.a, s_.walls.items[c.b], pts)
+                      : elementPairPoints(s_, c.a, c.b, pts);
+        next = 0;
+        pairOf = &c;
+      }
+      if (next < nPts) g = pts[next++].g;
+      if (c.wall) {
+        ci.wall = s_.walls.pool().handleAt(c.b);
+      } else {
+        ci.b = s_.elements.pool().handleAt(c.b);
+      }
+    } else if (c.wall) {
       const Wall<D>& w = s_.walls.items[c.b];
       ci.wall = s_.walls.pool().handleAt(c.b);
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);

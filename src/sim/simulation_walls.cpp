@@ -177,6 +177,8 @@ void SimulationManager<D>::removeWall(WallId id) {
   s_.walls.pool().denseIndex(id);
   forgetCandidates();
   if (s_.keepHistory) s_.histories.removeId(wallPairId(id.index));
+  // Its slot may come back for a new wall: its shape springs go with it.
+  std::erase_if(s_.shapeSprings, [&](const auto& e) { return e.first.b == wallPairId(id.index); });
   s_.walls.remove(id);
   s_.needRebuild = true;
   touchConfig();

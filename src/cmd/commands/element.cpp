@@ -250,7 +250,11 @@ void registerElementCommands(Registry& r) {
     auto& s = session(c).scene();
     sim::ElementState g = s.element(c.get<ElementId>("element"));
     sim::ElementDef d;
-    d.radius = g.radius;
+    // The same shape, size and orientation (a shape's radius is its bound: not given).
+    d.shape = g.shape;
+    d.shapeParams = g.shapeParams;
+    d.radius = g.shapeParams.empty() ? g.radius : 0;
+    d.orientation.assign(g.orientation.begin(), g.orientation.begin() + (s.dim() == 2 ? 1 : 4));
     d.material = g.material;
     d.tags = g.tags;
     d.position = vec3(c.vec("position"));

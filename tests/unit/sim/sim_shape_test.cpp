@@ -270,10 +270,23 @@ TEST_F(SimShape, BoxRestsFaceDownWithoutJitter) {
   EXPECT_GT(g.position[2], 0.0099);
   EXPECT_NEAR(s->wall(floor).force[2], -g.mass * 9.81, 1e-6 * g.mass * 9.81);
   EXPECT_EQ(s->contactCount(), 4u);
-  // And it stays so: another stretch moves it by no more than rounding.
+  // The contacts as queried are its corners, each carrying a quarter of the weight.
+  for (const ContactInfo& c : s->contacts()) {
+    EXPECT_NEAR(std::abs(c.point[0]), 0.02, 1e-9);
+    EXPECT_NEAR(std::abs(c.point[1]), 0.015, 1e-9);
+    EXPECT_GT(c.overlap, 0);
+    EXPECT_LT(c.overlap, 1e-4);
+    EXPECT_NEAR(c.normal[2], -1, 1e-12);
+    EXPECT_NEAR(c.force[2], -0.25 * g.mass * 9.81, 1e-6 * g.mass * 9.81);
+  }
+  // And it stays so: another stretch moves it by no more than rounding; relaxing, a ball
+  // model, leaves it where it is.
   const ElementState before = s->element(id);
   s->run(o);
   EXPECT_NEAR(s->element(id).position[2], before.position[2], 1e-12);
+  const double z = s->element(id).position[2];
+  s->relax(0.01, 10);
+  EXPECT_EQ(s->element(id).position[2], z);
 }
 
 // A tilted, spinning box dropped on a plane with damping and friction: the ledger's residual is
@@ -486,6 +499,21 @@ TEST_F(SimShape, IntermediateAxisIsUnstableTheOthersAreNot) {
       EXPECT_GT(least, 4.9) << "axis " << axis << " must be stable";
     }
   }
+}
+
+TEST_F(SimShape, BlockedRotationsOfARigidBodyKeepTheirSpin) {
+  // Spin about z only, x and y blocked: the gyroscopic term must not give it any.
+  const Quat q(AngleAxis(0.5, Vec3(1, 1, 0).normalized()));
+  auto s = spinningBox({0, 0, 3}, {0.03, 0.02, 0.01}, q);
+  const ElementId id = s->elementIds()[0];
+  s->setElementBlocked(id, dof::Rx | dof::Ry);
+  RunOptions o;
+  o.steps = 2000;
+  s->run(o);
+  const Vec3 w = spinOf(s->element(id));
+  EXPECT_EQ(w.x(), 0);
+  EXPECT_EQ(w.y(), 0);
+  EXPECT_GT(std::abs(w.z()), 0.1);
 }
 
 TEST_F(SimShape, NonDiagonalInertiaTurnsAsTheDiagonalBody) {
