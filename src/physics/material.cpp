@@ -42,7 +42,7 @@ void MaterialDef::check() const {
   if (!(density > 0 && std::isfinite(density))) {
     bad("density", density, "a positive number", "DENSITY");
   }
-  if (!(young > 0 && std::isfinite(young))) {
+  if (!(young > 0 && (std::isfinite(young) || isRigid()))) {
     bad("Young's modulus", young, "a positive number", "YOUNG");
   }
   if (!(poisson > -1 && poisson < 0.5)) {

@@ -13,7 +13,9 @@ namespace demlab::physics {
 struct MaterialDef {
   // The required fields start as NaN, so a field left unset fails check() by name.
   Real density = std::numeric_limits<Real>::quiet_NaN();      // kg/m^3 (kg/m^2 for 2D discs)
-  Real young = std::numeric_limits<Real>::quiet_NaN();        // Young's modulus E, Pa
+  // Young's modulus E, Pa; +Inf: a rigid material (walls only), whose side of a pair adds no
+  // compliance, so the pair's moduli are the partner's alone (isRigid()).
+  Real young = std::numeric_limits<Real>::quiet_NaN();
   Real poisson = std::numeric_limits<Real>::quiet_NaN();      // Poisson's ratio, in (-1, 0.5)
   Real restitution = std::numeric_limits<Real>::quiet_NaN();  // normal restitution e, in (0, 1]
   Real friction = std::numeric_limits<Real>::quiet_NaN();     // Coulomb mu, >= 0 (0: frictionless)
@@ -37,6 +39,8 @@ struct MaterialDef {
   // (non-negative finite; a shear stiffness without a normal stiffness is rejected). NaN and
   // infinities are rejected everywhere.
   void check() const;
+  // Returns true for a rigid material (young = +Inf): infinitely stiff, for walls.
+  bool isRigid() const { return young == std::numeric_limits<Real>::infinity(); }
 };
 
 // Returns x formatted the way Tcl prints a double: the shortest string that reads back as x,

@@ -193,6 +193,10 @@ template <int D>
 void SimulationManager<D>::setMaterial(const std::string& name, const MaterialDef& def) {
   const uint32_t m = materialIndex(name);
   def.check();
+  if (def.isRigid() && std::count(s_.elements.a.material.begin(), s_.elements.a.material.end(), m)) {
+    throw Error("material \"" + name + "\" can't be made rigid: elements take it (only walls may)",
+                {"VALUE", "MATERIAL"});
+  }
   const double before = ledgerSum();
   s_.materials[m] = def;
   ElementArrays<D>& a = s_.elements.a;
@@ -379,6 +383,10 @@ typename SimulationManager<D>::CheckedElement SimulationManager<D>::checkElement
   if (!def.name.empty()) {
     checkObjectName("grain", def.name);
     if (s_.elements.names().find(def.name)) throwNameExists("grain", def.name);
+  }
+  if (s_.materials[c.material].isRigid()) {
+    throw Error("material \"" + def.material + "\" is rigid: only walls take it",
+                {"VALUE", "MATERIAL"});
   }
   checkDofMask(def.blocked);
   c.blocked = static_cast<uint8_t>(def.blocked);

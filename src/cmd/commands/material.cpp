@@ -1,6 +1,8 @@
 // The "material" and "law" groups: materials by name, and the contact law used by each pair.
 #include <cmath>
 
+#include <limits>
+
 #include "cmd/commands/commands.hpp"
 #include "cmd/commands/option_commands.hpp"
 #include "physics/pair_params.hpp"
@@ -21,7 +23,8 @@ void materialOptions(Command& c, bool required) {
   };
   opt("density", real().positive().withUnit("kg/m^3"), "mass density (kg/m^2 for 2D discs)",
       &MaterialDef::density, true);
-  opt("young", real().positive().withUnit("Pa"), "Young's modulus", &MaterialDef::young, true);
+  opt("young", real().positive().withUnit("Pa"), "Young's modulus (required unless -rigid 1)",
+      &MaterialDef::young, false);
   opt("poisson", real().min(-1, true).max(0.5, true), "Poisson's ratio", &MaterialDef::poisson,
       true);
   opt("restitution", real().min(0, true).max(1), "normal coefficient of restitution",
@@ -38,11 +41,34 @@ void materialOptions(Command& c, bool required) {
       "linear law: normal spring (0: from young)", &MaterialDef::normalStiffness, false);
   opt("shearstiffness", real().nonNegative().withUnit("N/m"),
       "linear law: shear spring (0: from the normal one)", &MaterialDef::shearStiffness, false);
+  c.option("rigid", boolean(),
+           "1: infinitely stiff, for walls: a pair with it takes its moduli from the other "
+           "material alone (a wall of an ordinary material is an elastic half-space of it)");
+}
+
+// Returns nothing; applies -rigid and -young of call c to d (a rigid material's modulus is
+// +Inf). Throws {ARGS} when adding without either, {VALUE RIGID} for -rigid 1 with -young or
+// -rigid 0 on a rigid material without -young.
+void applyRigid(const Call& c, MaterialDef& d, bool adding) {
+  const bool given = c.given("rigid"), rigid = given && c.get<bool>("rigid");
+  if (rigid && c.given("young")) {
+    throw Error("-rigid 1 and -young can't be given together: a rigid material has no modulus",
+                {"VALUE", "RIGID"});
+  }
+  if (rigid) d.young = std::numeric_limits<double>::infinity();
+  if (given && !rigid && d.isRigid() && !c.given("young")) {
+    throw Error("a material made elastic with -rigid 0 needs -young", {"VALUE", "RIGID"});
+  }
+  if (adding && !rigid && !c.given("young")) {
+    throw Error("missing required option -young: should be \"" + c.command().usage() + "\"",
+                {"ARGS"});
+  }
 }
 
 const char* const kFields[] = {"density",     "young",           "poisson",
                                "restitution", "friction",        "rolling",
-                               "cohesion",    "normalstiffness", "shearstiffness"};
+                               "cohesion",    "normalstiffness", "shearstiffness",
+                               "rigid"};
 
 Dict materialDict(const MaterialDef& m) {
   return {{"density", m.density},
@@ -53,7 +79,8 @@ Dict materialDict(const MaterialDef& m) {
           {"rolling", m.rollingFriction},
           {"cohesion", m.cohesion},
           {"normalstiffness", m.normalStiffness},
-          {"shearstiffness", m.shearStiffness}};
+          {"shearstiffness", m.shearStiffness},
+          {"rigid", static_cast<int64_t>(m.isRigid())}};
 }
 
 std::string lawWord(physics::LawKind k) {
@@ -102,6 +129,7 @@ void registerMaterialCommands(Registry& r) {
     }
     MaterialDef d;
     c.fill(d);
+    applyRigid(c, d, true);
     d.check();
     c.prepared = d;
   });
@@ -117,6 +145,7 @@ void registerMaterialCommands(Registry& r) {
   set.onCheck([](Call& c) {
     MaterialDef d = session(c).scene().material(c.str("name"));
     c.fill(d);
+    applyRigid(c, d, false);
     d.check();
     c.prepared = d;
   });
