@@ -26,7 +26,9 @@ template <int D>
 std::optional<RecordGeometry<D>> recordGeometry(const Scene<D>& s, const ContactRecord<D>& c) {
   const ElementArrays<D>& a = s.elements.a;
   // The modules that read records (rolling resistance, cohesion) are ball models.
-  if (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0)) return std::nullopt;
+  if (s.anyShapes && (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0))) {
+    return std::nullopt;
+  }
   const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
   RecordGeometry<D> out;
   out.radiusA = a.r[c.a];

@@ -25,26 +25,30 @@
 
 namespace demlab::sim {
 
-// Returns the principal moments of inertia of element i (geometry g, density rho).
-inline Vec3 principalInertia(const Geometry<3>& g, Real rho) {
-  return rho * g.principalMoments;
-}
-
-// Returns the density element i's inertia was computed from: its mass over its volume.
+// The principal frame of element i of anisotropic inertia: its orientation Q (principal frame
+// to world) and its principal moments I (from its Geometry and its material's density).
+struct PrincipalFrame {
+  Quat Q;
+  Vec3 I;
+};
 template <int D>
-Real elementDensity(const Scene<D>& s, size_t i) {
-  return s.materials[s.elements.a.material[i]].density;
+PrincipalFrame principalFrame(const Scene<D>& s, size_t i) {
+  const ElementArrays<D>& a = s.elements.a;
+  const Geometry<D>& g = *s.geometries[a.geometry[i]];
+  if constexpr (D == 3) {
+    return {a.q[i] * g.principal, s.materials[a.material[i]].density * g.principalMoments};
+  } else {
+    return {Quat::Identity(), s.materials[a.material[i]].density * g.principalMoments};
+  }
 }
 
 // Returns twice the rotational kinetic energy of element i of anisotropic inertia: w . I w.
 template <int D>
 [[gnu::noinline]] Real twiceRigidRotationalEnergy(const Scene<D>& s, size_t i) {
   if constexpr (D == 3) {
-    const ElementArrays<3>& a = s.elements.a;
-    const Geometry<3>& g = *s.geometries[a.geometry[i]];
-    const Quat Q = a.q[i] * g.principal;
-    const Vec3 wb = Q.conjugate() * a.w[i];
-    return wb.dot(principalInertia(g, elementDensity(s, i)).cwiseProduct(wb));
+    const PrincipalFrame f = principalFrame(s, i);
+    const Vec3 wb = f.Q.conjugate() * s.elements.a.w[i];
+    return wb.dot(f.I.cwiseProduct(wb));
   } else {
     return 0;
   }
@@ -59,22 +63,10 @@ template <int D>
   return twiceRigidRotationalEnergy(s, i);
 }
 
-// Returns the world-frame angular momentum of element i (3D).
-inline Vec3 angularMomentum(const Scene<3>& s, size_t i) {
-  const ElementArrays<3>& a = s.elements.a;
-  if (a.invInertia[i] != 0) return a.w[i] / a.invInertia[i];
-  const Geometry<3>& g = *s.geometries[a.geometry[i]];
-  const Quat Q = a.q[i] * g.principal;
-  const Vec3 wb = Q.conjugate() * a.w[i];
-  return Q * principalInertia(g, elementDensity(s, i)).cwiseProduct(wb);
-}
-
 // Returns I_world^-1 x for element i of anisotropic inertia (invInertia 0), x in the world frame.
 inline Vec3 rigidInverseInertiaTimes(const Scene<3>& s, size_t i, const Vec3& x) {
-  const ElementArrays<3>& a = s.elements.a;
-  const Geometry<3>& g = *s.geometries[a.geometry[i]];
-  const Quat Q = a.q[i] * g.principal;
-  return Q * (Q.conjugate() * x).cwiseQuotient(principalInertia(g, elementDensity(s, i)));
+  const PrincipalFrame f = principalFrame(s, i);
+  return f.Q * (f.Q.conjugate() * x).cwiseQuotient(f.I);
 }
 
 // Turns the principal frame Q and the body-frame angular momentum pi as the free rotor with
@@ -148,13 +140,12 @@ class PredictRigidRotationModule final : public SimModule<D> {
       if (!s.blocked.empty()) holdSpins(s, held_);
       for (size_t i = 0; i < a.size(); ++i) {
         if (a.invInertia[i] != 0) continue;
-        const Geometry<3>& g = *s.geometries[a.geometry[i]];
-        const Vec3 I = principalInertia(g, elementDensity(s, i));
-        Quat Q = a.q[i] * g.principal;
+        const Quat& principal = s.geometries[a.geometry[i]]->principal;
+        auto [Q, I] = principalFrame(s, i);
         // Body-frame angular momentum after the first kick.
         Vec3 pi = I.cwiseProduct(Q.conjugate() * a.w[i]) + Q.conjugate() * (h * a.t[i]);
         freeRotor(Q, pi, I, dt);
-        a.q[i] = (Q * g.principal.conjugate()).normalized();
+        a.q[i] = (Q * principal.conjugate()).normalized();
         if (sync) pi += Q.conjugate() * (h * a.t[i]);
         a.w[i] = Q * pi.cwiseQuotient(I);
         a.tPrev[i] = a.t[i];

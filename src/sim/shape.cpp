@@ -137,12 +137,6 @@ void throwNoRoutine(std::string_view a, std::string_view b) {
 }
 
 template <int D>
-Real elementMass(const Geometry<D>& g, Real rho, Real r) {
-  if (g.boundRadius == 0) return ballMass<D>(rho, r);
-  return rho * g.volume;
-}
-
-template <int D>
 std::pair<Real, Real> inverseMassAndInertia(const Geometry<D>& g, Real rho, Real r) {
   if (g.boundRadius == 0) {
     const Real mass = ballMass<D>(rho, r);
@@ -156,8 +150,6 @@ std::pair<Real, Real> inverseMassAndInertia(const Geometry<D>& g, Real rho, Real
 
 template class ShapeTable<2>;
 template class ShapeTable<3>;
-template Real elementMass<2>(const Geometry<2>&, Real, Real);
-template Real elementMass<3>(const Geometry<3>&, Real, Real);
 template std::pair<Real, Real> inverseMassAndInertia<2>(const Geometry<2>&, Real, Real);
 template std::pair<Real, Real> inverseMassAndInertia<3>(const Geometry<3>&, Real, Real);
 

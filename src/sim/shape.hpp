@@ -188,10 +188,6 @@ class ShapeTable {
 // Throws demlab::Error {LOOKUP INTERACTION}: no contact routine for shape types a and b.
 [[noreturn]] void throwNoRoutine(std::string_view a, std::string_view b);
 
-// Returns the mass of an element of density rho: rho times its volume (a ball's from r).
-template <int D>
-Real elementMass(const Geometry<D>& g, Real rho, Real r);
-
 // Returns {1 / mass, 1 / moment of inertia} of an element of geometry g, density rho and
 // (bounding) radius r; the second is 0 when its inertia is not isotropic (3D), which marks the
 // element for the rigid-body rotation (sim/rigid_body.hpp).

@@ -130,17 +130,16 @@ class ShapeContactModule final : public SimModule<D> {
     const size_t nMat = s.nMat();
     const bool history = s.keepHistory, rotating = s.rotating;
     PassEnergy e;
-    next_.clear();
+    touched_.clear();
     ContactPoint<D> pts[kMaxContactPoints];
     // One contact point through the law: returns the force on B.
     const auto apply = [&](const ContactPoint<D>& p, const VecD<D>& vrel, Real effMass, size_t pair,
                            const ShapeSpringKey& key) {
       physics::TangentialHistory<D>* h = nullptr;
       if (history) {
-        auto old = s.shapeSprings.find(key);
-        h = &next_.emplace(key, old == s.shapeSprings.end() ? physics::TangentialHistory<D>{}
-                                                             : old->second)
-                 .first->second;
+        // A new point starts from a zero spring; the map allocates only then.
+        h = &s.shapeSprings.try_emplace(key).first->second;
+        touched_.push_back(key);
       }
       const physics::ContactKinematics<D> k{vrel, effMass, p.effRadius, lag};
       const physics::ContactForce<D> f = s.pairLawFn[pair](s.pairParams[pair], p.g, k, h, dt);
@@ -189,7 +188,11 @@ class ShapeContactModule final : public SimModule<D> {
         if (s.recordContacts) appendRecord<D>(s.contacts, {i, w, true, f});
       }
     }
-    s.shapeSprings.swap(next_);
+    // The points that stopped touching drop their springs (touched_ is in contact order).
+    std::sort(touched_.begin(), touched_.end());
+    std::erase_if(s.shapeSprings, [&](const auto& kv) {
+      return !std::binary_search(touched_.begin(), touched_.end(), kv.first);
+    });
     s.ledger.elastic += e.elastic;
     s.ledger.dampingLoss += e.damping;
     s.ledger.frictionLoss += e.friction;
@@ -198,7 +201,7 @@ class ShapeContactModule final : public SimModule<D> {
   }
 
  private:
-  std::map<ShapeSpringKey, physics::TangentialHistory<D>> next_;
+  std::vector<ShapeSpringKey> touched_;  // the points that kept or took a spring this step
 };
 
 }  // namespace demlab::sim
