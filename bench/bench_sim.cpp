@@ -359,11 +359,11 @@ void runOne(const std::string& path, const Options& o, const Variant& v) {
   const sim::MemoryReport m = s->memory();
   std::fprintf(stderr,
                "#   heap per grain: %.0f bytes (grains %.0f, detection %.0f, search scratch %.0f, "
-               "springs %.0f, contact records %.0f)\n",
+               "springs %.0f, contact records %.0f, pass scratch %.0f)\n",
                static_cast<double>(m.total()) / perGrain, static_cast<double>(m.grains) / perGrain,
                static_cast<double>(m.detection) / perGrain,
                static_cast<double>(m.search) / perGrain, static_cast<double>(m.springs) / perGrain,
-               static_cast<double>(m.contacts) / perGrain);
+               static_cast<double>(m.contacts) / perGrain, static_cast<double>(m.passes) / perGrain);
   // After the peak RSS is read: the digest serializes the whole scene.
   if (o.digest) {
     std::fprintf(stderr, "#   state digest %016llx\n",

@@ -72,12 +72,12 @@ void ThreadPool::setThreads(unsigned n) {
   threads_ = n;
   // More threads than cores: a spinning waiter would take the core a working thread needs.
   spin_ = n <= cores();
-  const uint64_t start = generation_.load(std::memory_order_relaxed);
+  const uint32_t start = generation_.load(std::memory_order_relaxed);
   for (unsigned t = 1; t < n; ++t) {
     workers_.emplace_back([this, t, start] {
-      uint64_t seen = start;
+      uint32_t seen = start;
       for (;;) {
-        uint64_t g = generation_.load(std::memory_order_acquire);
+        uint32_t g = generation_.load(std::memory_order_acquire);
         for (int k = 0; g == seen && spin_ && k < kSpins; ++k) {
           relax();
           g = generation_.load(std::memory_order_acquire);

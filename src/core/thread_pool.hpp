@@ -76,9 +76,10 @@ class ThreadPool {
   TaskFn fn_ = nullptr;
   void* context_ = nullptr;
   size_t n_ = 0;
-  std::atomic<size_t> next_{0};
-  std::atomic<unsigned> busy_{0};  // workers still in the current region
-  std::atomic<uint64_t> generation_{0};
+  // Each counter on a cache line of its own: the threads spin on them.
+  alignas(64) std::atomic<size_t> next_{0};
+  alignas(64) std::atomic<unsigned> busy_{0};  // workers still in the current region
+  alignas(64) std::atomic<uint32_t> generation_{0};  // a futex word: wraps harmlessly
   std::atomic<bool> stop_{false};
   bool spin_ = true;
   std::mutex errorMutex_;

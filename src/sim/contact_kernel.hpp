@@ -39,6 +39,9 @@ struct HertzPair {
 struct SpringSlots {
   static constexpr uint32_t kNoSlot = 0xffffffffu;
   uint32_t* slotOf = nullptr;
+  // The candidates a pass sees start at this one of the owner's (a group of the threaded
+  // pass): slotOf already points there; acquire and release take the owner's numbering.
+  size_t base = 0;
   double* data = nullptr;
   void* owner = nullptr;
   double* (*acquire)(void* owner, size_t k) = nullptr;

@@ -677,9 +677,9 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
       for (size_t l = 0; l < valid; ++l) {
         if (!((change >> l) & 1)) continue;
         if ((hit >> l) & 1) {
-          sp.data = sp.acquire(sp.owner, kc + l);
+          sp.data = sp.acquire(sp.owner, sp.base + kc + l);
         } else {
-          sp.release(sp.owner, kc + l);
+          sp.release(sp.owner, sp.base + kc + l);
         }
       }
     }

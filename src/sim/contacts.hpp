@@ -14,6 +14,7 @@
 #include <memory>
 #include <type_traits>
 
+#include "core/thread_pool.hpp"
 #include "core/type_interaction.hpp"
 #include "physics/law_hertz_mindlin.hpp"
 #include "physics/law_linear.hpp"
@@ -96,6 +97,35 @@ struct PassEnergy {
   }
 };
 
+// Returns the number of groups forEachContactGroup runs: the scene's groups when they cover
+// its candidates, else 1 (all candidates as one group). Changes nothing.
+template <int D>
+size_t contactGroupCount(const Scene<D>& s) {
+  return s.contactGroups.cover(s.candidates.size()) ? s.contactGroups.groups.size() : 1;
+}
+
+// Runs body(begin, end, group) for every group of candidates of s (ContactGroups): phase after
+// phase, the groups of a phase at once on the thread pool, or all candidates as group 0 when
+// the groups do not cover them. The body may write the forces and torques of its group's
+// elements and what it keeps per candidate or per group, nothing shared. Changes what body
+// changes.
+template <int D, class Body>
+void forEachContactGroup(const Scene<D>& s, Body&& body) {
+  const size_t nc = s.candidates.size();
+  const ContactGroups& g = s.contactGroups;
+  if (!g.cover(nc)) {
+    body(size_t{0}, nc, size_t{0});
+    return;
+  }
+  ThreadPool& pool = ThreadPool::global();
+  for (const ContactGroups::Range& phase : g.phases) {
+    pool.forEach(phase.end - phase.begin, [&](size_t t, unsigned) {
+      const size_t k = phase.begin + t;
+      body(size_t{g.groups[k].begin}, size_t{g.groups[k].end}, k);
+    });
+  }
+}
+
 // Returns true when grainPair (makeContactModules: the pair index of the grains' one material,
 // or -1) names a pair of the scene's mixed table. Changes nothing.
 template <int D>
@@ -130,19 +160,64 @@ class BallContactModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Contacts; }
 
   void run(Scene<D>& s) override {
-    if constexpr (kKernel) {
-      if (kernelPass(s)) return;
+    const size_t groups = contactGroupCount(s);
+    energy_.assign(groups, PassEnergy{});
+    contactsOf_.assign(groups, 0);
+    // One thread appends the records straight to the scene's, in candidate order; several
+    // keep each group's and append them in group order (candidate order) after the pass.
+    const bool threaded = ThreadPool::global().threads() > 1 && groups > 1;
+    const bool record = s.recordContacts;
+    if (record && threaded) {
+      records_.resize(groups);
+      for (auto& r : records_) r.clear();
     }
-    // One material pair for every contact: its parameters are read once, outside the loop.
-    if (isOnePair(grainPair_, s)) {
-      pass<true>(s);
-    } else {
-      pass<false>(s);
+    if constexpr (History) {
+      if (threaded) s.pairSprings.prepareConcurrent();
     }
+    bool ran = false;
+    if constexpr (kKernel) ran = kernelPass(s, threaded);
+    if (!ran) {
+      forEachContactGroup(s, [&](size_t begin, size_t end, size_t g) {
+        auto* rec = !record ? nullptr : threaded ? &records_[g] : &s.contacts;
+        if (isOnePair(grainPair_, s)) {
+          pass<true>(s, begin, end, energy_[g], rec);
+        } else {
+          pass<false>(s, begin, end, energy_[g], rec);
+        }
+      });
+    }
+    PassEnergy e;
+    for (size_t g = 0; g < groups; ++g) {
+      e.elastic += energy_[g].elastic;
+      e.damping += energy_[g].damping;
+      e.friction += energy_[g].friction;
+      e.springWork += energy_[g].springWork;
+    }
+    if (record && threaded) {
+      // Freed once appended: between steps the records are held once, in the scene.
+      for (auto& r : records_) {
+        for (const ContactRecord<D>& c : r) appendRecord<D>(s.contacts, c);
+        std::vector<ContactRecord<D>>().swap(r);
+      }
+    }
+    s.ledger.elastic += e.elastic;
+    s.ledger.dampingLoss += e.damping;
+    s.ledger.frictionLoss += e.friction;
+    s.ledger.springWork += e.springWork;
+  }
+
+  size_t workingBytes() const override {
+    size_t bytes = energy_.capacity() * sizeof(PassEnergy) + contactsOf_.capacity() * sizeof(size_t);
+    for (const auto& r : records_) bytes += r.capacity() * sizeof(ContactRecord<D>);
+    return bytes;
   }
 
  private:
   long grainPair_;
+  // Per group: the energy sums, the contacts found, the records (threaded and recording).
+  std::vector<PassEnergy> energy_;
+  std::vector<size_t> contactsOf_;
+  std::vector<std::vector<ContactRecord<D>>> records_;
 
   // 3D Hertz-Mindlin beds go through the SIMD contact kernel (contact_kernel.hpp) when the
   // platform has one: the same arithmetic in the same order as pass() below, several contacts
@@ -158,17 +233,24 @@ class BallContactModule final : public SimModule<D> {
   static constexpr size_t kPrefetchGrains = 65536;
   size_t lastContacts_ = 0;
 
-  // Appends the kernel's contact records to s.contacts (kernel::HertzPassArgs::record).
-  static void appendRecords(void* scene, const uint32_t* cand, const double* force, size_t n) {
-    Scene<D>& s = *static_cast<Scene<D>*>(scene);
+  // Where a group's kernel records go: the group's first candidate and its record array.
+  struct RecordSink {
+    const Scene<D>* s;
+    size_t base;
+    std::vector<ContactRecord<D>>* out;
+  };
+  // Appends the kernel's contact records to the sink's array (kernel::HertzPassArgs::record).
+  static void appendRecords(void* sink, const uint32_t* cand, const double* force, size_t n) {
+    const RecordSink& k = *static_cast<const RecordSink*>(sink);
     for (size_t c = 0; c < n; ++c) {
-      const CandidatePair p = s.candidates[cand[c]];
-      appendRecord<D>(s.contacts, {p.i, p.j, false, VecD<D>(force + 3 * c)});
+      const CandidatePair p = k.s->candidates[k.base + cand[c]];
+      appendRecord<D>(*k.out, {p.i, p.j, false, VecD<D>(force + 3 * c)});
     }
   }
 
-  // Returns false, changing nothing, when no kernel is active; else runs the pass through it.
-  bool kernelPass(Scene<D>& s) {
+  // Returns false, changing nothing, when no kernel is active; else runs the pass through it,
+  // group by group (threaded: see run()), each group's energy sums into energy_.
+  bool kernelPass(Scene<D>& s, bool threaded) {
     kernel::Isa isa;
     if (!kernel::activeIsa(&isa)) return false;
     if (kernelFn_ == nullptr || isa != kernelIsa_) {
@@ -187,40 +269,45 @@ class BallContactModule final : public SimModule<D> {
       const physics::PairParams& p = s.pairParams[one ? static_cast<size_t>(grainPair_) : k];
       kernelPairs_[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
     }
-    kernel::HertzPassArgs k;
-    bindGrainArrays<Rotation>(k, a);
-    k.cand = reinterpret_cast<const uint32_t*>(s.candidates.data());
-    k.nCand = s.candidates.size();
-    kernel::SpringSlots slots;
-    if constexpr (History) {
-      slots = s.pairSprings.slots();
-      k.springs = &slots;
-    }
-    k.pairs = kernelPairs_.data();
-    k.nMat = s.nMat();
-    k.onePair = one;
-    k.dt = s.stepDt;
-    k.lag = velocityLag(s);
-    k.springCriterion = s.coulomb == physics::CoulombCriterion::Spring;
+    kernel::HertzPassArgs base;
+    bindGrainArrays<Rotation>(base, a);
+    base.pairs = kernelPairs_.data();
+    base.nMat = s.nMat();
+    base.onePair = one;
+    base.dt = s.stepDt;
+    base.lag = velocityLag(s);
+    base.springCriterion = s.coulomb == physics::CoulombCriterion::Spring;
     // Dense: the last pass found contacts for more than a quarter of its candidates.
-    const bool dense = 4 * lastContacts_ > k.nCand;
-    k.prefetch = a.size() > kPrefetchGrains ? (dense ? 2 : 1) : 0;
+    const bool dense = 4 * lastContacts_ > s.candidates.size();
+    base.prefetch = a.size() > kPrefetchGrains ? (dense ? 2 : 1) : 0;
     // $DEMLAB_PREFETCH (0, 1, 2) overrides the choice, for measuring it.
     static const int forced = [] {
       const char* pf = std::getenv("DEMLAB_PREFETCH");
       return pf != nullptr && pf[0] >= '0' && pf[0] <= '2' ? pf[0] - '0' : -1;
     }();
-    if (forced >= 0) k.prefetch = forced;
-    if (s.recordContacts) {
-      k.record = &appendRecords;
-      k.recordContext = &s;
-    }
-    if (k.nCand > 0) kernelFn_(k);
-    lastContacts_ = k.contacts;
-    s.ledger.elastic += k.elastic;
-    s.ledger.dampingLoss += k.damping;
-    s.ledger.frictionLoss += k.friction;
-    s.ledger.springWork += k.springWork;
+    if (forced >= 0) base.prefetch = forced;
+    const uint32_t* cand = reinterpret_cast<const uint32_t*>(s.candidates.data());
+    forEachContactGroup(s, [&](size_t begin, size_t end, size_t g) {
+      if (end == begin) return;
+      kernel::HertzPassArgs k = base;
+      k.cand = cand + 2 * begin;
+      k.nCand = end - begin;
+      kernel::SpringSlots slots;
+      if constexpr (History) {
+        slots = s.pairSprings.slots(begin);
+        k.springs = &slots;
+      }
+      RecordSink sink{&s, begin, threaded ? &records_[g] : &s.contacts};
+      if (s.recordContacts) {
+        k.record = &appendRecords;
+        k.recordContext = &sink;
+      }
+      kernelFn_(k);
+      contactsOf_[g] = k.contacts;
+      energy_[g] = {k.elastic, k.damping, k.friction, k.springWork, 0};
+    });
+    lastContacts_ = 0;
+    for (size_t c : contactsOf_) lastContacts_ += c;
     return true;
   }
 
@@ -238,8 +325,11 @@ class BallContactModule final : public SimModule<D> {
   // pass: the results are the same to the bit.
   static constexpr size_t kBatch = 64;
 
+  // Runs candidates begin .. end - 1, adding their energies to e and, when rec is not null,
+  // their records to *rec.
   template <bool OnePair>
-  void pass(Scene<D>& s) {
+  void pass(Scene<D>& s, size_t begin, size_t end, PassEnergy& e,
+            std::vector<ContactRecord<D>>* rec) {
     using Call = LawCall<D, Law>;
     ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
@@ -255,8 +345,7 @@ class BallContactModule final : public SimModule<D> {
     const uint32_t* __restrict material = a.material.data();
     const CandidatePair* __restrict cand = s.candidates.data();
     PairSprings<D>& springs = s.pairSprings;
-    PassEnergy e;
-    const size_t nc = s.candidates.size();
+    const size_t nc = end;
     physics::PairParams one;
     if constexpr (OnePair) one = s.pairParams[static_cast<size_t>(grainPair_)];
     // The batch: candidate index, pair index, geometry, effective mass and radius, roots.
@@ -265,7 +354,7 @@ class BallContactModule final : public SimModule<D> {
     physics::ContactGeometry<D> bg[kBatch];
     Real bm[kBatch], br[kBatch];
     typename Call::Roots broots[kBatch];
-    for (size_t k0 = 0; k0 < nc; k0 += kBatch) {
+    for (size_t k0 = begin; k0 < nc; k0 += kBatch) {
       const size_t kEnd = std::min(nc, k0 + kBatch);
       // The touching candidates of the batch, without a branch on each (about half touch, in
       // no order a predictor could learn); a pair that stopped touching gives its spring's
@@ -337,13 +426,9 @@ class BallContactModule final : public SimModule<D> {
           torque[j] -= armB * cn;
         }
         e.add(f);
-        if (s.recordContacts) appendRecord<D>(s.contacts, {i, j, false, f.force});
+        if (rec != nullptr) appendRecord<D>(*rec, {i, j, false, f.force});
       }
     }
-    s.ledger.elastic += e.elastic;
-    s.ledger.dampingLoss += e.damping;
-    s.ledger.frictionLoss += e.friction;
-    s.ledger.springWork += e.springWork;
   }
 };
 
@@ -378,20 +463,89 @@ class WallContactModule final : public SimModule<D> {
   // grainPair: as BallContactModule's (the one grain material m's pair m * nMat + m, or -1).
   explicit WallContactModule(long grainPair = -1) : grainPair_(grainPair) {}
 
+  // The walls run one after another (a grain may touch several); each wall's candidates, in
+  // chunks of kChunk, at once on the thread pool: a wall lists a grain once, so its chunks
+  // write different grains. Each chunk sums its wall force and energies from zero and the
+  // chunks' sums are added in chunk order: the chunks are fixed by the candidates alone, so
+  // the bits are the same for any number of threads.
   void run(Scene<D>& s) override {
-    if (isOnePair(grainPair_, s)) {
-      pass<true>(s);
-    } else {
-      pass<false>(s);
+    const bool threaded = ThreadPool::global().threads() > 1;
+    PassEnergy e;
+    for (size_t w = 0; w < s.walls.size(); ++w) {
+      Wall<D>& wall = s.walls.items[w];
+      wall.force.setZero();
+      if (w >= s.wallCandidates.size()) continue;
+      const size_t nw = s.wallCandidates[w].size();
+      if (nw == 0) continue;
+      const size_t chunks = (nw + kChunk - 1) / kChunk;
+      if (chunks_.size() < chunks) chunks_.resize(chunks);
+      ThreadPool::global().forEach(chunks, [&](size_t c, unsigned) {
+        Chunk& k = chunks_[c];
+        k.force.setZero();
+        k.energy = {};
+        k.records.clear();
+        const size_t begin = c * kChunk, end = std::min(nw, begin + kChunk);
+        auto* rec = !s.recordContacts ? nullptr : threaded ? &k.records : &s.contacts;
+        if (isOnePair(grainPair_, s)) {
+          pass<true>(s, w, begin, end, k, rec);
+        } else {
+          pass<false>(s, w, begin, end, k, rec);
+        }
+      });
+      for (size_t c = 0; c < chunks; ++c) {
+        Chunk& k = chunks_[c];
+        wall.force += k.force;
+        e.elastic += k.energy.elastic;
+        e.damping += k.energy.damping;
+        e.friction += k.energy.friction;
+        e.springWork += k.energy.springWork;
+        e.wallWork += k.energy.wallWork;
+        if (threaded) {
+          for (const ContactRecord<D>& r : k.records) appendRecord<D>(s.contacts, r);
+          std::vector<ContactRecord<D>>().swap(k.records);
+        }
+      }
     }
+    s.ledger.elastic += e.elastic;
+    s.ledger.dampingLoss += e.damping;
+    s.ledger.frictionLoss += e.friction;
+    s.ledger.springWork += e.springWork;
+    s.ledger.wallWork += e.wallWork;
+  }
+
+  size_t workingBytes() const override {
+    size_t bytes = chunks_.capacity() * sizeof(Chunk);
+    for (const Chunk& k : chunks_) {
+      bytes += k.geoms.capacity() * sizeof(physics::ContactGeometry<D>) +
+               (k.touched.capacity() + k.slots.capacity()) * sizeof(uint32_t) +
+               k.records.capacity() * sizeof(ContactRecord<D>) +
+               k.pairs.capacity() * sizeof(kernel::HertzPair);
+    }
+    return bytes;
   }
 
  private:
+  static constexpr size_t kChunk = 512;
   long grainPair_;
 
-  // OnePair: every grain has one material, so each wall has one PairParams, read once.
+  // One chunk's scratch (the narrow phase's contacts and grains, the kernel's spring slots and
+  // constants) and results (the force on the wall, the energies, the records when threaded).
+  struct Chunk {
+    std::vector<physics::ContactGeometry<D>> geoms;
+    std::vector<uint32_t> touched, slots;
+    std::vector<kernel::HertzPair> pairs;
+    std::vector<ContactRecord<D>> records;
+    VecD<D> force = VecD<D>::Zero();
+    PassEnergy energy;
+  };
+  std::vector<Chunk> chunks_;
+
+  // Runs wall w's candidates begin .. end - 1 (OnePair: every grain has one material, so the
+  // wall has one PairParams, read once): the grains' forces and torques, their springs, the
+  // chunk's wall force and energies; records to *rec when rec is not null.
   template <bool OnePair>
-  void pass(Scene<D>& s) {
+  void pass(Scene<D>& s, size_t w, size_t begin, size_t end, Chunk& ch,
+            std::vector<ContactRecord<D>>* rec) {
     ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
@@ -407,97 +561,83 @@ class WallContactModule final : public SimModule<D> {
     const uint32_t* __restrict material = a.material.data();
     // The grains' one material (grainPair_ = m nMat + m).
     const size_t grainMat = OnePair ? static_cast<size_t>(grainPair_) / (nMat + 1) : 0;
-    PassEnergy e;
-    for (size_t w = 0; w < s.walls.size(); ++w) {
-      Wall<D>& wall = s.walls.items[w];
-      wall.force.setZero();
-      if (w >= s.wallCandidates.size()) continue;
-      const std::vector<uint32_t>& which = s.wallCandidates[w];
-      if (which.empty()) continue;
-      geoms_.resize(which.size());
-      touched_.resize(which.size());
-      const auto& entry = np.table.get(np.sphere, np.byShape[static_cast<int>(wall.kind)]).fn;
-      const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
-      const size_t m = entry.grains(shape, a.x.data(), a.r.data(), which.data(), which.size(),
-                                    geoms_.data(), touched_.data());
-      const size_t wallPair = grainMat * nMat + wall.material;
-      physics::PairParams one;
-      if constexpr (OnePair) one = s.pairParams[wallPair];
-      physics::TangentialHistory<D>* __restrict springs = nullptr;
-      if constexpr (History) springs = s.wallSprings[w].data();
-      if constexpr (kKernel) {
-        if (!wall.moving && kernelWall(s, w, m, which, springs, e)) continue;
-      }
-      // touched_ lists the grains in contact in the order of `which`: walk both to find each
-      // contact's candidate index (its spring slot), zeroing the springs of those not touched.
-      size_t kc = 0;
-      for (size_t c = 0; c < m; ++c) {
-        const uint32_t i = touched_[c];
-        if constexpr (History) {
-          while (which[kc] != i) springs[kc++].spring.setZero();
-        }
-        const physics::ContactGeometry<D>& g = geoms_[c];
-        const VecD<D> vWall = wall.surfaceVelocity(g.point);
-        VecD<D> vrel = vWall - v[i];
-        VecD<D> arm;
-        if constexpr (Rotation) {
-          arm = g.point - x[i];
-          vrel -= cross(wv[i], arm);
-        }
-        const physics::ContactKinematics<D> k{vrel, 1.0 / invMass[i], r[i], lag};
-        physics::TangentialHistory<D>* h = nullptr;
-        if constexpr (History) h = &springs[kc++];
-        physics::ContactForce<D> f;
-        if constexpr (OnePair) {
-          f = LawCall<D, Law>::call(s, one, wallPair, g, k, h, dt);
-        } else {
-          f = LawCall<D, Law>::call(s, material[i] * nMat + wall.material, g, k, h, dt);
-        }
-        force[i] -= f.force;
-        if constexpr (Rotation) torque[i] -= cross(arm, f.force);
-        wall.force += f.force;
-        e.add(f);
-        // Work done by the moving wall on the grain over the step.
-        if (wall.moving) e.wallWork -= f.force.dot(vWall) * dt;
-        if (s.recordContacts) {
-          appendRecord<D>(s.contacts, {i, static_cast<uint32_t>(w), true, f.force});
-        }
-      }
-      if constexpr (History) {
-        while (kc < which.size()) springs[kc++].spring.setZero();
-      }
+    PassEnergy& e = ch.energy;
+    Wall<D>& wall = s.walls.items[w];
+    const uint32_t* which = s.wallCandidates[w].data() + begin;
+    const size_t nWhich = end - begin;
+    ch.geoms.resize(nWhich);
+    ch.touched.resize(nWhich);
+    const auto& entry = np.table.get(np.sphere, np.byShape[static_cast<int>(wall.kind)]).fn;
+    const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
+    const size_t m = entry.grains(shape, a.x.data(), a.r.data(), which, nWhich, ch.geoms.data(),
+                                  ch.touched.data());
+    const size_t wallPair = grainMat * nMat + wall.material;
+    physics::PairParams one;
+    if constexpr (OnePair) one = s.pairParams[wallPair];
+    physics::TangentialHistory<D>* __restrict springs = nullptr;
+    if constexpr (History) springs = s.wallSprings[w].data() + begin;
+    if constexpr (kKernel) {
+      if (!wall.moving && kernelWall(s, w, m, which, nWhich, springs, ch, rec)) return;
     }
-    s.ledger.elastic += e.elastic;
-    s.ledger.dampingLoss += e.damping;
-    s.ledger.frictionLoss += e.friction;
-    s.ledger.springWork += e.springWork;
-    s.ledger.wallWork += e.wallWork;
+    // touched lists the grains in contact in the order of `which`: walk both to find each
+    // contact's candidate index (its spring slot), zeroing the springs of those not touched.
+    size_t kc = 0;
+    for (size_t c = 0; c < m; ++c) {
+      const uint32_t i = ch.touched[c];
+      if constexpr (History) {
+        while (which[kc] != i) springs[kc++].spring.setZero();
+      }
+      const physics::ContactGeometry<D>& g = ch.geoms[c];
+      const VecD<D> vWall = wall.surfaceVelocity(g.point);
+      VecD<D> vrel = vWall - v[i];
+      VecD<D> arm;
+      if constexpr (Rotation) {
+        arm = g.point - x[i];
+        vrel -= cross(wv[i], arm);
+      }
+      const physics::ContactKinematics<D> k{vrel, 1.0 / invMass[i], r[i], lag};
+      physics::TangentialHistory<D>* h = nullptr;
+      if constexpr (History) h = &springs[kc++];
+      physics::ContactForce<D> f;
+      if constexpr (OnePair) {
+        f = LawCall<D, Law>::call(s, one, wallPair, g, k, h, dt);
+      } else {
+        f = LawCall<D, Law>::call(s, material[i] * nMat + wall.material, g, k, h, dt);
+      }
+      force[i] -= f.force;
+      if constexpr (Rotation) torque[i] -= cross(arm, f.force);
+      ch.force += f.force;
+      e.add(f);
+      // Work done by the moving wall on the grain over the step.
+      if (wall.moving) e.wallWork -= f.force.dot(vWall) * dt;
+      if (rec != nullptr) appendRecord<D>(*rec, {i, static_cast<uint32_t>(w), true, f.force});
+    }
+    if constexpr (History) {
+      while (kc < nWhich) springs[kc++].spring.setZero();
+    }
   }
-
-  std::vector<physics::ContactGeometry<D>> geoms_;
-  std::vector<uint32_t> touched_;
 
   // Static walls of 3D Hertz-Mindlin scenes go through the SIMD kernel (contact_kernel.hpp:
   // the same arithmetic in the same order as the loop in pass()), when the platform has one.
   static constexpr bool kKernel = D == 3 && Law == static_cast<int>(physics::LawKind::HertzMindlin);
-  std::vector<uint32_t> slots_;
-  std::vector<kernel::HertzPair> kernelPairs_;
   struct RecordSink {
-    Scene<D>* s;
+    std::vector<ContactRecord<D>>* out;
     const uint32_t* grain;
     uint32_t wall;
   };
   static void appendRecords(void* sink, const uint32_t* c, const double* force, size_t n) {
     const RecordSink& k = *static_cast<const RecordSink*>(sink);
     for (size_t j = 0; j < n; ++j) {
-      appendRecord<D>(k.s->contacts, {k.grain[c[j]], k.wall, true, VecD<D>(force + 3 * j)});
+      appendRecord<D>(*k.out, {k.grain[c[j]], k.wall, true, VecD<D>(force + 3 * j)});
     }
   }
 
-  // Returns false, changing nothing, when no kernel is active; else runs wall w's m contacts
-  // (geoms_, touched_) through it.
-  bool kernelWall(Scene<D>& s, size_t w, size_t m, const std::vector<uint32_t>& which,
-                  physics::TangentialHistory<D>* springs, PassEnergy& e) {
+  // Returns false, changing nothing, when no kernel is active; else runs the chunk's m
+  // contacts (ch.geoms, ch.touched; candidates which[0 .. nWhich), springs from springs[0])
+  // through it.
+  bool kernelWall(Scene<D>& s, size_t w, size_t m, const uint32_t* which, size_t nWhich,
+                  physics::TangentialHistory<D>* springs, Chunk& ch,
+                  std::vector<ContactRecord<D>>* rec) {
     kernel::Isa isa;
     if (!kernel::activeIsa(&isa)) return false;
     const kernel::WallPassFn fn = kernel::wallPass(isa, History, Rotation);
@@ -507,50 +647,42 @@ class WallContactModule final : public SimModule<D> {
     Wall<D>& wall = s.walls.items[w];
     const size_t nMat = s.nMat();
     const bool one = isOnePair(grainPair_, s);
-    kernelPairs_.resize(one ? 1 : nMat);
-    for (size_t k = 0; k < kernelPairs_.size(); ++k) {
+    ch.pairs.resize(one ? 1 : nMat);
+    for (size_t k = 0; k < ch.pairs.size(); ++k) {
       const size_t mat = one ? static_cast<size_t>(grainPair_) / (nMat + 1) : k;
       const physics::PairParams& p = s.pairParams[mat * nMat + wall.material];
-      kernelPairs_[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
+      ch.pairs[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
     }
     kernel::WallPassArgs k;
     if constexpr (History) {
       // Each contact's candidate index (its spring slot); the springs of the others zeroed.
-      slots_.resize(m);
+      ch.slots.resize(m);
       size_t kc = 0;
       for (size_t c = 0; c < m; ++c) {
-        while (which[kc] != touched_[c]) springs[kc++].spring.setZero();
-        slots_[c] = static_cast<uint32_t>(kc++);
+        while (which[kc] != ch.touched[c]) springs[kc++].spring.setZero();
+        ch.slots[c] = static_cast<uint32_t>(kc++);
       }
-      while (kc < which.size()) springs[kc++].spring.setZero();
-      k.slot = slots_.data();
+      while (kc < nWhich) springs[kc++].spring.setZero();
+      k.slot = ch.slots.data();
       k.springs = reinterpret_cast<double*>(springs);
     }
     bindGrainArrays<Rotation>(k, a);
-    k.geometry = reinterpret_cast<const double*>(geoms_.data());
-    k.grain = touched_.data();
+    k.geometry = reinterpret_cast<const double*>(ch.geoms.data());
+    k.grain = ch.touched.data();
     k.n = m;
-    k.pairs = kernelPairs_.data();
+    k.pairs = ch.pairs.data();
     k.onePair = one;
     k.dt = s.stepDt;
     k.lag = velocityLag(s);
     k.springCriterion = s.coulomb == physics::CoulombCriterion::Spring;
-    RecordSink sink{&s, touched_.data(), static_cast<uint32_t>(w)};
-    if (s.recordContacts) {
+    RecordSink sink{rec, ch.touched.data(), static_cast<uint32_t>(w)};
+    if (rec != nullptr) {
       k.record = &appendRecords;
       k.recordContext = &sink;
     }
-    for (int c = 0; c < D; ++c) k.wallForce[c] = wall.force[c];
-    k.elastic = e.elastic;
-    k.damping = e.damping;
-    k.friction = e.friction;
-    k.springWork = e.springWork;
     if (m > 0) fn(k);
-    for (int c = 0; c < D; ++c) wall.force[c] = k.wallForce[c];
-    e.elastic = k.elastic;
-    e.damping = k.damping;
-    e.friction = k.friction;
-    e.springWork = k.springWork;
+    for (int c = 0; c < D; ++c) ch.force[c] = k.wallForce[c];
+    ch.energy = {k.elastic, k.damping, k.friction, k.springWork, 0};
     return true;
   }
 };

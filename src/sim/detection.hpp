@@ -198,6 +198,7 @@ class DetectionModule final : public SimModule<D> {
     }
     s.candidates.resize(kept);
     for (size_t k = 0; k < kept; ++k) s.candidates[k] = {pairs_[k].first, pairs_[k].second};
+    groupCandidates(s.candidates, &s.contactGroups);
     for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
     std::vector<search::IndexPair>().swap(pairs_);
     std::vector<uint32_t>().swap(wallOfBox_);

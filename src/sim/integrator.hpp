@@ -29,6 +29,7 @@
 #include <type_traits>
 
 #include "sim/contact_kernel.hpp"
+#include "sim/element_chunks.hpp"
 #include "sim/rigid_body.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
@@ -42,20 +43,39 @@ class PredictModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Predict; }
 
   void run(Scene<D>& s) override {
+    const size_t n = s.elements.a.size();
+    // Each chunk's largest displacement; their largest is the same for any chunking.
+    chunkMax_.assign(elementChunks(n), 0);
+    forEachElementChunk(n, [&](size_t b, size_t e, size_t c) { chunkMax_[c] = range(s, b, e); });
+    Real maxD2 = s.maxDisp2;
+    for (Real m : chunkMax_) maxD2 = std::max(maxD2, m);
+    s.maxDisp2 = maxD2;
+    // The contact passes of this step rebuild the per-step outputs.
+    if (!s.contacts.empty()) s.lastRecorded = s.contacts.size();
+    s.contacts.clear();
+    s.ledger.elastic = 0;
+  }
+
+ private:
+  std::vector<Real> chunkMax_;
+
+  // Runs the drift of elements b .. e - 1; returns their largest squared displacement since
+  // the last search (0 when not tracked). Changes their x, v, f, fPrev.
+  Real range(Scene<D>& s, size_t b, size_t e) {
     ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt, h = 0.5 * dt;
     const bool sync = s.integrator == IntegratorKind::Synchronized;
-    const size_t n = a.size();
-    Real maxD2 = s.maxDisp2;
+    const size_t n = e - b;
+    Real maxD2 = 0;
     const bool track = a.x.size() == s.xAtBuild.size();
     // The arrays through restrict pointers: the loop then keeps them in registers instead of
     // reloading each from the scene after every store.
-    VecD<D>* __restrict x = a.x.data();
-    VecD<D>* __restrict v = a.v.data();
-    VecD<D>* __restrict f = a.f.data();
-    VecD<D>* __restrict fPrev = a.fPrev.data();
-    const Real* __restrict invMass = a.invMass.data();
-    const VecD<D>* __restrict x0 = s.xAtBuild.data();
+    VecD<D>* __restrict x = a.x.data() + b;
+    VecD<D>* __restrict v = a.v.data() + b;
+    VecD<D>* __restrict f = a.f.data() + b;
+    VecD<D>* __restrict fPrev = a.fPrev.data() + b;
+    const Real* __restrict invMass = a.invMass.data() + b;
+    const VecD<D>* __restrict x0 = track ? s.xAtBuild.data() + b : nullptr;
     // 3D: the grains go W at a time through the SIMD kernel when the platform has one
     // (contact_kernel.hpp: the same arithmetic, bit for bit), the last n % W here.
     size_t first = 0;
@@ -103,11 +123,7 @@ class PredictModule final : public SimModule<D> {
     } else {
       track ? pass(No{}, Yes{}) : pass(No{}, No{});
     }
-    s.maxDisp2 = maxD2;
-    // The contact passes of this step rebuild the per-step outputs.
-    if (!s.contacts.empty()) s.lastRecorded = s.contacts.size();
-    s.contacts.clear();
-    s.ledger.elastic = 0;
+    return maxD2;
   }
 };
 
@@ -162,19 +178,25 @@ class PredictRotationModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Predict; }
 
   void run(Scene<D>& s) override {
+    forEachElementChunk(s.elements.a.size(), [&](size_t b, size_t e, size_t) { range(s, b, e); });
+  }
+
+ private:
+  // Turns elements b .. e - 1. Changes their q, w, t, tPrev.
+  void range(Scene<D>& s, size_t b, size_t e) {
     ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt, h = 0.5 * dt;
     const bool sync = s.integrator == IntegratorKind::Synchronized;
-    const size_t n = a.size();
-    RotationD<D>* __restrict q = a.q.data();
-    AngularD<D>* __restrict w = a.w.data();
-    AngularD<D>* __restrict t = a.t.data();
-    AngularD<D>* __restrict tPrev = a.tPrev.data();
-    const Real* __restrict invInertia = a.invInertia.data();
+    const size_t n = e - b;
+    RotationD<D>* __restrict q = a.q.data() + b;
+    AngularD<D>* __restrict w = a.w.data() + b;
+    AngularD<D>* __restrict t = a.t.data() + b;
+    AngularD<D>* __restrict tPrev = a.tPrev.data() + b;
+    const Real* __restrict invInertia = a.invInertia.data() + b;
     // 3D: the grains go W at a time through the SIMD kernel when the platform has one
     // (contact_kernel.hpp: the same arithmetic, bit for bit), the last n % W here.
     size_t first = 0;
-    if constexpr (D == 3) first = skipRigid_ ? 0 : kernelPass(s);
+    if constexpr (D == 3) first = skipRigid_ ? 0 : kernelPass(s, b, e);
     auto pass = [&](auto syncTag) {
       for (size_t i = first; i < n; ++i) {
         if (skipRigid_ && invInertia[i] == 0) continue;
@@ -202,7 +224,6 @@ class PredictRotationModule final : public SimModule<D> {
     sync ? pass(std::true_type{}) : pass(std::false_type{});
   }
 
- private:
   bool skipRigid_;
   struct Turn {
     RotationD<D>* q;
@@ -215,21 +236,21 @@ class PredictRotationModule final : public SimModule<D> {
   }
 
   // Returns how many grains (from 0) the kernel updated: 0 when no kernel is active.
-  size_t kernelPass(Scene<D>& s) {
+  size_t kernelPass(Scene<D>& s, size_t b, size_t e) {
     kernel::Isa isa;
     if (!kernel::activeIsa(&isa)) return 0;
     const kernel::RotationPassFn fn = kernel::rotationPass(isa);
     if (fn == nullptr) return 0;
     static_assert(sizeof(Quat) == 4 * sizeof(double) && sizeof(AngularD<D>) == 3 * sizeof(double));
     ElementArrays<D>& a = s.elements.a;
-    Turn t{a.q.data(), s.stepDt};
+    Turn t{a.q.data() + b, s.stepDt};
     kernel::RotationArgs k;
-    k.q = reinterpret_cast<double*>(a.q.data());
-    k.w = reinterpret_cast<double*>(a.w.data());
-    k.t = reinterpret_cast<double*>(a.t.data());
-    k.tPrev = reinterpret_cast<double*>(a.tPrev.data());
-    k.invInertia = a.invInertia.data();
-    k.n = a.size();
+    k.q = reinterpret_cast<double*>(a.q.data() + b);
+    k.w = reinterpret_cast<double*>(a.w.data() + b);
+    k.t = reinterpret_cast<double*>(a.t.data() + b);
+    k.tPrev = reinterpret_cast<double*>(a.tPrev.data() + b);
+    k.invInertia = a.invInertia.data() + b;
+    k.n = e - b;
     k.dt = s.stepDt;
     k.sync = s.integrator == IntegratorKind::Synchronized;
     k.turn = &turn;
@@ -246,17 +267,25 @@ class CorrectModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Correct; }
 
   void run(Scene<D>& s) override {
+    forEachElementChunk(s.elements.a.size(), [&](size_t b, size_t e, size_t) { range(s, b, e); });
+    s.time = s.time + s.stepDt;
+    s.steps += 1;
+  }
+
+ private:
+  // Kicks elements b .. e - 1. Changes their v and w.
+  void range(Scene<D>& s, size_t b, size_t e) {
     ElementArrays<D>& a = s.elements.a;
     const Real h = 0.5 * s.stepDt;
-    const size_t n = a.size();
-    VecD<D>* __restrict v = a.v.data();
-    const VecD<D>* __restrict f = a.f.data();
-    const VecD<D>* __restrict fPrev = a.fPrev.data();
-    const Real* __restrict invMass = a.invMass.data();
-    AngularD<D>* __restrict w = a.w.data();
-    const AngularD<D>* __restrict t = a.t.data();
-    const AngularD<D>* __restrict tPrev = a.tPrev.data();
-    const Real* __restrict invInertia = a.invInertia.data();
+    const size_t n = e - b;
+    VecD<D>* __restrict v = a.v.data() + b;
+    const VecD<D>* __restrict f = a.f.data() + b;
+    const VecD<D>* __restrict fPrev = a.fPrev.data() + b;
+    const Real* __restrict invMass = a.invMass.data() + b;
+    AngularD<D>* __restrict w = a.w.data() + b;
+    const AngularD<D>* __restrict t = a.t.data() + b;
+    const AngularD<D>* __restrict tPrev = a.tPrev.data() + b;
+    const Real* __restrict invInertia = a.invInertia.data() + b;
     const bool sync = s.integrator == IntegratorKind::Synchronized;
     // 3D: through the SIMD kernel as the drift (PredictModule), the last n % W here.
     size_t first = 0;
@@ -293,8 +322,6 @@ class CorrectModule final : public SimModule<D> {
         for (size_t i = first; i < n; ++i) w[i] += (h * invInertia[i]) * t[i];
       }
     }
-    s.time = s.time + s.stepDt;
-    s.steps += 1;
   }
 };
 

@@ -20,6 +20,7 @@
 // pairs that start or stop touching.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -59,6 +60,14 @@ class PairSprings {
   // Makes room for n springs in the pool, exactly. Changes the pool's capacity.
   void reserve(size_t n) { pool_.reserve(n); }
 
+  // Makes the pool safe for passes that run groups of candidates on several threads at once:
+  // room for a spring per candidate, so a slot handed out never moves the pool (the room
+  // untouched stays unbacked by memory), and slots handed out and given back one thread at a
+  // time. Changes the pool's capacity.
+  void prepareConcurrent() {
+    if (pool_.capacity() < slotOf_.size()) pool_.reserve(slotOf_.size());
+  }
+
   // Returns candidate k's spring (zero when it has no slot).
   VecD<D> spring(size_t k) const {
     return slotOf_[k] == kNoSlot ? VecD<D>::Zero() : pool_[slotOf_[k]].spring;
@@ -85,16 +94,20 @@ class PairSprings {
   void release(size_t k) {
     const uint32_t slot = slotOf_[k];
     if (slot == kNoSlot) return;
+    lock_.lock();
     free_.push_back(slot);
+    lock_.unlock();
     slotOf_[k] = kNoSlot;
   }
 
   // Returns the view the SIMD kernels read and change; valid while this object lives and
   // nothing but the kernel changes it.
-  kernel::SpringSlots slots() {
+  // base: the first candidate the pass sees (a group's), whose slot is slotOf[0].
+  kernel::SpringSlots slots(size_t base = 0) {
     static_assert(sizeof(History) == D * sizeof(double));
     kernel::SpringSlots s;
-    s.slotOf = slotOf_.data();
+    s.slotOf = slotOf_.data() + base;
+    s.base = base;
     s.data = reinterpret_cast<double*>(pool_.data());
     s.owner = this;
     s.acquire = &acquireThunk;
@@ -124,6 +137,7 @@ class PairSprings {
   // springs' memory until the next search). Changes slotOf_[k], the pool and the free list.
   void acquireSlot(size_t k) {
     uint32_t slot;
+    lock_.lock();
     if (!free_.empty()) {
       slot = free_.back();
       free_.pop_back();
@@ -133,6 +147,7 @@ class PairSprings {
       slot = static_cast<uint32_t>(pool_.size());
       pool_.emplace_back();
     }
+    lock_.unlock();
     slotOf_[k] = slot;
   }
 
@@ -146,6 +161,23 @@ class PairSprings {
   std::vector<uint32_t> slotOf_;  // per candidate: its slot in pool_, or kNoSlot
   std::vector<History> pool_;     // the springs, by slot
   std::vector<uint32_t> free_;    // slots given back, reused first
+
+  // A spin lock over the free list and the pool's end (taken only when a pair starts or stops
+  // touching); copies of the springs get a lock of their own.
+  struct SpinLock {
+    std::atomic<bool> held{false};
+    SpinLock() = default;
+    SpinLock(const SpinLock&) {}
+    SpinLock& operator=(const SpinLock&) { return *this; }
+    void lock() {
+      while (held.exchange(true, std::memory_order_acquire)) {
+        while (held.load(std::memory_order_relaxed)) {
+        }
+      }
+    }
+    void unlock() { held.store(false, std::memory_order_release); }
+  };
+  SpinLock lock_;
 };
 
 }  // namespace demlab::sim

@@ -19,6 +19,7 @@
 #include "physics/pair_params.hpp"
 #include "search/box.hpp"
 #include "sim/behavior.hpp"
+#include "sim/contact_groups.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/pair_springs.hpp"
 #include "sim/shape.hpp"
@@ -173,6 +174,7 @@ struct Scene {
 
   // ---- contact detection state ----
   std::vector<CandidatePair> candidates;              // grain-grain
+  ContactGroups contactGroups;  // the candidates' groups and phases (contact_groups.hpp)
   std::vector<std::vector<uint32_t>> wallCandidates;  // per wall (dense): grain dense indices
   std::vector<VecD<D>> xAtBuild;                      // grain positions at the last search
   double skin = 0;                                    // the skin in use

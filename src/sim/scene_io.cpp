@@ -628,13 +628,19 @@ void readScene(Reader& r, Scene<D>& s) {
     c.j = r.u32();
     if (c.i >= n || c.j >= n) Reader::bad("candidate pair index");
   }
+  // The candidates in the threaded pass's order (a scene written by this version has it
+  // already); the springs follow their pairs.
+  std::vector<uint32_t> moved;
+  groupCandidates(s.candidates, &s.contactGroups, &moved);
   const size_t nSprings = r.count(8 * D);
   if (nSprings != 0 && nSprings != s.candidates.size()) Reader::bad("pair springs");
+  std::vector<VecD<D>> springsRead(nSprings);
+  for (auto& sp : springsRead) sp = r.vec<D>();
   s.pairSprings.reset(nSprings, true);
   for (size_t k = 0; k < nSprings; ++k) {
     // A zero spring is no slot (PairSprings::set), except one with a -0.0 in it: only a slot
     // holds that (a law's rounding), and keeping it there makes the scene write its bytes.
-    const VecD<D> sp = r.vec<D>();
+    const VecD<D> sp = springsRead[moved.empty() ? k : moved[k]];
     bool signedZero = false;
     for (int c = 0; c < D; ++c) signedZero |= std::signbit(sp[c]);
     if (sp.squaredNorm() == 0 && signedZero) {

@@ -116,10 +116,16 @@ class SimLoop {
   const std::vector<double>& seconds() const { return seconds_; }
   void resetTimers() { seconds_.assign(modules_.size(), 0.0); }
   bool empty() const { return modules_.empty(); }
-  // Returns the bytes the modules hold for themselves (SimModule::workingBytes), summed.
+  // Returns the bytes the modules hold for themselves (SimModule::workingBytes), summed over
+  // all modules or those of one level.
   size_t workingBytes() const {
     size_t bytes = 0;
     for (const auto& m : modules_) bytes += m->workingBytes();
+    return bytes;
+  }
+  size_t workingBytes(SimLevel level) const {
+    size_t bytes = 0;
+    for (const auto& m : modules_) bytes += m->level() == level ? m->workingBytes() : 0;
     return bytes;
   }
 

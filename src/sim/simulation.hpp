@@ -221,7 +221,8 @@ struct MemoryReport {
   size_t search = 0;     // the neighbor search's scratch kept between searches (0: freed)
   size_t springs = 0;    // tangential springs: per candidate pair, per wall candidate, parked
   size_t contacts = 0;   // the contact records of the last step
-  size_t total() const { return grains + detection + search + springs + contacts; }
+  size_t passes = 0;     // the other modules' scratch: the contact passes' per-group sums, ...
+  size_t total() const { return grains + detection + search + springs + contacts + passes; }
 };
 
 struct ContactInfo {

@@ -602,6 +602,7 @@ template <int D>
 void SimulationManager<D>::forgetCandidates() {
   parkSprings(s_);
   s_.candidates.clear();
+  s_.contactGroups.clear();
   s_.wallCandidates.clear();
   s_.shapeCandidates.clear();
   s_.shapeWallCandidates.clear();

@@ -478,9 +478,11 @@ MemoryReport SimulationManager<D>::memory() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   MemoryReport m;
   m.grains = s_.elements.a.heapBytes() + s_.elements.pool().heapBytes();
-  m.detection = bytes(s_.candidates) + bytes(s_.wallCandidates) + bytes(s_.xAtBuild);
+  m.detection = bytes(s_.candidates) + bytes(s_.wallCandidates) + bytes(s_.xAtBuild) +
+                s_.contactGroups.heapBytes();
   for (const auto& list : s_.wallCandidates) m.detection += bytes(list);
-  m.search = loop_.workingBytes();
+  m.search = loop_.workingBytes(SimLevel::Detection);
+  m.passes = loop_.workingBytes() - m.search;
   m.springs = s_.pairSprings.heapBytes() + bytes(s_.wallSprings) + s_.histories.heapBytes();
   for (const auto& list : s_.wallSprings) m.springs += bytes(list);
   m.contacts = bytes(s_.contacts);

@@ -95,7 +95,7 @@ TEST(SimMemory, NoSearchScratchKeptAndRecordsSizedToTheContacts) {
   // Everything per grain: the state, three candidates with their springs, their records.
   const double perGrain = static_cast<double>(m.total()) / 1000;
   EXPECT_LE(perGrain, 560) << "grains " << m.grains << " detection " << m.detection << " springs "
-                           << m.springs << " contacts " << m.contacts;
+                           << m.springs << " contacts " << m.contacts << " passes " << m.passes;
 }
 
 TEST(SimMemory, FrequentSearchesKeepOnlyTheGrid) {
