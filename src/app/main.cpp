@@ -8,6 +8,7 @@
 #include <cstring>
 #include <string>
 
+#include "core/thread_pool.hpp"
 #include "app/console.hpp"
 #include "cmd/commands/commands.hpp"
 #include "tcl/binding.hpp"
@@ -37,6 +38,10 @@ int main(int argc, char** argv) {
     std::printf("demlab %s\n", DEMLAB_PKG_VERSION);
     return 0;
   }
+  // A bad $DEMLAB_THREADS is named once, here; the run goes on with every core.
+  const char* threadsError = nullptr;
+  ThreadPool::threadsFromEnvironment(&threadsError);
+  if (threadsError != nullptr) std::fprintf(stderr, "demlab: warning: %s\n", threadsError);
   Tcl_FindExecutable(argv[0]);
   Tcl_Interp* interp = Tcl_CreateInterp();
   bool script = argc > 1;

@@ -6,6 +6,7 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/thread_pool.hpp"
 #include "io/atomic_file.hpp"
 
 namespace demlab::cmd {
@@ -122,6 +123,25 @@ void registerSimCommands(Registry& r) {
       return Value();
     }
     return Value(s.timeStep());
+  });
+
+  Command& th = r.add("sim threads", "Sets the threads a step runs on, or returns their number.");
+  th.details =
+      "The step's stages run on this many threads (the calling one included). The default is "
+      "$DEMLAB_THREADS, else every core of the machine. A scene gives the same bits for any "
+      "number of threads: the forces are summed in an order fixed by the scene, never by the "
+      "threads, so digests, checkpoints and results do not depend on it (doc/design.md). More "
+      "threads than cores run correctly but slower.";
+  th.optionalArg("count", integer().min(1).max(ThreadPool::kMaxThreads), "the number of threads");
+  th.changesScene = false;
+  th.needsScene = false;
+  th.run([](Call& c) {
+    ThreadPool& pool = ThreadPool::global();
+    if (c.given("count")) {
+      pool.setThreads(static_cast<unsigned>(c.integer("count")));
+      return Value();
+    }
+    return Value(static_cast<int64_t>(pool.threads()));
   });
 
   Command& rel = r.add("sim relax", "Moves overlapping elements apart; returns what it did.");
