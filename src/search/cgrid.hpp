@@ -510,14 +510,11 @@ class CGrid final : public BroadPhase<D, T> {
   // Returns the first axis-0 bucket of slab s.
   uint32_t slabFirstBucket(std::size_t s) const { return cells_[slabBegin_[s]].lo[0]; }
 
-  // Fills slab s's part of the serial lane's input array with its positions, and its near and
-  // far lists with the objects that reach past its last bucket (in position order). Changes
-  // slab s and that part of the input array only, so the slabs may run at once.
+  // Fills slab s's near and far lists with its objects that reach past its last bucket (in
+  // position order). Changes slab s only, so the slabs may run at once.
   void findLeavers(std::size_t s, std::size_t slabCount) {
     Slab& slab = slabs_[s];
     const uint32_t begin = slabBegin_[s], end = slabBegin_[s + 1];
-    std::iota(lane_.subdividers[0].input.begin() + begin,
-              lane_.subdividers[0].input.begin() + end, begin);
     slab.near.clear();
     slab.far.clear();
     slab.farReach = 0;
@@ -541,7 +538,8 @@ class CGrid final : public BroadPhase<D, T> {
   // order), merges them bucket by bucket into the held-over array exactly as the serial sweep
   // does (the same current arrays and the same stable merge: an object that reaches the
   // slab was never dropped, and dropping others does not reorder it), then sweeps the slab's
-  // buckets into its own pairs. Changes slab s only (it reads the other slabs' lists).
+  // buckets into its own pairs. Changes slab s and its part of the serial lane's input array
+  // (it reads the other slabs' lists).
   void sweepSlab(std::size_t s) {
     // One axis has no Subdivider to sweep with; findPairs never comes here then.
     if constexpr (D > 1) {
@@ -585,8 +583,12 @@ class CGrid final : public BroadPhase<D, T> {
                                         slab.pairs.capacity());
       if (slab.pairs.size() < want) slab.pairs.resize(want);
       lane.sink = {&slab.pairs, slab.pairs.data(), slab.pairs.data() + slab.pairs.size()};
-      const uint32_t begin = slabBegin_[s];
-      sweepBuckets<0>(lane, lane_.subdividers[0].input.data() + begin, slabBegin_[s + 1] - begin);
+      // The slab's part of the serial lane's input array: its positions, written here rather
+      // than in one pass before, so that they are in this thread's cache when swept.
+      const uint32_t begin = slabBegin_[s], end = slabBegin_[s + 1];
+      uint32_t* in = lane_.subdividers[0].input.data() + begin;
+      std::iota(in, in + (end - begin), begin);
+      sweepBuckets<0>(lane, in, end - begin);
       slab.pairCount = static_cast<std::size_t>(lane.sink.next - slab.pairs.data());
       slab.lastPairs = slab.pairCount;
       lane.sink = {};
