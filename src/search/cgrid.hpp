@@ -137,9 +137,9 @@ class CGrid final : public BroadPhase<D, T> {
   }
 
   // The fewest boxes the threaded search takes by default. Below it one thread is as fast:
-  // at 20000 boxes a serial search takes about 1.5 ms, and the threaded one's fixed costs (two
-  // pool regions, rebuilding the held-over array at each slab's start, copying the slabs'
-  // pairs into the output) stay within a few percent of that only from there up.
+  // at 20000 boxes a serial search takes about 1.5 ms, and the threaded one's fixed costs
+  // (three pool regions, rebuilding the held-over array at each slab's start, copying the
+  // slabs' pairs into the output) stay within a few percent of that only from there up.
   static constexpr std::size_t kThreadedMinBoxes = 20000;
   // Objects a slab aims at, and the most slabs: more slabs than threads let the pool balance
   // slabs of unequal work, and every slab costs one rebuilt held-over array.
