@@ -13,7 +13,10 @@
 //     buffers are grown once, as in the first step of a simulation;
 //   - `seconds` is the median of the timed calls, each one full findPairs (binning plus
 //     reporting every pair into the output vector), by the wall clock or, with --cpu-time,
-//     by the CPU time of the calling thread.
+//     by the CPU time of the calling thread (which leaves out the other threads' work: compare
+//     thread counts by the wall clock);
+//   - algorithms that run on the thread pool (the registry's usesThreads) run once per
+//     --threads count, the pool set to it; the others once, their threads column empty.
 // Every algorithm must report the same number of pairs on every input it ran; if not, the
 // program says so on stderr and exits with status 1 after finishing the group.
 #include <poll.h>
@@ -41,6 +44,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/thread_pool.hpp"
 #include "search/registry.hpp"
 #include "search/workload.hpp"
 
@@ -76,6 +80,7 @@ struct Options {
   std::vector<Distribution> distributions = {Distribution::Uniform};
   std::vector<double> sizeRatios = {10.0};
   std::vector<double> cellFactors = {0.0};        // 0: each algorithm's automatic default
+  std::vector<unsigned> threads = {1};            // pool threads, for algorithms that use it
   std::set<std::string, std::less<>> algorithms;  // empty: every algorithm of the table
   bool cellFactorOnly = false;
   int reps = 5;
@@ -92,7 +97,7 @@ void usage(std::FILE* f) {
       f,
       "usage: bench_search [options]\n"
       "Times every neighbor-search algorithm of the registry on the same inputs; prints CSV\n"
-      "  algorithm,dim,n,distribution,size_ratio,cell_factor,seconds,pairs,ns_per_object\n"
+      "  algorithm,dim,n,distribution,size_ratio,cell_factor,seconds,pairs,ns_per_object,threads\n"
       "Lists are comma-separated; every combination is run.\n"
       "  --dim LIST            dimensions, 1..4 (default 3)\n"
       "  --n LIST              object counts, e.g. 1e4,1e5 (default 1e4)\n"
@@ -103,6 +108,9 @@ void usage(std::FILE* f) {
       "  --cell-factor LIST    cell factors for algorithms that have one; 0 = automatic\n"
       "                        (default 0); other algorithms run once per input\n"
       "  --algorithms LIST     names from the registry (default: all)\n"
+      "  --threads LIST        thread counts of the pool for the algorithms that run on it\n"
+      "                        (cgrid, sgrid), e.g. 1,2 (default 1); the others run once,\n"
+      "                        their threads column empty\n"
       "  --cell-factor-only    run only the algorithms that use the cell factor\n"
       "  --reps N              timed repetitions, median reported (default 5)\n"
       "  --cpu-time            time each call by the CPU time of its thread, not wall time:\n"
@@ -207,6 +215,16 @@ Options parseOptions(int argc, char** argv) {
         }
         o.algorithms.insert(s);
       }
+    } else if (flag == "--threads") {
+      o.threads.clear();
+      for (const auto& s : splitList(value())) {
+        const double t = parseNumber(s, "--threads");
+        if (t < 1 || t != std::floor(t) || t > ThreadPool::kMaxThreads) {
+          die("--threads must be whole numbers from 1 to " +
+              std::to_string(ThreadPool::kMaxThreads) + ": " + s);
+        }
+        o.threads.push_back(static_cast<unsigned>(t));
+      }
     } else if (flag == "--cell-factor-only") {
       o.cellFactorOnly = true;
     } else if (flag == "--cpu-time") {
@@ -235,7 +253,7 @@ Options parseOptions(int argc, char** argv) {
     }
   }
   if (o.dims.empty() || o.ns.empty() || o.distributions.empty() || o.sizeRatios.empty() ||
-      o.cellFactors.empty()) {
+      o.cellFactors.empty() || o.threads.empty()) {
     die("an empty list leaves nothing to run");
   }
   if (o.killSeconds < 0) o.killSeconds = 10.0 * o.maxSeconds;
@@ -302,7 +320,7 @@ class Runner {
       if (!memory_) die("cannot write " + o_.memoryPath);
       std::fprintf(memory_,
                    "algorithm,dim,n,distribution,size_ratio,cell_factor,working_bytes,"
-                   "bytes_per_object\n");
+                   "bytes_per_object,threads\n");
     }
   }
   ~Runner() {
@@ -315,7 +333,8 @@ class Runner {
   int run() {
     if (o_.header) {
       std::printf(
-          "algorithm,dim,n,distribution,size_ratio,cell_factor,seconds,pairs,ns_per_object\n");
+          "algorithm,dim,n,distribution,size_ratio,cell_factor,seconds,pairs,ns_per_object,"
+          "threads\n");
       std::fflush(stdout);
     }
     for (int dim : o_.dims) {
@@ -347,7 +366,11 @@ class Runner {
     const search::BroadPhaseRow<D, double>* row;
     double cellFactor;
     std::string cellColumn;  // empty for algorithms that ignore the cell factor
-    std::string key() const { return std::string(row->name) + "@" + cellColumn; }
+    unsigned threads;        // the pool's thread count for the run; 0: the pool is not used
+    std::string threadsColumn;  // empty for algorithms that do not use the pool
+    std::string key() const {
+      return std::string(row->name) + "@" + cellColumn + "@" + threadsColumn;
+    }
   };
 
   template <int D>
@@ -356,10 +379,15 @@ class Runner {
     for (const auto& row : search::broadPhaseTable<D, double>()) {
       if (!o_.algorithms.empty() && !o_.algorithms.contains(row.name)) continue;
       if (o_.cellFactorOnly && !row.usesCellFactor) continue;
-      if (row.usesCellFactor) {
-        for (double c : o_.cellFactors) list.push_back({&row, c, formatNumber(c)});
-      } else {
-        list.push_back({&row, 0.0, ""});
+      std::vector<double> factors = {0.0};
+      if (row.usesCellFactor) factors = o_.cellFactors;
+      std::vector<unsigned> threads = {0};
+      if (row.usesThreads) threads = o_.threads;
+      for (double c : factors) {
+        for (unsigned t : threads) {
+          list.push_back({&row, c, row.usesCellFactor ? formatNumber(c) : "", t,
+                          t > 0 ? std::to_string(t) : ""});
+        }
       }
     }
     return list;
@@ -396,6 +424,7 @@ class Runner {
     Measurement m;
     std::fill(std::begin(m.counts), std::end(m.counts), -1);
     try {
+      if (e.threads > 0) ThreadPool::global().setThreads(e.threads);
       auto algo = e.row->make(search::SearchOptions{e.cellFactor});
       std::vector<IndexPair> pairs;
       const auto call = [&](std::size_t input) {
@@ -428,6 +457,9 @@ class Runner {
   template <int D>
   std::optional<Measurement> measureIsolated(
       const Entry<D>& e, const std::vector<std::vector<Box<D, double>>>& inputs) const {
+    // A forked child has only the thread that forked: the pool's workers must not exist yet,
+    // so the parent stops them and the child starts its own (measure() sets the count).
+    ThreadPool::global().setThreads(1);
     std::fflush(stdout);  // else the child's copy of the buffers could be written twice
     std::fflush(stderr);
     if (memory_) std::fflush(memory_);
@@ -511,7 +543,8 @@ class Runner {
     std::string referenceName;
     for (const auto& e : list) {
       const std::string label =
-          std::string(e.row->name) + (e.cellColumn.empty() ? "" : " cell_factor=" + e.cellColumn);
+          std::string(e.row->name) + (e.cellColumn.empty() ? "" : " cell_factor=" + e.cellColumn) +
+          (e.threadsColumn.empty() ? "" : " threads=" + e.threadsColumn);
       if (e.row->name == kOracleName && n > kOracleMaxN) {
         if (!oracleNoted_) {
           std::fprintf(stderr, "bench_search: %.*s is skipped above n=%zu (O(N^2))\n",
@@ -561,11 +594,13 @@ class Runner {
       p.lastSeconds = m->seconds;
       const auto& counts = m->counts;
 
-      std::printf("%.*s,%d,%zu,%s,%s,%s,%.6g,%lld,%.2f\n", static_cast<int>(e.row->name.size()),
-                  e.row->name.data(), D, n, dist.c_str(), ratio.c_str(), e.cellColumn.c_str(),
-                  m->seconds, counts[0], m->seconds * 1e9 / static_cast<double>(n));
+      std::printf("%.*s,%d,%zu,%s,%s,%s,%.6g,%lld,%.2f,%s\n",
+                  static_cast<int>(e.row->name.size()), e.row->name.data(), D, n, dist.c_str(),
+                  ratio.c_str(), e.cellColumn.c_str(), m->seconds, counts[0],
+                  m->seconds * 1e9 / static_cast<double>(n), e.threadsColumn.c_str());
       std::fflush(stdout);
-      reportMemory(e.row->name, D, n, dist, ratio, e.cellColumn, m->workingBytes);
+      reportMemory(e.row->name, D, n, dist, ratio, e.cellColumn, e.threadsColumn,
+                   m->workingBytes);
 
       for (std::size_t i = 0; i < inputs.size(); ++i) {
         if (counts[i] < 0) continue;
@@ -585,19 +620,20 @@ class Runner {
   }
 
   void reportMemory(std::string_view name, int dim, std::size_t n, const std::string& dist,
-                    const std::string& ratio, const std::string& cell, std::size_t bytes) {
+                    const std::string& ratio, const std::string& cell, const std::string& threads,
+                    std::size_t bytes) {
     const double perObject = static_cast<double>(bytes) / static_cast<double>(n);
     if (memory_) {
-      std::fprintf(memory_, "%.*s,%d,%zu,%s,%s,%s,%zu,%.2f\n", static_cast<int>(name.size()),
+      std::fprintf(memory_, "%.*s,%d,%zu,%s,%s,%s,%zu,%.2f,%s\n", static_cast<int>(name.size()),
                    name.data(), dim, n, dist.c_str(), ratio.c_str(), cell.c_str(), bytes,
-                   perObject);
+                   perObject, threads.c_str());
       std::fflush(memory_);
     } else {
       std::fprintf(stderr,
                    "memory: %.*s dim=%d n=%zu distribution=%s size_ratio=%s cell_factor=%s "
-                   "working_bytes=%zu bytes_per_object=%.2f\n",
+                   "working_bytes=%zu bytes_per_object=%.2f threads=%s\n",
                    static_cast<int>(name.size()), name.data(), dim, n, dist.c_str(), ratio.c_str(),
-                   cell.c_str(), bytes, perObject);
+                   cell.c_str(), bytes, perObject, threads.c_str());
     }
   }
 

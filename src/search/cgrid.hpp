@@ -33,6 +33,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "core/thread_pool.hpp"
 #include "search/broad_phase.hpp"
 #include "search/cell_size.hpp"
 #include "search/configs.hpp"
@@ -80,6 +81,9 @@ class CGrid final : public BroadPhase<D, T> {
   // Returns the work counters of the last search.
   const Stats& stats() const { return stats_; }
 
+  // Returns the slabs the last search was cut into: 1 if it ran serially.
+  std::size_t lastSlabs() const { return lastSlabs_; }
+
   // Returns true if the contact mask scans with its AVX2 build (doubles, on CPUs that run it:
   // the default there), false if with the portable one.
   bool wideScans() const { return wide_; }
@@ -89,8 +93,8 @@ class CGrid final : public BroadPhase<D, T> {
   void useWideScans(bool on) { wide_ = on && wideAvailable(); }
 
   void findPairs(std::span<const Box<D, T>> boxes, std::vector<IndexPair>& out) override {
-    out.clear();
     if (boxes.size() < 2 || boxes.size() > kIndexMask) {
+      out.clear();
       validateBoxes<D, T>(boxes);
       if (boxes.size() > kIndexMask) {
         throw Error("too many boxes: " + std::to_string(boxes.size()) + " exceeds " +
@@ -100,26 +104,65 @@ class CGrid final : public BroadPhase<D, T> {
       stats_ = {};
       return;
     }
-    discretize(boxes);  // validates the boxes on its first pass
+    const bool threaded = takesThreads(boxes.size());
+    // The threaded search keeps the output's elements until it knows the pair count, so that
+    // it writes zeros only where the output grows (a serial pass over all of it otherwise).
+    if (!threaded) out.clear();
+    try {
+      discretize(boxes);  // validates the boxes on its first pass
+    } catch (...) {
+      out.clear();
+      throw;
+    }
     stats_ = {};
+    lastSlabs_ = 1;
+    if constexpr (D > 1) {
+      if (threaded && partitionSlabs() > 1) {
+        lastSlabs_ = slabBegin_.size() - 1;
+        return findPairsInSlabs(out);
+      }
+    }
+    out.clear();
     // The output is sized ahead (to the last search's count, within its capacity) and cut
     // back at the end, so reporting writes without checks per pair.
     const std::size_t want = lastPairs_ + lastPairs_ / 8 + 1024;
     out.resize(out.capacity() >= 1024 ? std::min(out.capacity(), want) : want);
-    sink_ = {&out, out.data(), out.data() + out.size()};
+    lane_.stats = {};
+    lane_.sink = {&out, out.data(), out.data() + out.size()};
     subdivideFirstAxis();
-    lastPairs_ = static_cast<std::size_t>(sink_.next - out.data());
+    lastPairs_ = static_cast<std::size_t>(lane_.sink.next - out.data());
     out.resize(lastPairs_);
-    sink_ = {};
+    lane_.sink = {};
+    stats_ = lane_.stats;
+  }
+
+  // The fewest boxes the threaded search takes by default. Below it one thread is as fast:
+  // at 20000 boxes a serial search takes about 1.5 ms, and the threaded one's fixed costs
+  // (three pool regions, rebuilding the held-over array at each slab's start, copying the
+  // slabs' pairs into the output) stay within a few percent of that only from there up.
+  static constexpr std::size_t kThreadedMinBoxes = 20000;
+  // Objects a slab aims at, and the most slabs: more slabs than threads let the pool balance
+  // slabs of unequal work, and every slab costs one rebuilt held-over array.
+  static constexpr std::size_t kObjectsPerSlab = 10000;
+  static constexpr std::size_t kMaxSlabs = 64;
+
+  // Sets the fewest boxes the threaded search takes and the objects a slab aims at (defaults
+  // kThreadedMinBoxes and kObjectsPerSlab), so that tests run the threaded search on inputs
+  // small enough to check against the oracle. Changes only those settings.
+  void setThreadedSearch(std::size_t minBoxes, std::size_t objectsPerSlab) {
+    threadedMinBoxes_ = std::max<std::size_t>(minBoxes, 2);
+    objectsPerSlab_ = std::max<std::size_t>(objectsPerSlab, 1);
   }
 
   std::size_t workingBytes() const override {
     std::size_t bytes = order_.capacity() * sizeof(uint32_t) +
                         boxes_.capacity() * sizeof(Box<D, T>) +
-                        cells_.capacity() * sizeof(CellRange) + scratch_.bytes() + mask_.bytes();
-    for (const auto& s : subdividers_) {
-      bytes +=
-          (s.input.capacity() + s.current.capacity() + s.held.capacity() + s.merged.capacity()) * 4;
+                        cells_.capacity() * sizeof(CellRange) + lane_.bytes() +
+                        slabBegin_.capacity() * sizeof(uint32_t) +
+                        slabs_.capacity() * sizeof(Slab);
+    for (const Slab& slab : slabs_) {
+      bytes += slab.lane.bytes() + slab.pairs.capacity() * sizeof(IndexPair) +
+               (slab.near.capacity() + slab.far.capacity() + slab.incoming.capacity()) * 4;
     }
     return bytes;
   }
@@ -147,6 +190,41 @@ class CGrid final : public BroadPhase<D, T> {
     std::vector<uint32_t> current;  // objects entering the bucket, sorted on the next axis
     std::vector<uint32_t> held;     // objects spanning the bucket, sorted on the next axis
     std::vector<uint32_t> merged;   // scratch for merging the two
+  };
+
+  // The scratch of one sweep of the Subdivider chain and where it reports: the serial search
+  // has one, the threaded search one per slab (kept from call to call with its slab, so that
+  // which thread runs a slab changes no buffer's size).
+  struct Lane {
+    std::array<Subdivider, D> subdividers;
+    KeySortScratch scratch;
+    mask::Columns<D, T> mask;  // the contact mask's cells, see contactMask()
+    mask::PairSink sink;       // the output, written ahead of its size during a sweep
+    Stats stats;
+
+    // Returns the bytes held.
+    std::size_t bytes() const {
+      std::size_t b = scratch.bytes() + mask.bytes();
+      for (const auto& s : subdividers) {
+        b += (s.input.capacity() + s.current.capacity() + s.held.capacity() +
+              s.merged.capacity()) *
+             4;
+      }
+      return b;
+    }
+  };
+
+  // A contiguous range of axis-0 buckets the threaded search sweeps as one task, and what the
+  // later slabs need from it.
+  struct Slab {
+    Lane lane;
+    std::vector<IndexPair> pairs;    // the slab's pairs, in the serial search's order
+    std::size_t pairCount = 0;       // how many of `pairs` this search wrote
+    std::size_t lastPairs = 0;       // pairs of the last search, to size the next one's room
+    std::vector<uint32_t> near;      // objects reaching the next slab but not the one after
+    std::vector<uint32_t> far;       // objects reaching past the next slab
+    uint32_t farReach = 0;           // the highest axis-0 bucket an object of `far` reaches
+    std::vector<uint32_t> incoming;  // objects of lower slabs reaching this one, in order
   };
 
   static_assert(std::numeric_limits<T>::has_infinity, "mask sentinels need an infinity");
@@ -276,7 +354,7 @@ class CGrid final : public BroadPhase<D, T> {
       return c;
     };
     // The keys go in Subdivider 0's input array, which subdivideFirstAxis() refills.
-    auto& keys = subdividers_[0].input;
+    auto& keys = lane_.subdividers[0].input;
     keys.resize(n);
     order_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -293,7 +371,7 @@ class CGrid final : public BroadPhase<D, T> {
         keys[i] = bucket(boxes[i].lo[0], 0);
       }
     }
-    sortIndicesByKey(keys.data(), n, order_.data(), scratch_);
+    sortIndicesByKey(keys.data(), n, order_.data(), lane_.scratch);
 
     boxes_.resize(n);
     cells_.resize(n);
@@ -332,17 +410,232 @@ class CGrid final : public BroadPhase<D, T> {
   }
 
   // Runs the Subdivider chain over all objects, which discretize() left in bucket order on
-  // axis 0. Changes the Subdivider buffers and appends pairs to *out_.
+  // axis 0. Changes the serial lane's buffers and appends pairs to its sink.
   void subdivideFirstAxis() {
-    auto& all = subdividers_[0].input;
+    auto& all = lane_.subdividers[0].input;
     all.resize(cells_.size());
     std::iota(all.begin(), all.end(), 0u);
     if constexpr (D == 1) {
       refineOnLastAxis(all.data(), all.size());
-      contactMask(all.data(), all.size());
+      contactMask(lane_, all.data(), all.size());
     } else {
-      subdivide<0>(all.data(), all.size());
+      subdivide<0>(lane_, all.data(), all.size());
     }
+  }
+
+  // Returns true if a search of n boxes takes the threaded path: the pool has more than one
+  // thread and the input is large enough to pay for it.
+  bool takesThreads(std::size_t n) const {
+    return D > 1 && n >= threadedMinBoxes_ && ThreadPool::global().threads() > 1;
+  }
+
+  // Returns the first position in [from, to) whose object starts above axis-0 bucket c (to if
+  // none); the objects are in bucket order on axis 0.
+  std::size_t firstAbove(std::size_t from, std::size_t to, uint32_t c) const {
+    while (from < to) {
+      const std::size_t mid = from + (to - from) / 2;
+      if (cells_[mid].lo[0] <= c) {
+        from = mid + 1;
+      } else {
+        to = mid;
+      }
+    }
+    return from;
+  }
+
+  // Cuts the sorted objects into slabs of whole axis-0 buckets, about objectsPerSlab_ objects
+  // each (at most kMaxSlabs): every cut is moved from its even share to the nearer end of the
+  // bucket it falls in. The cuts depend on the boxes and n alone, never on the thread count,
+  // which is what makes the output the same for any number of threads. Returns the number of
+  // slabs; changes slabBegin_ (slab s is positions [slabBegin_[s], slabBegin_[s + 1])).
+  std::size_t partitionSlabs() {
+    const std::size_t n = cells_.size();
+    const std::size_t target = std::clamp<std::size_t>(n / objectsPerSlab_, 1, kMaxSlabs);
+    slabBegin_.clear();
+    slabBegin_.push_back(0);
+    for (std::size_t k = 1; k < target; ++k) {
+      const std::size_t share = k * n / target;
+      const std::size_t previous = slabBegin_.back();
+      if (share <= previous) continue;
+      const uint32_t c = cells_[share].lo[0];
+      // The bucket of `share` is [first, last): cut before or after it, whichever is nearer.
+      const std::size_t last = firstAbove(share, n, c);
+      std::size_t first = share;
+      while (first > previous && cells_[first - 1].lo[0] == c) {
+        // A bucket is rarely longer than a slab: the binary search only for long ones.
+        if (share - first > 64) {
+          first = c == 0 ? previous : firstAbove(previous, share, c - 1);
+          break;
+        }
+        --first;
+      }
+      const std::size_t cut = (share - first <= last - share || last == n) ? first : last;
+      if (cut > previous && cut < n) slabBegin_.push_back(static_cast<uint32_t>(cut));
+    }
+    slabBegin_.push_back(static_cast<uint32_t>(n));
+    return slabBegin_.size() - 1;
+  }
+
+  // The threaded search over the slabs partitionSlabs() made: each slab sweeps its buckets
+  // with its own lane, starting from the held-over array the serial sweep would have at its
+  // first bucket, so that it reports exactly the serial search's pairs of those buckets in the
+  // same order; the slabs' pairs are then put in slab order. Replaces out's contents with the
+  // pairs; changes the slabs, the serial lane's input array and stats_.
+  void findPairsInSlabs(std::vector<IndexPair>& out) {
+    const std::size_t slabCount = slabBegin_.size() - 1;
+    // Only grown: a slab's buffers stay with its number from one search to the next.
+    if (slabs_.size() < slabCount) slabs_.resize(slabCount);
+    auto& all = lane_.subdividers[0].input;
+    all.resize(cells_.size());
+    ThreadPool& pool = ThreadPool::global();
+    pool.forEach(slabCount, [&](std::size_t s, unsigned) { findLeavers(s, slabCount); });
+    pool.forEach(slabCount, [&](std::size_t s, unsigned) { sweepSlab(s); });
+
+    std::size_t total = 0;
+    stats_ = {};
+    for (std::size_t s = 0; s < slabCount; ++s) {
+      total += slabs_[s].pairCount;
+      stats_.forwarded += slabs_[s].lane.stats.forwarded;
+      stats_.maskEntries += slabs_[s].lane.stats.maskEntries;
+    }
+    out.resize(total);
+    pool.forEach(slabCount, [&](std::size_t s, unsigned) {
+      std::size_t at = 0;
+      for (std::size_t r = 0; r < s; ++r) at += slabs_[r].pairCount;
+      std::copy_n(slabs_[s].pairs.data(), slabs_[s].pairCount, out.data() + at);
+    });
+    lastPairs_ = total;
+  }
+
+  // Returns the first axis-0 bucket of slab s.
+  uint32_t slabFirstBucket(std::size_t s) const { return cells_[slabBegin_[s]].lo[0]; }
+
+  // Fills slab s's near and far lists with its objects that reach past its last bucket (in
+  // position order). Changes slab s only, so the slabs may run at once.
+  void findLeavers(std::size_t s, std::size_t slabCount) {
+    Slab& slab = slabs_[s];
+    const uint32_t begin = slabBegin_[s], end = slabBegin_[s + 1];
+    slab.near.clear();
+    slab.far.clear();
+    slab.farReach = 0;
+    if (s + 1 == slabCount) return;
+    const uint32_t next = slabFirstBucket(s + 1);
+    const uint32_t afterNext =
+        s + 2 < slabCount ? slabFirstBucket(s + 2) : std::numeric_limits<uint32_t>::max();
+    for (uint32_t i = begin; i < end; ++i) {
+      const uint32_t reach = cells_[i].hi[0];
+      if (reach < next) continue;
+      if (reach < afterNext) {
+        slab.near.push_back(i);
+      } else {
+        slab.far.push_back(i);
+        slab.farReach = std::max(slab.farReach, reach);
+      }
+    }
+  }
+
+  // Sweeps slab s: gathers the objects of lower slabs that reach its first bucket (position
+  // order), merges them bucket by bucket into the held-over array exactly as the serial sweep
+  // does (the same current arrays and the same stable merge: an object that reaches the
+  // slab was never dropped, and dropping others does not reorder it), then sweeps the slab's
+  // buckets into its own pairs. Changes slab s and its part of the serial lane's input array
+  // (it reads the other slabs' lists).
+  void sweepSlab(std::size_t s) {
+    // One axis has no Subdivider to sweep with; findPairs never comes here then.
+    if constexpr (D > 1) {
+      Slab& slab = slabs_[s];
+      Lane& lane = slab.lane;
+      lane.stats = {};
+      Subdivider& first = lane.subdividers[0];
+      first.held.clear();
+      if (s > 0) {
+        const uint32_t c = slabFirstBucket(s);
+        auto& incoming = slab.incoming;
+        incoming.clear();
+        for (std::size_t r = 0; r + 1 < s; ++r) {
+          if (slabs_[r].farReach < c) continue;
+          for (uint32_t e : slabs_[r].far) {
+            if (cells_[e].hi[0] >= c) incoming.push_back(e);
+          }
+        }
+        // Every object the slab below lists reaches this slab.
+        const Slab& below = slabs_[s - 1];
+        const std::size_t before = incoming.size();
+        incoming.resize(before + below.near.size() + below.far.size());
+        std::merge(below.near.begin(), below.near.end(), below.far.begin(), below.far.end(),
+                   incoming.begin() + static_cast<std::ptrdiff_t>(before));
+        for (std::size_t begin = 0; begin < incoming.size();) {
+          const uint32_t bucket = cells_[incoming[begin]].lo[0];
+          std::size_t end = begin + 1;
+          while (end < incoming.size() && cells_[incoming[end]].lo[0] == bucket) ++end;
+          const std::size_t entering = end - begin;
+          const uint32_t* current = currentArray<0>(lane, incoming.data() + begin, entering);
+          first.merged.resize(first.held.size() + entering);
+          mergeOnNextAxis<0>(first.held.data(), first.held.size(), current, entering,
+                             first.merged.data());
+          first.held.swap(first.merged);
+          begin = end;
+        }
+      }
+      // The room for the pairs: the last search's count for this slab, as the serial search
+      // sizes its output, but never cut back, so that a warm search writes no zeros here.
+      const std::size_t want = std::max(slab.lastPairs + slab.lastPairs / 8 + 1024,
+                                        slab.pairs.capacity());
+      if (slab.pairs.size() < want) slab.pairs.resize(want);
+      lane.sink = {&slab.pairs, slab.pairs.data(), slab.pairs.data() + slab.pairs.size()};
+      // The slab's part of the serial lane's input array: its positions, written here rather
+      // than in one pass before, so that they are in this thread's cache when swept.
+      const uint32_t begin = slabBegin_[s], end = slabBegin_[s + 1];
+      uint32_t* in = lane_.subdividers[0].input.data() + begin;
+      std::iota(in, in + (end - begin), begin);
+      sweepBuckets<0>(lane, in, end - begin);
+      slab.pairCount = static_cast<std::size_t>(lane.sink.next - slab.pairs.data());
+      slab.lastPairs = slab.pairCount;
+      lane.sink = {};
+    }
+  }
+
+  // Returns the current array of m entries in[0..m) entering one bucket of axis K, in the
+  // order Subdivider K merges it: as they are when discretize() sorted over all axes, else
+  // sorted on axis K+1 (and then by the minimum itself if K+1 is the last axis) into the
+  // lane's current array. Changes the lane's current array and key-sort scratch.
+  template <int K>
+  const uint32_t* currentArray(Lane& lane, const uint32_t* in, std::size_t m) const {
+    if (presorted_) return in;
+    Subdivider& s = lane.subdividers[K];
+    s.current.resize(m);
+    sortByKey(
+        in, s.current.data(), m,
+        [this](uint32_t e) { return cells_[e & kIndexMask].lo[K + 1]; }, lane.scratch);
+    if constexpr (K + 1 == D - 1) refineOnLastAxis(s.current.data(), m);
+    return s.current.data();
+  }
+
+  // Merges held[0..a) and current[0..b), both in the order of axis K+1 that Subdivider K
+  // keeps, into out[0..a+b): stably, held entries first among equals. Changes out only.
+  template <int K>
+  void mergeOnNextAxis(const uint32_t* held, std::size_t a, const uint32_t* current,
+                       std::size_t b, uint32_t* out) const {
+    if constexpr (K + 1 == D - 1) {
+      std::merge(held, held + a, current, current + b, out,
+                 [&](uint32_t x, uint32_t y) { return lastLo(x) < lastLo(y); });
+    } else if (presorted_) {
+      // Kept in the full order of the later axes, so that Subdivider K+1's runs are too.
+      std::merge(held, held + a, current, current + b, out,
+                 [&](uint32_t x, uint32_t y) { return laterBefore<K + 1>(x, y); });
+    } else {
+      std::merge(held, held + a, current, current + b, out, [&](uint32_t x, uint32_t y) {
+        return cells_[x & kIndexMask].lo[K + 1] < cells_[y & kIndexMask].lo[K + 1];
+      });
+    }
+  }
+
+  // Subdivider K < D-1 over m entries in[0..m), sorted by bucket on axis K, starting with an
+  // empty held-over array (see sweepBuckets). Changes the lane's Subdividers >= K.
+  template <int K>
+  void subdivide(Lane& lane, const uint32_t* in, std::size_t m) {
+    lane.subdividers[K].held.clear();
+    sweepBuckets<K>(lane, in, m);
   }
 
   // Subdivider K < D-1. `in` holds m entries sorted by bucket on axis K. Sweeps the buckets
@@ -350,26 +643,20 @@ class CGrid final : public BroadPhase<D, T> {
   // bucket, lower-adjacent on axis K) sorted on axis K+1, merges the current array (objects
   // entering the bucket, sorted on axis K+1) into it, and forwards the result, already in
   // bucket order for Subdivider K+1. Held-over arrays are reused, not subdivided again, as in
-  // the thesis's SGrid; each object is sorted once per axis. Changes Subdividers >= K.
+  // the thesis's SGrid; each object is sorted once per axis. The held-over array starts as the
+  // lane holds it (empty, or a slab's objects from lower buckets). Changes the lane's
+  // Subdividers >= K, its counters, and appends pairs to its sink.
   template <int K>
-  void subdivide(const uint32_t* in, std::size_t m) {
-    Subdivider& s = subdividers_[K];
-    s.held.clear();
-    auto nextKey = [this](uint32_t e) { return cells_[e & kIndexMask].lo[K + 1]; };
+  void sweepBuckets(Lane& lane, const uint32_t* in, std::size_t m) {
+    Subdivider& s = lane.subdividers[K];
     for (std::size_t begin = 0; begin < m;) {
       const uint32_t c = cells_[in[begin] & kIndexMask].lo[K];
       std::size_t end = begin + 1;
       while (end < m && cells_[in[end] & kIndexMask].lo[K] == c) ++end;
 
       // The current array: the run itself when discretize() left it in order.
-      const uint32_t* current = in + begin;
       const std::size_t entering = end - begin;
-      if (!presorted_) {
-        s.current.resize(entering);
-        sortByKey(in + begin, s.current.data(), entering, nextKey, scratch_);
-        if constexpr (K + 1 == D - 1) refineOnLastAxis(s.current.data(), entering);
-        current = s.current.data();
-      }
+      const uint32_t* current = currentArray<K>(lane, in + begin, entering);
       // Held-over objects that still reach bucket c become lower-adjacent on axis K.
       std::size_t kept = 0;
       uint32_t common = kLabelMask;
@@ -384,25 +671,15 @@ class CGrid final : public BroadPhase<D, T> {
       s.held.resize(kept);
       for (std::size_t i = 0; i < entering; ++i) common &= current[i];
       s.merged.resize(kept + entering);
-      if constexpr (K + 1 == D - 1) {
-        std::merge(s.held.begin(), s.held.end(), current, current + entering, s.merged.begin(),
-                   [&](uint32_t a, uint32_t b) { return lastLo(a) < lastLo(b); });
-      } else if (presorted_) {
-        // Kept in the full order of the later axes, so that Subdivider K+1's runs are too.
-        std::merge(s.held.begin(), s.held.end(), current, current + entering, s.merged.begin(),
-                   [&](uint32_t a, uint32_t b) { return laterBefore<K + 1>(a, b); });
-      } else {
-        std::merge(s.held.begin(), s.held.end(), current, current + entering, s.merged.begin(),
-                   [&](uint32_t a, uint32_t b) { return nextKey(a) < nextKey(b); });
-      }
+      mergeOnNextAxis<K>(s.held.data(), kept, current, entering, s.merged.data());
       s.held.swap(s.merged);
       // Where every object shares a lower-adjacent axis, the NAND rule accepts no pair.
       if (s.held.size() > 1 && (common & kLabelMask) == 0) {
-        stats_.forwarded += s.held.size();
+        lane.stats.forwarded += s.held.size();
         if constexpr (K + 1 == D - 1) {
-          contactMask(s.held.data(), s.held.size());
+          contactMask(lane, s.held.data(), s.held.size());
         } else {
-          subdivide<K + 1>(s.held.data(), s.held.size());
+          subdivide<K + 1>(lane, s.held.data(), s.held.size());
         }
       }
       begin = end;
@@ -461,23 +738,24 @@ class CGrid final : public BroadPhase<D, T> {
   // nowhere else. The rule is one more lane of the vector test rather than a split of the run
   // into cells by label walked pairwise: a walk of two cells in merged order is a chain of
   // dependent loads, and the rule rejects only about a fifth of the candidates of a granular
-  // bed (doc/design.md). Appends the overlapping pairs to the output.
-  void contactMask(const uint32_t* in, std::size_t m) {
-    stats_.maskEntries += m;
+  // bed (doc/design.md). Appends the overlapping pairs to the lane's sink.
+  void contactMask(Lane& lane, const uint32_t* in, std::size_t m) {
+    lane.stats.maskEntries += m;
+    auto& columns = lane.mask;
     // The run ends in kPad sentinels that start after everything ends, so the scans stop on
     // the coordinate alone and may read kPad entries at a time.
-    mask_.fit(m + kPad);
+    columns.fit(m + kPad);
     for (std::size_t i = 0; i < m; ++i) {
       const uint32_t j = in[i] & kIndexMask;
-      mask_.put(i, boxes_[j], order_[j], in[i] & kLabelMask);
+      columns.put(i, boxes_[j], order_[j], in[i] & kLabelMask);
     }
-    for (std::size_t p = 0; p < kPad; ++p) mask_.endAt(m + p);
+    for (std::size_t p = 0; p < kPad; ++p) columns.endAt(m + p);
 #if defined(DEMLAB_MASK_AVX2)
     if constexpr (std::is_same_v<T, double>) {
-      if (wide_) return mask::sweepAvx2<D>(mask_, m, sink_);
+      if (wide_) return mask::sweepAvx2<D>(columns, m, lane.sink);
     }
 #endif
-    mask::sweep<D, T>(mask_, m, sink_);
+    mask::sweep<D, T>(columns, m, lane.sink);
   }
 
   double cellFactor_;
@@ -490,10 +768,12 @@ class CGrid final : public BroadPhase<D, T> {
   std::vector<Box<D, T>> boxes_;  // boxes in sorted order (hot for the contact mask)
   std::vector<CellRange> cells_;  // bucket ranges in sorted order
   bool presorted_ = false;        // sorted over all axes: Subdividers' runs arrive in order
-  std::array<Subdivider, D> subdividers_;
-  KeySortScratch scratch_;
-  mask::Columns<D, T> mask_;  // the contact mask's cells, see contactMask()
-  mask::PairSink sink_;       // the output, written ahead of its size during a search
+  Lane lane_;  // the serial search's scratch; its Subdivider 0 input also serves the slabs
+  std::vector<uint32_t> slabBegin_;  // the threaded search's slabs, see partitionSlabs()
+  std::vector<Slab> slabs_;
+  std::size_t threadedMinBoxes_ = kThreadedMinBoxes;
+  std::size_t objectsPerSlab_ = kObjectsPerSlab;
+  std::size_t lastSlabs_ = 0;
   bool wide_ = wideAvailable();
   std::size_t lastPairs_ = 0;  // pairs of the last search, to size the next one's output
 };

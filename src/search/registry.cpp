@@ -27,8 +27,8 @@ template <int D, class T>
 std::span<const BroadPhaseRow<D, T>> broadPhaseTable() {
   static const BroadPhaseRow<D, T> rows[] = {
       {"brute", false, &make<D, T, BruteForce<D, T>>},
-      {"cgrid", true, &make<D, T, CGrid<D, T>>},
-      {"sgrid", true, &make<D, T, CGrid<D, T>, CGrid<D, T>::Extents::Fixed>},
+      {"cgrid", true, &make<D, T, CGrid<D, T>>, true},
+      {"sgrid", true, &make<D, T, CGrid<D, T>, CGrid<D, T>::Extents::Fixed>, true},
       {"nbs", false, &make<D, T, Nbs<D, T>>},
       {"sap", false, &make<D, T, SweepAndPrune<D, T>>},
       {"hgrid", true, &make<D, T, HGrid<D, T>>},

@@ -17,6 +17,7 @@ struct BroadPhaseRow {
   std::string_view name;
   bool usesCellFactor;  // true if SearchOptions::cellFactor changes what it does
   std::unique_ptr<BroadPhase<D, T>> (*make)(const SearchOptions&);
+  bool usesThreads = false;  // true if it runs on ThreadPool::global() when that has threads
 };
 
 // Returns the table of all algorithms, the brute-force oracle first. Defined in registry.cpp

@@ -7,6 +7,7 @@
 #include <new>
 #include <random>
 
+#include "core/thread_pool.hpp"
 #include "search/brute_force.hpp"
 #include "search/cgrid.hpp"
 #include "search/registry.hpp"
@@ -75,6 +76,30 @@ TEST(CGrid, EveryAlgorithmAllocatesNothingOnceWarm) {
     EXPECT_EQ(gAllocations.load(), 0) << row.name;
     EXPECT_GT(out.size(), 0u);
   }
+}
+
+TEST(CGrid, ThreadedSearchAllocatesNothingOnceWarm) {
+  // The threaded path (lowered threshold, a dozen slabs) on two threads: every slab keeps its
+  // buffers, so which thread runs it changes nothing.
+  const auto a = bed(20000, 11);
+  const auto b = jitter(a, 0.05, 12);
+  ThreadPool& pool = ThreadPool::global();
+  const unsigned saved = pool.threads();
+  pool.setThreads(2);
+  CGrid<3, double> grid;
+  grid.setThreadedSearch(1000, 1500);
+  std::vector<IndexPair> out;
+  grid.findPairs(a, out);
+  grid.findPairs(b, out);
+  gAllocations = 0;
+  gCounting = true;
+  grid.findPairs(a, out);
+  grid.findPairs(b, out);
+  gCounting = false;
+  pool.setThreads(saved);
+  EXPECT_EQ(gAllocations.load(), 0);
+  EXPECT_GT(grid.lastSlabs(), 4u);
+  EXPECT_GT(out.size(), 0u);
 }
 
 TEST(CGrid, CellFollowsTheVolumeOfTheObjects) {
