@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "sim/behavior_registry.hpp"
+#include "sim/element_chunks.hpp"
 #include "sim/integrator.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
@@ -35,14 +36,16 @@ class GravityModule final : public SimModule<D> {
     for (int k = 0; k < D; ++k) {
       if (g[k] != 0) axis = k, ++nonzero;
     }
-    if (nonzero == 1) {
-      const Real gk = g[axis];
-      VecD<D>* __restrict f = a.f.data();
-      const Real* __restrict invMass = a.invMass.data();
-      for (size_t i = 0; i < n; ++i) f[i][axis] += gk / invMass[i];
-      return;
-    }
-    for (size_t i = 0; i < n; ++i) a.f[i] += g / a.invMass[i];
+    forEachElementChunk(n, [&](size_t b, size_t e, size_t) {
+      if (nonzero == 1) {
+        const Real gk = g[axis];
+        VecD<D>* __restrict f = a.f.data();
+        const Real* __restrict invMass = a.invMass.data();
+        for (size_t i = b; i < e; ++i) f[i][axis] += gk / invMass[i];
+        return;
+      }
+      for (size_t i = b; i < e; ++i) a.f[i] += g / a.invMass[i];
+    });
   }
 };
 

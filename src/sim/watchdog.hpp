@@ -38,6 +38,7 @@
 #include <limits>
 
 #include "sim/contacts.hpp"
+#include "sim/element_chunks.hpp"
 #include "sim/rigid_body.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
@@ -126,12 +127,27 @@ void watchdogCheck(const Scene<D>& s, Real stepLimit, bool placed = false) {
   // One streaming pass, no division: a sum that is not finite when some x, v or w is not (NaN
   // and infinities propagate through sums), and the largest squared speed. As fast as a plain
   // sum over the positions alone (measured: the pass is bound by the add's latency).
+  // Per element chunk on the thread pool; the chunks' sums added in chunk order.
+  struct Part {
+    double xs;
+    Real v2max;
+  };
+  std::vector<Part> parts(elementChunks(n));
+  forEachElementChunk(n, [&](size_t b, size_t e, size_t c) {
+    double xs = 0;
+    Real v2max = 0;
+    for (size_t i = b; i < e; ++i) {
+      const Real v2 = a.v[i].squaredNorm();
+      xs += a.x[i].sum() + a.v[i].sum() + squaredNorm(a.w[i]);
+      v2max = std::max(v2max, v2);
+    }
+    parts[c] = {xs, v2max};
+  });
   double xs = 0;
   Real v2max = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const Real v2 = a.v[i].squaredNorm();
-    xs += a.x[i].sum() + a.v[i].sum() + squaredNorm(a.w[i]);
-    v2max = std::max(v2max, v2);
+  for (const Part& p : parts) {
+    xs += p.xs;
+    v2max = std::max(v2max, p.v2max);
   }
   const Real dt = s.stepDt;
   const auto fastest = [&] {
@@ -192,16 +208,36 @@ bool watchdogEnergyOver(const Scene<D>& s, WatchdogHit& h) {
   const ElementArrays<D>& a = s.elements.a;
   const size_t n = a.size();
   const VecD<D> g = s.behaviors.gravity();
+  // Per element chunk on the thread pool; the chunks' sums added in chunk order, the fastest
+  // element the first of the largest speed, as one pass would find it.
+  struct Part {
+    double k2, u;
+    Real v2max;
+    size_t fastest;
+  };
+  std::vector<Part> parts(elementChunks(n));
+  forEachElementChunk(n, [&](size_t b, size_t e, size_t c) {
+    Part p{0, 0, -1, b};
+    for (size_t i = b; i < e; ++i) {
+      const Real v2 = a.v[i].squaredNorm();
+      p.k2 += v2 / a.invMass[i] + twiceRotationalEnergy(s, i);
+      p.u -= g.dot(a.x[i]) / a.invMass[i];
+      if (v2 > p.v2max) {
+        p.v2max = v2;
+        p.fastest = i;
+      }
+    }
+    parts[c] = p;
+  });
   double k2 = 0, u = 0;
   Real v2max = -1;
   size_t fastest = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const Real v2 = a.v[i].squaredNorm();
-    k2 += v2 / a.invMass[i] + twiceRotationalEnergy(s, i);
-    u -= g.dot(a.x[i]) / a.invMass[i];
-    if (v2 > v2max) {
-      v2max = v2;
-      fastest = i;
+  for (const Part& p : parts) {
+    k2 += p.k2;
+    u += p.u;
+    if (p.v2max > v2max) {
+      v2max = p.v2max;
+      fastest = p.fastest;
     }
   }
   const double kin = 0.5 * k2;
