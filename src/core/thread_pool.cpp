@@ -1,6 +1,7 @@
 #include "core/thread_pool.hpp"
 
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
 
 namespace demlab {
@@ -18,9 +19,18 @@ inline void relax() {
 #endif
 }
 
-// Pauses before a waiting thread sleeps: about 0.1-0.5 ms, longer than the gaps between a
-// step's regions, far shorter than a user's pause between commands.
-constexpr int kSpins = 1 << 12;
+// How long a waiting thread spins before it sleeps: longer than the serial stretches between a
+// step's regions (a wall pass, the watchdog's scan of the contacts: a fraction of a millisecond
+// on a 10^5 bed), since waking a sleeper costs tens of microseconds in a virtual machine; far
+// shorter than a user's pause between commands.
+constexpr auto kSpinTime = std::chrono::microseconds(2000);
+
+// Returns true while a spin that started at start should go on; pauses a little first.
+inline bool keepSpinning(std::chrono::steady_clock::time_point start, int& k) {
+  relax();
+  if ((++k & 63) != 0) return true;
+  return std::chrono::steady_clock::now() - start < kSpinTime;
+}
 
 unsigned cores() {
   const unsigned c = std::thread::hardware_concurrency();
@@ -78,9 +88,10 @@ void ThreadPool::setThreads(unsigned n) {
       uint32_t seen = start;
       for (;;) {
         uint32_t g = generation_.load(std::memory_order_acquire);
-        for (int k = 0; g == seen && spin_ && k < kSpins; ++k) {
-          relax();
-          g = generation_.load(std::memory_order_acquire);
+        if (g == seen && spin_) {
+          const auto start = std::chrono::steady_clock::now();
+          int k = 0;
+          while (g == seen && keepSpinning(start, k)) g = generation_.load(std::memory_order_acquire);
         }
         while (g == seen) {
           generation_.wait(seen, std::memory_order_acquire);
@@ -96,9 +107,11 @@ void ThreadPool::setThreads(unsigned n) {
 
 void ThreadPool::drain(unsigned thread) {
   insideRegion_ = true;
-  for (;;) {
-    const size_t k = next_.fetch_add(1, std::memory_order_relaxed);
-    if (k >= n_) break;
+  // Thread t runs the t-th share of the tasks, in order: the same thread then takes the same
+  // part of the scene at every step and in every stage (the groups of element blocks, the
+  // element chunks), and finds its data in its own core's cache.
+  const size_t begin = n_ * thread / threads_, end = n_ * (thread + 1) / threads_;
+  for (size_t k = begin; k < end; ++k) {
     try {
       fn_(context_, k, thread);
     } catch (...) {
@@ -122,15 +135,15 @@ void ThreadPool::run(size_t n, TaskFn fn, void* context) {
   context_ = context;
   n_ = n;
   error_ = nullptr;
-  next_.store(0, std::memory_order_relaxed);
   busy_.store(static_cast<unsigned>(workers_.size()), std::memory_order_relaxed);
   generation_.fetch_add(1, std::memory_order_release);
   generation_.notify_all();
   drain(0);
   unsigned b = busy_.load(std::memory_order_acquire);
-  for (int k = 0; b != 0 && spin_ && k < kSpins; ++k) {
-    relax();
-    b = busy_.load(std::memory_order_acquire);
+  if (b != 0 && spin_) {
+    const auto start = std::chrono::steady_clock::now();
+    int k = 0;
+    while (b != 0 && keepSpinning(start, k)) b = busy_.load(std::memory_order_acquire);
   }
   while (b != 0) {
     busy_.wait(b, std::memory_order_acquire);

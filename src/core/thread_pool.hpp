@@ -1,7 +1,8 @@
 // ThreadPool: the threads of the parallel step, one process-wide pool (like a runtime).
 //
-// A parallel region hands the pool n tasks (forEach); the calling thread and the workers take
-// them in any order and the call returns when all are done. Nothing a task computes may depend
+// A parallel region hands the pool n tasks (forEach); thread t of T runs tasks n t / T .. n (t+1)
+// / T - 1 (a static share, so a thread keeps the same part of the scene, and its cache, from
+// step to step) and the call returns when all are done. Nothing a task computes may depend
 // on which thread runs it or in what order the tasks run: the step's results are the same bits
 // for any number of threads because every task writes its own part (a range of elements, a
 // group of contacts that shares no element with the others running at once) and every sum over
@@ -77,7 +78,6 @@ class ThreadPool {
   void* context_ = nullptr;
   size_t n_ = 0;
   // Each counter on a cache line of its own: the threads spin on them.
-  alignas(64) std::atomic<size_t> next_{0};
   alignas(64) std::atomic<unsigned> busy_{0};  // workers still in the current region
   alignas(64) std::atomic<uint32_t> generation_{0};  // a futex word: wraps harmlessly
   std::atomic<bool> stop_{false};

@@ -126,6 +126,26 @@ void forEachContactGroup(const Scene<D>& s, Body&& body) {
   }
 }
 
+// Appends the records of parts 0 .. parts - 1 (partOf(k): a group's or a chunk's record array,
+// kept by a threaded pass) to the scene's in part order, copying the parts at once on the
+// thread pool. Changes s.contacts and empties
+// the parts.
+template <int D, class PartOf>
+void gatherRecords(Scene<D>& s, size_t parts, PartOf&& partOf) {
+  const size_t start = s.contacts.size();
+  size_t total = start;
+  for (size_t k = 0; k < parts; ++k) total += partOf(k).size();
+  if (total > s.contacts.capacity()) s.contacts.reserve(total + total / 8);
+  s.contacts.resize(total);
+  std::vector<size_t> at(parts);
+  for (size_t k = 0, o = start; k < parts; o += partOf(k).size(), ++k) at[k] = o;
+  ThreadPool::global().forEach(parts, [&](size_t k, unsigned) {
+    std::vector<ContactRecord<D>>& part = partOf(k);
+    std::copy(part.begin(), part.end(), s.contacts.begin() + static_cast<std::ptrdiff_t>(at[k]));
+    part.clear();
+  });
+}
+
 // Returns true when grainPair (makeContactModules: the pair index of the grains' one material,
 // or -1) names a pair of the scene's mixed table. Changes nothing.
 template <int D>
@@ -150,6 +170,72 @@ void bindGrainArrays(Args& k, ElementArrays<D>& a) {
   k.material = a.material.data();
 }
 
+// The narrow-phase table for walls: one lookup per wall per step.
+template <int D>
+struct WallNarrowPhase {
+  TypeRegistry types{"shape type"};
+  TypeInteractionManager<physics::NarrowPhaseEntry<D>> table{types, "narrow phase"};
+  TypeId sphere, byShape[4];
+  WallNarrowPhase() {
+    physics::registerNarrowPhase<D>(types, table);
+    sphere = types.get("sphere");
+    byShape[static_cast<int>(WallShape::Plane)] = types.get("plane");
+    byShape[static_cast<int>(WallShape::Finite)] = types.get("flatwall");
+    byShape[static_cast<int>(WallShape::Box)] = types.get("box");
+    byShape[static_cast<int>(WallShape::Drum)] = types.get("drum");
+  }
+  static const WallNarrowPhase& get() {
+    static const WallNarrowPhase instance;
+    return instance;
+  }
+};
+
+// Returns record c's overlap as a fraction of the smaller radius (a wall's: of the grain's) when
+// it is above f, else -1; the watchdog's measure. A ball pair's test needs no square root:
+// overlap > f min(ra, rb) <=> distance < ra + rb - f min(ra, rb). Changes nothing.
+template <int D>
+Real recordOverlapRatio(const Scene<D>& s, const ContactRecord<D>& c, Real f) {
+  const ElementArrays<D>& a = s.elements.a;
+  if (!c.wall) {
+    const Real ra = a.r[c.a], rb = a.r[c.b];
+    const Real t = ra + rb - f * std::min(ra, rb);
+    if (t <= 0) return -1;  // no distance is that small (equal radii at the default limit 2)
+    const Real d2 = (a.x[c.b] - a.x[c.a]).squaredNorm();
+    if (d2 >= t * t) return -1;
+    return (ra + rb - std::sqrt(d2)) / std::min(ra, rb);
+  }
+  const Wall<D>& w = s.walls.items[c.b];
+  if (const auto* plane = std::get_if<physics::PlaneShape<D>>(&w.shape)) {
+    // A plane: the overlap is r minus the signed distance of the centre.
+    const Real ratio = 1 - (a.x[c.a] - plane->point).dot(plane->normal) / a.r[c.a];
+    return ratio > f ? ratio : -1;
+  }
+  const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
+  const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
+  const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
+  const auto geo = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
+  if (!geo) return -1;
+  const Real ratio = geo->overlap / a.r[c.a];
+  return ratio > f ? ratio : -1;
+}
+
+// Where a pass hands a contact: its record to *records (when recording) or, tracking only the
+// deepest contact, to *deepest. Changes what it points at.
+template <int D>
+struct ContactSink {
+  std::vector<ContactRecord<D>>* records = nullptr;
+  DeepestContact<D>* deepest = nullptr;
+  const Scene<D>* s = nullptr;
+  bool any() const { return records != nullptr || deepest != nullptr; }
+  void put(const ContactRecord<D>& c) const {
+    if (records != nullptr) {
+      appendRecord<D>(*records, c);
+    } else {
+      deepest->consider(recordOverlapRatio(*s, c, s->watchdog.overlap), c);
+    }
+  }
+};
+
 template <int D, int Law, bool History, bool Rotation>
 class BallContactModule final : public SimModule<D> {
  public:
@@ -161,44 +247,49 @@ class BallContactModule final : public SimModule<D> {
 
   void run(Scene<D>& s) override {
     const size_t groups = contactGroupCount(s);
-    energy_.assign(groups, PassEnergy{});
-    contactsOf_.assign(groups, 0);
+    if (out_.size() < groups) out_.resize(groups);
     // One thread appends the records straight to the scene's, in candidate order; several
     // keep each group's and append them in group order (candidate order) after the pass.
     const bool threaded = ThreadPool::global().threads() > 1 && groups > 1;
     const bool record = s.recordContacts;
-    if (record && threaded) {
-      records_.resize(groups);
-      for (auto& r : records_) r.clear();
+    const bool deep = !record && s.trackDeepest;
+    for (size_t g = 0; g < groups; ++g) {
+      out_[g].energy = {};
+      out_[g].contacts = 0;
+      out_[g].records.clear();
+      out_[g].deepest = {};
     }
     if constexpr (History) {
       if (threaded) s.pairSprings.prepareConcurrent();
     }
     bool ran = false;
-    if constexpr (kKernel) ran = kernelPass(s, threaded);
+    if constexpr (kKernel) ran = kernelPass(s, record, deep, threaded);
     if (!ran) {
       forEachContactGroup(s, [&](size_t begin, size_t end, size_t g) {
-        auto* rec = !record ? nullptr : threaded ? &records_[g] : &s.contacts;
+        const ContactSink<D> sink = sinkOf(s, g, record, deep, threaded);
         if (isOnePair(grainPair_, s)) {
-          pass<true>(s, begin, end, energy_[g], rec);
+          pass<true>(s, begin, end, out_[g].energy, sink);
         } else {
-          pass<false>(s, begin, end, energy_[g], rec);
+          pass<false>(s, begin, end, out_[g].energy, sink);
         }
       });
     }
     PassEnergy e;
     for (size_t g = 0; g < groups; ++g) {
-      e.elastic += energy_[g].elastic;
-      e.damping += energy_[g].damping;
-      e.friction += energy_[g].friction;
-      e.springWork += energy_[g].springWork;
+      e.elastic += out_[g].energy.elastic;
+      e.damping += out_[g].energy.damping;
+      e.friction += out_[g].energy.friction;
+      e.springWork += out_[g].energy.springWork;
     }
     if (record && threaded) {
-      // Freed once appended: between steps the records are held once, in the scene.
-      for (auto& r : records_) {
-        for (const ContactRecord<D>& c : r) appendRecord<D>(s.contacts, c);
-        std::vector<ContactRecord<D>>().swap(r);
-      }
+      gatherRecords(s, groups, [&](size_t g) -> std::vector<ContactRecord<D>>& {
+        return out_[g].records;
+      });
+      // Freed: between steps the records are held once, in the scene.
+      for (size_t g = 0; g < groups; ++g) std::vector<ContactRecord<D>>().swap(out_[g].records);
+    }
+    if (deep) {
+      for (size_t g = 0; g < groups; ++g) s.deepest.consider(out_[g].deepest.ratio, out_[g].deepest.record);
     }
     s.ledger.elastic += e.elastic;
     s.ledger.dampingLoss += e.damping;
@@ -207,17 +298,32 @@ class BallContactModule final : public SimModule<D> {
   }
 
   size_t workingBytes() const override {
-    size_t bytes = energy_.capacity() * sizeof(PassEnergy) + contactsOf_.capacity() * sizeof(size_t);
-    for (const auto& r : records_) bytes += r.capacity() * sizeof(ContactRecord<D>);
+    size_t bytes = out_.capacity() * sizeof(GroupOut);
+    for (const GroupOut& o : out_) bytes += o.records.capacity() * sizeof(ContactRecord<D>);
     return bytes;
   }
 
  private:
   long grainPair_;
-  // Per group: the energy sums, the contacts found, the records (threaded and recording).
-  std::vector<PassEnergy> energy_;
-  std::vector<size_t> contactsOf_;
-  std::vector<std::vector<ContactRecord<D>>> records_;
+  // Per group: the energy sums, the contacts found, the records (threaded and recording); a
+  // cache line each, since the groups of a phase write theirs from different threads.
+  struct alignas(64) GroupOut {
+    PassEnergy energy;
+    size_t contacts = 0;
+    std::vector<ContactRecord<D>> records;
+    DeepestContact<D> deepest;
+  };
+  std::vector<GroupOut> out_;
+
+  // Returns where group g's contacts go: the scene's records (one thread), the group's (several),
+  // the group's deepest contact, or nowhere.
+  ContactSink<D> sinkOf(Scene<D>& s, size_t g, bool record, bool deep, bool threaded) {
+    ContactSink<D> k;
+    k.s = &s;
+    if (record) k.records = threaded ? &out_[g].records : &s.contacts;
+    if (deep) k.deepest = &out_[g].deepest;
+    return k;
+  }
 
   // 3D Hertz-Mindlin beds go through the SIMD contact kernel (contact_kernel.hpp) when the
   // platform has one: the same arithmetic in the same order as pass() below, several contacts
@@ -233,24 +339,24 @@ class BallContactModule final : public SimModule<D> {
   static constexpr size_t kPrefetchGrains = 65536;
   size_t lastContacts_ = 0;
 
-  // Where a group's kernel records go: the group's first candidate and its record array.
+  // Where a group's kernel contacts go: the group's first candidate and its sink.
   struct RecordSink {
     const Scene<D>* s;
     size_t base;
-    std::vector<ContactRecord<D>>* out;
+    ContactSink<D> sink;
   };
-  // Appends the kernel's contact records to the sink's array (kernel::HertzPassArgs::record).
+  // Hands the kernel's contacts to the sink (kernel::HertzPassArgs::record).
   static void appendRecords(void* sink, const uint32_t* cand, const double* force, size_t n) {
     const RecordSink& k = *static_cast<const RecordSink*>(sink);
     for (size_t c = 0; c < n; ++c) {
       const CandidatePair p = k.s->candidates[k.base + cand[c]];
-      appendRecord<D>(*k.out, {p.i, p.j, false, VecD<D>(force + 3 * c)});
+      k.sink.put({p.i, p.j, false, VecD<D>(force + 3 * c)});
     }
   }
 
   // Returns false, changing nothing, when no kernel is active; else runs the pass through it,
   // group by group (threaded: see run()), each group's energy sums into energy_.
-  bool kernelPass(Scene<D>& s, bool threaded) {
+  bool kernelPass(Scene<D>& s, bool record, bool deep, bool threaded) {
     kernel::Isa isa;
     if (!kernel::activeIsa(&isa)) return false;
     if (kernelFn_ == nullptr || isa != kernelIsa_) {
@@ -297,17 +403,17 @@ class BallContactModule final : public SimModule<D> {
         slots = s.pairSprings.slots(begin);
         k.springs = &slots;
       }
-      RecordSink sink{&s, begin, threaded ? &records_[g] : &s.contacts};
-      if (s.recordContacts) {
+      RecordSink sink{&s, begin, sinkOf(s, g, record, deep, threaded)};
+      if (sink.sink.any()) {
         k.record = &appendRecords;
         k.recordContext = &sink;
       }
       kernelFn_(k);
-      contactsOf_[g] = k.contacts;
-      energy_[g] = {k.elastic, k.damping, k.friction, k.springWork, 0};
+      out_[g].contacts = k.contacts;
+      out_[g].energy = {k.elastic, k.damping, k.friction, k.springWork, 0};
     });
     lastContacts_ = 0;
-    for (size_t c : contactsOf_) lastContacts_ += c;
+    for (size_t g = 0; g < contactGroupCount(s); ++g) lastContacts_ += out_[g].contacts;
     return true;
   }
 
@@ -325,11 +431,10 @@ class BallContactModule final : public SimModule<D> {
   // pass: the results are the same to the bit.
   static constexpr size_t kBatch = 64;
 
-  // Runs candidates begin .. end - 1, adding their energies to e and, when rec is not null,
-  // their records to *rec.
+  // Runs candidates begin .. end - 1, adding their energies to e and handing their contacts to
+  // the sink.
   template <bool OnePair>
-  void pass(Scene<D>& s, size_t begin, size_t end, PassEnergy& e,
-            std::vector<ContactRecord<D>>* rec) {
+  void pass(Scene<D>& s, size_t begin, size_t end, PassEnergy& e, const ContactSink<D>& sink) {
     using Call = LawCall<D, Law>;
     ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
@@ -426,29 +531,9 @@ class BallContactModule final : public SimModule<D> {
           torque[j] -= armB * cn;
         }
         e.add(f);
-        if (rec != nullptr) appendRecord<D>(*rec, {i, j, false, f.force});
+        if (sink.any()) sink.put({i, j, false, f.force});
       }
     }
-  }
-};
-
-// The narrow-phase table for walls: one lookup per wall per step.
-template <int D>
-struct WallNarrowPhase {
-  TypeRegistry types{"shape type"};
-  TypeInteractionManager<physics::NarrowPhaseEntry<D>> table{types, "narrow phase"};
-  TypeId sphere, byShape[4];
-  WallNarrowPhase() {
-    physics::registerNarrowPhase<D>(types, table);
-    sphere = types.get("sphere");
-    byShape[static_cast<int>(WallShape::Plane)] = types.get("plane");
-    byShape[static_cast<int>(WallShape::Finite)] = types.get("flatwall");
-    byShape[static_cast<int>(WallShape::Box)] = types.get("box");
-    byShape[static_cast<int>(WallShape::Drum)] = types.get("drum");
-  }
-  static const WallNarrowPhase& get() {
-    static const WallNarrowPhase instance;
-    return instance;
   }
 };
 
@@ -484,12 +569,16 @@ class WallContactModule final : public SimModule<D> {
         k.force.setZero();
         k.energy = {};
         k.records.clear();
+        k.deepest = {};
         const size_t begin = c * kChunk, end = std::min(nw, begin + kChunk);
-        auto* rec = !s.recordContacts ? nullptr : threaded ? &k.records : &s.contacts;
+        ContactSink<D> sink;
+        sink.s = &s;
+        if (s.recordContacts) sink.records = threaded ? &k.records : &s.contacts;
+        if (!s.recordContacts && s.trackDeepest) sink.deepest = &k.deepest;
         if (isOnePair(grainPair_, s)) {
-          pass<true>(s, w, begin, end, k, rec);
+          pass<true>(s, w, begin, end, k, sink);
         } else {
-          pass<false>(s, w, begin, end, k, rec);
+          pass<false>(s, w, begin, end, k, sink);
         }
       });
       for (size_t c = 0; c < chunks; ++c) {
@@ -500,10 +589,13 @@ class WallContactModule final : public SimModule<D> {
         e.friction += k.energy.friction;
         e.springWork += k.energy.springWork;
         e.wallWork += k.energy.wallWork;
-        if (threaded) {
-          for (const ContactRecord<D>& r : k.records) appendRecord<D>(s.contacts, r);
-          std::vector<ContactRecord<D>>().swap(k.records);
-        }
+        s.deepest.consider(k.deepest.ratio, k.deepest.record);
+      }
+      if (threaded && s.recordContacts) {
+        gatherRecords(s, chunks, [&](size_t c) -> std::vector<ContactRecord<D>>& {
+          return chunks_[c].records;
+        });
+        for (size_t c = 0; c < chunks; ++c) std::vector<ContactRecord<D>>().swap(chunks_[c].records);
       }
     }
     s.ledger.elastic += e.elastic;
@@ -529,14 +621,16 @@ class WallContactModule final : public SimModule<D> {
   long grainPair_;
 
   // One chunk's scratch (the narrow phase's contacts and grains, the kernel's spring slots and
-  // constants) and results (the force on the wall, the energies, the records when threaded).
-  struct Chunk {
+  // constants) and results (the force on the wall, the energies, the records when threaded);
+  // cache lines of its own, since chunks run on different threads.
+  struct alignas(64) Chunk {
     std::vector<physics::ContactGeometry<D>> geoms;
     std::vector<uint32_t> touched, slots;
     std::vector<kernel::HertzPair> pairs;
     std::vector<ContactRecord<D>> records;
     VecD<D> force = VecD<D>::Zero();
     PassEnergy energy;
+    DeepestContact<D> deepest;
   };
   std::vector<Chunk> chunks_;
 
@@ -544,8 +638,7 @@ class WallContactModule final : public SimModule<D> {
   // wall has one PairParams, read once): the grains' forces and torques, their springs, the
   // chunk's wall force and energies; records to *rec when rec is not null.
   template <bool OnePair>
-  void pass(Scene<D>& s, size_t w, size_t begin, size_t end, Chunk& ch,
-            std::vector<ContactRecord<D>>* rec) {
+  void pass(Scene<D>& s, size_t w, size_t begin, size_t end, Chunk& ch, const ContactSink<D>& sink) {
     ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     const size_t nMat = s.nMat();
@@ -577,7 +670,7 @@ class WallContactModule final : public SimModule<D> {
     physics::TangentialHistory<D>* __restrict springs = nullptr;
     if constexpr (History) springs = s.wallSprings[w].data() + begin;
     if constexpr (kKernel) {
-      if (!wall.moving && kernelWall(s, w, m, which, nWhich, springs, ch, rec)) return;
+      if (!wall.moving && kernelWall(s, w, m, which, nWhich, springs, ch, sink)) return;
     }
     // touched lists the grains in contact in the order of `which`: walk both to find each
     // contact's candidate index (its spring slot), zeroing the springs of those not touched.
@@ -610,7 +703,7 @@ class WallContactModule final : public SimModule<D> {
       e.add(f);
       // Work done by the moving wall on the grain over the step.
       if (wall.moving) e.wallWork -= f.force.dot(vWall) * dt;
-      if (rec != nullptr) appendRecord<D>(*rec, {i, static_cast<uint32_t>(w), true, f.force});
+      if (sink.any()) sink.put({i, static_cast<uint32_t>(w), true, f.force});
     }
     if constexpr (History) {
       while (kc < nWhich) springs[kc++].spring.setZero();
@@ -621,23 +714,20 @@ class WallContactModule final : public SimModule<D> {
   // the same arithmetic in the same order as the loop in pass()), when the platform has one.
   static constexpr bool kKernel = D == 3 && Law == static_cast<int>(physics::LawKind::HertzMindlin);
   struct RecordSink {
-    std::vector<ContactRecord<D>>* out;
+    ContactSink<D> sink;
     const uint32_t* grain;
     uint32_t wall;
   };
   static void appendRecords(void* sink, const uint32_t* c, const double* force, size_t n) {
     const RecordSink& k = *static_cast<const RecordSink*>(sink);
-    for (size_t j = 0; j < n; ++j) {
-      appendRecord<D>(*k.out, {k.grain[c[j]], k.wall, true, VecD<D>(force + 3 * j)});
-    }
+    for (size_t j = 0; j < n; ++j) k.sink.put({k.grain[c[j]], k.wall, true, VecD<D>(force + 3 * j)});
   }
 
   // Returns false, changing nothing, when no kernel is active; else runs the chunk's m
   // contacts (ch.geoms, ch.touched; candidates which[0 .. nWhich), springs from springs[0])
   // through it.
   bool kernelWall(Scene<D>& s, size_t w, size_t m, const uint32_t* which, size_t nWhich,
-                  physics::TangentialHistory<D>* springs, Chunk& ch,
-                  std::vector<ContactRecord<D>>* rec) {
+                  physics::TangentialHistory<D>* springs, Chunk& ch, const ContactSink<D>& sink) {
     kernel::Isa isa;
     if (!kernel::activeIsa(&isa)) return false;
     const kernel::WallPassFn fn = kernel::wallPass(isa, History, Rotation);
@@ -675,10 +765,10 @@ class WallContactModule final : public SimModule<D> {
     k.dt = s.stepDt;
     k.lag = velocityLag(s);
     k.springCriterion = s.coulomb == physics::CoulombCriterion::Spring;
-    RecordSink sink{rec, ch.touched.data(), static_cast<uint32_t>(w)};
-    if (rec != nullptr) {
+    RecordSink rs{sink, ch.touched.data(), static_cast<uint32_t>(w)};
+    if (sink.any()) {
       k.record = &appendRecords;
-      k.recordContext = &sink;
+      k.recordContext = &rs;
     }
     if (m > 0) fn(k);
     for (int c = 0; c < D; ++c) ch.force[c] = k.wallForce[c];

@@ -1,5 +1,6 @@
 // Element chunks: the per-element stages of the threaded step (the integrator, the behaviors,
-// the watchdog's scans) split the dense arrays into chunks of kChunkElements, a count fixed
+// the watchdog's scans) split the dense arrays into chunks of kChunkElements (small enough to
+// balance a 10^4 bed over several threads), a count fixed
 // apart from the threads, so that any sum over chunks, taken in chunk order, has the same
 // bits for any number of threads.
 #pragma once
@@ -11,7 +12,7 @@
 
 namespace demlab::sim {
 
-inline constexpr size_t kChunkElements = 4096;
+inline constexpr size_t kChunkElements = 1024;
 
 // Returns the number of chunks of n elements.
 inline size_t elementChunks(size_t n) {

@@ -53,6 +53,7 @@ class PredictModule final : public SimModule<D> {
     // The contact passes of this step rebuild the per-step outputs.
     if (!s.contacts.empty()) s.lastRecorded = s.contacts.size();
     s.contacts.clear();
+    s.deepest = {};
     s.ledger.elastic = 0;
   }
 

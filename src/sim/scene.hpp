@@ -73,6 +73,21 @@ struct ContactRecord {
 };
 static_assert(sizeof(ContactRecord<3>) == 32);
 
+// The contact whose overlap is the largest fraction of its smaller radius (a wall's: of the
+// grain's), as the watchdog measures it (recordOverlapRatio); ratio -1 when none is known.
+template <int D>
+struct DeepestContact {
+  Real ratio = -1;
+  ContactRecord<D> record{0, 0, 0, VecD<D>::Zero()};
+  // Keeps c if its ratio is larger than the one kept (ties keep the earlier). Changes *this.
+  void consider(Real r, const ContactRecord<D>& c) {
+    if (r > ratio) {
+      ratio = r;
+      record = c;
+    }
+  }
+};
+
 // Appends r to records. A full array grows by an eighth, not by doubling: the detection module
 // sizes it for about the contacts of the last recorded step, and a doubled copy would hold up to
 // twice the records' memory for the rest of the skin's life. Changes records.
@@ -197,6 +212,11 @@ struct Scene {
   // clears it for the steps nothing can look at (no outputs, progress or stop callbacks: every
   // step but the last), so the records after a run are the same either way.
   bool recordContacts = true;
+  // Whether, with recordContacts off, the contact passes keep only the contact that overlaps
+  // most (the watchdog's overlap check, the one reader of every step's contacts by default):
+  // each group of a pass keeps its own, and they are compared in record order after it.
+  bool trackDeepest = false;
+  DeepestContact<D> deepest;
   size_t lastRecorded = 0;  // the records of the last step that recorded any
   bool rotating = false;    // the rotation modules run
   LedgerSums ledger;

@@ -152,14 +152,18 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       options.progressEvery ? options.progressEvery : std::max<uint64_t>(1, total / 100);
   bool watched = s_.watchdog.enabled;
   // The contact records of a step are only seen after the run's last step unless an output,
-  // the progress callback, a stop or the watchdog's overlap check (which reads them at every
-  // step: a blow-up's deep overlaps can come and go within a few steps) looks in between.
-  bool seen = !outputs_.empty() || options.progress || options.stop ||
-              (watched && s_.watchdog.overlap > 0) || loop_.readsContactRecords();
+  // the progress callback, a stop or a module that reads them looks in between. The
+  // watchdog's overlap check looks at every step (a blow-up's deep overlaps can come and go
+  // within a few steps) but needs no records: the passes keep the step's deepest contact.
+  bool seen = !outputs_.empty() || options.progress || options.stop || loop_.readsContactRecords();
   struct Restore {
     bool& flag;
-    ~Restore() { flag = true; }
-  } restore{s_.recordContacts};
+    bool& deep;
+    ~Restore() {
+      flag = true;
+      deep = false;
+    }
+  } restore{s_.recordContacts, s_.trackDeepest};
   std::optional<WatchdogTrip> trip;
   try {
     // The scene as set up (placed overlaps, initial speeds) before the first step.
@@ -170,6 +174,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
         break;
       }
       s_.recordContacts = seen || k + 1 == total;
+      s_.trackDeepest = !s_.recordContacts && watched && s_.watchdog.overlap > 0;
       loop_.step(s_);
       if (!s_.deferred.empty() && applyDeferred()) {
         seen = seen || loop_.readsContactRecords();

@@ -71,46 +71,16 @@ Real watchdogStepLimit(const Scene<D>& s) {
 template <bool Shapes, int D>
 std::pair<const ContactRecord<D>*, Real> deepestRecord(const Scene<D>& s, Real f) {
   const ElementArrays<D>& a = s.elements.a;
-  const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
   const ContactRecord<D>* worst = nullptr;
   Real worstRatio = f;
   for (const ContactRecord<D>& c : s.contacts) {
     if constexpr (Shapes) {
       if (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0)) continue;
     }
-    if (!c.wall) {
-      // overlap > f min(ra, rb)  <=>  distance < ra + rb - f min(ra, rb): no square root.
-      const Real ra = a.r[c.a], rb = a.r[c.b];
-      const Real t = ra + rb - f * std::min(ra, rb);
-      if (t <= 0) continue;  // no distance is that small (equal radii at the default limit 2)
-      const Real d2 = (a.x[c.b] - a.x[c.a]).squaredNorm();
-      if (d2 >= t * t) continue;
-      const Real ratio = (ra + rb - std::sqrt(d2)) / std::min(ra, rb);
-      if (ratio > worstRatio) {
-        worstRatio = ratio;
-        worst = &c;
-      }
-    } else {
-      const Wall<D>& w = s.walls.items[c.b];
-      if (const auto* plane = std::get_if<physics::PlaneShape<D>>(&w.shape)) {
-        // A plane: the overlap is r minus the signed distance of the centre.
-        const Real ratio = 1 - (a.x[c.a] - plane->point).dot(plane->normal) / a.r[c.a];
-        if (ratio > worstRatio) {
-          worstRatio = ratio;
-          worst = &c;
-        }
-        continue;
-      }
-      const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
-      const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
-      const auto geo =
-          np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
-      if (!geo) continue;
-      const Real ratio = geo->overlap / a.r[c.a];
-      if (ratio > worstRatio) {
-        worstRatio = ratio;
-        worst = &c;
-      }
+    const Real ratio = recordOverlapRatio(s, c, f);
+    if (ratio > worstRatio) {
+      worstRatio = ratio;
+      worst = &c;
     }
   }
   return {worst, worstRatio};
@@ -179,10 +149,17 @@ void watchdogCheck(const Scene<D>& s, Real stepLimit, bool placed = false) {
     throw h;
   }
   const Real f = placed ? o.placed : o.overlap;
-  // The run records the contacts at every step while this check is on (SimulationManager::run).
-  if (f > 0 && s.recordContacts) {
+  // Between a run's records (its last step, outputs) the passes keep the step's deepest contact
+  // themselves (trackDeepest): the same measure, in the same record order, shape contacts left
+  // out either way.
+  if (f > 0 && (s.recordContacts || s.trackDeepest)) {
+    using Found = std::pair<const ContactRecord<D>*, Real>;
+    const Found deepest =
+        s.deepest.ratio > f ? Found{&s.deepest.record, s.deepest.ratio} : Found{nullptr, f};
     const auto [worst, worstRatio] =
-        s.anyShapes ? deepestRecord<true>(s, f) : deepestRecord<false>(s, f);
+        !s.recordContacts ? deepest
+        : s.anyShapes     ? deepestRecord<true>(s, f)
+                          : deepestRecord<false>(s, f);
     if (worst) {
       WatchdogHit h{WatchdogHit::Overlap};
       h.a = worst->a;
