@@ -128,8 +128,7 @@ void forEachContactGroup(const Scene<D>& s, Body&& body) {
 
 // Appends the records of parts 0 .. parts - 1 (partOf(k): a group's or a chunk's record array,
 // kept by a threaded pass) to the scene's in part order, copying the parts at once on the
-// thread pool. Changes s.contacts and empties
-// the parts.
+// thread pool. Changes s.contacts and empties the parts.
 template <int D, class PartOf>
 void gatherRecords(Scene<D>& s, size_t parts, PartOf&& partOf) {
   const size_t start = s.contacts.size();
