@@ -95,6 +95,21 @@ struct PassEnergy {
     friction += f.frictionLoss;
     springWork += f.springWork;
   }
+  // Adds another part's sums (a group's, a chunk's). Changes *this.
+  void merge(const PassEnergy& o) {
+    elastic += o.elastic;
+    damping += o.damping;
+    friction += o.friction;
+    springWork += o.springWork;
+    wallWork += o.wallWork;
+  }
+  // Books the contact energies (not the wall work) to the ledger. Changes l.
+  void bookTo(LedgerSums& l) const {
+    l.elastic += elastic;
+    l.dampingLoss += damping;
+    l.frictionLoss += friction;
+    l.springWork += springWork;
+  }
 };
 
 // Returns the number of groups forEachContactGroup runs: the scene's groups when they cover
@@ -274,12 +289,7 @@ class BallContactModule final : public SimModule<D> {
       });
     }
     PassEnergy e;
-    for (size_t g = 0; g < groups; ++g) {
-      e.elastic += out_[g].energy.elastic;
-      e.damping += out_[g].energy.damping;
-      e.friction += out_[g].energy.friction;
-      e.springWork += out_[g].energy.springWork;
-    }
+    for (size_t g = 0; g < groups; ++g) e.merge(out_[g].energy);
     if (record && threaded) {
       gatherRecords(s, groups, [&](size_t g) -> std::vector<ContactRecord<D>>& {
         return out_[g].records;
@@ -290,10 +300,7 @@ class BallContactModule final : public SimModule<D> {
     if (deep) {
       for (size_t g = 0; g < groups; ++g) s.deepest.consider(out_[g].deepest.ratio, out_[g].deepest.record);
     }
-    s.ledger.elastic += e.elastic;
-    s.ledger.dampingLoss += e.damping;
-    s.ledger.frictionLoss += e.friction;
-    s.ledger.springWork += e.springWork;
+    e.bookTo(s.ledger);
   }
 
   size_t workingBytes() const override {
@@ -583,11 +590,7 @@ class WallContactModule final : public SimModule<D> {
       for (size_t c = 0; c < chunks; ++c) {
         Chunk& k = chunks_[c];
         wall.force += k.force;
-        e.elastic += k.energy.elastic;
-        e.damping += k.energy.damping;
-        e.friction += k.energy.friction;
-        e.springWork += k.energy.springWork;
-        e.wallWork += k.energy.wallWork;
+        e.merge(k.energy);
         s.deepest.consider(k.deepest.ratio, k.deepest.record);
       }
       if (threaded && s.recordContacts) {
@@ -597,10 +600,7 @@ class WallContactModule final : public SimModule<D> {
         for (size_t c = 0; c < chunks; ++c) std::vector<ContactRecord<D>>().swap(chunks_[c].records);
       }
     }
-    s.ledger.elastic += e.elastic;
-    s.ledger.dampingLoss += e.damping;
-    s.ledger.frictionLoss += e.friction;
-    s.ledger.springWork += e.springWork;
+    e.bookTo(s.ledger);
     s.ledger.wallWork += e.wallWork;
   }
 
