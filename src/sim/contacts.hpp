@@ -133,10 +133,22 @@ void forEachContactGroup(const Scene<D>& s, Body&& body) {
     return;
   }
   ThreadPool& pool = ThreadPool::global();
+  const size_t threads = pool.threads();
+  std::vector<uint32_t> cut(threads + 1);
   for (const ContactGroups::Range& phase : g.phases) {
-    pool.forEach(phase.end - phase.begin, [&](size_t t, unsigned) {
-      const size_t k = phase.begin + t;
-      body(size_t{g.groups[k].begin}, size_t{g.groups[k].end}, k);
+    // Thread t takes the t-th share of the phase's candidates, whole groups in order: groups
+    // differ tenfold in size, so equal counts of groups would leave a thread idle.
+    const size_t first = g.groups[phase.begin].begin, all = g.groups[phase.end - 1].end - first;
+    uint32_t k = phase.begin;
+    for (size_t t = 0; t <= threads; ++t) {
+      const size_t want = first + all * t / threads;
+      while (k < phase.end && g.groups[k].begin < want) ++k;
+      cut[t] = t == threads ? phase.end : k;
+    }
+    pool.forEach(threads, [&](size_t t, unsigned) {
+      for (uint32_t j = cut[t]; j < cut[t + 1]; ++j) {
+        body(size_t{g.groups[j].begin}, size_t{g.groups[j].end}, size_t{j});
+      }
     });
   }
 }
