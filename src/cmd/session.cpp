@@ -18,7 +18,7 @@ sim::Simulation& Session::scene() const {
 }
 
 std::int64_t scriptId(std::uint32_t index, std::uint32_t generation) {
-  return std::int64_t((std::uint64_t((generation - 1) / 2) << 32) | index);
+  return Handle<struct AnyKind>{index, generation}.scriptId();
 }
 
 namespace {

@@ -35,6 +35,13 @@ struct Handle {
   // Returns the handle packed into 64 bits (generation high, index low), e.g. for a Tcl wide int.
   constexpr uint64_t bits() const noexcept { return uint64_t{generation} << 32 | index; }
 
+  // Returns the id scripts and files see: a handle's first life gets the id of its slot (0, 1,
+  // 2, ...); each reuse of a slot adds 2^32, so a stale id never names the object that took
+  // its slot.
+  constexpr int64_t scriptId() const noexcept {
+    return int64_t(uint64_t((generation - 1) / 2) << 32 | index);
+  }
+
   // Returns the handle whose bits() is b.
   static constexpr Handle fromBits(uint64_t b) noexcept {
     return Handle{static_cast<uint32_t>(b), static_cast<uint32_t>(b >> 32)};

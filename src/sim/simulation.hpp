@@ -225,6 +225,25 @@ struct MemoryReport {
   size_t total() const { return grains + detection + search + springs + contacts + passes; }
 };
 
+// Every element's state at once, in dense order, for writers of whole scenes (dumps): one
+// call, not one ElementState (with its strings) per element.
+struct ElementTable {
+  std::vector<ElementId> ids;
+  // 3 per element; 2D: z = 0, and the angular ones (angular velocity, torque) about z only.
+  std::vector<double> position, velocity, angularVelocity, force, torque;
+  std::vector<double> orientation;  // 4 per element: quaternion w x y z (2D: about z)
+  std::vector<double> radius;       // a non-ball's bounding radius
+  std::vector<double> mass;
+  std::vector<uint32_t> material;  // into materialNames
+  std::vector<std::string> materialNames;
+  std::vector<uint32_t> shape;  // into shapeNames (0: the ball)
+  std::vector<std::string> shapeNames;
+  size_t shapeParamCount = 0;      // the most parameters any element's shape has
+  std::vector<double> shapeParams;  // shapeParamCount per element, 0 beyond its own
+  std::vector<std::string> tagNames;         // every tag an element carries, sorted
+  std::vector<std::vector<uint8_t>> tagged;  // per tag, per element: 1 if it carries it
+};
+
 struct ContactInfo {
   ElementId a;  // always a grain
   ElementId b;  // the other grain, or null when the contact is with wall
@@ -389,6 +408,10 @@ struct OutputDef {
   uint64_t everySteps = 0;  // > 0, or 0 when everyTime is used
   double everyTime = 0;     // > 0 and finite (seconds), or 0 when everySteps is used
   std::function<void(const Simulation&)> callback;  // required
+  // Whether the callback reads the step's contacts (contacts(), contactCount()): the passes
+  // then keep contact records at the steps the output is due at (and only those, unless
+  // something else reads them).
+  bool needsContacts = true;
 };
 
 struct OutputInfo {
@@ -590,6 +613,7 @@ class Simulation {
   virtual std::vector<double> orientations() const = 0;
   virtual std::vector<double> forces() const = 0;
   virtual std::vector<double> radii() const = 0;
+  virtual ElementTable elementTable() const = 0;
   // Returns how the renderer draws the elements (sim/shape.hpp, ShapeType::renderTriangles):
   // per element in dense order the index of its mesh in meshes, or -1 for a ball (drawn as a
   // sphere or disc). meshOf is empty when no element has a mesh.

@@ -115,6 +115,7 @@ class SimulationManager final : public Simulation {
   std::vector<double> angularVelocities() const override;
   std::vector<double> orientations() const override;
   std::vector<double> forces() const override;
+  ElementTable elementTable() const override;
   std::vector<double> radii() const override;
 
   uint64_t stateDigest() const override;
@@ -198,6 +199,8 @@ class SimulationManager final : public Simulation {
   Scene<D> s_;
   SimLoop<D> loop_;
   HandlePool<OutputKind> outputPool_{"output"};
+  // Returns true if an output that reads contacts may be due at the end of the next step.
+  bool outputsReadNextStep() const;
   std::vector<Output> outputs_;         // creation order, the order they fire in
   mutable bool firingOutputs_ = false;  // set while the callbacks run
   bool configDirty_ = true;

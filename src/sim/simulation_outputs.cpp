@@ -52,6 +52,20 @@ std::vector<std::unique_ptr<SimModule<D>>> SimulationManager<D>::outputModules()
 }
 
 template <int D>
+bool SimulationManager<D>::outputsReadNextStep() const {
+  const double dt = s_.stepDt, t = s_.time + dt;
+  for (const Output& o : outputs_) {
+    if (!o.def.needsContacts) continue;
+    if (o.def.everySteps ? (s_.steps + 1) % o.def.everySteps == 0
+                         // Three steps wide: the summed time's rounding cannot hide a due step.
+                         : std::floor((t + 1.5 * dt) / o.def.everyTime) >
+                               std::floor((t - 1.5 * dt) / o.def.everyTime))
+      return true;
+  }
+  return false;
+}
+
+template <int D>
 OutputId SimulationManager<D>::addOutput(const OutputDef& def) {
   if (firingOutputs_) {
     throw Error("can't add an output from an output callback", {"STATE", "BUSY"});

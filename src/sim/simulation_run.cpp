@@ -155,7 +155,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   // the progress callback, a stop or a module that reads them looks in between. The
   // watchdog's overlap check looks at every step (a blow-up's deep overlaps can come and go
   // within a few steps) but needs no records: the passes keep the step's deepest contact.
-  bool seen = !outputs_.empty() || options.progress || options.stop || loop_.readsContactRecords();
+  // Outputs that read contacts get records at the steps they are due at.
+  bool seen = options.progress || options.stop || loop_.readsContactRecords();
   struct Restore {
     bool& flag;
     bool& deep;
@@ -173,7 +174,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
         rep.interrupted = true;
         break;
       }
-      s_.recordContacts = seen || k + 1 == total;
+      s_.recordContacts = seen || k + 1 == total || outputsReadNextStep();
       s_.trackDeepest = !s_.recordContacts && watched && s_.watchdog.overlap > 0;
       loop_.step(s_);
       if (!s_.deferred.empty() && applyDeferred()) {
@@ -638,6 +639,66 @@ std::vector<double> SimulationManager<D>::orientations() const {
 template <int D>
 std::vector<double> SimulationManager<D>::radii() const {
   return s_.elements.a.r;
+}
+
+template <int D>
+ElementTable SimulationManager<D>::elementTable() const {
+  const ElementArrays<D>& a = s_.elements.a;
+  const size_t n = s_.elements.size();
+  ElementTable t;
+  t.ids = elementIds();
+  auto three = [n](auto&& get) {
+    std::vector<double> out;
+    out.reserve(3 * n);
+    for (size_t i = 0; i < n; ++i) {
+      const Vec3d v = get(i);
+      out.insert(out.end(), v.begin(), v.end());
+    }
+    return out;
+  };
+  t.position = three([&](size_t i) { return fromVec<D>(a.x[i]); });
+  t.velocity = three([&](size_t i) { return fromVec<D>(a.v[i]); });
+  t.force = three([&](size_t i) { return fromVec<D>(a.f[i]); });
+  t.angularVelocity = three([&](size_t i) { return fromAngular(a.w[i]); });
+  t.torque = three([&](size_t i) { return fromAngular(a.t[i]); });
+  t.orientation.reserve(4 * n);
+  for (size_t i = 0; i < n; ++i) {
+    std::array<double, 4> o = fromRotation(a.q[i]);
+    // A 2D angle as the quaternion of the same turn about z, so one glyph filter serves both.
+    if constexpr (D == 2) o = {std::cos(0.5 * o[0]), 0, 0, std::sin(0.5 * o[0])};
+    t.orientation.insert(t.orientation.end(), o.begin(), o.end());
+  }
+  t.radius = a.r;
+  t.mass.resize(n);
+  for (size_t i = 0; i < n; ++i) t.mass[i] = 1 / a.invMass[i];
+  t.material = a.material;
+  t.materialNames = s_.materialNames;
+  // Shapes: the ball first, then the types in the order elements use them.
+  const ShapeTable<D>& table = ShapeTable<D>::get();
+  std::vector<int64_t> indexOfType;
+  auto shapeIndex = [&](TypeId id) {
+    if (indexOfType.size() <= id.value) indexOfType.resize(id.value + 1, -1);
+    if (indexOfType[id.value] < 0) {
+      indexOfType[id.value] = int64_t(t.shapeNames.size());
+      t.shapeNames.emplace_back(table.type(id).name());
+    }
+    return uint32_t(indexOfType[id.value]);
+  };
+  shapeIndex(ShapeTable<D>::ball());
+  for (const auto& g : s_.geometries) t.shapeParamCount = std::max(t.shapeParamCount, g->params.size());
+  t.shape.resize(n);
+  t.shapeParams.assign(n * t.shapeParamCount, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    const Geometry<D>& g = *s_.geometries[a.geometry[i]];
+    t.shape[i] = shapeIndex(g.shape);
+    std::copy(g.params.begin(), g.params.end(), t.shapeParams.begin() + i * t.shapeParamCount);
+  }
+  for (std::string_view tag : s_.elements.tags().tags()) {
+    t.tagNames.emplace_back(tag);
+    std::vector<uint8_t>& on = t.tagged.emplace_back(n, 0);
+    s_.elements.tags().forEach(tag, [&](ElementId id) { on[s_.elements.index(id)] = 1; });
+  }
+  return t;
 }
 
 // ---- whole scene ---------------------------------------------------------------------------

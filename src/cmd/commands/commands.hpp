@@ -19,7 +19,8 @@ void registerBehaviorCommands(Registry& r);  // behavior
 void registerModuleCommands(Registry& r);    // module: list, integrator, rotation, detection
 void registerQueryCommands(Registry& r);     // energy, contacts, bounds, counts
 void registerHelpCommands(Registry& r);      // help
-void registerSnapshotCommands(Registry& r);  // snapshot: write, every, list, off, read
+void registerSnapshotCommands(Registry& r);
+void registerDumpCommands(Registry& r);      // dump: vtk, every, list, off, csv, lammps
 void registerStudyCommands(Registry& r);     // study: convergence
 
 // Declares "<group> tag" and "<group> untag" for the objects ref names (element or wall ids

@@ -1,0 +1,232 @@
+#include "io/vtk_xml.hpp"
+
+#include <zlib.h>
+
+#include <cstring>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace demlab::io {
+
+namespace {
+
+// VTK's own default: blocks of 32 KiB decompress independently, so a reader can stream them.
+constexpr size_t kBlockBytes = 32768;
+
+// The header values are little-endian UInt64, like the data (x86-64 and AArch64 are).
+void appendU64(std::string& out, uint64_t v) {
+  char b[8];
+  std::memcpy(b, &v, 8);
+  out.append(b, 8);
+}
+
+// Appends the bytes of one array to the appended block in the file's encoding: raw (a UInt64
+// byte count, then the bytes) or zlib (VTK's block header, then the compressed blocks).
+void appendEncoded(std::string& out, const void* data, size_t bytes, VtkCompression c) {
+  if (c == VtkCompression::None) {
+    appendU64(out, bytes);
+    out.append(static_cast<const char*>(data), bytes);
+    return;
+  }
+  const int level = c == VtkCompression::Fast ? Z_BEST_SPEED : Z_BEST_COMPRESSION;
+  const size_t blocks = (bytes + kBlockBytes - 1) / kBlockBytes;
+  std::vector<uint64_t> sizes(blocks);
+  std::string packed;
+  std::vector<Bytef> buf(compressBound(kBlockBytes));
+  for (size_t k = 0; k < blocks; ++k) {
+    const size_t n = std::min(kBlockBytes, bytes - k * kBlockBytes);
+    uLongf got = static_cast<uLongf>(buf.size());
+    if (compress2(buf.data(), &got, static_cast<const Bytef*>(data) + k * kBlockBytes,
+                  static_cast<uLong>(n), level) != Z_OK) {
+      throw Error("zlib could not compress a VTK array", {"IO", "WRITE"});
+    }
+    sizes[k] = got;
+    packed.append(reinterpret_cast<const char*>(buf.data()), got);
+  }
+  appendU64(out, blocks);
+  appendU64(out, kBlockBytes);
+  appendU64(out, bytes % kBlockBytes);  // 0: the last block is whole
+  for (uint64_t s : sizes) appendU64(out, s);
+  out += packed;
+}
+
+struct TypeInfo {
+  const char* name;
+  const void* data;
+  size_t count;
+  size_t size;
+};
+
+TypeInfo typeOf(const VtkArray& a) {
+  return std::visit(
+      [](const auto& v) -> TypeInfo {
+        using T = typename std::decay_t<decltype(v)>::value_type;
+        const char* n = std::is_same_v<T, double>    ? "Float64"
+                        : std::is_same_v<T, float>   ? "Float32"
+                        : std::is_same_v<T, int64_t> ? "Int64"
+                        : std::is_same_v<T, int32_t> ? "Int32"
+                                                     : "UInt8";
+        return {n, v.data(), v.size(), sizeof(T)};
+      },
+      a.values);
+}
+
+// Returns s with XML's special characters escaped, for attribute values.
+std::string xmlEscape(const std::string& s) {
+  std::string out;
+  for (char ch : s) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += ch;
+    }
+  }
+  return out;
+}
+
+// Builds one file: the XML header written as arrays are declared, their bytes gathered into
+// the appended block with the offsets the declarations name.
+class Writer {
+ public:
+  Writer(const char* type, VtkCompression c) : type_(type), c_(c) {
+    xml_ << "<?xml version=\"1.0\"?>\n<VTKFile type=\"" << type
+         << "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"";
+    if (c != VtkCompression::None) xml_ << " compressor=\"vtkZLibDataCompressor\"";
+    xml_ << ">\n";
+  }
+  std::ostringstream& xml() { return xml_; }
+
+  // Declares array a of tuples tuples (checked against its length) in the XML and appends
+  // its bytes. Returns nothing; changes the file being built.
+  void array(const VtkArray& a, size_t tuples, const char* where, const char* tag = "DataArray") {
+    const TypeInfo t = typeOf(a);
+    if (a.components < 1 || t.count != tuples * size_t(a.components)) {
+      throw Error("VTK array \"" + a.name + "\" in " + where + " holds " + std::to_string(t.count) +
+                      " values for " + std::to_string(tuples) + " tuples of " +
+                      std::to_string(a.components),
+                  {"VALUE", "VTK"});
+    }
+    xml_ << "<" << tag << " type=\"" << t.name << "\"";
+    if (!a.name.empty()) xml_ << " Name=\"" << xmlEscape(a.name) << "\"";
+    xml_ << " NumberOfComponents=\"" << a.components << "\"";
+    if (std::strcmp(tag, "DataArray") != 0 || std::strcmp(where, "FieldData") == 0)
+      xml_ << " NumberOfTuples=\"" << tuples << "\"";
+    xml_ << " format=\"appended\" offset=\"" << data_.size() << "\"/>\n";
+    appendEncoded(data_, t.data, t.count * t.size, c_);
+  }
+
+  // Declares the field data: numeric arrays of any length and string arrays, the latter in
+  // VTK's ASCII form (each string's character codes, then 0).
+  void fieldData(const std::vector<VtkArray>& numbers, const std::vector<VtkStrings>& strings) {
+    if (numbers.empty() && strings.empty()) return;
+    xml_ << "<FieldData>\n";
+    for (const VtkArray& a : numbers) array(a, typeOf(a).count / size_t(a.components), "FieldData");
+    for (const VtkStrings& s : strings) {
+      xml_ << "<Array type=\"String\" Name=\"" << xmlEscape(s.name) << "\" NumberOfTuples=\""
+           << s.values.size() << "\" format=\"ascii\">\n";
+      for (const std::string& v : s.values) {
+        for (unsigned char ch : v) xml_ << int(ch) << ' ';
+        xml_ << "0\n";
+      }
+      xml_ << "</Array>\n";
+    }
+    xml_ << "</FieldData>\n";
+  }
+
+  // Returns the whole file. Call once, after everything is declared.
+  std::string finish() {
+    xml_ << "<AppendedData encoding=\"raw\">\n_";
+    std::string out = xml_.str();
+    out += data_;
+    out += "\n</AppendedData>\n</VTKFile>\n";
+    return out;
+  }
+
+ private:
+  const char* type_;
+  VtkCompression c_;
+  std::ostringstream xml_;
+  std::string data_;
+};
+
+VtkArray int64Array(const char* name, const std::vector<int64_t>& v) {
+  return {name, 1, v};
+}
+
+// Declares a cell block (Verts, Lines or Polys) from its connectivity and end offsets.
+void cells(Writer& w, const char* tag, const std::vector<int64_t>& conn,
+           const std::vector<int64_t>& ends) {
+  w.xml() << "<" << tag << ">\n";
+  w.array(int64Array("connectivity", conn), conn.size(), tag);
+  w.array(int64Array("offsets", ends), ends.size(), tag);
+  w.xml() << "</" << tag << ">\n";
+}
+
+}  // namespace
+
+std::string vtpBytes(const VtkPolyData& d, VtkCompression c) {
+  if (d.points.size() % 3 != 0) throw Error("VTK points must come in threes", {"VALUE", "VTK"});
+  const size_t points = d.points.size() / 3;
+  const size_t verts = d.vertexPerPoint ? points : 0, lines = d.lines.size() / 2,
+               polys = d.polyOffsets.size();
+  Writer w("PolyData", c);
+  w.xml() << "<PolyData>\n";
+  w.fieldData(d.fieldData, d.fieldStrings);
+  w.xml() << "<Piece NumberOfPoints=\"" << points << "\" NumberOfVerts=\"" << verts
+          << "\" NumberOfLines=\"" << lines << "\" NumberOfStrips=\"0\" NumberOfPolys=\"" << polys
+          << "\">\n<PointData>\n";
+  for (const VtkArray& a : d.pointData) w.array(a, points, "PointData");
+  w.xml() << "</PointData>\n<CellData>\n";
+  for (const VtkArray& a : d.cellData) w.array(a, verts + lines + polys, "CellData");
+  w.xml() << "</CellData>\n<Points>\n";
+  w.array({"Points", 3, d.points}, points, "Points");
+  w.xml() << "</Points>\n";
+  if (verts) {
+    std::vector<int64_t> conn(points), ends(points);
+    for (size_t k = 0; k < points; ++k) conn[k] = int64_t(k), ends[k] = int64_t(k + 1);
+    cells(w, "Verts", conn, ends);
+  }
+  if (lines) {
+    std::vector<int64_t> ends(lines);
+    for (size_t k = 0; k < lines; ++k) ends[k] = int64_t(2 * k + 2);
+    cells(w, "Lines", d.lines, ends);
+  }
+  if (polys) cells(w, "Polys", d.polyConnectivity, d.polyOffsets);
+  w.xml() << "</Piece>\n</PolyData>\n";
+  return w.finish();
+}
+
+std::string vtiBytes(const VtkImageData& d, VtkCompression c) {
+  Writer w("ImageData", c);
+  const int64_t* n = d.dims;
+  w.xml().precision(17);
+  w.xml() << "<ImageData WholeExtent=\"0 " << n[0] - 1 << " 0 " << n[1] - 1 << " 0 " << n[2] - 1
+          << "\" Origin=\"" << d.origin[0] << ' ' << d.origin[1] << ' ' << d.origin[2]
+          << "\" Spacing=\"" << d.spacing[0] << ' ' << d.spacing[1] << ' ' << d.spacing[2]
+          << "\">\n";
+  w.fieldData(d.fieldData, {});
+  w.xml() << "<Piece Extent=\"0 " << n[0] - 1 << " 0 " << n[1] - 1 << " 0 " << n[2] - 1
+          << "\">\n<PointData>\n";
+  const size_t points = size_t(n[0] * n[1] * n[2]);
+  for (const VtkArray& a : d.pointData) w.array(a, points, "PointData");
+  w.xml() << "</PointData>\n</Piece>\n</ImageData>\n";
+  return w.finish();
+}
+
+std::string pvdBytes(const std::vector<PvdEntry>& entries) {
+  std::ostringstream x;
+  x.precision(17);
+  x << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" "
+       "byte_order=\"LittleEndian\">\n<Collection>\n";
+  for (const PvdEntry& e : entries) {
+    x << "<DataSet timestep=\"" << e.time << "\" group=\"\" part=\"" << e.part << "\" file=\""
+      << xmlEscape(e.file) << "\"/>\n";
+  }
+  x << "</Collection>\n</VTKFile>\n";
+  return x.str();
+}
+
+}  // namespace demlab::io

@@ -1,0 +1,284 @@
+#include "output/scene_vtk.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace demlab::output {
+
+namespace {
+
+using io::VtkArray;
+using sim::ElementId;
+using sim::Vec3d;
+using sim::WallId;
+using io::VtkPolyData;
+
+// Segments of a drum's circle: its facets differ from the true circle by 0.1% of the radius.
+constexpr int kDrumSegments = 72;
+
+Vec3d add(const Vec3d& a, const Vec3d& b, double s = 1) {
+  return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]};
+}
+double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3d cross(const Vec3d& a, const Vec3d& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec3d unit(const Vec3d& a) {
+  const double n = std::sqrt(dot(a, a));
+  return n > 0 ? Vec3d{a[0] / n, a[1] / n, a[2] / n} : Vec3d{0, 0, 0};
+}
+// Returns a unit vector perpendicular to unit vector n.
+Vec3d perpendicular(const Vec3d& n) {
+  const Vec3d other = std::abs(n[0]) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
+  return unit(cross(n, other));
+}
+
+VtkArray timeArray(const char* name, double v) { return {name, 1, std::vector<double>{v}}; }
+
+// Adds the scene's time and step count as field data (ParaView shows TIME).
+void stamp(const sim::Simulation& s, VtkPolyData& d) {
+  d.fieldData.push_back(timeArray("TIME", s.time()));
+  d.fieldData.push_back({"STEP", 1, std::vector<int64_t>{int64_t(s.stepCount())}});
+}
+
+// Collects wall surfaces: polygons (3D) or lines (2D) over shared points, with the wall each
+// cell belongs to.
+struct WallMesh {
+  VtkPolyData d;
+  std::vector<size_t> wallOfCell;
+
+  int64_t point(const Vec3d& p) {
+    d.points.insert(d.points.end(), p.begin(), p.end());
+    return int64_t(d.points.size() / 3 - 1);
+  }
+  void polygon(const std::vector<Vec3d>& corners, size_t wall) {
+    for (const Vec3d& c : corners) d.polyConnectivity.push_back(point(c));
+    d.polyOffsets.push_back(int64_t(d.polyConnectivity.size()));
+    wallOfCell.push_back(wall);
+  }
+  // Adds the closed or open polyline through corners as lines.
+  void polyline(const std::vector<Vec3d>& corners, bool closed, size_t wall) {
+    std::vector<int64_t> ids;
+    for (const Vec3d& c : corners) ids.push_back(point(c));
+    const size_t n = ids.size(), segments = closed ? n : n - 1;
+    for (size_t k = 0; k < segments; ++k) {
+      d.lines.push_back(ids[k]);
+      d.lines.push_back(ids[(k + 1) % n]);
+      wallOfCell.push_back(wall);
+    }
+  }
+};
+
+// Returns the half size of the square or segment drawn for an infinite plane: the scene's
+// bounds' half diagonal, widened a little so the plane shows beyond the elements.
+double planeHalfSize(const std::array<Vec3d, 2>& b) {
+  const double d = std::sqrt(dot(add(b[1], b[0], -1), add(b[1], b[0], -1)));
+  return d > 0 ? 0.6 * d : 0.5;
+}
+
+void meshWall(const sim::WallState& w, int dim, const std::array<Vec3d, 2>& bounds, size_t k,
+              WallMesh& m) {
+  using sim::WallShape;
+  const Vec3d c = w.centre;
+  if (dim == 2) {
+    switch (w.shape) {
+      case WallShape::Plane: {
+        const Vec3d mid = {0.5 * (bounds[0][0] + bounds[1][0]), 0.5 * (bounds[0][1] + bounds[1][1]),
+                           0};
+        const Vec3d along = {-w.normal[1], w.normal[0], 0};
+        const Vec3d foot = add(mid, along, dot(add(c, mid, -1), along));
+        const Vec3d base = add(foot, w.normal, dot(add(c, foot, -1), w.normal));
+        const double h = planeHalfSize(bounds);
+        m.polyline({add(base, along, -h), add(base, along, h)}, false, k);
+        break;
+      }
+      case WallShape::Finite:
+        m.polyline({add(c, w.axes[0], -w.halfExtents[0]), add(c, w.axes[0], w.halfExtents[0])},
+                   false, k);
+        break;
+      case WallShape::Box: {
+        const Vec3d a = w.axes[0], b = w.axes[1];
+        const double ha = w.halfExtents[0], hb = w.halfExtents[1];
+        m.polyline({add(add(c, a, -ha), b, -hb), add(add(c, a, ha), b, -hb),
+                    add(add(c, a, ha), b, hb), add(add(c, a, -ha), b, hb)},
+                   true, k);
+        break;
+      }
+      case WallShape::Drum: {
+        std::vector<Vec3d> ring;
+        for (int j = 0; j < kDrumSegments; ++j) {
+          const double t = 2 * M_PI * j / kDrumSegments;
+          ring.push_back({c[0] + w.radius * std::cos(t), c[1] + w.radius * std::sin(t), 0});
+        }
+        m.polyline(ring, true, k);
+        break;
+      }
+    }
+    return;
+  }
+  switch (w.shape) {
+    case WallShape::Plane: {
+      const Vec3d mid = {0.5 * (bounds[0][0] + bounds[1][0]), 0.5 * (bounds[0][1] + bounds[1][1]),
+                         0.5 * (bounds[0][2] + bounds[1][2])};
+      const Vec3d base = add(mid, w.normal, dot(add(c, mid, -1), w.normal));
+      const Vec3d u = perpendicular(w.normal), v = cross(w.normal, u);
+      const double h = planeHalfSize(bounds);
+      m.polygon({add(add(base, u, -h), v, -h), add(add(base, u, h), v, -h),
+                 add(add(base, u, h), v, h), add(add(base, u, -h), v, h)},
+                k);
+      break;
+    }
+    case WallShape::Finite: {
+      const Vec3d u = w.axes[0], v = w.axes[1];
+      const double hu = w.halfExtents[0], hv = w.halfExtents[1];
+      m.polygon({add(add(c, u, -hu), v, -hv), add(add(c, u, hu), v, -hv),
+                 add(add(c, u, hu), v, hv), add(add(c, u, -hu), v, hv)},
+                k);
+      break;
+    }
+    case WallShape::Box: {
+      // Each face: the axis it faces along, and its two in-plane axes in right-handed order.
+      for (int f = 0; f < 3; ++f) {
+        const int a = (f + 1) % 3, b = (f + 2) % 3;
+        for (int side : {-1, 1}) {
+          const Vec3d fc = add(c, w.axes[f], side * w.halfExtents[f]);
+          const Vec3d u = w.axes[side > 0 ? a : b], v = w.axes[side > 0 ? b : a];
+          const double hu = w.halfExtents[side > 0 ? a : b], hv = w.halfExtents[side > 0 ? b : a];
+          m.polygon({add(add(fc, u, -hu), v, -hv), add(add(fc, u, hu), v, -hv),
+                     add(add(fc, u, hu), v, hv), add(add(fc, u, -hu), v, hv)},
+                    k);
+        }
+      }
+      break;
+    }
+    case WallShape::Drum: {
+      const Vec3d axis = w.axes[0], u = perpendicular(axis), v = cross(axis, u);
+      for (int j = 0; j < kDrumSegments; ++j) {
+        const double t0 = 2 * M_PI * j / kDrumSegments, t1 = 2 * M_PI * (j + 1) / kDrumSegments;
+        const Vec3d r0 = add(Vec3d{}, u, w.radius * std::cos(t0)),
+                    r1 = add(Vec3d{}, u, w.radius * std::cos(t1));
+        const Vec3d p0 = add(add(c, r0), v, w.radius * std::sin(t0)),
+                    p1 = add(add(c, r1), v, w.radius * std::sin(t1));
+        m.polygon({add(p0, axis, -w.halfLength), add(p1, axis, -w.halfLength),
+                   add(p1, axis, w.halfLength), add(p0, axis, w.halfLength)},
+                  k);
+      }
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+io::VtkPolyData elementsVtk(const sim::Simulation& s) {
+  const sim::ElementTable t = s.elementTable();
+  const size_t n = t.ids.size();
+  VtkPolyData d;
+  d.points = t.position;
+  d.vertexPerPoint = true;
+  std::vector<int64_t> ids(n);
+  for (size_t i = 0; i < n; ++i) ids[i] = t.ids[i].scriptId();
+  d.pointData.push_back({"id", 1, std::move(ids)});
+  for (size_t k = 0; k < t.tagNames.size(); ++k)
+    d.pointData.push_back({"tag_" + t.tagNames[k], 1, t.tagged[k]});
+  d.pointData.push_back({"material", 1, std::vector<int32_t>(t.material.begin(), t.material.end())});
+  d.pointData.push_back({"shape", 1, std::vector<int32_t>(t.shape.begin(), t.shape.end())});
+  if (t.shapeParamCount > 0)
+    d.pointData.push_back({"shape_params", int(t.shapeParamCount), t.shapeParams});
+  d.pointData.push_back({"radius", 1, t.radius});
+  d.pointData.push_back({"mass", 1, t.mass});
+  d.pointData.push_back({"velocity", 3, t.velocity});
+  d.pointData.push_back({"angular_velocity", 3, t.angularVelocity});
+  d.pointData.push_back({"force", 3, t.force});
+  d.pointData.push_back({"torque", 3, t.torque});
+  d.pointData.push_back({"orientation", 4, t.orientation});
+  d.fieldStrings.push_back({"material_names", t.materialNames});
+  d.fieldStrings.push_back({"shape_names", t.shapeNames});
+  stamp(s, d);
+  return d;
+}
+
+io::VtkPolyData wallsVtk(const sim::Simulation& s) {
+  WallMesh m;
+  const std::array<Vec3d, 2> bounds = s.bounds();
+  const std::vector<WallId> ids = s.wallIds();
+  std::vector<sim::WallState> walls;
+  for (WallId id : ids) walls.push_back(s.wall(id));
+  std::vector<std::string> materials;
+  std::vector<int32_t> materialOf;
+  for (size_t k = 0; k < walls.size(); ++k) {
+    meshWall(walls[k], s.dim(), bounds, k, m);
+    auto it = std::find(materials.begin(), materials.end(), walls[k].material);
+    materialOf.push_back(int32_t(it - materials.begin()));
+    if (it == materials.end()) materials.push_back(walls[k].material);
+  }
+  std::vector<int64_t> wallId;
+  std::vector<int32_t> material;
+  std::vector<double> force;
+  for (size_t k : m.wallOfCell) {
+    wallId.push_back(ids[k].scriptId());
+    material.push_back(materialOf[k]);
+    force.insert(force.end(), walls[k].force.begin(), walls[k].force.end());
+  }
+  m.d.cellData.push_back({"wall", 1, std::move(wallId)});
+  m.d.cellData.push_back({"material", 1, std::move(material)});
+  m.d.cellData.push_back({"force", 3, std::move(force)});
+  std::vector<std::string> names;
+  for (const sim::WallState& w : walls) names.push_back(w.name);
+  m.d.fieldStrings.push_back({"wall_names", names});
+  m.d.fieldStrings.push_back({"material_names", materials});
+  stamp(s, m.d);
+  return std::move(m.d);
+}
+
+io::VtkPolyData contactsVtk(const sim::Simulation& s) {
+  const std::vector<sim::ContactInfo> cs = s.contacts();
+  VtkPolyData d;
+  const size_t n = cs.size();
+  // Element centres by handle slot: one lookup per contact end, no per-element state copies.
+  const std::vector<ElementId> ids = s.elementIds();
+  const std::vector<double> x = s.positions();
+  const int dim = s.dim();
+  std::vector<uint32_t> denseOfSlot;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (denseOfSlot.size() <= ids[i].index) denseOfSlot.resize(ids[i].index + 1);
+    denseOfSlot[ids[i].index] = uint32_t(i);
+  }
+  auto centre = [&](ElementId e) {
+    Vec3d p{0, 0, 0};
+    for (int k = 0; k < dim; ++k) p[k] = x[size_t(dim) * denseOfSlot[e.index] + k];
+    return p;
+  };
+  std::vector<int64_t> a(n), b(n), wall(n);
+  std::vector<double> force, normal, tangential, fn(n), overlap(n);
+  force.reserve(3 * n), normal.reserve(3 * n), tangential.reserve(3 * n);
+  for (size_t k = 0; k < n; ++k) {
+    const sim::ContactInfo& c = cs[k];
+    const Vec3d start = centre(c.a), end = c.b.isNull() ? c.point : centre(c.b);
+    d.points.insert(d.points.end(), start.begin(), start.end());
+    d.points.insert(d.points.end(), end.begin(), end.end());
+    d.lines.push_back(int64_t(2 * k));
+    d.lines.push_back(int64_t(2 * k + 1));
+    a[k] = c.a.scriptId();
+    b[k] = c.b.isNull() ? -1 : c.b.scriptId();
+    wall[k] = c.wall.isNull() ? -1 : c.wall.scriptId();
+    fn[k] = dot(c.force, c.normal);
+    const Vec3d ft = add(c.force, c.normal, -fn[k]);
+    force.insert(force.end(), c.force.begin(), c.force.end());
+    normal.insert(normal.end(), c.normal.begin(), c.normal.end());
+    tangential.insert(tangential.end(), ft.begin(), ft.end());
+    overlap[k] = c.overlap;
+  }
+  d.cellData.push_back({"a", 1, std::move(a)});
+  d.cellData.push_back({"b", 1, std::move(b)});
+  d.cellData.push_back({"wall", 1, std::move(wall)});
+  d.cellData.push_back({"force", 3, std::move(force)});
+  d.cellData.push_back({"normal", 3, std::move(normal)});
+  d.cellData.push_back({"normal_force", 1, std::move(fn)});
+  d.cellData.push_back({"tangential_force", 3, std::move(tangential)});
+  d.cellData.push_back({"overlap", 1, std::move(overlap)});
+  stamp(s, d);
+  return d;
+}
+
+}  // namespace demlab::output
