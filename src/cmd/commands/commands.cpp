@@ -9,7 +9,8 @@ Registry& registerAllCommands(Registry& r) {
       registerElementCommands,  registerPackCommands,   registerWallCommands,
       registerBehaviorCommands, registerModuleCommands, registerQueryCommands,
       registerHelpCommands,     registerSnapshotCommands,
-      registerDumpCommands,     registerStudyCommands,
+      registerDumpCommands,     registerSeriesCommands,
+      registerStudyCommands,
   };
   for (Group g : groups) g(r);
   return r;

@@ -21,6 +21,7 @@ void registerQueryCommands(Registry& r);     // energy, contacts, bounds, counts
 void registerHelpCommands(Registry& r);      // help
 void registerSnapshotCommands(Registry& r);
 void registerDumpCommands(Registry& r);      // dump: vtk, every, list, off, csv, lammps
+void registerSeriesCommands(Registry& r);    // series: every, get, list, off, plot
 void registerStudyCommands(Registry& r);     // study: convergence
 
 // Declares "<group> tag" and "<group> untag" for the objects ref names (element or wall ids

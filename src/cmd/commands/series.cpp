@@ -1,0 +1,357 @@
+// The "series" group: time series of named quantities, recorded by an output module every so
+// many steps or seconds into memory (and optionally a CSV file, and a status line on the
+// terminal, as LAMMPS's thermo output), read back as lists and plotted with gnuplot.
+#include <array>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <memory>
+
+#include "cmd/commands/commands.hpp"
+#include "cmd/commands/output_jobs.hpp"
+#include "cmd/words.hpp"
+#include "io/atomic_file.hpp"
+
+namespace demlab::cmd {
+
+namespace {
+
+// One recorded quantity: its name (the column), SI unit ("" for a pure number), and how to
+// read it from the scene at the end of a step.
+struct Quantity {
+  std::string name, unit;
+  std::function<double(const sim::Simulation&)> value;
+  bool readsContacts = false;
+};
+
+using Ledger = sim::EnergyLedger;
+
+// The quantities every scene has, one row each.
+const std::vector<Quantity>& builtins() {
+  auto energy = [](double Ledger::*m) {
+    return [m](const sim::Simulation& s) { return s.energy().*m; };
+  };
+  static const std::vector<Quantity> q = {
+      {"time", "s", [](const sim::Simulation& s) { return s.time(); }},
+      {"step", "", [](const sim::Simulation& s) { return double(s.stepCount()); }},
+      {"elements", "", [](const sim::Simulation& s) { return double(s.elementCount()); }},
+      {"contacts", "", [](const sim::Simulation& s) { return double(s.contactCount()); }, true},
+      {"kinetic", "J", energy(&Ledger::kineticTranslational)},
+      {"rotational", "J", energy(&Ledger::kineticRotational)},
+      {"gravitational", "J", energy(&Ledger::gravitational)},
+      {"elastic", "J", energy(&Ledger::elastic)},
+      {"damping", "J", energy(&Ledger::dampingLoss)},
+      {"friction", "J", energy(&Ledger::frictionLoss)},
+      {"wallwork", "J", energy(&Ledger::wallWork)},
+      {"behaviorwork", "J", energy(&Ledger::behaviorWork)},
+      {"balance", "J", energy(&Ledger::balance)},
+      {"residual", "", energy(&Ledger::residual)},
+      {"timestep", "s", [](const sim::Simulation& s) { return s.timeStep(); }},
+  };
+  return q;
+}
+
+const std::vector<std::string> kWallParts = {"fx", "fy", "fz", "force"};
+
+// Returns the quantity `word` names: a builtin, or wall:WALL:PART with WALL a wall's name or
+// id and PART fx, fy, fz (the force's components) or force (its magnitude). Throws {VALUE
+// QUANTITY} or the wall lookup's error.
+Quantity parseQuantity(const std::string& word, const Param& p, const Context& ctx) {
+  for (const Quantity& q : builtins())
+    if (q.name == word) return q;
+  if (word.rfind("wall:", 0) == 0) {
+    const size_t colon = word.rfind(':');
+    const std::string wall = word.substr(5, colon > 5 ? colon - 5 : 0), part = word.substr(colon + 1);
+    if (colon <= 5 || wall.empty())
+      throw Error("bad quantity \"" + word + "\" (" + p.name + "): must be wall:WALL:PART",
+                  {"VALUE", "QUANTITY"});
+    const std::string& which = matchChoice(part, kWallParts, "wall quantity", {"VALUE", "QUANTITY"});
+    Param wallParam;
+    wallParam.name = p.name;
+    wallParam.type = wallRef();
+    const auto id = std::any_cast<sim::WallId>(convertWord(wall, wallParam, ctx));
+    const int axis = which == "fx" ? 0 : which == "fy" ? 1 : which == "fz" ? 2 : -1;
+    return {word, "N", [id, axis](const sim::Simulation& s) {
+              const sim::Vec3d f = s.wall(id).force;
+              return axis >= 0 ? f[axis] : std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+            }};
+  }
+  std::vector<std::string> names;
+  for (const Quantity& q : builtins()) names.push_back(q.name);
+  names.push_back("wall:WALL:fx|fy|fz|force");
+  throw Error("bad quantity \"" + word + "\" (" + p.name + "): must be " + alternatives(names),
+              {"VALUE", "QUANTITY"});
+}
+
+PipeType quantitiesType() {
+  return custom("list of quantities", [](std::string_view w, const Param& p, const Context& ctx) {
+    std::vector<Quantity> out;
+    for (const std::string& word : splitList(w)) {
+      for (const Quantity& q : out)
+        if (q.name == word)
+          throw Error("bad quantity \"" + word + "\" (" + p.name + "): named twice",
+                      {"VALUE", "QUANTITY"});
+      out.push_back(parseQuantity(word, p, ctx));
+    }
+    if (out.empty())
+      throw Error("bad " + p.name + " \"\": must name at least one quantity", {"VALUE", "QUANTITY"});
+    return std::any(out);
+  });
+}
+
+std::string number(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.17g", x);
+  return b;
+}
+
+// One `series every`: its quantities and rows, the CSV it appends to, whether it prints.
+struct Job {
+  std::vector<Quantity> quantities;
+  std::vector<std::vector<double>> rows;
+  std::string file;
+  bool print = false;
+
+  // Records a row of s: in memory, in the file (a line, flushed, so the file follows the
+  // run), on the terminal. Throws {IO WRITE} when the file cannot be appended to.
+  void record(const sim::Simulation& s) {
+    std::vector<double> row;
+    for (const Quantity& q : quantities) row.push_back(q.value(s));
+    if (!file.empty()) {
+      std::ofstream f(file, std::ios::app);
+      for (size_t k = 0; k < row.size(); ++k) f << (k ? "," : "") << number(row[k]);
+      f << '\n';
+      if (!f.flush()) throw Error("error writing \"" + file + "\"", {"IO", "WRITE"});
+    }
+    if (print) {
+      if (rows.empty()) {
+        for (const Quantity& q : quantities) std::printf(" %13s", q.name.c_str());
+        std::printf("\n");
+      }
+      for (double v : row) std::printf(" %13.6g", v);
+      std::printf("\n");
+      std::fflush(stdout);
+    }
+    rows.push_back(std::move(row));
+  }
+
+  // Returns the column of quantity name, or -1.
+  int column(const std::string& name) const {
+    for (size_t k = 0; k < quantities.size(); ++k)
+      if (quantities[k].name == name) return int(k);
+    return -1;
+  }
+};
+
+OutputJobs<Job>& jobs() {
+  static OutputJobs<Job> j("series");
+  return j;
+}
+
+// Returns the job of the series id given as argument "id" of c.
+std::shared_ptr<Job> jobOf(Call& c) {
+  const auto id = c.get<sim::OutputId>("id");
+  for (auto& [info, job] : jobs().of(session(c).scene()))
+    if (info.id == id) return job;
+  throw Error("no series output", {"LOOKUP", "SERIES"});  // the id type checked it already
+}
+
+// Returns the column named by option opt of c in job, or throws {VALUE QUANTITY}.
+int columnOption(Call& c, const Job& job, const std::string& opt, const std::string& name) {
+  const int k = job.column(name);
+  if (k < 0) {
+    std::vector<std::string> names;
+    for (const Quantity& q : job.quantities) names.push_back(q.name);
+    c.bad(opt, "the series records " + alternatives(names, "and") + ", not \"" + name + "\"");
+  }
+  return k;
+}
+
+// Returns gnuplot's text for s in double quotes.
+std::string gnuplotString(const std::string& s) {
+  std::string out = "\"";
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    out += ch;
+  }
+  return out + "\"";
+}
+
+// Returns an axis label: the quantities' names with their units ("kinetic, elastic (J)").
+std::string axisLabel(const std::vector<const Quantity*>& qs) {
+  std::string names, unit = qs.front()->unit;
+  bool oneUnit = true;
+  for (const Quantity* q : qs) {
+    names += (names.empty() ? "" : ", ") + q->name;
+    oneUnit = oneUnit && q->unit == unit;
+  }
+  if (oneUnit) return unit.empty() ? names : names + " (" + unit + ")";
+  std::string mixed;
+  for (const Quantity* q : qs) mixed += (mixed.empty() ? "" : ", ") + q->name + (q->unit.empty() ? "" : " (" + q->unit + ")");
+  return mixed;
+}
+
+}  // namespace
+
+void registerSeriesCommands(Registry& r) {
+  r.describe("series", "Time series of named quantities: recorded during runs, read, plotted.");
+
+  Command& every = r.add("series every",
+                         "Adds a series output: a row of the quantities every N steps or T "
+                         "seconds; returns its id.");
+  every.details =
+      "Quantities: time (s), step, elements, contacts, the energy ledger's entries (kinetic, "
+      "rotational, gravitational, elastic, damping, friction, wallwork, behaviorwork, balance "
+      "in J; residual, the run's error indicator), timestep (s), and wall:WALL:fx|fy|fz|force "
+      "(the force the elements exert on a wall, by name or id, in N; a removed wall gives "
+      "NaN). The first row is the scene now. With -file each row is appended to a CSV file "
+      "(a header row first; the file is replaced) as it is recorded; with -print it is also "
+      "printed as a line on the terminal (a header line first), as LAMMPS's thermo output. "
+      "Recording reads only what the step already computed, except the energies (a pass over "
+      "the elements) and contacts (the step keeps its contact records at due steps).";
+  every.option("steps", integer().min(1), "a row every this many steps");
+  every.option("time", real().positive().withUnit("s"), "a row every this much simulated time");
+  every.oneOf({"steps", "time"}, true);
+  every.option("quantities", quantitiesType(), "the columns, in order").require();
+  every.option("file", text("file"), "a CSV file the rows are appended to");
+  every.flag("print", "print each row on the terminal");
+  every.run([](Call& c) {
+    sim::Simulation& s = session(c).scene();
+    auto job = std::make_shared<Job>();
+    job->quantities = c.get<std::vector<Quantity>>("quantities");
+    job->print = c.flag("print");
+    if (c.given("file")) {
+      std::string header;
+      for (const Quantity& q : job->quantities) header += (header.empty() ? "" : ",") + q.name;
+      io::writeFileAtomically(c.str("file"), header + "\n");
+      job->file = c.str("file");
+    }
+    job->record(s);
+    sim::OutputDef d;
+    d.name = "series";
+    if (c.given("steps")) d.everySteps = std::uint64_t(c.integer("steps"));
+    if (c.given("time")) d.everyTime = c.real("time");
+    d.needsContacts = false;
+    for (const Quantity& q : job->quantities) d.needsContacts = d.needsContacts || q.readsContacts;
+    d.callback = [job](const sim::Simulation& sim) { job->record(sim); };
+    const sim::OutputId id = s.addOutput(d);
+    jobs().add(s, id, job);
+    return Value(scriptId(id));
+  });
+
+  Command& get = r.add("series get", "Returns a series' rows as a dict of columns, or one column.");
+  get.arg("id", jobs().ref(), "a series output id");
+  get.option("quantity", text("quantity"), "return this column alone");
+  get.changesScene = false;
+  get.run([](Call& c) {
+    const auto job = jobOf(c);
+    auto column = [&](size_t k) {
+      List l;
+      for (const auto& row : job->rows) l.emplace_back(row[k]);
+      return l;
+    };
+    if (c.given("quantity")) return Value(column(size_t(columnOption(c, *job, "quantity", c.str("quantity")))));
+    Dict d;
+    for (size_t k = 0; k < job->quantities.size(); ++k) d.emplace_back(job->quantities[k].name, column(k));
+    return Value(d);
+  });
+
+  Command& list = r.add("series list", "Returns the series outputs as a list of dicts.");
+  list.details = "Each dict: id, quantities, steps or time (the interval), rows, file.";
+  list.changesScene = false;
+  list.run([](Call& c) {
+    List l;
+    for (auto& [info, job] : jobs().of(session(c).scene())) {
+      List names;
+      for (const Quantity& q : job->quantities) names.emplace_back(q.name);
+      Dict d{{"id", scriptId(info.id)}, {"quantities", names}};
+      if (info.everySteps)
+        d.emplace_back("steps", info.everySteps);
+      else
+        d.emplace_back("time", info.everyTime);
+      d.emplace_back("rows", job->rows.size());
+      d.emplace_back("file", job->file);
+      l.emplace_back(d);
+    }
+    return Value(l);
+  });
+
+  jobs().declareOff(r);
+
+  Command& plot = r.add("series plot", "Plots quantities of a series against another into a PNG file with gnuplot; returns the path.");
+  plot.details =
+      "Axis labels carry the quantities' units. The y quantities share one axis; -logy makes "
+      "it logarithmic (values <= 0 are then left out by gnuplot). Needs gnuplot with the "
+      "pngcairo terminal (Debian's gnuplot-nox).";
+  plot.arg("id", jobs().ref(), "a series output id");
+  plot.option("file", text("file"), "the PNG file").require();
+  plot.option("x", text("quantity"), "the abscissa").byDefault("time");
+  plot.option("y", text("quantities"), "the quantities plotted (a list)").require();
+  plot.option("title", text("text"), "a title above the plot");
+  plot.option("size", ints(), "{width height} in pixels").byDefault("800 500");
+  plot.flag("logy", "a logarithmic y axis");
+  plot.changesScene = false;
+  plot.run([](Call& c) {
+    const auto job = jobOf(c);
+    const std::string file = c.str("file");
+    if (file.size() < 4 || file.substr(file.size() - 4) != ".png")
+      c.bad("file", "must end in .png (gnuplot writes PNG)");
+    const auto& size = c.get<std::vector<std::int64_t>>("size");
+    if (size.size() != 2 || size[0] < 64 || size[1] < 64 || size[0] > 8192 || size[1] > 8192)
+      c.bad("size", "must be {width height}, each 64 to 8192");
+    const int x = columnOption(c, *job, "x", c.str("x"));
+    std::vector<int> ys;
+    std::vector<const Quantity*> yq;
+    for (const std::string& name : splitList(c.str("y"))) {
+      ys.push_back(columnOption(c, *job, "y", name));
+      yq.push_back(&job->quantities[size_t(ys.back())]);
+    }
+    if (ys.empty()) c.bad("y", "must name at least one quantity");
+    if (job->rows.empty()) throw Error("the series has no rows to plot", {"STATE", "EMPTY"});
+    std::string data;
+    for (const auto& row : job->rows) {
+      data += number(row[size_t(x)]);
+      for (int y : ys) data += ' ' + number(row[size_t(y)]);
+      data += '\n';
+    }
+    std::string script = "set terminal pngcairo size " + std::to_string(size[0]) + "," +
+                         std::to_string(size[1]) + " enhanced font \"DejaVu Sans,11\"\n";
+    script += "set output " + gnuplotString(file + ".tmp") + "\nset grid\nset key top right\n";
+    script += "set xlabel " + gnuplotString(axisLabel({&job->quantities[size_t(x)]})) + " noenhanced\n";
+    script += "set ylabel " + gnuplotString(axisLabel(yq)) + " noenhanced\n";
+    if (c.given("title")) script += "set title " + gnuplotString(c.str("title")) + " noenhanced\n";
+    script += "set format y \"%g\"\nset format x \"%g\"\n";
+    if (c.flag("logy")) script += "set logscale y\n";
+    script += "plot ";
+    for (size_t k = 0; k < ys.size(); ++k) {
+      script += std::string(k ? ", " : "") + "'-' using 1:2 with linespoints pt 7 ps 0.4 title " +
+                gnuplotString(yq[k]->name) + " noenhanced";
+    }
+    script += "\n";
+    for (size_t k = 0; k < ys.size(); ++k) {
+      for (const auto& row : job->rows)
+        script += number(row[size_t(x)]) + ' ' + number(row[size_t(ys[k])]) + '\n';
+      script += "e\n";
+    }
+    FILE* g = popen("gnuplot 2>&1", "w");
+    if (g == nullptr) throw Error("can't run gnuplot", {"IO", "GNUPLOT"});
+    std::fwrite(script.data(), 1, script.size(), g);
+    const int status = pclose(g);
+    const std::string tmp = file + ".tmp";
+    std::ifstream made(tmp);
+    if (status != 0 || !made) {
+      std::remove(tmp.c_str());
+      throw Error("gnuplot failed to write \"" + file + "\" (is gnuplot with pngcairo installed?)",
+                  {"IO", "GNUPLOT"});
+    }
+    if (std::rename(tmp.c_str(), file.c_str()) != 0) {
+      std::remove(tmp.c_str());
+      throw Error("couldn't rename \"" + tmp + "\" to \"" + file + "\"", {"IO", "WRITE"});
+    }
+    return Value(file);
+  });
+}
+
+}  // namespace demlab::cmd
