@@ -33,6 +33,10 @@ struct Context {
   virtual int dimension() const { return 3; }
   // Throws demlab::Error {STATE NOSIM} when there is no scene for a command that needs one.
   virtual void requireScene() const {}
+  // The command that changes the scene and is executing now ("sim run"), or "". A script it
+  // runs (a callback, a load's expression, a redirected puts) may read the scene but not
+  // change or replace it: the running command holds the scene and its parts.
+  std::string busyWith;
 };
 
 struct Param {
@@ -81,6 +85,9 @@ struct Command {
   std::vector<Group> exclusive;         // at most one (or exactly one) of these options
   bool needsScene = true;               // fails with {STATE NOSIM} before a simulation exists
   bool changesScene = true;             // false for pure queries (shown in help)
+  // Refused while another command that changes the scene runs (see Context::busyWith), like
+  // those that change it, although it does not: it changes what the running command uses.
+  bool needsIdle = false;
   std::function<void(Call&)> check;     // optional: cross-argument checks, read-only
   std::function<Value(Call&)> execute;  // phase 3
 

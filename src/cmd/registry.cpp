@@ -152,6 +152,21 @@ Value Registry::invoke(const std::vector<std::string>& words, Context& ctx) cons
   // Phase 1: parse.
   if (!CommandLine(c, std::move(rest)).parse(stack)) return c.helpText();
   if (c.needsScene) ctx.requireScene();
+  const bool exclusive = c.changesScene || c.needsIdle;
+  if (exclusive && !ctx.busyWith.empty()) {
+    throw Error("can't use \"" + where + "\" while \"" + ctx.busyWith +
+                    "\" is running: a script run from inside it may read the scene, not change it",
+                {"STATE", "BUSY"});
+  }
+  // The check phase too: it may evaluate a script (a load's expression at its start time).
+  struct Hold {
+    std::string& busy;
+    bool held;
+    ~Hold() {
+      if (held) busy.clear();
+    }
+  } hold{ctx.busyWith, exclusive};
+  if (exclusive) ctx.busyWith = where;
   // Phase 2: check.
   PipeLine::check(c, stack, ctx);
   Call call(c, stack, ctx);

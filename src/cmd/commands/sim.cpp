@@ -134,6 +134,7 @@ void registerSimCommands(Registry& r) {
       "threads than cores run correctly but slower.";
   th.optionalArg("count", integer().min(1).max(ThreadPool::kMaxThreads), "the number of threads");
   th.changesScene = false;
+  th.needsIdle = true;
   th.needsScene = false;
   th.run([](Call& c) {
     ThreadPool& pool = ThreadPool::global();
