@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <string>
@@ -56,6 +57,13 @@ struct Bounds {
   }
 };
 
+// A force chain: a line between the centres of grains a and b (indices into the scene's grains)
+// carrying a contact force of this magnitude (N), drawn wider and darker the larger it is.
+struct ChainLink {
+  std::uint32_t a = 0, b = 0;
+  double force = 0;
+};
+
 struct RenderScene {
   int dim = 3;                      // 2 (discs seen from above) or 3 (spheres)
   std::span<const double> centres;  // dim numbers per grain
@@ -65,6 +73,7 @@ struct RenderScene {
   std::span<const float> colours;
   std::span<const double> field;
   std::string fieldName;                   // the legend's title, e.g. "speed"
+  std::string fieldUnit;                   // its SI unit, e.g. "m/s"; "" for none
   std::vector<std::string> categoryNames;  // categorical legend labels by integer value
   std::span<const double> angles;          // 2D: orientation angles (rad) for the rotation mark
   // Grains drawn as triangle meshes instead of spheres or discs (the shape table's render rows,
@@ -75,6 +84,8 @@ struct RenderScene {
   std::span<const double> orientations;
   std::vector<std::vector<Vec3>> meshes;
   std::vector<RenderWall> walls;
+  std::vector<ChainLink> chains;  // drawn over the grains
+  std::string title;              // drawn above the scene; "" for none
   double time = std::numeric_limits<double>::quiet_NaN();  // NaN: no time stamp
   Bounds bounds;  // empty: computed from the grains and the finite walls
 
@@ -82,7 +93,7 @@ struct RenderScene {
   size_t size() const { return radii.size(); }
 };
 
-enum class ColourMap { viridis, categorical };
+enum class ColourMap { viridis, magma, inferno, plasma, coolwarm, categorical };
 
 struct CameraDef {
   bool automatic = true;  // frame the whole scene; position and lookAt are then ignored

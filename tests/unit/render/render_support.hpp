@@ -2,7 +2,13 @@
 // takes a good fraction of a second) and pixel classification.
 #pragma once
 
+#include <dirent.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
 
 #include <cmath>
 #include <memory>
@@ -52,5 +58,28 @@ std::string errorCode(F&& f) {
   }
   return "";
 }
+
+// A fresh empty folder under /tmp for one test.
+struct TempDir {
+  std::string path;
+  TempDir() {
+    char tmpl[] = "/tmp/demlab_render_test_XXXXXX";
+    path = mkdtemp(tmpl);
+  }
+  ~TempDir() {
+    for (const std::string& f : files()) std::remove((path + "/" + f).c_str());
+    rmdir(path.c_str());
+  }
+  std::vector<std::string> files() const {
+    std::vector<std::string> out;
+    if (DIR* d = opendir(path.c_str())) {
+      while (dirent* e = readdir(d))
+        if (std::string(e->d_name) != "." && std::string(e->d_name) != "..")
+          out.push_back(e->d_name);
+      closedir(d);
+    }
+    return out;
+  }
+};
 
 }  // namespace demlab::render::test
