@@ -49,7 +49,7 @@ ColourMap colourMapNamed(std::string_view name) {
   for (ColourMap m : kColourMaps)
     if (colourMapName(m) == name) return m;
   throw Error("bad colour map \"" + std::string(name) +
-                  "\": must be categorical, coolwarm, inferno, magma, plasma or viridis",
+                  "\": must be categorical, coolwarm, inferno, magma, plasma, or viridis",
               {"VALUE", "COLOURMAP"});
 }
 

@@ -33,7 +33,7 @@ Rgb chainColour(double t);
 Rgb categorical(long k);
 
 // Returns the map called name (colourMapName of one of kColourMaps). Throws demlab::Error
-// {VALUE COLOURMAP}: bad colour map "x": must be categorical, coolwarm, ... or viridis.
+// {VALUE COLOURMAP}: bad colour map "x": must be categorical, coolwarm, ..., or viridis.
 ColourMap colourMapNamed(std::string_view name);
 
 // Returns the name of map m.

@@ -42,7 +42,7 @@ TEST(RenderColourMap, Names) {
   try {
     colourMapNamed("jet");
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "bad colour map \"jet\": must be categorical, coolwarm, inferno, magma, plasma or viridis");
+    EXPECT_STREQ(e.what(), "bad colour map \"jet\": must be categorical, coolwarm, inferno, magma, plasma, or viridis");
   }
 }
 
