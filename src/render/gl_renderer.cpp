@@ -120,19 +120,20 @@ class GlRenderer : public Renderer {
                      GL_STREAM_DRAW);
       gl_.DrawArrays(GL_TRIANGLES, 0, GLsizei(meshFaces_.size()));
     }
-    if (!walls_.lines.empty()) {
+    auto drawLines = [&](const std::vector<LineInstance>& lines, double halfWidth) {
       gl_.UseProgram(lineProgram_);
       setMatrices(lineProgram_, viewM, projM);
       gl_.Uniform1i(uniform(lineProgram_, "ortho"), ortho);
       gl_.Uniform1f(uniform(lineProgram_, "nearZ"), float(view.near));
       gl_.Uniform2f(uniform(lineProgram_, "viewport"), float(w), float(h));
-      gl_.Uniform1f(uniform(lineProgram_, "halfWidth"), float(options.wallWidth * ss / 2));
+      gl_.Uniform1f(uniform(lineProgram_, "halfWidth"), float(halfWidth));
       gl_.BindVertexArray(lineVao_);
       gl_.BindBuffer(GL_ARRAY_BUFFER, lineBuffer_);
-      gl_.BufferData(GL_ARRAY_BUFFER, walls_.lines.size() * sizeof(LineInstance),
-                     walls_.lines.data(), GL_STREAM_DRAW);
-      gl_.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(walls_.lines.size()));
-    }
+      gl_.BufferData(GL_ARRAY_BUFFER, lines.size() * sizeof(LineInstance), lines.data(),
+                     GL_STREAM_DRAW);
+      gl_.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(lines.size()));
+    };
+    if (!walls_.lines.empty()) drawLines(walls_.lines, options.wallWidth * ss / 2);
     if (!walls_.triangles.empty()) {
       // Translucent faces last, tested against the grains' depth but not writing it, so a
       // grain behind a drum's mantle shows through.
@@ -149,14 +150,12 @@ class GlRenderer : public Renderer {
       gl_.DepthMask(GL_TRUE);
       gl_.Disable(GL_BLEND);
     }
-    if (!scene.chains.empty()) {
-      // The line program's uniforms are set here when no wall line set them.
-      gl_.UseProgram(lineProgram_);
-      setMatrices(lineProgram_, viewM, projM);
-      gl_.Uniform1i(uniform(lineProgram_, "ortho"), ortho);
-      gl_.Uniform1f(uniform(lineProgram_, "nearZ"), float(view.near));
-      gl_.Uniform2f(uniform(lineProgram_, "viewport"), float(w), float(h));
-      drawChains(scene, view, ss);
+    fillChains(scene, view);
+    if (!chains_.empty()) {
+      // Over everything, without depth test: a chain runs through the grains it joins.
+      gl_.Disable(GL_DEPTH_TEST);
+      drawLines(chains_, ss);
+      gl_.Enable(GL_DEPTH_TEST);
     }
     gl_.BindVertexArray(0);
 
@@ -170,9 +169,10 @@ class GlRenderer : public Renderer {
     return downsample(options.width, options.height, ss);
   }
 
-  // Returns nothing; draws scene's force chains over everything drawn so far (no depth test: a
-  // chain runs through the grains it joins), each wider and darker the larger its force.
-  void drawChains(const RenderScene& scene, const View& view, int ss) {
+  // Returns nothing; fills chains_ with scene's force chains as lines between grain centres,
+  // each wider (0.75 to 2.5 times the line program's half width) and darker the larger its
+  // force is against the largest.
+  void fillChains(const RenderScene& scene, const View& view) {
     chains_.clear();
     double fmax = 0;
     for (const ChainLink& l : scene.chains) fmax = std::max(fmax, l.force);
@@ -188,15 +188,6 @@ class GlRenderer : public Renderer {
       li.width = float(0.75 + 1.75 * t);
       chains_.push_back(li);
     }
-    gl_.Disable(GL_DEPTH_TEST);
-    gl_.UseProgram(lineProgram_);
-    gl_.Uniform1f(uniform(lineProgram_, "halfWidth"), float(ss));
-    gl_.BindVertexArray(lineVao_);
-    gl_.BindBuffer(GL_ARRAY_BUFFER, lineBuffer_);
-    gl_.BufferData(GL_ARRAY_BUFFER, chains_.size() * sizeof(LineInstance), chains_.data(),
-                   GL_STREAM_DRAW);
-    gl_.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(chains_.size()));
-    gl_.Enable(GL_DEPTH_TEST);
   }
 
   GLint uniform(GLuint p, const char* name) { return gl_.GetUniformLocation(p, name); }
@@ -416,7 +407,7 @@ class GlRenderer : public Renderer {
   std::vector<std::uint8_t> pixels_;
   WallGeometry walls_;
   std::vector<FaceVertex> meshFaces_;  // the grains drawn as meshes (fillMeshes)
-  std::vector<LineInstance> chains_;   // the force chains (drawChains)
+  std::vector<LineInstance> chains_;   // the force chains (fillChains)
 };
 
 }  // namespace

@@ -33,14 +33,20 @@ void onJpegError(j_common_ptr info) {
   std::longjmp(state->jump, 1);
 }
 
+// Returns state's error manager, set to keep libjpeg's message and longjmp to state.jump.
+jpeg_error_mgr* errorManager(JpegErrorState& state) {
+  jpeg_std_error(&state.mgr);
+  state.mgr.error_exit = onJpegError;
+  state.mgr.output_message = onJpegMessage;
+  return &state.mgr;
+}
+
 // Returns true when the JPEG was written to f; on false, state.message holds libjpeg's reason.
 // rgb is the image as packed RGB rows, made by the caller.
 bool encode(std::FILE* f, const std::vector<JSAMPLE>& rgb, int width, int height, int quality,
             JpegErrorState& state) {
   jpeg_compress_struct c;
-  c.err = jpeg_std_error(&state.mgr);
-  state.mgr.error_exit = onJpegError;
-  state.mgr.output_message = onJpegMessage;
+  c.err = errorManager(state);
   if (setjmp(state.jump)) {
     jpeg_destroy_compress(&c);
     return false;
@@ -72,9 +78,7 @@ bool encode(std::FILE* f, const std::vector<JSAMPLE>& rgb, int width, int height
 // caller (see encode). row is scratch for one packed RGB row.
 bool decode(std::FILE* f, Image& image, std::vector<JSAMPLE>& row, JpegErrorState& state) {
   jpeg_decompress_struct d;
-  d.err = jpeg_std_error(&state.mgr);
-  state.mgr.error_exit = onJpegError;
-  state.mgr.output_message = onJpegMessage;
+  d.err = errorManager(state);
   if (setjmp(state.jump)) {
     jpeg_destroy_decompress(&d);
     return false;

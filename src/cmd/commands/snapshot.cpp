@@ -182,7 +182,9 @@ void registerSnapshotCommands(Registry& r) {
   });
 
   Command& list = r.add("snapshot list", "Returns the snapshot outputs as a list of dicts.");
-  list.details = "Each dict: id, dir, steps or time (the interval), frames (written so far).";
+  list.details =
+      "Each dict: id, dir, steps or time (the interval), frames (written so far), and range "
+      "{min max} once the series' colour range is fixed.";
   list.changesScene = false;
   list.run([](Call& c) {
     List l;
@@ -193,6 +195,7 @@ void registerSnapshotCommands(Registry& r) {
       else
         d.emplace_back("time", info.everyTime);
       d.emplace_back("frames", job->frames);
+      if (job->lock.range) d.emplace_back("range", List{(*job->lock.range)[0], (*job->lock.range)[1]});
       l.emplace_back(d);
     }
     return Value(l);

@@ -79,10 +79,9 @@ void readRange(const Call& c, bool now, SnapOptions& o) {
   if (word == "first") {
     o.rangeFirst = true;
   } else if (word != "auto") {
-    const auto r =
-        finiteReals(c, "range", 2, "must be auto, first or two finite numbers {min max} with min < max");
-    if (!(r[0] < r[1]))
-      c.bad("range", "must be auto, first or two finite numbers {min max} with min < max");
+    const std::string why = "must be auto, first, or {min max}: two finite numbers with min < max";
+    const auto r = finiteReals(c, "range", 2, why);
+    if (!(r[0] < r[1])) c.bad("range", why);
     o.range = std::array<double, 2>{r[0], r[1]};
   }
 }
@@ -156,7 +155,7 @@ void drawingOptions(Command& c, bool series) {
       .byDefault("1");
   c.option("timestamp", boolean(), "stamp the simulated time above the scene").byDefault("1");
   c.option("title", text("text"), "a title above the scene");
-  c.option("quality", integer(), "JPEG quality, 1 to 100").byDefault("90");
+  c.option("quality", integer().range(1, 100), "JPEG quality").byDefault("90");
   c.option("chains", boolean(),
            "draw force chains: a line between the centres of each pair of touching grains, "
            "wider and darker the larger the force, over the grains")
@@ -229,9 +228,7 @@ SnapOptions readOptions(const Call& c, bool now) {
   o.legend = c.get<bool>("legend");
   o.timeStamp = c.get<bool>("timestamp");
   if (c.given("title")) o.title = c.str("title");
-  const std::int64_t q = c.integer("quality");
-  if (q < 1 || q > 100) c.bad("quality", "must be an integer from 1 to 100");
-  o.quality = int(q);
+  o.quality = int(c.integer("quality"));
   o.chains = c.get<bool>("chains");
   o.chainMin = c.real("chainmin");
   if (c.given("clip")) readClip(c, o);

@@ -20,15 +20,7 @@ TEST(RenderChains, DrawnBetweenCentresOverTheGrains) {
   s.centres = c;
   s.radii = r;
   s.colours = green;
-  RenderOptions o;
-  o.width = o.height = 200;
-  o.legend = o.timeStamp = false;
-  o.camera.automatic = false;
-  o.camera.position = Vec3(0, 0, 10);
-  o.camera.lookAt = Vec3::Zero();
-  o.camera.up = Vec3::UnitY();
-  o.camera.orthographic = true;
-  o.camera.viewHeight = 10;
+  RenderOptions o = test::topView(true);
   const Image plain = sharedRenderer().render(s, o);
   s.chains = {{0, 1, 10.0}, {1, 2, 2.0}};
   const Image chained = sharedRenderer().render(s, o);

@@ -16,22 +16,9 @@ using test::dominant;
 using test::isColour;
 using test::isWhite;
 using test::sharedRenderer;
+using test::topView;
 
 constexpr int kRed = 0, kGreen = 1, kBlue = 2;
-
-// A 200x200 frame looking down -z from (0, 0, 10), y up; orthographic: 20 pixels per unit.
-RenderOptions topView(bool ortho) {
-  RenderOptions o;
-  o.width = o.height = 200;
-  o.camera.automatic = false;
-  o.camera.position = Vec3(0, 0, 10);
-  o.camera.lookAt = Vec3::Zero();
-  o.camera.up = Vec3::UnitY();
-  o.camera.orthographic = ortho;
-  o.camera.viewHeight = 10;
-  o.camera.fov = 60;
-  return o;
-}
 
 struct Grains {
   std::vector<double> centres, radii;

@@ -15,7 +15,6 @@ namespace demlab::render {
 namespace {
 
 using test::errorCode;
-using test::sharedRenderer;
 using test::TempDir;
 
 std::vector<unsigned char> bytesOf(const std::string& path) {
@@ -38,14 +37,7 @@ double meanDifference(const Image& a, const Image& b) {
 }
 
 TEST(RenderJpeg, DecodesToTheFrameWritten) {
-  std::vector<double> c = {0, 0, 0, 1, 0.5, 0}, r = {0.5, 0.3};
-  RenderScene s;
-  s.centres = c;
-  s.radii = r;
-  RenderOptions o;
-  o.width = 123;  // odd sizes catch row-stride mistakes
-  o.height = 77;
-  const Image img = sharedRenderer().render(s, o);
+  const Image img = test::oddSizedFrame();
   TempDir dir;
   const std::string path = dir.path + "/frame.jpg";
   writeJpeg(img, path, 95);

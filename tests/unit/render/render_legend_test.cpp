@@ -7,6 +7,7 @@
 
 #include "render/colour_map.hpp"
 #include "render/layout.hpp"
+#include "render/overlay.hpp"
 #include "render/text.hpp"
 #include "render/ticks.hpp"
 #include "render_support.hpp"
@@ -132,6 +133,16 @@ TEST(RenderLegend, SitsInAStripBesideTheSceneNeverOverIt) {
   EXPECT_FALSE(h.header.empty());
   EXPECT_EQ(h.scene.y0, h.header.y1);
   EXPECT_EQ(h.legend.y0, h.header.y1);
+  // Without the font file the bitmap font sets the same margins, with no error.
+  const Typeface missing("/nonexistent/font.ttf");
+  const FrameLayout fallback = frameLayout(titled, o, missing);
+  EXPECT_FALSE(fallback.legend.empty());
+  EXPECT_FALSE(fallback.header.empty());
+  Image plain(o.width, o.height);
+  for (auto& byte : plain.rgba) byte = 255;
+  Image marked = plain;
+  drawOverlay(marked, titled, o, fallback, missing);
+  EXPECT_NE(marked.rgba, plain.rgba);
   // A tiny image keeps its scene and drops the strips.
   o.width = o.height = 32;
   const FrameLayout tiny = frameLayout(titled, o, defaultTypeface());
