@@ -24,6 +24,8 @@ struct LegendPlan {
   std::vector<long> categories;     // categorical: the category of each label (-1: "...")
 };
 
+// Returns what the legend of scene shows under o: its title lines, and its ticks and labels (a
+// continuous map) or its categories (at most kMaxCategories, then "...").
 LegendPlan plan(const RenderScene& scene, const RenderOptions& o) {
   LegendPlan p;
   if (!scene.fieldName.empty()) p.title.push_back(scene.fieldName);
@@ -48,7 +50,7 @@ LegendPlan plan(const RenderScene& scene, const RenderOptions& o) {
   } else {
     p.range = fieldRange(scene, o);
     p.ticks = niceTicks(p.range.lo, p.range.hi);
-    for (double v : p.ticks.values) p.labels.push_back(tickLabel(v, p.ticks.step));
+    p.labels = tickLabels(p.ticks);
   }
   return p;
 }
@@ -58,6 +60,8 @@ struct Metrics {
   int pad, line, swatch, tick;
 };
 
+// Returns the legend's sizes at text size px in face: padding half the text size, the swatch
+// and bar width the text size, ticks a third of it.
 Metrics metrics(const Typeface& face, int px) {
   return {std::max(3, px / 2), face.lineHeight(px), std::max(8, px), std::max(3, px / 3)};
 }

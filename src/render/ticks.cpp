@@ -1,5 +1,6 @@
 #include "render/ticks.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -38,22 +39,28 @@ Ticks niceTicks(double lo, double hi) {
   return best;
 }
 
-std::string tickLabel(double v, double step) {
-  char buf[32];
-  if (std::abs(v) < step * 1e-6) v = 0;
-  const double big = std::max(std::abs(v), step);
-  if (big >= 1e5 || step < 1e-4) {
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-  } else {
-    // Decimals the step needs: 0.25 needs 2, 0.5 needs 1, 20 needs 0.
-    int decimals = 0;
-    while (decimals < 6 &&
-           std::abs(step * std::pow(10.0, decimals) - std::round(step * std::pow(10.0, decimals))) >
-               1e-6 * step * std::pow(10.0, decimals))
-      ++decimals;
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+std::vector<std::string> tickLabels(const Ticks& t) {
+  double largest = t.step;
+  for (double v : t.values) largest = std::max(largest, std::abs(v));
+  // One power of ten for all labels when plain decimals would be long.
+  const int exponent = largest >= 1e5 || t.step < 1e-3 ? int(std::floor(std::log10(largest))) : 0;
+  const double scale = std::pow(10.0, -exponent), step = t.step * scale;
+  // Decimals the step needs: 0.25 needs 2, 0.5 needs 1, 20 needs 0.
+  int decimals = 0;
+  for (double p = 1; decimals < 6 && std::abs(step * p - std::round(step * p)) > 1e-6 * step * p;
+       p *= 10)
+    ++decimals;
+  std::vector<std::string> out;
+  for (double v : t.values) {
+    char buf[40];
+    if (std::abs(v) < t.step * 1e-6) {
+      out.push_back("0");
+      continue;
+    }
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, v * scale);
+    out.push_back(exponent ? std::string(buf) + "e" + std::to_string(exponent) : buf);
   }
-  return buf;
+  return out;
 }
 
 }  // namespace demlab::render

@@ -17,8 +17,9 @@ struct Ticks {
 // 1, 2 or 5 x 10^k that gives at most 6; 2.5 x 10^k where none of those gives 3.
 Ticks niceTicks(double lo, double hi);
 
-// Returns the label of tick value v on ticks of this step: as many decimals as the step needs,
-// "0" for a value that is zero up to rounding, exponent form for very large or small numbers.
-std::string tickLabel(double v, double step);
+// Returns the labels of ticks t: as many decimals as the step needs, "0" for a value that is
+// zero up to rounding; where the values reach 10^5 or the step is below 10^-3, every label but
+// "0" is a mantissa with the same power of ten, e.g. "0.5e5 1.0e5 1.5e5".
+std::vector<std::string> tickLabels(const Ticks& t);
 
 }  // namespace demlab::render

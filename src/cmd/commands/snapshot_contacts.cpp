@@ -7,6 +7,7 @@
 namespace demlab::cmd {
 namespace {
 
+// Returns the length of v.
 double magnitude(const sim::Vec3d& v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }

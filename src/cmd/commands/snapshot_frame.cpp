@@ -178,7 +178,9 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f) {
   sc.categoryNames.clear();
   if (d == 2) f.angles = s.orientations();
   const std::string& by = o.colourBy;
-  const DenseIndex dense = denseIndex(s);
+  // Element ids to dense indices, built only for what needs them (a hash map of every element).
+  const bool needsDense = !o.tags.empty() || by == "contactforce" || o.chains;
+  const DenseIndex dense = needsDense ? denseIndex(s) : DenseIndex{};
   auto norms = [&](const std::vector<double>& v, int k) {
     f.field.assign(n, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
@@ -216,15 +218,12 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f) {
       f.field.push_back(double(std::find(names.begin(), names.end(), m) - names.begin()));
     }
     sc.categoryNames = names;
-  } else {  // tag: the first of o.tags a grain carries; "other" for none
+  } else {  // tag: the first of o.tags a grain carries (only those grains are drawn)
     f.field.assign(n, double(o.tags.size()));
     for (std::size_t k = o.tags.size(); k-- > 0;)
       for (sim::ElementId id : s.elementsTagged(o.tags[k]))
         f.field[dense.at(id.bits())] = double(k);
     sc.categoryNames = o.tags;
-    if (std::any_of(f.field.begin(), f.field.end(),
-                    [&](double v) { return v == double(o.tags.size()); }))
-      sc.categoryNames.push_back("other");
   }
   // Elements of shapes with a render row are drawn as their meshes.
   sim::Simulation::ElementMeshes m = s.elementMeshes();
@@ -242,7 +241,7 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f) {
   sc.colours = o.fixed ? std::span<const float>(f.colours) : std::span<const float>();
   sc.field = o.fixed ? std::span<const double>() : std::span<const double>(f.field);
   sc.fieldName = o.fixed ? "" : fieldTitle(by);
-  sc.fieldUnit = o.fixed ? "" : fieldUnit(by);
+  sc.fieldUnit = o.fixed ? "" : by == "value" ? o.valueUnit : fieldUnit(by);
   sc.title = o.title;
   sc.chains = f.chains;
   sc.angles = d == 2 ? std::span<const double>(f.angles) : std::span<const double>();

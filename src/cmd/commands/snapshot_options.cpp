@@ -39,6 +39,7 @@ const std::map<std::string, Colour, std::less<>>& colourNames() {
   return m;
 }
 
+// Returns whether word names a field grains can be coloured by.
 bool isField(const std::string& word) {
   return std::any_of(kFields.begin(), kFields.end(), [&](auto& f) { return f.first == word; });
 }
@@ -132,6 +133,7 @@ void drawingOptions(Command& c, bool series) {
   c.option("tags", text("list of tags"),
            "draw only the grains with one of these tags (with -color tag: one colour each)");
   c.option("values", reals(), "with -color value: one number per element, in element order");
+  c.option("unit", text("unit"), "with -color value: the values' unit, shown in the legend");
   c.option("position", vector(3).withUnit("m"), "3D camera position (default: automatic)");
   c.option("lookat", vector(3).withUnit("m"), "3D point the camera looks at");
   c.option("up", vector(3), "3D camera up direction").byDefault("0 0 1");
@@ -165,7 +167,7 @@ void drawingOptions(Command& c, bool series) {
       .byDefault("1");
   c.option("clip", text("{px py pz nx ny nz}"),
            "leave out the grains whose centre lies on the normal's side of this plane (whole "
-           "grains: none is cut)");
+           "grains: none is cut; in 2D the x and y parts count)");
   c.option("walls", boolean(), "draw the walls").byDefault("1");
 }
 
@@ -207,6 +209,10 @@ SnapOptions readOptions(const Call& c, bool now) {
   }
   if (o.colourBy == "value" && !c.given("values"))
     c.bad("values", "-color value needs -values {v ...}");
+  if (c.given("unit")) {
+    if (o.colourBy != "value") c.bad("unit", "needs -color value (the other fields have their own)");
+    o.valueUnit = c.str("unit");
+  }
   if (c.has("colormap")) o.colourMap = c.str("colormap");
   readRange(c, now, o);
   o.cameraFixed = !now && c.str("camera") == "fixed";

@@ -21,6 +21,7 @@ struct SnapOptions {
   std::string colourMap;          // "" : by field (categorical for id, material, tag)
   std::vector<std::string> tags;  // -tags: the tags drawn (and with -color tag the categories)
   std::vector<double> values;     // -color value: one per element
+  std::string valueUnit;          // -unit: their unit, for the legend
   std::optional<std::array<double, 2>> range;  // -range {lo hi}
   bool rangeFirst = false;  // -range first: fixed at the first frame with a spread of values
   bool cameraFixed = false;  // -camera fixed: the first frame's framing kept (series only)

@@ -41,13 +41,15 @@ TEST(RenderTicks, ThreeToSixRoundValuesInsideTheRange) {
   EXPECT_EQ(niceTicks(0, 1).step, 0.2);
 }
 
-TEST(RenderTicks, LabelsShowTheDecimalsTheStepNeeds) {
-  EXPECT_EQ(tickLabel(0.5, 0.5), "0.5");
-  EXPECT_EQ(tickLabel(0.25, 0.25), "0.25");
-  EXPECT_EQ(tickLabel(20, 10), "20");
-  EXPECT_EQ(tickLabel(3 * 0.1, 0.1), "0.3");
-  EXPECT_EQ(tickLabel(-1e-17, 0.2), "0.0");
-  EXPECT_EQ(tickLabel(2e6, 1e6), "2e+06");
+TEST(RenderTicks, LabelsShowTheDecimalsTheStepNeedsAndOnePowerOfTen) {
+  using Labels = std::vector<std::string>;
+  EXPECT_EQ(tickLabels(niceTicks(0, 1)), (Labels{"0", "0.2", "0.4", "0.6", "0.8", "1.0"}));
+  EXPECT_EQ(tickLabels(niceTicks(0, 0.12)), (Labels{"0", "0.05", "0.10"}));
+  EXPECT_EQ(tickLabels({{-1e-17, 0.2, 0.4}, 0.2}), (Labels{"0", "0.2", "0.4"}));
+  EXPECT_EQ(tickLabels({{20, 40, 60}, 20}), (Labels{"20", "40", "60"}));
+  EXPECT_EQ(tickLabels({{0.25, 0.5, 0.75}, 0.25}), (Labels{"0.25", "0.50", "0.75"}));
+  EXPECT_EQ(tickLabels(niceTicks(0, 2e5)), (Labels{"0", "0.5e5", "1.0e5", "1.5e5", "2.0e5"}));
+  EXPECT_EQ(tickLabels({{-2e-4, 0, 2e-4}, 2e-4}), (Labels{"-2e-4", "0", "2e-4"}));
 }
 
 TEST(RenderText, TrueTypeIsAntialiasedAndAMissingFontFallsBack) {
