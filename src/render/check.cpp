@@ -234,6 +234,10 @@ void checkOptions(const RenderOptions& o) {
     throw Error(
         "bad wall width \"" + num(o.wallWidth) + "\": must be a number of pixels above 0 up to 100",
         {"VALUE", "WIDTH"});
+  if (o.legendWidth < 0 || o.legendWidth >= o.width)
+    throw Error("bad legend width \"" + std::to_string(o.legendWidth) +
+                    "\": must be 0 (as wide as its labels need) or pixels below the image width",
+                {"VALUE", "WIDTH"});
   if (!(o.wallAlpha >= 0 && o.wallAlpha <= 1))
     throw Error("bad wall opacity \"" + num(o.wallAlpha) + "\": must be a number from 0 to 1",
                 {"VALUE", "COLOUR"});

@@ -78,8 +78,10 @@ FieldRange fieldRange(const RenderScene& scene, const RenderOptions& options) {
   if (!std::isnan(options.fieldMin)) r.lo = options.fieldMin;
   if (!std::isnan(options.fieldMax)) r.hi = options.fieldMax;
   if (!(r.hi > r.lo)) {
+    // A field of zeros (a bed at rest, no contacts) reads 0 to 1, not -0.5 to 0.5: the
+    // fields that are magnitudes have no negative values to suggest.
     const double v = std::isnan(options.fieldMin) ? r.hi : r.lo;
-    r = {v - 0.5, v + 0.5};
+    r = v == 0 ? FieldRange{0, 1} : FieldRange{v - 0.5, v + 0.5};
   }
   return r;
 }

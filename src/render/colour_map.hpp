@@ -47,7 +47,8 @@ struct FieldRange {
 };
 
 // Returns the range the field is mapped over: options.fieldMin/Max where given, else the
-// field's own minimum/maximum; a degenerate range is widened to [v - 0.5, v + 0.5].
+// field's own minimum/maximum; a degenerate range is widened to [v - 0.5, v + 0.5], or to
+// [0, 1] for v = 0.
 FieldRange fieldRange(const RenderScene& scene, const RenderOptions& options);
 
 // Returns nothing; fills out with 4 bytes per grain (RGB, then 255) by the rule in RenderScene.

@@ -23,7 +23,7 @@ FrameLayout frameLayout(const RenderScene& scene, const RenderOptions& o, const 
     l.scene.y0 = headerH;
   }
   if (o.legend && !scene.field.empty()) {
-    const int w = legendWidth(scene, o, face, l.textPx);
+    const int w = o.legendWidth > 0 ? o.legendWidth : legendWidth(scene, o, face, l.textPx);
     if (w <= o.width / 3) {
       l.legend = {o.width - w, l.scene.y0, o.width, o.height};
       l.scene.x1 = o.width - w;

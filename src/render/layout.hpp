@@ -27,7 +27,8 @@ struct FrameLayout {
 // Returns the text size for an image of this height: a fortieth of it, at least 10 pixels.
 int textSize(int imageHeight);
 
-// Returns the layout of a frame of scene with options, text set in face.
+// Returns the layout of a frame of scene with options, text set in face; the legend strip
+// options.legendWidth wide when that is given.
 FrameLayout frameLayout(const RenderScene& scene, const RenderOptions& options,
                         const Typeface& face);
 

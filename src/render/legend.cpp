@@ -71,7 +71,9 @@ Metrics metrics(const Typeface& face, int px) {
 int legendWidth(const RenderScene& scene, const RenderOptions& o, const Typeface& face, int px) {
   const LegendPlan p = plan(scene, o);
   const Metrics m = metrics(face, px);
-  int labels = 0, title = 0;
+  // Room for labels such as "-0.25" at least, so ranges of the same magnitude (a series whose
+  // range is still to be fixed, say) give the strip one width.
+  int labels = p.categorical ? 0 : face.width("-0.25", px), title = 0;
   for (const auto& s : p.labels) labels = std::max(labels, face.width(s, px));
   for (const auto& s : p.title) title = std::max(title, face.width(s, px));
   const int body = m.swatch + (p.categorical ? m.pad : m.tick + m.pad / 2) + labels;

@@ -116,6 +116,7 @@ struct RenderOptions {
   double fieldMin = std::numeric_limits<double>::quiet_NaN();  // NaN: the field's minimum
   double fieldMax = std::numeric_limits<double>::quiet_NaN();  // NaN: the field's maximum
   bool legend = true;                                          // drawn when colouring by a field
+  int legendWidth = 0;  // pixels of the legend strip; 0: as wide as its labels need
   bool timeStamp = true;                                       // drawn when scene.time is finite
   int antialias = 2;          // supersampling factor per axis, 1 to 4
   double outlineWidth = 1.0;  // grain outline, pixels of the final image; 0: none
@@ -132,7 +133,7 @@ inline constexpr int kMaxImageSize = 16384;
 void checkScene(const RenderScene& scene);
 
 // Returns nothing; throws demlab::Error (DEMLAB VALUE ...) naming the first bad option: SIZE,
-// ANTIALIAS, COLOUR, CAMERA, FOV, RANGE, OUTLINE, WIDTH.
+// ANTIALIAS, COLOUR, CAMERA, FOV, RANGE, OUTLINE, WIDTH (wall or legend).
 void checkOptions(const RenderOptions& options);
 
 }  // namespace demlab::render

@@ -11,6 +11,7 @@
 #include "cmd/commands/snapshot_contacts.hpp"
 #include "render/colour_map.hpp"
 #include "render/image_file.hpp"
+#include "render/layout.hpp"
 #include "render/renderer.hpp"
 #include "render/view.hpp"
 
@@ -141,9 +142,10 @@ void keepDrawn(const sim::Simulation& s, const SnapOptions& o, const DenseIndex&
   compactRows(f.meshOf, 1, keep);
 }
 
-// Returns nothing; sets the series' fixed framing and colour range in sc and r, fixing each
-// from this frame when not yet fixed: the framing when o asks for a fixed camera, the range
-// when o asks for -range first and this frame's field has a spread. Changes sc, r and lock.
+// Returns nothing; sets the series' fixed framing, legend width and colour range in sc and r,
+// fixing each from this frame when not yet fixed: the framing and legend width when o asks for
+// a fixed camera, the range when o asks for -range first and this frame's field has a spread.
+// Changes sc, r and lock.
 void applySeriesLock(const SnapOptions& o, render::RenderScene& sc, render::RenderOptions& r,
                      SeriesLock& lock) {
   if (o.cameraFixed && !o.camera) {
@@ -164,6 +166,12 @@ void applySeriesLock(const SnapOptions& o, render::RenderScene& sc, render::Rend
       r.fieldMin = (*lock.range)[0];
       r.fieldMax = (*lock.range)[1];
     }
+  }
+  if (o.cameraFixed) {
+    // Kept after the range: the first frame's strip is measured with its own labels.
+    if (!lock.legendWidth)
+      lock.legendWidth = render::frameLayout(sc, r, render::defaultTypeface()).legend.width();
+    r.legendWidth = *lock.legendWidth;
   }
 }
 

@@ -11,10 +11,12 @@
 namespace demlab::cmd {
 
 // What a series keeps from its first frame so that later frames match it: the colour range
-// (-range first) and the framing's scene bounds {lo, hi} (-camera fixed). Empty until fixed.
+// (-range first), and with -camera fixed the framing's scene bounds {lo, hi} and the legend
+// strip's width (which sets the scene's part of the image). Empty until fixed.
 struct SeriesLock {
   std::optional<std::array<double, 2>> range;
   std::optional<std::array<double, 6>> bounds;
+  std::optional<int> legendWidth;
 };
 
 #ifdef DEMLAB_HAVE_RENDER

@@ -61,6 +61,11 @@ TEST(RenderColourMap, FieldRange) {
   r = fieldRange(s, RenderOptions{});
   EXPECT_EQ(r.lo, 1.5);
   EXPECT_EQ(r.hi, 2.5);
+  std::vector<double> zeros = {0, 0};
+  s.field = zeros;
+  r = fieldRange(s, RenderOptions{});
+  EXPECT_EQ(r.lo, 0);
+  EXPECT_EQ(r.hi, 1);
 }
 
 TEST(RenderView, ManualCamerasProjectAsByHand) {
