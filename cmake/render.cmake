@@ -1,8 +1,8 @@
 # Off-screen snapshots (src/render): the demlab_render library over OSMesa, libpng, libjpeg and
-# FreeType, its tests
-# (demlab_render_tests, ctest name "render") and bench_render. With DEMLAB_RENDER off, or when
-# OSMesa or libpng is missing, nothing here is built and everything else still is; code that
-# renders checks if(TARGET demlab_render), and demlab_render carries DEMLAB_HAVE_RENDER=1.
+# FreeType, its tests (demlab_render_tests, ctest name "render") and bench_render. With
+# DEMLAB_RENDER off, or when one of those libraries is missing, nothing here is built and
+# everything else still is; code that renders checks if(TARGET demlab_render), and
+# demlab_render carries DEMLAB_HAVE_RENDER=1.
 option(DEMLAB_RENDER "Build the off-screen renderer (OSMesa, libpng, libjpeg, FreeType)" ON)
 
 if(NOT DEMLAB_RENDER)
