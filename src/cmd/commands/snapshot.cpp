@@ -2,8 +2,9 @@
 // JPEG, now (`snapshot write`) or by an output module every so many steps or seconds
 // (`snapshot every`). The drawing options are in snapshot_options, the frame in snapshot_frame.
 // The options are parsed and checked the same way whether or not the build has the renderer;
-// without it (DEMLAB_RENDER off, or OSMesa/libpng missing) the commands that draw fail in their
-// check phase with DEMLAB UNSUPPORTED RENDER, so a script learns it before anything changed.
+// without it (DEMLAB_RENDER off, or a library it needs missing) the commands that draw fail in
+// their check phase with DEMLAB UNSUPPORTED RENDER, so a script learns it before anything
+// changed.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
