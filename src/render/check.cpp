@@ -152,6 +152,13 @@ void checkScene(const RenderScene& s) {
                       ": must be a finite number",
                   {"VALUE", "ANGLE"});
   for (size_t i = 0; i < s.walls.size(); ++i) checkWall(s.walls[i], i, s.dim);
+  for (size_t i = 0; i < s.chains.size(); ++i) {
+    const ChainLink& l = s.chains[i];
+    if (l.a >= n || l.b >= n || !(std::isfinite(l.force) && l.force >= 0))
+      throw Error("bad " + indexed("chain", i) +
+                      ": its grains must be below the grain count and its force finite, >= 0",
+                  {"VALUE", "CHAIN"});
+  }
   if (!s.meshOf.empty()) {
     checkLength("mesh indices", s.meshOf.size(), n);
     if (s.dim == 3) checkLength("orientations", s.orientations.size(), 4 * n);
@@ -227,6 +234,10 @@ void checkOptions(const RenderOptions& o) {
     throw Error(
         "bad wall width \"" + num(o.wallWidth) + "\": must be a number of pixels above 0 up to 100",
         {"VALUE", "WIDTH"});
+  if (o.legendWidth < 0 || o.legendWidth >= o.width)
+    throw Error("bad legend width \"" + std::to_string(o.legendWidth) +
+                    "\": must be 0 (as wide as its labels need) or pixels below the image width",
+                {"VALUE", "WIDTH"});
   if (!(o.wallAlpha >= 0 && o.wallAlpha <= 1))
     throw Error("bad wall opacity \"" + num(o.wallAlpha) + "\": must be a number from 0 to 1",
                 {"VALUE", "COLOUR"});

@@ -5,16 +5,10 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "render/colour_tables.hpp"
 
 namespace demlab::render {
 namespace {
-
-// Nine samples of matplotlib's viridis (CC0), linearly interpolated: close enough to keep its
-// perceptual ordering, small enough to read.
-constexpr float kViridis[9][3] = {
-    {0.267f, 0.005f, 0.329f}, {0.283f, 0.141f, 0.458f}, {0.229f, 0.322f, 0.546f},
-    {0.172f, 0.448f, 0.558f}, {0.128f, 0.567f, 0.551f}, {0.135f, 0.659f, 0.518f},
-    {0.369f, 0.789f, 0.383f}, {0.741f, 0.873f, 0.150f}, {0.993f, 0.906f, 0.144f}};
 
 // Ten well-separated hues (the "tab10" family), in an order where neighbours contrast.
 constexpr float kCategorical[10][3] = {{0.122f, 0.467f, 0.706f}, {1.000f, 0.498f, 0.055f},
@@ -26,14 +20,24 @@ constexpr float kCategorical[10][3] = {{0.122f, 0.467f, 0.706f}, {1.000f, 0.498f
 }  // namespace
 
 Rgb viridis(double t) {
-  if (!(t > 0)) t = 0;
-  if (t > 1) t = 1;
-  const double x = t * 8;
-  const int i = std::min(int(x), 7);
-  const float f = float(x - i);
-  Rgb c;
-  for (int k = 0; k < 3; ++k) c[k] = kViridis[i][k] + f * (kViridis[i + 1][k] - kViridis[i][k]);
-  return c;
+  return mapColour(ColourMap::viridis, t);
+}
+
+Rgb mapColour(ColourMap m, double t) {
+  if (m == ColourMap::categorical) return categorical(categoryOf(t));
+  const float(*table)[3] = m == ColourMap::magma     ? kMagmaTable
+                           : m == ColourMap::inferno  ? kInfernoTable
+                           : m == ColourMap::plasma   ? kPlasmaTable
+                           : m == ColourMap::coolwarm ? kCoolwarmTable
+                                                      : kViridisTable;
+  // matplotlib's lookup: entry floor(t * 256), the top one for t = 1.
+  const int i = !(t > 0) ? 0 : t >= 1 ? 255 : std::min(255, int(t * 256));
+  return {table[i][0], table[i][1], table[i][2]};
+}
+
+Rgb chainColour(double t) {
+  const float f = float(std::clamp(t, 0.0, 1.0));
+  return {0.85f - 0.45f * f, 0.3f - 0.3f * f, 0.25f - 0.25f * f};
 }
 
 Rgb categorical(long k) {
@@ -42,14 +46,23 @@ Rgb categorical(long k) {
 }
 
 ColourMap colourMapNamed(std::string_view name) {
-  if (name == "viridis") return ColourMap::viridis;
-  if (name == "categorical") return ColourMap::categorical;
-  throw Error("bad colour map \"" + std::string(name) + "\": must be categorical or viridis",
+  for (ColourMap m : kColourMaps)
+    if (colourMapName(m) == name) return m;
+  throw Error("bad colour map \"" + std::string(name) +
+                  "\": must be categorical, coolwarm, inferno, magma, plasma, or viridis",
               {"VALUE", "COLOURMAP"});
 }
 
 std::string_view colourMapName(ColourMap m) {
-  return m == ColourMap::categorical ? "categorical" : "viridis";
+  switch (m) {
+    case ColourMap::magma: return "magma";
+    case ColourMap::inferno: return "inferno";
+    case ColourMap::plasma: return "plasma";
+    case ColourMap::coolwarm: return "coolwarm";
+    case ColourMap::categorical: return "categorical";
+    case ColourMap::viridis: break;
+  }
+  return "viridis";
 }
 
 long categoryOf(double value) {
@@ -65,8 +78,10 @@ FieldRange fieldRange(const RenderScene& scene, const RenderOptions& options) {
   if (!std::isnan(options.fieldMin)) r.lo = options.fieldMin;
   if (!std::isnan(options.fieldMax)) r.hi = options.fieldMax;
   if (!(r.hi > r.lo)) {
+    // A field of zeros (a bed at rest, no contacts) reads 0 to 1, not -0.5 to 0.5: the
+    // fields that are magnitudes have no negative values to suggest.
     const double v = std::isnan(options.fieldMin) ? r.hi : r.lo;
-    r = {v - 0.5, v + 0.5};
+    r = v == 0 ? FieldRange{0, 1} : FieldRange{v - 0.5, v + 0.5};
   }
   return r;
 }
@@ -87,7 +102,8 @@ void grainColours(const RenderScene& scene, const RenderOptions& options,
     } else {
       const FieldRange r = fieldRange(scene, options);
       const double scale = 1 / (r.hi - r.lo);
-      for (size_t i = 0; i < n; ++i) put(i, viridis((scene.field[i] - r.lo) * scale));
+      for (size_t i = 0; i < n; ++i)
+        put(i, mapColour(options.colourMap, (scene.field[i] - r.lo) * scale));
     }
   } else if (!scene.colours.empty()) {
     for (size_t i = 0; i < n; ++i)

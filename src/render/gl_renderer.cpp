@@ -9,10 +9,12 @@
 #include "render/gl_api.hpp"
 #include "render/gl_context.hpp"
 #include "render/gl_shaders.hpp"
+#include "render/layout.hpp"
 #include "render/occlusion.hpp"
 #include "render/overlay.hpp"
 #include "render/png.hpp"
 #include "render/renderer.hpp"
+#include "render/text.hpp"
 #include "render/view.hpp"
 #include "render/wall_geometry.hpp"
 
@@ -55,6 +57,19 @@ class GlRenderer : public Renderer {
   Image render(const RenderScene& scene, const RenderOptions& options) override {
     checkScene(scene);
     checkOptions(options);
+    const Typeface& face = defaultTypeface();
+    const FrameLayout layout = frameLayout(scene, options, face);
+    RenderOptions inner = options;
+    inner.width = layout.scene.width();
+    inner.height = layout.scene.height();
+    Image image = composeFrame(renderScene(scene, inner), layout, options);
+    drawOverlay(image, scene, options, layout, face);
+    return image;
+  }
+
+ private:
+  // Returns the scene drawn over the whole of an image of options' size, without overlay.
+  Image renderScene(const RenderScene& scene, const RenderOptions& options) {
     context_->makeCurrent();
     const int ss = options.antialias;
     const int w = options.width * ss, h = options.height * ss;
@@ -105,19 +120,20 @@ class GlRenderer : public Renderer {
                      GL_STREAM_DRAW);
       gl_.DrawArrays(GL_TRIANGLES, 0, GLsizei(meshFaces_.size()));
     }
-    if (!walls_.lines.empty()) {
+    auto drawLines = [&](const std::vector<LineInstance>& lines, double halfWidth) {
       gl_.UseProgram(lineProgram_);
       setMatrices(lineProgram_, viewM, projM);
       gl_.Uniform1i(uniform(lineProgram_, "ortho"), ortho);
       gl_.Uniform1f(uniform(lineProgram_, "nearZ"), float(view.near));
       gl_.Uniform2f(uniform(lineProgram_, "viewport"), float(w), float(h));
-      gl_.Uniform1f(uniform(lineProgram_, "halfWidth"), float(options.wallWidth * ss / 2));
+      gl_.Uniform1f(uniform(lineProgram_, "halfWidth"), float(halfWidth));
       gl_.BindVertexArray(lineVao_);
       gl_.BindBuffer(GL_ARRAY_BUFFER, lineBuffer_);
-      gl_.BufferData(GL_ARRAY_BUFFER, walls_.lines.size() * sizeof(LineInstance),
-                     walls_.lines.data(), GL_STREAM_DRAW);
-      gl_.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(walls_.lines.size()));
-    }
+      gl_.BufferData(GL_ARRAY_BUFFER, lines.size() * sizeof(LineInstance), lines.data(),
+                     GL_STREAM_DRAW);
+      gl_.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(lines.size()));
+    };
+    if (!walls_.lines.empty()) drawLines(walls_.lines, options.wallWidth * ss / 2);
     if (!walls_.triangles.empty()) {
       // Translucent faces last, tested against the grains' depth but not writing it, so a
       // grain behind a drum's mantle shows through.
@@ -134,6 +150,13 @@ class GlRenderer : public Renderer {
       gl_.DepthMask(GL_TRUE);
       gl_.Disable(GL_BLEND);
     }
+    fillChains(scene, view);
+    if (!chains_.empty()) {
+      // Over everything, without depth test: a chain runs through the grains it joins.
+      gl_.Disable(GL_DEPTH_TEST);
+      drawLines(chains_, ss);
+      gl_.Enable(GL_DEPTH_TEST);
+    }
     gl_.BindVertexArray(0);
 
     pixels_.resize(size_t(4) * w * h);
@@ -143,12 +166,30 @@ class GlRenderer : public Renderer {
     if (const GLenum err = gl_.GetError(); err != GL_NO_ERROR)
       throw Error("OpenGL error " + std::to_string(err) + " while rendering", {"RENDER", "GL"});
 
-    Image image = downsample(options.width, options.height, ss);
-    drawOverlay(image, scene, options);
-    return image;
+    return downsample(options.width, options.height, ss);
   }
 
- private:
+  // Returns nothing; fills chains_ with scene's force chains as lines between grain centres,
+  // each wider (0.75 to 2.5 times the line program's half width) and darker the larger its
+  // force is against the largest.
+  void fillChains(const RenderScene& scene, const View& view) {
+    chains_.clear();
+    double fmax = 0;
+    for (const ChainLink& l : scene.chains) fmax = std::max(fmax, l.force);
+    if (!(fmax > 0)) return;
+    for (const ChainLink& l : scene.chains) {
+      const double t = l.force / fmax;
+      LineInstance li;
+      const Vec3 a = grainCentre(scene, l.a) - view.anchor, b = grainCentre(scene, l.b) - view.anchor;
+      for (int k = 0; k < 3; ++k) li.a[k] = float(a[k]), li.b[k] = float(b[k]);
+      const Rgb c = chainColour(t);
+      for (int k = 0; k < 3; ++k) li.rgba[k] = toByte(c[k]);
+      li.rgba[3] = 255;
+      li.width = float(0.75 + 1.75 * t);
+      chains_.push_back(li);
+    }
+  }
+
   GLint uniform(GLuint p, const char* name) { return gl_.GetUniformLocation(p, name); }
 
   void setMatrices(GLuint p, const Eigen::Matrix4f& v, const Eigen::Matrix4f& pr) {
@@ -271,6 +312,7 @@ class GlRenderer : public Renderer {
     attrib(1, 3, GL_FLOAT, false, ls, offsetof(LineInstance, a), 1);
     attrib(2, 3, GL_FLOAT, false, ls, offsetof(LineInstance, b), 1);
     attrib(3, 4, GL_UNSIGNED_BYTE, true, ls, offsetof(LineInstance, rgba), 1);
+    attrib(4, 1, GL_FLOAT, false, ls, offsetof(LineInstance, width), 1);
 
     gl_.GenVertexArrays(1, &faceVao_);
     gl_.BindVertexArray(faceVao_);
@@ -365,6 +407,7 @@ class GlRenderer : public Renderer {
   std::vector<std::uint8_t> pixels_;
   WallGeometry walls_;
   std::vector<FaceVertex> meshFaces_;  // the grains drawn as meshes (fillMeshes)
+  std::vector<LineInstance> chains_;   // the force chains (fillChains)
 };
 
 }  // namespace

@@ -146,6 +146,7 @@ layout(location = 0) in vec2 corner;
 layout(location = 1) in vec3 a;
 layout(location = 2) in vec3 b;
 layout(location = 3) in vec4 colour;
+layout(location = 4) in float widthScale;
 uniform mat4 view;
 uniform mat4 proj;
 uniform int ortho;
@@ -173,7 +174,7 @@ void main() {
   vec2 dir = len > 1e-6 ? d / len : vec2(1.0, 0.0);
   vec2 nrm = vec2(-dir.y, dir.x);
   vec4 p = corner.x < 0.5 ? ca : cb;
-  vec2 ext = ((corner.x < 0.5 ? -dir : dir) + nrm * corner.y) * halfWidth;
+  vec2 ext = ((corner.x < 0.5 ? -dir : dir) + nrm * corner.y) * halfWidth * widthScale;
   p.xy += ext / halfVp * p.w;
   gl_Position = p;
   vColour = colour;

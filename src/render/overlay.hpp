@@ -1,11 +1,13 @@
-// What is drawn over the rendered frame on the CPU, after read-back: the simulated time stamp
-// (top left) and the colour legend (right edge). Drawn at final resolution, so text stays crisp
-// whatever the supersampling.
+// What is drawn around the rendered scene on the CPU, after read-back, in the margins the
+// layout sets aside (layout.hpp): the title and simulated time stamp in the header strip, the
+// colour legend in the legend strip. Drawn at final resolution, so text stays crisp whatever
+// the supersampling, and never over a grain.
 #pragma once
 
 #include <string>
 
 #include "render/image.hpp"
+#include "render/layout.hpp"
 #include "render/scene.hpp"
 
 namespace demlab::render {
@@ -13,11 +15,10 @@ namespace demlab::render {
 // Returns the text of the time stamp for time t, e.g. "t = 0.0125 s".
 std::string timeStampText(double t);
 
-// Returns the font scale used on an image of this height (1 up to 360 rows, 2 at 720...).
-int overlayScale(int height);
-
-// Returns nothing; draws the time stamp (when scene.time is finite and options.timeStamp) and
-// the legend (when the scene is coloured by a field and options.legend) onto image.
-void drawOverlay(Image& image, const RenderScene& scene, const RenderOptions& options);
+// Returns nothing; draws the header (time stamp when scene.time is finite and
+// options.timeStamp, then scene.title) and the legend into their strips of layout, in face.
+// Changes only the strips' pixels.
+void drawOverlay(Image& image, const RenderScene& scene, const RenderOptions& options,
+                 const FrameLayout& layout, const Typeface& face);
 
 }  // namespace demlab::render

@@ -1,9 +1,6 @@
 #include "render/png.hpp"
 
 #include <png.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +9,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "render/atomic_file.hpp"
 
 namespace demlab::render {
 namespace {
@@ -105,34 +103,10 @@ void writePng(const Image& image, const std::string& path) {
       image.rgba.size() != size_t(4) * image.width * image.height)
     throw Error("bad image for \"" + path + "\": pixel buffer does not match its size",
                 {"VALUE", "IMAGE"});
-  // The temporary name shares the target's folder so rename is atomic (same file system).
-  std::string tmp = path + ".XXXXXX";
-  int fd = mkstemp(tmp.data());
-  if (fd < 0) throw ioError("open", path, std::strerror(errno));
-  FILE* f = fdopen(fd, "wb");
-  if (!f) {
-    const int err = errno;
-    close(fd);
-    unlink(tmp.c_str());
-    throw ioError("open", path, std::strerror(err));
-  }
-  PngErrorState state;
-  const bool ok = encode(f, image, state);
-  const int werr = std::ferror(f) ? errno : 0;
-  const bool closed = std::fclose(f) == 0;
-  if (!ok || werr || !closed) {
-    unlink(tmp.c_str());
-    throw ioError("write", path, ok ? std::strerror(werr ? werr : EIO) : state.message);
-  }
-  // mkstemp makes the file 0600; a frame should be readable like any file the user writes.
-  const mode_t mask = umask(0);
-  umask(mask);
-  chmod(tmp.c_str(), 0666 & ~mask);
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    unlink(tmp.c_str());
-    throw ioError("rename onto", path, std::strerror(err));
-  }
+  writeFileAtomically(path, "PNG", [&](std::FILE* f) {
+    PngErrorState state;
+    return encode(f, image, state) ? std::string() : std::string(state.message);
+  });
 }
 
 Image readPng(const std::string& path) {

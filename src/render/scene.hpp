@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <string>
@@ -56,6 +57,13 @@ struct Bounds {
   }
 };
 
+// A force chain: a line between the centres of grains a and b (indices into the scene's grains)
+// carrying a contact force of this magnitude (N), drawn wider and darker the larger it is.
+struct ChainLink {
+  std::uint32_t a = 0, b = 0;
+  double force = 0;
+};
+
 struct RenderScene {
   int dim = 3;                      // 2 (discs seen from above) or 3 (spheres)
   std::span<const double> centres;  // dim numbers per grain
@@ -65,6 +73,7 @@ struct RenderScene {
   std::span<const float> colours;
   std::span<const double> field;
   std::string fieldName;                   // the legend's title, e.g. "speed"
+  std::string fieldUnit;                   // its SI unit, e.g. "m/s"; "" for none
   std::vector<std::string> categoryNames;  // categorical legend labels by integer value
   std::span<const double> angles;          // 2D: orientation angles (rad) for the rotation mark
   // Grains drawn as triangle meshes instead of spheres or discs (the shape table's render rows,
@@ -75,6 +84,8 @@ struct RenderScene {
   std::span<const double> orientations;
   std::vector<std::vector<Vec3>> meshes;
   std::vector<RenderWall> walls;
+  std::vector<ChainLink> chains;  // drawn over the grains
+  std::string title;              // drawn above the scene; "" for none
   double time = std::numeric_limits<double>::quiet_NaN();  // NaN: no time stamp
   Bounds bounds;  // empty: computed from the grains and the finite walls
 
@@ -82,7 +93,7 @@ struct RenderScene {
   size_t size() const { return radii.size(); }
 };
 
-enum class ColourMap { viridis, categorical };
+enum class ColourMap { viridis, magma, inferno, plasma, coolwarm, categorical };
 
 struct CameraDef {
   bool automatic = true;  // frame the whole scene; position and lookAt are then ignored
@@ -105,6 +116,7 @@ struct RenderOptions {
   double fieldMin = std::numeric_limits<double>::quiet_NaN();  // NaN: the field's minimum
   double fieldMax = std::numeric_limits<double>::quiet_NaN();  // NaN: the field's maximum
   bool legend = true;                                          // drawn when colouring by a field
+  int legendWidth = 0;  // pixels of the legend strip; 0: as wide as its labels need
   bool timeStamp = true;                                       // drawn when scene.time is finite
   int antialias = 2;          // supersampling factor per axis, 1 to 4
   double outlineWidth = 1.0;  // grain outline, pixels of the final image; 0: none
@@ -121,7 +133,7 @@ inline constexpr int kMaxImageSize = 16384;
 void checkScene(const RenderScene& scene);
 
 // Returns nothing; throws demlab::Error (DEMLAB VALUE ...) naming the first bad option: SIZE,
-// ANTIALIAS, COLOUR, CAMERA, FOV, RANGE, OUTLINE, WIDTH.
+// ANTIALIAS, COLOUR, CAMERA, FOV, RANGE, OUTLINE, WIDTH (wall or legend).
 void checkOptions(const RenderOptions& options);
 
 }  // namespace demlab::render

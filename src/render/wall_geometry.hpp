@@ -13,6 +13,7 @@ namespace demlab::render {
 struct LineInstance {
   float a[3], b[3];
   std::uint8_t rgba[4];
+  float width = 1;  // times the line program's halfWidth
 };
 
 struct FaceVertex {

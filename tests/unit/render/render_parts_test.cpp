@@ -37,13 +37,12 @@ TEST(RenderColourMap, CategoriesAreDistinctAndRepeat) {
 }
 
 TEST(RenderColourMap, Names) {
-  for (ColourMap m : {ColourMap::viridis, ColourMap::categorical})
-    EXPECT_EQ(colourMapNamed(colourMapName(m)), m);
+  for (ColourMap m : kColourMaps) EXPECT_EQ(colourMapNamed(colourMapName(m)), m);
   EXPECT_EQ(test::errorCode([] { colourMapNamed("jet"); }), "DEMLAB VALUE COLOURMAP");
   try {
     colourMapNamed("jet");
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "bad colour map \"jet\": must be categorical or viridis");
+    EXPECT_STREQ(e.what(), "bad colour map \"jet\": must be categorical, coolwarm, inferno, magma, plasma, or viridis");
   }
 }
 
@@ -62,6 +61,11 @@ TEST(RenderColourMap, FieldRange) {
   r = fieldRange(s, RenderOptions{});
   EXPECT_EQ(r.lo, 1.5);
   EXPECT_EQ(r.hi, 2.5);
+  std::vector<double> zeros = {0, 0};
+  s.field = zeros;
+  r = fieldRange(s, RenderOptions{});
+  EXPECT_EQ(r.lo, 0);
+  EXPECT_EQ(r.hi, 1);
 }
 
 TEST(RenderView, ManualCamerasProjectAsByHand) {

@@ -1,5 +1,4 @@
 // PNG writing: round trip through libpng, atomic replacement, errors for bad paths.
-#include <dirent.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -16,29 +15,7 @@ namespace {
 
 using test::errorCode;
 using test::sharedRenderer;
-
-// A fresh empty folder under /tmp for one test.
-struct TempDir {
-  std::string path;
-  TempDir() {
-    char tmpl[] = "/tmp/demlab_render_test_XXXXXX";
-    path = mkdtemp(tmpl);
-  }
-  ~TempDir() {
-    for (const std::string& f : files()) std::remove((path + "/" + f).c_str());
-    rmdir(path.c_str());
-  }
-  std::vector<std::string> files() const {
-    std::vector<std::string> out;
-    if (DIR* d = opendir(path.c_str())) {
-      while (dirent* e = readdir(d))
-        if (std::string(e->d_name) != "." && std::string(e->d_name) != "..")
-          out.push_back(e->d_name);
-      closedir(d);
-    }
-    return out;
-  }
-};
+using test::TempDir;
 
 TEST(RenderPng, RoundTripOfARenderedFrame) {
   std::vector<double> c = {0, 0, 0, 1, 0.5, 0}, r = {0.5, 0.3};

@@ -2,7 +2,13 @@
 // takes a good fraction of a second) and pixel classification.
 #pragma once
 
+#include <dirent.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
 
 #include <cmath>
 #include <memory>
@@ -36,6 +42,34 @@ inline bool isColour(const Image& img, double x, double y, const Rgb& c, int tol
   return true;
 }
 
+// A 200x200 frame looking down -z from (0, 0, 10), y up; orthographic: 20 pixels per unit.
+inline RenderOptions topView(bool ortho) {
+  RenderOptions o;
+  o.width = o.height = 200;
+  o.camera.automatic = false;
+  o.camera.position = Vec3(0, 0, 10);
+  o.camera.lookAt = Vec3::Zero();
+  o.camera.up = Vec3::UnitY();
+  o.camera.orthographic = ortho;
+  o.camera.viewHeight = 10;
+  o.camera.fov = 60;
+  return o;
+}
+
+// Returns a frame of two spheres at an odd size (123x77, which catches row-stride mistakes),
+// rendered by the shared renderer.
+inline Image oddSizedFrame() {
+  const std::vector<double> c = {0, 0, 0, 1, 0.5, 0}, r = {0.5, 0.3};
+  RenderScene s;
+  s.centres = c;
+  s.radii = r;
+  s.time = 1.5;
+  RenderOptions o;
+  o.width = 123;
+  o.height = 77;
+  return sharedRenderer().render(s, o);
+}
+
 inline bool isWhite(const Image& img, double x, double y) {
   return isColour(img, x, y, {1, 1, 1}, 0);
 }
@@ -52,5 +86,28 @@ std::string errorCode(F&& f) {
   }
   return "";
 }
+
+// A fresh empty folder under /tmp for one test.
+struct TempDir {
+  std::string path;
+  TempDir() {
+    char tmpl[] = "/tmp/demlab_render_test_XXXXXX";
+    path = mkdtemp(tmpl);
+  }
+  ~TempDir() {
+    for (const std::string& f : files()) std::remove((path + "/" + f).c_str());
+    rmdir(path.c_str());
+  }
+  std::vector<std::string> files() const {
+    std::vector<std::string> out;
+    if (DIR* d = opendir(path.c_str())) {
+      while (dirent* e = readdir(d))
+        if (std::string(e->d_name) != "." && std::string(e->d_name) != "..")
+          out.push_back(e->d_name);
+      closedir(d);
+    }
+    return out;
+  }
+};
 
 }  // namespace demlab::render::test

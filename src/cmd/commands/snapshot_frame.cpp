@@ -1,0 +1,302 @@
+#include "cmd/commands/snapshot_frame.hpp"
+
+#ifdef DEMLAB_HAVE_RENDER
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <unordered_map>
+
+#include "cmd/commands/snapshot_contacts.hpp"
+#include "render/colour_map.hpp"
+#include "render/image_file.hpp"
+#include "render/layout.hpp"
+#include "render/renderer.hpp"
+#include "render/view.hpp"
+
+namespace demlab::cmd {
+namespace {
+
+using render::RenderWall;
+
+// Returns nothing; keeps the rows (of `width` entries each) of v whose keep flag is set, in
+// order. An empty v stays empty. Changes v.
+template <class T>
+void compactRows(std::vector<T>& v, size_t width, const std::vector<char>& keep) {
+  if (v.empty()) return;
+  size_t out = 0;
+  for (size_t i = 0; i < keep.size(); ++i) {
+    if (!keep[i]) continue;
+    for (size_t k = 0; k < width; ++k) v[out * width + k] = v[i * width + k];
+    ++out;
+  }
+  v.resize(out * width);
+}
+
+// The process's one renderer (an OSMesa context), made on first use and kept: a context costs
+// tens of milliseconds, a frame of a small scene less.
+render::Renderer& theRenderer() {
+  static std::unique_ptr<render::Renderer> r;
+  if (!r) r = render::makeRenderer();
+  return *r;
+}
+
+Vec3 v3(const sim::Vec3d& a) {
+  return Vec3(a[0], a[1], a[2]);
+}
+
+// Returns the walls of s as the renderer draws them.
+std::vector<RenderWall> renderWalls(const sim::Simulation& s) {
+  std::vector<RenderWall> out;
+  const int d = s.dim();
+  for (sim::WallId id : s.wallIds()) {
+    const sim::WallState w = s.wall(id);
+    const Vec3 c = v3(w.centre), a0 = v3(w.axes[0]), a1 = v3(w.axes[1]), a2 = v3(w.axes[2]);
+    const Vec3 h = v3(w.halfExtents);
+    switch (w.shape) {
+      case sim::WallShape::Plane:
+        out.push_back(RenderWall::plane(c, v3(w.normal)));
+        break;
+      case sim::WallShape::Finite:
+        if (d == 2) {
+          out.push_back(RenderWall::segment(c - h[0] * a0, c + h[0] * a0));
+        } else {
+          out.push_back(
+              RenderWall::rectangle(c - h[0] * a0 - h[1] * a1, 2 * h[0] * a0, 2 * h[1] * a1));
+        }
+        break;
+      case sim::WallShape::Box:
+        if (d == 2) {
+          out.push_back(
+              RenderWall::rectangle(c - h[0] * a0 - h[1] * a1, 2 * h[0] * a0, 2 * h[1] * a1));
+        } else if ((a0 - Vec3::UnitX()).norm() < 1e-12 && (a1 - Vec3::UnitY()).norm() < 1e-12) {
+          out.push_back(RenderWall::box(c - h, c + h));
+        } else {
+          // A turned box: its six faces.
+          const Vec3 e[3] = {h[0] * a0, h[1] * a1, h[2] * a2};
+          for (int k = 0; k < 3; ++k) {
+            const Vec3 &u = e[(k + 1) % 3], &v = e[(k + 2) % 3];
+            for (int sgn : {-1, 1})
+              out.push_back(RenderWall::rectangle(c + sgn * e[k] - u - v, 2 * u, 2 * v));
+          }
+        }
+        break;
+      case sim::WallShape::Drum:
+        out.push_back(RenderWall::drum(c, d == 2 ? Vec3::UnitZ() : a0, w.radius,
+                                       d == 2 ? 0.0 : 2 * w.halfLength));
+        break;
+    }
+  }
+  return out;
+}
+
+// The arrays a RenderScene views; they must outlive the render call.
+struct FrameData {
+  std::vector<double> centres, radii, field, angles, orientations;
+  std::vector<float> colours;
+  std::vector<int32_t> meshOf;
+  std::vector<render::ChainLink> chains;
+  render::RenderScene scene;
+};
+
+// Returns the legend's name of field by.
+std::string fieldTitle(const std::string& by) {
+  if (by == "force") return "net force";
+  if (by == "contactforce") return "contact force";
+  return by;
+}
+
+// Returns nothing; keeps in f only the grains o draws (those with one of o.tags, those on the
+// kept side of o.clip) and the chains between two of them. Changes f's per-grain arrays.
+void keepDrawn(const sim::Simulation& s, const SnapOptions& o, const DenseIndex& dense,
+               FrameData& f) {
+  const size_t n = f.radii.size();
+  const int d = s.dim();
+  std::vector<char> keep(n, 1);
+  if (!o.tags.empty()) {
+    std::fill(keep.begin(), keep.end(), 0);
+    for (const std::string& t : o.tags)
+      for (sim::ElementId id : s.elementsTagged(t)) keep[dense.at(id.bits())] = 1;
+  }
+  if (o.clip) {
+    const auto& c = *o.clip;
+    for (size_t i = 0; i < n; ++i) {
+      double side = 0;
+      for (int k = 0; k < d; ++k)
+        side += (f.centres[i * size_t(d) + size_t(k)] - c[size_t(k)]) * c[size_t(3 + k)];
+      if (side > 0) keep[i] = 0;
+    }
+  }
+  if (std::all_of(keep.begin(), keep.end(), [](char k) { return k != 0; })) return;
+  std::erase_if(f.chains, [&](const render::ChainLink& l) { return !keep[l.a] || !keep[l.b]; });
+  std::vector<std::uint32_t> renumber(n);
+  for (size_t i = 0, m = 0; i < n; ++i) renumber[i] = std::uint32_t(keep[i] ? m++ : m);
+  for (render::ChainLink& l : f.chains) l.a = renumber[l.a], l.b = renumber[l.b];
+  compactRows(f.centres, size_t(d), keep);
+  compactRows(f.radii, 1, keep);
+  compactRows(f.field, 1, keep);
+  compactRows(f.colours, 3, keep);
+  compactRows(f.angles, 1, keep);
+  compactRows(f.orientations, 4, keep);
+  compactRows(f.meshOf, 1, keep);
+}
+
+// Returns nothing; sets the series' fixed framing, legend width and colour range in sc and r,
+// fixing each from this frame when not yet fixed: the framing and legend width when o asks for
+// a fixed camera, the range when o asks for -range first and this frame's field has a spread.
+// Changes sc, r and lock.
+void applySeriesLock(const SnapOptions& o, render::RenderScene& sc, render::RenderOptions& r,
+                     SeriesLock& lock) {
+  if (o.cameraFixed && !o.camera) {
+    if (!lock.bounds) {
+      const render::Bounds b = render::sceneBounds(sc);
+      lock.bounds = {b.lo.x(), b.lo.y(), b.lo.z(), b.hi.x(), b.hi.y(), b.hi.z()};
+    }
+    const auto& b = *lock.bounds;
+    sc.bounds.lo = Vec3(b[0], b[1], b[2]);
+    sc.bounds.hi = Vec3(b[3], b[4], b[5]);
+  }
+  if (o.rangeFirst && !sc.field.empty() && r.colourMap != render::ColourMap::categorical) {
+    if (!lock.range) {
+      const auto [lo, hi] = std::minmax_element(sc.field.begin(), sc.field.end());
+      if (*hi > *lo) lock.range = std::array<double, 2>{*lo, *hi};
+    }
+    if (lock.range) {
+      r.fieldMin = (*lock.range)[0];
+      r.fieldMax = (*lock.range)[1];
+    }
+  }
+  if (o.cameraFixed) {
+    // Kept after the range: the first frame's strip is measured with its own labels.
+    if (!lock.legendWidth)
+      lock.legendWidth = render::frameLayout(sc, r, render::defaultTypeface()).legend.width();
+    r.legendWidth = *lock.legendWidth;
+  }
+}
+
+// Returns the frame of s as o asks (the scene part). Reads the scene only.
+void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f) {
+  const int d = s.dim();
+  f.centres = s.positions();
+  f.radii = s.radii();
+  const std::size_t n = f.radii.size();
+  render::RenderScene& sc = f.scene;
+  sc.dim = d;
+  sc.categoryNames.clear();
+  if (d == 2) f.angles = s.orientations();
+  const std::string& by = o.colourBy;
+  // Element ids to dense indices, built only for what needs them (a hash map of every element).
+  const bool needsDense = !o.tags.empty() || by == "contactforce" || o.chains;
+  const DenseIndex dense = needsDense ? denseIndex(s) : DenseIndex{};
+  auto norms = [&](const std::vector<double>& v, int k) {
+    f.field.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      double q = 0;
+      for (int j = 0; j < k; ++j)
+        q += v[i * std::size_t(k) + std::size_t(j)] * v[i * std::size_t(k) + std::size_t(j)];
+      f.field[i] = std::sqrt(q);
+    }
+  };
+  if (o.fixed) {
+    f.colours.resize(3 * n);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) f.colours[3 * i + std::size_t(k)] = (*o.fixed)[std::size_t(k)];
+    f.field.clear();
+  } else if (by == "speed") {
+    norms(s.velocities(), d);
+  } else if (by == "force") {
+    norms(s.forces(), d);
+  } else if (by == "contactforce") {
+    f.field = contactForceSums(s, dense);
+  } else if (by == "spin") {
+    norms(s.angularVelocities(), d == 2 ? 1 : 3);
+  } else if (by == "radius") {
+    f.field = f.radii;
+  } else if (by == "value") {
+    f.field = o.values;
+  } else if (by == "id") {
+    f.field.clear();
+    for (sim::ElementId id : s.elementIds()) f.field.push_back(double(scriptId(id)));
+  } else if (by == "material") {
+    const auto names = s.materialNames();
+    f.field.clear();
+    for (sim::ElementId id : s.elementIds()) {
+      const std::string m = s.element(id).material;
+      f.field.push_back(double(std::find(names.begin(), names.end(), m) - names.begin()));
+    }
+    sc.categoryNames = names;
+  } else {  // tag: the first of o.tags a grain carries (only those grains are drawn)
+    f.field.assign(n, double(o.tags.size()));
+    for (std::size_t k = o.tags.size(); k-- > 0;)
+      for (sim::ElementId id : s.elementsTagged(o.tags[k]))
+        f.field[dense.at(id.bits())] = double(k);
+    sc.categoryNames = o.tags;
+  }
+  // Elements of shapes with a render row are drawn as their meshes.
+  sim::Simulation::ElementMeshes m = s.elementMeshes();
+  f.meshOf = std::move(m.meshOf);
+  sc.meshes.clear();
+  for (const auto& mesh : m.meshes) {
+    sc.meshes.emplace_back();
+    for (const sim::Vec3d& p : mesh) sc.meshes.back().push_back(Vec3(p[0], p[1], p[2]));
+  }
+  if (!f.meshOf.empty() && d == 3) f.orientations = s.orientations();
+  if (o.chains) f.chains = forceChains(s, dense, o.chainMin);
+  keepDrawn(s, o, dense, f);
+  sc.centres = f.centres;
+  sc.radii = f.radii;
+  sc.colours = o.fixed ? std::span<const float>(f.colours) : std::span<const float>();
+  sc.field = o.fixed ? std::span<const double>() : std::span<const double>(f.field);
+  sc.fieldName = o.fixed ? "" : fieldTitle(by);
+  sc.fieldUnit = o.fixed ? "" : by == "value" ? o.valueUnit : fieldUnit(by);
+  sc.title = o.title;
+  sc.chains = f.chains;
+  sc.angles = d == 2 ? std::span<const double>(f.angles) : std::span<const double>();
+  if (o.walls) sc.walls = renderWalls(s);
+  sc.meshOf = f.meshOf;
+  sc.orientations = d == 3 ? std::span<const double>(f.orientations) : std::span<const double>();
+  sc.time = o.timeStamp ? s.time() : std::numeric_limits<double>::quiet_NaN();
+}
+
+render::RenderOptions renderOptions(const SnapOptions& o) {
+  render::RenderOptions r;
+  r.width = o.width;
+  r.height = o.height;
+  r.background = o.background;
+  r.camera.automatic = !o.camera;
+  r.camera.position = v3(o.position);
+  r.camera.lookAt = v3(o.lookAt);
+  r.camera.up = v3(o.up);
+  r.camera.fov = o.fov;
+  r.camera.orthographic = o.ortho;
+  r.camera.viewHeight = o.viewHeight;
+  const bool categorical = o.colourBy == "id" || o.colourBy == "material" || o.colourBy == "tag";
+  r.colourMap = render::colourMapNamed(
+      o.colourMap.empty() ? (categorical ? "categorical" : "viridis") : o.colourMap);
+  if (o.range) {
+    r.fieldMin = (*o.range)[0];
+    r.fieldMax = (*o.range)[1];
+  }
+  r.legend = o.legend;
+  r.timeStamp = o.timeStamp;
+  r.antialias = o.antialias;
+  return r;
+}
+
+}  // namespace
+
+void writeFrame(const sim::Simulation& s, const SnapOptions& o, const std::string& path,
+                SeriesLock* lock) {
+  FrameData f;
+  buildFrame(s, o, f);
+  render::RenderOptions r = renderOptions(o);
+  if (lock) applySeriesLock(o, f.scene, r, *lock);
+  const render::Image img = theRenderer().render(f.scene, r);
+  render::writeImage(img, path, o.jpeg ? render::ImageFormat::jpeg : render::ImageFormat::png,
+                     o.quality);
+}
+
+}  // namespace demlab::cmd
+
+#endif  // DEMLAB_HAVE_RENDER
