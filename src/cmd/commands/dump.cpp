@@ -263,16 +263,7 @@ void registerDumpCommands(Registry& r) {
     auto job = std::make_shared<Job>();
     job->dir = c.str("dir");
     job->options = readVtkOptions(c);
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const bool made = !fs::exists(job->dir, ec) && fs::create_directories(job->dir, ec);
-    if (ec) throw Error("can't create folder \"" + job->dir + "\": " + ec.message(), {"IO", "DIR"});
-    try {
-      job->write(s);
-    } catch (...) {
-      if (made) fs::remove_all(job->dir, ec);
-      throw;
-    }
+    OutputJobs<Job>::startIn(job->dir, [&] { job->write(s); });
     sim::OutputDef d;
     d.name = "dump " + job->dir;
     if (c.given("steps")) d.everySteps = std::uint64_t(c.integer("steps"));

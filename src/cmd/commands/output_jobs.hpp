@@ -5,6 +5,8 @@
 #pragma once
 
 #include <algorithm>
+#include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -55,6 +57,22 @@ class OutputJobs {
                       "): see \"" + group_ + " list\"",
                   {"LOOKUP", code});
     });
+  }
+
+  // Returns nothing; creates folder dir if it does not exist and runs first (which writes the
+  // output's first files there); when first throws, removes the folder if it made it and
+  // rethrows. Throws {IO DIR} when the folder cannot be made.
+  static void startIn(const std::string& dir, const std::function<void()>& first) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const bool made = !fs::exists(dir, ec) && fs::create_directories(dir, ec);
+    if (ec) throw Error("can't create folder \"" + dir + "\": " + ec.message(), {"IO", "DIR"});
+    try {
+      first();
+    } catch (...) {
+      if (made) fs::remove_all(dir, ec);
+      throw;
+    }
   }
 
   // Declares "<group> off": removes the given outputs of the group (all without ids).

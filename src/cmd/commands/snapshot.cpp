@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "cmd/commands/commands.hpp"
+#include "cmd/commands/output_jobs.hpp"
 #include "cmd/commands/snapshot_frame.hpp"
 #include "cmd/commands/snapshot_options.hpp"
 #include "cmd/words.hpp"
@@ -42,9 +43,8 @@ struct Job {
   SeriesLock lock;
 };
 
-std::map<std::pair<const void*, std::uint64_t>, std::weak_ptr<Job>>& jobs() {
-  static std::map<std::pair<const void*, std::uint64_t>, std::weak_ptr<Job>> j;
-  std::erase_if(j, [](const auto& kv) { return kv.second.expired(); });
+OutputJobs<Job>& jobs() {
+  static OutputJobs<Job> j("snapshot");
   return j;
 }
 
@@ -53,34 +53,6 @@ std::string framePath(const Job& j, std::uint64_t k) {
   std::snprintf(name, sizeof name, "frame_%06llu.%s", static_cast<unsigned long long>(k),
                 j.options.jpeg ? "jpg" : "png");
   return (std::filesystem::path(j.dir) / name).string();
-}
-
-// Returns the snapshot outputs of s with their jobs, in firing order.
-std::vector<std::pair<sim::OutputInfo, std::shared_ptr<Job>>> snapshotOutputs(
-    const sim::Simulation& s) {
-  std::vector<std::pair<sim::OutputInfo, std::shared_ptr<Job>>> out;
-  auto& j = jobs();
-  for (const sim::OutputInfo& o : s.outputs()) {
-    auto it = j.find({&s, o.id.bits()});
-    if (it == j.end()) continue;
-    if (auto p = it->second.lock()) out.emplace_back(o, p);
-  }
-  return out;
-}
-
-// A snapshot output id, as `snapshot every` returned it; value: sim::OutputId.
-PipeType snapshotRef() {
-  return custom("snapshot id", [](std::string_view w, const Param& p, const Context& ctx) {
-    std::int64_t id;
-    if (readInt(w, id)) {
-      const auto h = fromScriptId<sim::OutputId>(id);
-      for (auto& [info, job] : snapshotOutputs(session(ctx).scene()))
-        if (info.id == h) return std::any(h);
-    }
-    throw Error(
-        "no snapshot output \"" + std::string(w) + "\" (" + p.name + "): see \"snapshot list\"",
-        {"LOOKUP", "SNAPSHOT"});
-  });
 }
 
 }  // namespace
@@ -154,27 +126,22 @@ void registerSnapshotCommands(Registry& r) {
     job->dir = c.str("dir");
     job->options = std::any_cast<const SnapOptions&>(c.prepared);
     job->frames = std::uint64_t(c.integer("first"));
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const bool made = !fs::exists(job->dir, ec) && fs::create_directories(job->dir, ec);
-    if (ec) throw Error("can't create folder \"" + job->dir + "\": " + ec.message(), {"IO", "DIR"});
-    try {
+    OutputJobs<Job>::startIn(job->dir, [&] {
       writeFrame(s, job->options, framePath(*job, job->frames), &job->lock);
-    } catch (...) {
-      if (made) fs::remove(job->dir, ec);
-      throw;
-    }
+    });
     ++job->frames;
     sim::OutputDef d;
     d.name = "snapshot " + job->dir;
     if (c.given("steps")) d.everySteps = std::uint64_t(c.integer("steps"));
     if (c.given("time")) d.everyTime = c.real("time");
+    // Frames read the contacts only to colour by contact force or to draw chains.
+    d.needsContacts = job->options.chains || job->options.colourBy == "contactforce";
     d.callback = [job](const sim::Simulation& sim) {
       writeFrame(sim, job->options, framePath(*job, job->frames), &job->lock);
       ++job->frames;
     };
     const sim::OutputId id = s.addOutput(d);
-    jobs()[{&s, id.bits()}] = job;
+    jobs().add(s, id, job);
     return Value(scriptId(id));
 #else
     (void)c;
@@ -189,7 +156,7 @@ void registerSnapshotCommands(Registry& r) {
   list.changesScene = false;
   list.run([](Call& c) {
     List l;
-    for (auto& [info, job] : snapshotOutputs(session(c).scene())) {
+    for (auto& [info, job] : jobs().of(session(c).scene())) {
       Dict d{{"id", scriptId(info.id)}, {"dir", job->dir}};
       if (info.everySteps)
         d.emplace_back("steps", info.everySteps);
@@ -202,21 +169,7 @@ void registerSnapshotCommands(Registry& r) {
     return Value(l);
   });
 
-  Command& off =
-      r.add("snapshot off", "Removes snapshot outputs (all, or those given); returns how many.");
-  off.variadicArg("id", snapshotRef(), "snapshot output ids").optional = true;
-  off.run([](Call& c) {
-    sim::Simulation& s = session(c).scene();
-    std::vector<sim::OutputId> ids;
-    if (c.has("id")) {
-      for (auto id : c.all<sim::OutputId>("id"))
-        if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
-    } else {
-      for (auto& [info, job] : snapshotOutputs(s)) ids.push_back(info.id);
-    }
-    for (sim::OutputId id : ids) s.removeOutput(id);
-    return Value(ids.size());
-  });
+  jobs().declareOff(r);
 
   Command& read =
       r.add("snapshot read", "Returns a PNG or JPEG file's size, and a pixel's colour, as a dict.");
