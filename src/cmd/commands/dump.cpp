@@ -50,7 +50,7 @@ PipeType partsType() {
 void vtkOptions(Command& c) {
   c.option("parts", partsType(), "what to write: a list of " + alternatives(kParts, "and"))
       .byDefault("elements walls contacts");
-  c.option("compress", choice(kCompressions), "zlib: fast (level 1), best (level 9), or none")
+  c.option("compress", choice(kCompressions), "zlib: fast (level 1, run-length matches only), best (level 9), or none")
       .byDefault("fast");
 }
 
