@@ -39,7 +39,7 @@ endif()
 # The command groups over the Simulation API.
 file(GLOB DEMLAB_COMMAND_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/cmd/commands/*.cpp)
 add_library(demlab_commands STATIC src/cmd/session.cpp ${DEMLAB_COMMAND_SOURCES})
-target_link_libraries(demlab_commands PUBLIC demlab_cmd demlab_sim demlab_io)
+target_link_libraries(demlab_commands PUBLIC demlab_cmd demlab_sim demlab_io demlab_analysis)
 set_property(TARGET demlab_commands PROPERTY POSITION_INDEPENDENT_CODE ON)
 # Snapshots (src/cmd/commands/snapshot.cpp) draw only when the renderer is built.
 if(TARGET demlab_render)

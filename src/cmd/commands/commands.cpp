@@ -9,7 +9,7 @@ Registry& registerAllCommands(Registry& r) {
       registerElementCommands,  registerPackCommands,   registerWallCommands,
       registerBehaviorCommands, registerModuleCommands, registerQueryCommands,
       registerHelpCommands,     registerSnapshotCommands,
-      registerStudyCommands,
+      registerStudyCommands,    registerAnalysisCommands,
   };
   for (Group g : groups) g(r);
   return r;
