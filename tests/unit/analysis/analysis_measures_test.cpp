@@ -81,8 +81,10 @@ TEST(AnalysisMeasures, CoarseGrainedContactStressIntegratesToTheLoveWeberSum) {
     for (double x : f.find("density")->values) mass += x * cell;
     const auto& sc = f.find("contactStress")->values;
     for (size_t p = 0; p < f.points(); ++p) sxx += sc[9 * p] * cell;
-    EXPECT_NEAR(mass, 4, 1e-6);
-    EXPECT_NEAR(sxx, 10, 1e-5);
+    // The grid sum of the kernel is not its integral: within 0.1 % at spacing w / 5 (the
+    // Gaussian's cut at 3w is a step of 1 % of its peak).
+    EXPECT_NEAR(mass, 4, 4e-3);
+    EXPECT_NEAR(sxx, 10, 1e-2);
   }
 }
 
