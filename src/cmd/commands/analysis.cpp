@@ -109,18 +109,27 @@ void addStress(Registry& r) {
   });
 }
 
+// Declares a query of the selection's contact network at path: -region, -tag and -walls
+// (wallsHelp), changing nothing. Returns the command, for its run function.
+Command& addNetworkQuery(Registry& r, const std::string& path, std::string summary,
+                         std::string details, std::string wallsHelp) {
+  Command& cmd = r.add(path, std::move(summary));
+  cmd.details = std::move(details);
+  addSelectionOptions(cmd, true);
+  cmd.flag("walls", std::move(wallsHelp));
+  cmd.changesScene = false;
+  return cmd;
+}
+
 void addCoordination(Registry& r) {
-  Command& co = r.add("query coordination",
-                      "Returns the coordination numbers of a region or tag group as a dict.");
-  co.details =
+  Command& co = addNetworkQuery(
+      r, "query coordination", "Returns the coordination numbers of a region or tag group as a dict.",
       "z = (summed contacts of the elements) / N, which is 2C/N when no contact leaves the "
       "selection; mechanical = (sum - N1) / (N - N0 - N1) (Thornton 2000), N0 and N1 the "
       "elements with no contact and with one (rattlers). An element counts when its centre is "
       "in the region; its contacts are its distinct partners, selected or not. The dict: z, "
-      "mechanical, elements, contacts (the sum), n0, n1.";
-  addSelectionOptions(co, true);
-  co.flag("walls", "count contacts with walls too");
-  co.changesScene = false;
+      "mechanical, elements, contacts (the sum), n0, n1.",
+      "count contacts with walls too");
   co.run([](Call& c) {
     const Sample s = analysis::gatherSample(session(c).scene());
     const analysis::Coordination z =
@@ -135,15 +144,12 @@ void addCoordination(Registry& r) {
 }
 
 void addFabric(Registry& r) {
-  Command& fa =
-      r.add("query fabric", "Returns the fabric tensor of a region or tag group's contacts.");
-  fa.details =
+  Command& fa = addNetworkQuery(
+      r, "query fabric", "Returns the fabric tensor of a region or tag group's contacts.",
       "phi = (1/C) sum n (x) n over the contacts (trace 1), each weighted by the fraction of its "
       "branch vector inside the selection. The dict: tensor (d x d, row-major), mean (1/d), "
-      "deviatoric (phi - I/d), q (sqrt(d/(d-1) s:s): 0 for an isotropic network), contacts (C).";
-  addSelectionOptions(fa, true);
-  fa.flag("walls", "count contacts with walls too (the wall's normal)");
-  fa.changesScene = false;
+      "deviatoric (phi - I/d), q (sqrt(d/(d-1) s:s): 0 for an isotropic network), contacts (C).",
+      "count contacts with walls too (the wall's normal)");
   fa.run([](Call& c) {
     const Sample s = analysis::gatherSample(session(c).scene());
     const analysis::Fabric f = analysis::fabric(s, selectionOf(c, s, true), c.flag("walls"));
