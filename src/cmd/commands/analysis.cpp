@@ -259,8 +259,8 @@ void addCoarseGrain(Registry& r) {
     }
     const double points = analysis::cgPointCount(spec, d);
     if (points > kMaxCgPoints)
-      c.bad("spacing", "makes a grid of " + formatReal(points) + " points (at most " +
-                           formatReal(kMaxCgPoints) + ")");
+      c.bad("spacing", "makes a grid of " + std::to_string(int64_t(points)) + " points (at most " +
+                           std::to_string(int64_t(kMaxCgPoints)) + ")");
     const analysis::CgField f = analysis::coarseGrain(s, sel, spec);
     if (c.given("field")) {
       const analysis::CgArray* a = f.find(c.str("field"));
