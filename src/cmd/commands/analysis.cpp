@@ -27,7 +27,7 @@ constexpr double kMaxCgPoints = double(1 << 20);
 void addSelectionOptions(Command& cmd, bool withRegion) {
   if (withRegion)
     cmd.option("region", regionType(),
-               "{box {lo} {hi}} or {sphere {centre} radius}: the elements whose centre is inside");
+               "{box {lo} {hi}} or {sphere {centre} radius}: what is inside counts (see above)");
   cmd.option("tag", tagName(), "only the elements carrying this tag");
 }
 
@@ -86,7 +86,7 @@ void addStress(Registry& r) {
       "without a region needs -volume. Contacts are those recorded at the last step of a run.";
   addSelectionOptions(st, true);
   st.option("volume", real().positive().withUnit("m^3"),
-            "the volume the sums are divided by (default: the region's)");
+            "the volume the sums are divided by (an area in 2D; default: the region's)");
   st.option("part", choice({"total", "static", "kinetic"}),
             "static (contacts), kinetic (velocity fluctuations) or their sum")
       .byDefault("total");
