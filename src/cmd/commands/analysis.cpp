@@ -70,10 +70,29 @@ Dict tensorSummary(const Tensor& t, int d, const std::string& meanName) {
               {"q", analysis::deviatorMagnitude(t, d)}};
 }
 
+// Declares a query at path with its help, -region and -tag, changing nothing. Returns the
+// command, for more options and its run function.
+Command& addSelectionQuery(Registry& r, const std::string& path, std::string summary,
+                           std::string details) {
+  Command& cmd = r.add(path, std::move(summary));
+  cmd.details = std::move(details);
+  addSelectionOptions(cmd, true);
+  cmd.changesScene = false;
+  return cmd;
+}
+
+// Declares a query of the selection's contact network: addSelectionQuery and -walls
+// (wallsHelp). Returns the command.
+Command& addNetworkQuery(Registry& r, const std::string& path, std::string summary,
+                         std::string details, std::string wallsHelp) {
+  Command& cmd = addSelectionQuery(r, path, std::move(summary), std::move(details));
+  cmd.flag("walls", std::move(wallsHelp));
+  return cmd;
+}
+
 void addStress(Registry& r) {
-  Command& st = r.add("query stress",
-                      "Returns the Love-Weber average stress of a region or tag group as a dict.");
-  st.details =
+  Command& st = addSelectionQuery(
+      r, "query stress", "Returns the Love-Weber average stress of a region or tag group as a dict.",
       "sigma = (1/V) [sum over contacts f (x) l + sum over elements m v' (x) v'], COMPRESSION "
       "POSITIVE (soil-mechanics convention; LIGGGHTS and LAMMPS report tension positive). l is "
       "the branch vector, centre to centre for two elements and centre to contact point for a "
@@ -83,14 +102,12 @@ void addStress(Registry& r) {
       "inside. The dict: tensor (d x d, row-major, Pa; N/m in 2D), pressure (trace / d), "
       "deviatoric (tensor - pressure I), q (sqrt(d/(d-1) s:s): sigma_1 - sigma_3 of a triaxial "
       "state), volume, elements. V is the region's volume unless -volume is given; a tag group "
-      "without a region needs -volume. Contacts are those recorded at the last step of a run.";
-  addSelectionOptions(st, true);
+      "without a region needs -volume. Contacts are those recorded at the last step of a run.");
   st.option("volume", real().positive().withUnit("m^3"),
             "the volume the sums are divided by (an area in 2D; default: the region's)");
   st.option("part", choice({"total", "static", "kinetic"}),
             "static (contacts), kinetic (velocity fluctuations) or their sum")
       .byDefault("total");
-  st.changesScene = false;
   st.run([](Call& c) {
     const Sample s = analysis::gatherSample(session(c).scene());
     const Selection sel = selectionOf(c, s, true);
@@ -107,18 +124,6 @@ void addStress(Registry& r) {
     out.emplace_back("elements", res.elements);
     return Value(out);
   });
-}
-
-// Declares a query of the selection's contact network at path: -region, -tag and -walls
-// (wallsHelp), changing nothing. Returns the command, for its run function.
-Command& addNetworkQuery(Registry& r, const std::string& path, std::string summary,
-                         std::string details, std::string wallsHelp) {
-  Command& cmd = r.add(path, std::move(summary));
-  cmd.details = std::move(details);
-  addSelectionOptions(cmd, true);
-  cmd.flag("walls", std::move(wallsHelp));
-  cmd.changesScene = false;
-  return cmd;
 }
 
 void addCoordination(Registry& r) {
@@ -192,15 +197,12 @@ void addPacking(Registry& r) {
 }
 
 void addMotion(Registry& r) {
-  Command& mo = r.add("query motion",
-                      "Returns the mean velocity and granular temperature of a region or tag group.");
-  mo.details =
+  Command& mo = addSelectionQuery(
+      r, "query motion", "Returns the mean velocity and granular temperature of a region or tag group.",
       "velocity = sum m v / sum m; temperature T = (1/(d N)) sum m |v - velocity|^2 / <m> "
       "(m^2/s^2), <m> the mean mass: equal elements give the variance of a velocity component. "
       "The dict: elements, mass, velocity, temperature, energy (the fluctuation kinetic energy, "
-      "J).";
-  addSelectionOptions(mo, true);
-  mo.changesScene = false;
+      "J).");
   mo.run([](Call& c) {
     const Sample s = analysis::gatherSample(session(c).scene());
     const analysis::MotionResult m = analysis::meanMotion(s, selectionOf(c, s, true));
