@@ -54,6 +54,19 @@ Selection selectionOf(Call& c, const Sample& s, bool useRegion) {
   return sel;
 }
 
+// What a query reads: the scene's sample and the selection the call's options make over it.
+struct Scope {
+  Sample s;
+  Selection sel;
+};
+
+// Returns the call's Scope (selectionOf with useRegion). Throws as selectionOf; changes nothing.
+Scope scopeOf(Call& c, bool useRegion) {
+  Scope scope{analysis::gatherSample(session(c).scene()), {}};
+  scope.sel = selectionOf(c, scope.s, useRegion);
+  return scope;
+}
+
 // Returns the first d x d block of t as a flat row-major list.
 Value tensorValue(const Tensor& t, int d) {
   Reals r;
@@ -109,8 +122,7 @@ void addStress(Registry& r) {
             "static (contacts), kinetic (velocity fluctuations) or their sum")
       .byDefault("total");
   st.run([](Call& c) {
-    const Sample s = analysis::gatherSample(session(c).scene());
-    const Selection sel = selectionOf(c, s, true);
+    const auto [s, sel] = scopeOf(c, true);
     if (!c.given("volume") && !sel.region)
       throw Error("query stress needs -region or -volume: a tag group has no volume of its own",
                   {"VALUE", "VOLUME"});
@@ -136,9 +148,8 @@ void addCoordination(Registry& r) {
       "mechanical, elements, contacts (the sum), n0, n1.",
       "count contacts with walls too");
   co.run([](Call& c) {
-    const Sample s = analysis::gatherSample(session(c).scene());
-    const analysis::Coordination z =
-        analysis::coordination(s, selectionOf(c, s, true), c.flag("walls"));
+    const auto [s, sel] = scopeOf(c, true);
+    const analysis::Coordination z = analysis::coordination(s, sel, c.flag("walls"));
     return Value(Dict{{"z", z.plain},
                       {"mechanical", z.mechanical},
                       {"elements", z.elements},
@@ -156,8 +167,8 @@ void addFabric(Registry& r) {
       "deviatoric (phi - I/d), q (sqrt(d/(d-1) s:s): 0 for an isotropic network), contacts (C).",
       "count contacts with walls too (the wall's normal)");
   fa.run([](Call& c) {
-    const Sample s = analysis::gatherSample(session(c).scene());
-    const analysis::Fabric f = analysis::fabric(s, selectionOf(c, s, true), c.flag("walls"));
+    const auto [s, sel] = scopeOf(c, true);
+    const analysis::Fabric f = analysis::fabric(s, sel, c.flag("walls"));
     if (!(f.contacts > 0))
       throw Error("no contact to average: contacts are recorded at the last step of a run",
                   {"STATE", "CONTACTS"});
@@ -179,8 +190,7 @@ void addPacking(Registry& r) {
   pk.option("tag", tagName(), "only the elements carrying this tag");
   pk.changesScene = false;
   pk.run([](Call& c) {
-    const Sample s = analysis::gatherSample(session(c).scene());
-    const Selection sel = selectionOf(c, s, false);
+    const auto [s, sel] = scopeOf(c, false);
     const auto& region = c.get<sim::Region>("region");
     const analysis::PackingResult p = analysis::packing(s, sel, region);
     if (p.straddling >= 0)
@@ -204,8 +214,8 @@ void addMotion(Registry& r) {
       "The dict: elements, mass, velocity, temperature, energy (the fluctuation kinetic energy, "
       "J).");
   mo.run([](Call& c) {
-    const Sample s = analysis::gatherSample(session(c).scene());
-    const analysis::MotionResult m = analysis::meanMotion(s, selectionOf(c, s, true));
+    const auto [s, sel] = scopeOf(c, true);
+    const analysis::MotionResult m = analysis::meanMotion(s, sel);
     return Value(Dict{{"elements", m.elements},
                       {"mass", m.mass},
                       {"velocity", vecValue(m.velocity, s.dim)},
@@ -235,8 +245,7 @@ void addCoarseGrain(Registry& r) {
             "return this array's values");
   cg.changesScene = false;
   cg.run([](Call& c) {
-    const Sample s = analysis::gatherSample(session(c).scene());
-    const Selection sel = selectionOf(c, s, false);
+    const auto [s, sel] = scopeOf(c, false);
     const int d = s.dim;
     analysis::CgSpec spec;
     spec.width = c.real("width");
