@@ -39,14 +39,15 @@ endif()
 # The command groups over the Simulation API.
 file(GLOB DEMLAB_COMMAND_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/cmd/commands/*.cpp)
 add_library(demlab_commands STATIC src/cmd/session.cpp ${DEMLAB_COMMAND_SOURCES})
-target_link_libraries(demlab_commands PUBLIC demlab_cmd demlab_sim demlab_io demlab_output)
+target_link_libraries(demlab_commands PUBLIC demlab_cmd demlab_sim demlab_io demlab_output
+  demlab_analysis)
 set_property(TARGET demlab_commands PROPERTY POSITION_INDEPENDENT_CODE ON)
 # Snapshots (src/cmd/commands/snapshot.cpp) draw only when the renderer is built.
 if(TARGET demlab_render)
   target_link_libraries(demlab_commands PUBLIC demlab_render)
   set_property(TARGET demlab_render PROPERTY POSITION_INDEPENDENT_CODE ON)
 endif()
-foreach(dep demlab_sim demlab_io demlab_output demlab_physics)
+foreach(dep demlab_sim demlab_io demlab_output demlab_analysis demlab_physics)
   if(TARGET ${dep})
     set_property(TARGET ${dep} PROPERTY POSITION_INDEPENDENT_CODE ON)
   endif()

@@ -23,6 +23,11 @@ void registerSnapshotCommands(Registry& r);
 void registerDumpCommands(Registry& r);      // dump: vtk, every, list, off, csv, lammps
 void registerSeriesCommands(Registry& r);    // series: every, get, list, off, plot
 void registerStudyCommands(Registry& r);     // study: convergence
+void registerAnalysisCommands(Registry& r);  // query stress, coordination, fabric, packing...
+
+// Returns the pipe of a region argument, `{box {lo} {hi}}` or `{sphere {centre} radius}` (a
+// disc in 2D), giving a sim::Region; a bad word is {VALUE REGION} (pack.cpp).
+PipeType regionType();
 
 // Declares "<group> tag" and "<group> untag" for the objects ref names (element or wall ids
 // or names, as Id): each calls tag or untag of the scene for every object given, so the tag

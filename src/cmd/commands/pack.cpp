@@ -22,7 +22,8 @@ using sim::Vec3d;
 using sim::Region;
 using SizeDist = sim::SizeDistribution;
 
-// `{box {lo} {hi}}` or `{sphere {centre} radius}` (a disc in 2D).
+}  // namespace
+
 PipeType regionType() {
   PipeType t =
       custom("region", [](std::string_view w, const Param& p, const Context& c) -> std::any {
@@ -61,6 +62,8 @@ PipeType regionType() {
   t.choices = {"box", "sphere"};
   return t;
 }
+
+namespace {
 
 // A size distribution of radii: a number, {uniform a b}, {normal mean sd} (truncated at 3 sd),
 // {powerlaw a b exponent}, or {discrete r1 w1 r2 w2 ...}.

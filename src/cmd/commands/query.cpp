@@ -4,7 +4,9 @@
 namespace demlab::cmd {
 
 void registerQueryCommands(Registry& r) {
-  r.describe("query", "Questions about the whole scene: energy, contacts, bounds, counts.");
+  r.describe("query",
+             "Questions about the scene: energy, contacts, bounds, counts; and the micromechanics "
+             "of a region or tag group: stress, coordination, fabric, packing, motion, cg.");
 
   Command& en =
       r.add("query energy", "Returns the energy ledger as a dict (J), or one entry of it.");

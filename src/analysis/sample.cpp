@@ -1,0 +1,89 @@
+#include "analysis/sample.hpp"
+
+#include <numbers>
+#include <unordered_map>
+
+#include "analysis/region_geometry.hpp"
+
+namespace demlab::analysis {
+
+Sample gatherSample(const sim::Simulation& sim) {
+  Sample s;
+  const int d = s.dim = sim.dim();
+  // Every element's state in one call (no ElementState per element).
+  const sim::ElementTable t = sim.elementTable();
+  s.ids = t.ids;
+  const size_t n = s.ids.size();
+  s.position.resize(n), s.velocity.resize(n);
+  s.radius = t.radius;
+  s.mass = t.mass;
+  s.volume.resize(n), s.ball.resize(n);
+  std::vector<double> density;  // by material index
+  for (const std::string& m : t.materialNames) density.push_back(sim.material(m).density);
+  std::unordered_map<uint32_t, uint32_t> denseOfSlot;
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < d; ++k) {
+      s.position[i][k] = t.position[3 * i + k];
+      s.velocity[i][k] = t.velocity[3 * i + k];
+    }
+    const double r = t.radius[i];
+    s.ball[i] = t.shape[i] == 0;  // the table's first shape is the ball
+    s.volume[i] = s.ball[i] ? (d == 2 ? std::numbers::pi * r * r
+                                      : 4.0 / 3.0 * std::numbers::pi * r * r * r)
+                            : t.mass[i] / density[t.material[i]];
+    denseOfSlot[s.ids[i].index] = uint32_t(i);
+  }
+  for (const sim::ContactInfo& c : sim.contacts()) {
+    SampleContact k;
+    k.a = denseOfSlot.at(c.a.index);
+    k.b = c.b.isNull() ? -1 : int64_t(denseOfSlot.at(c.b.index));
+    k.wall = c.wall.isNull() ? -1 : int64_t(c.wall.index);
+    k.point = c.point, k.normal = c.normal, k.force = c.force;
+    s.contacts.push_back(k);
+  }
+  return s;
+}
+
+std::vector<Arm> armsOf(const Sample& s, const SampleContact& c) {
+  std::vector<Arm> arms;
+  auto arm = [&](uint32_t e, double sign) {
+    Arm a{e, {}, {}};
+    for (int k = 0; k < 3; ++k) {
+      a.force[k] = sign * c.force[k];
+      a.branch[k] = c.point[k] - s.position[e][k];
+    }
+    arms.push_back(a);
+  };
+  arm(c.a, -1);
+  if (c.b >= 0) arm(uint32_t(c.b), 1);
+  return arms;
+}
+
+bool selects(const Sample& s, const Selection& sel, size_t i) {
+  return sel.hasTag(i) && (!sel.region || holdsPoint(*sel.region, s.position[i], s.dim));
+}
+
+double armWeight(const Sample& s, const Selection& sel, const Arm& a) {
+  if (!sel.hasTag(a.element)) return 0;
+  if (!sel.region) return 1;
+  const Vec3d& p = s.position[a.element];
+  Vec3d q{p[0] + a.branch[0], p[1] + a.branch[1], p[2] + a.branch[2]};
+  return segmentFractionInside(*sel.region, p, q, s.dim);
+}
+
+size_t selectedCount(const Sample& s, const Selection& sel) {
+  size_t n = 0;
+  for (size_t i = 0; i < s.size(); ++i) n += selects(s, sel, i);
+  return n;
+}
+
+std::vector<char> firstOfPair(const Sample& s) {
+  std::vector<char> first(s.contacts.size(), 1);
+  for (size_t k = 1; k < s.contacts.size(); ++k) {
+    const SampleContact &p = s.contacts[k - 1], &c = s.contacts[k];
+    if (p.a == c.a && p.b == c.b && p.wall == c.wall) first[k] = 0;
+  }
+  return first;
+}
+
+}  // namespace demlab::analysis
