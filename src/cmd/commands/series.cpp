@@ -2,6 +2,7 @@
 // many steps or seconds into memory (and optionally a CSV file, and a status line on the
 // terminal, as LAMMPS's thermo output), read back as lists and plotted with gnuplot.
 #include <array>
+#include <cctype>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -55,12 +56,43 @@ const std::vector<Quantity>& builtins() {
 
 const std::vector<std::string> kWallParts = {"fx", "fy", "fz", "force"};
 
+// Returns the quantity {NAME SCRIPT ?UNIT?}: the value of a Tcl script evaluated at global
+// level at each row (during a run only the query and help commands answer it; the others are
+// refused while the scene is running). Throws {VALUE QUANTITY} for a name that is not a word.
+Quantity scriptQuantity(const std::vector<std::string>& parts, const Param& p, const Context& ctx) {
+  const std::string& name = parts[0];
+  const bool word = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
+                    name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.") ==
+                        std::string::npos;
+  if (!word)
+    throw Error("bad quantity name \"" + name + "\" (" + p.name +
+                    "): must be a letter or \"_\" then letters, digits, \"_\" or \".\"",
+                {"VALUE", "QUANTITY"});
+  Session* session = const_cast<Session*>(&cmd::session(ctx));
+  const std::string script = "uplevel #0 " + quoteElement(parts[1]);
+  return {name, parts.size() == 3 ? parts[2] : "", [session, script, name](const sim::Simulation&) {
+            if (!session->evalScript)
+              throw Error("series quantity \"" + name + "\" needs a Tcl interpreter", {"STATE", "TCL"});
+            const Session::ScriptResult r = session->evalScript(script);
+            if (!r.ok)
+              throw Error("series quantity \"" + name + "\" failed: " + r.result, {"SERIES", "SCRIPT"});
+            double v;
+            if (!readReal(r.result, v) || !std::isfinite(v))
+              throw Error("series quantity \"" + name + "\" returned \"" + r.result +
+                              "\": expected a finite number",
+                          {"VALUE", "QUANTITY"});
+            return v;
+          }};
+}
+
 // Returns the quantity `word` names: a builtin, or wall:WALL:PART with WALL a wall's name or
 // id and PART fx, fy, fz (the force's components) or force (its magnitude). Throws {VALUE
 // QUANTITY} or the wall lookup's error.
 Quantity parseQuantity(const std::string& word, const Param& p, const Context& ctx) {
   for (const Quantity& q : builtins())
     if (q.name == word) return q;
+  const std::vector<std::string> parts = splitList(word);
+  if (parts.size() == 2 || parts.size() == 3) return scriptQuantity(parts, p, ctx);
   if (word.rfind("wall:", 0) == 0) {
     const size_t colon = word.rfind(':');
     const std::string wall = word.substr(5, colon > 5 ? colon - 5 : 0), part = word.substr(colon + 1);
@@ -81,6 +113,7 @@ Quantity parseQuantity(const std::string& word, const Param& p, const Context& c
   std::vector<std::string> names;
   for (const Quantity& q : builtins()) names.push_back(q.name);
   names.push_back("wall:WALL:fx|fy|fz|force");
+  names.push_back("{NAME SCRIPT ?UNIT?}");
   throw Error("bad quantity \"" + word + "\" (" + p.name + "): must be " + alternatives(names),
               {"VALUE", "QUANTITY"});
 }
@@ -206,7 +239,9 @@ void registerSeriesCommands(Registry& r) {
       "rotational, gravitational, elastic, damping, friction, wallwork, behaviorwork, balance "
       "in J; residual, the run's error indicator), timestep (s), and wall:WALL:fx|fy|fz|force "
       "(the force the elements exert on a wall, by name or id, in N; a removed wall gives "
-      "NaN). The first row is the scene now. With -file each row is appended to a CSV file "
+      "NaN), or {NAME SCRIPT ?UNIT?}: the value of a Tcl script evaluated at global level, e.g. "
+      "{szz {lindex [dict get [query stress -region $r] tensor] 8} Pa}; during a run the "
+      "script may use the query and help commands only. The first row is the scene now. With -file each row is appended to a CSV file "
       "(a header row first; the file is replaced) as it is recorded; with -print it is also "
       "printed as a line on the terminal (a header line first), as LAMMPS's thermo output. "
       "Recording reads only what the step already computed, except the energies (a pass over "
