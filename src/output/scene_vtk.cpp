@@ -69,6 +69,12 @@ struct WallMesh {
   }
 };
 
+// Returns the corners, in turn, of the rectangle about c spanned by hu along u and hv along v.
+std::vector<Vec3d> rectangle(const Vec3d& c, const Vec3d& u, double hu, const Vec3d& v, double hv) {
+  return {add(add(c, u, -hu), v, -hv), add(add(c, u, hu), v, -hv), add(add(c, u, hu), v, hv),
+          add(add(c, u, -hu), v, hv)};
+}
+
 // Returns the half size of the square or segment drawn for an infinite plane: the scene's
 // bounds' half diagonal, widened a little so the plane shows beyond the elements.
 double planeHalfSize(const std::array<Vec3d, 2>& b) {
@@ -97,11 +103,7 @@ void meshWall(const sim::WallState& w, int dim, const std::array<Vec3d, 2>& boun
                    false, k);
         break;
       case WallShape::Box: {
-        const Vec3d a = w.axes[0], b = w.axes[1];
-        const double ha = w.halfExtents[0], hb = w.halfExtents[1];
-        m.polyline({add(add(c, a, -ha), b, -hb), add(add(c, a, ha), b, -hb),
-                    add(add(c, a, ha), b, hb), add(add(c, a, -ha), b, hb)},
-                   true, k);
+        m.polyline(rectangle(c, w.axes[0], w.halfExtents[0], w.axes[1], w.halfExtents[1]), true, k);
         break;
       }
       case WallShape::Drum: {
@@ -123,17 +125,11 @@ void meshWall(const sim::WallState& w, int dim, const std::array<Vec3d, 2>& boun
       const Vec3d base = add(mid, w.normal, dot(add(c, mid, -1), w.normal));
       const Vec3d u = perpendicular(w.normal), v = cross(w.normal, u);
       const double h = planeHalfSize(bounds);
-      m.polygon({add(add(base, u, -h), v, -h), add(add(base, u, h), v, -h),
-                 add(add(base, u, h), v, h), add(add(base, u, -h), v, h)},
-                k);
+      m.polygon(rectangle(base, u, h, v, h), k);
       break;
     }
     case WallShape::Finite: {
-      const Vec3d u = w.axes[0], v = w.axes[1];
-      const double hu = w.halfExtents[0], hv = w.halfExtents[1];
-      m.polygon({add(add(c, u, -hu), v, -hv), add(add(c, u, hu), v, -hv),
-                 add(add(c, u, hu), v, hv), add(add(c, u, -hu), v, hv)},
-                k);
+      m.polygon(rectangle(c, w.axes[0], w.halfExtents[0], w.axes[1], w.halfExtents[1]), k);
       break;
     }
     case WallShape::Box: {
@@ -142,11 +138,8 @@ void meshWall(const sim::WallState& w, int dim, const std::array<Vec3d, 2>& boun
         const int a = (f + 1) % 3, b = (f + 2) % 3;
         for (int side : {-1, 1}) {
           const Vec3d fc = add(c, w.axes[f], side * w.halfExtents[f]);
-          const Vec3d u = w.axes[side > 0 ? a : b], v = w.axes[side > 0 ? b : a];
-          const double hu = w.halfExtents[side > 0 ? a : b], hv = w.halfExtents[side > 0 ? b : a];
-          m.polygon({add(add(fc, u, -hu), v, -hv), add(add(fc, u, hu), v, -hv),
-                     add(add(fc, u, hu), v, hv), add(add(fc, u, -hu), v, hv)},
-                    k);
+          const int p = side > 0 ? a : b, q = side > 0 ? b : a;
+          m.polygon(rectangle(fc, w.axes[p], w.halfExtents[p], w.axes[q], w.halfExtents[q]), k);
         }
       }
       break;

@@ -122,24 +122,19 @@ struct CsvField {
   std::function<std::string(const sim::ElementTable&, size_t)> value;
 };
 
-std::string number(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  return b;
-}
 
 const std::vector<CsvField>& csvFields() {
   using T = sim::ElementTable;
   auto comp = [](std::vector<double> T::*arr, int width, int k) {
-    return [arr, width, k](const T& t, size_t i) { return number((t.*arr)[width * i + k]); };
+    return [arr, width, k](const T& t, size_t i) { return formatReal((t.*arr)[width * i + k]); };
   };
   static const std::vector<CsvField> f = [&] {
     std::vector<CsvField> v = {
         {"id", [](const T& t, size_t i) { return std::to_string(t.ids[i].scriptId()); }},
         {"material", [](const T& t, size_t i) { return t.materialNames[t.material[i]]; }},
         {"shape", [](const T& t, size_t i) { return t.shapeNames[t.shape[i]]; }},
-        {"radius", [](const T& t, size_t i) { return number(t.radius[i]); }},
-        {"mass", [](const T& t, size_t i) { return number(t.mass[i]); }},
+        {"radius", [](const T& t, size_t i) { return formatReal(t.radius[i]); }},
+        {"mass", [](const T& t, size_t i) { return formatReal(t.mass[i]); }},
     };
     const char* axes[] = {"x", "y", "z"};
     const std::pair<const char*, std::vector<double> T::*> vectors[] = {
@@ -190,29 +185,29 @@ std::string lammpsData(const sim::Simulation& s) {
   for (double r : t.radius) rmax = std::max(rmax, r);
   std::array<sim::Vec3d, 2> b = s.bounds();
   std::ostringstream o;
-  o << "demlab scene at time " << number(s.time()) << " (types: materials";
+  o << "demlab scene at time " << formatReal(s.time()) << " (types: materials";
   for (const std::string& m : t.materialNames) o << ' ' << m;
   o << ")\n\n" << n << " atoms\n" << std::max<size_t>(1, t.materialNames.size()) << " atom types\n\n";
   const char* ax[] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k) {
     double lo = b[0][k] - rmax, hi = b[1][k] + rmax;
     if (!(hi > lo)) lo = -0.5, hi = 0.5;  // a 2D scene's z, or an empty one
-    o << number(lo) << ' ' << number(hi) << ' ' << ax[k] << "lo " << ax[k] << "hi\n";
+    o << formatReal(lo) << ' ' << formatReal(hi) << ' ' << ax[k] << "lo " << ax[k] << "hi\n";
   }
   o << "\nAtoms # sphere\n\n";
   for (size_t i = 0; i < n; ++i) {
     const double d = 2 * t.radius[i];
     const double volume = s.dim() == 3 ? M_PI * d * d * d / 6 : M_PI * d * d / 4;
-    o << t.ids[i].scriptId() + 1 << ' ' << t.material[i] + 1 << ' ' << number(d) << ' '
-      << number(t.mass[i] / volume);
-    for (int k = 0; k < 3; ++k) o << ' ' << number(t.position[3 * i + k]);
+    o << t.ids[i].scriptId() + 1 << ' ' << t.material[i] + 1 << ' ' << formatReal(d) << ' '
+      << formatReal(t.mass[i] / volume);
+    for (int k = 0; k < 3; ++k) o << ' ' << formatReal(t.position[3 * i + k]);
     o << '\n';
   }
   o << "\nVelocities\n\n";
   for (size_t i = 0; i < n; ++i) {
     o << t.ids[i].scriptId() + 1;
-    for (int k = 0; k < 3; ++k) o << ' ' << number(t.velocity[3 * i + k]);
-    for (int k = 0; k < 3; ++k) o << ' ' << number(t.angularVelocity[3 * i + k]);
+    for (int k = 0; k < 3; ++k) o << ' ' << formatReal(t.velocity[3 * i + k]);
+    for (int k = 0; k < 3; ++k) o << ' ' << formatReal(t.angularVelocity[3 * i + k]);
     o << '\n';
   }
   return o.str();
@@ -300,7 +295,7 @@ void registerDumpCommands(Registry& r) {
   Command& csv = r.add("dump csv", "Writes element fields as CSV, a row per element; returns the path.");
   csv.details =
       "A header row of the field names, then a row per element in the scene's order. Numbers "
-      "carry 17 significant digits, so they read back exactly. Vectors are split by axis (x y "
+      "carry the shortest digits that read back exactly. Vectors are split by axis (x y "
       "z, vx vy vz, wx wy wz, fx fy fz, tx ty tz; 2D: z components 0) and the orientation is "
       "a quaternion qw qx qy qz.";
   csv.arg("file", text("file"), "the CSV file");

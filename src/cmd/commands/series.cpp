@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/commands/output_jobs.hpp"
@@ -19,26 +20,37 @@ namespace demlab::cmd {
 
 namespace {
 
+using Ledger = sim::EnergyLedger;
+
+// What the quantities of one row read: the scene, and its energy ledger computed once for all
+// the energy quantities of the row (a pass over the elements).
+struct Row {
+  const sim::Simulation& s;
+  std::optional<Ledger> ledger;
+  const Ledger& energy() {
+    if (!ledger) ledger = s.energy();
+    return *ledger;
+  }
+};
+
 // One recorded quantity: its name (the column), SI unit ("" for a pure number), and how to
 // read it from the scene at the end of a step.
 struct Quantity {
   std::string name, unit;
-  std::function<double(const sim::Simulation&)> value;
+  std::function<double(Row&)> value;
   bool readsContacts = false;
 };
-
-using Ledger = sim::EnergyLedger;
 
 // The quantities every scene has, one row each.
 const std::vector<Quantity>& builtins() {
   auto energy = [](double Ledger::*m) {
-    return [m](const sim::Simulation& s) { return s.energy().*m; };
+    return [m](Row& r) { return r.energy().*m; };
   };
   static const std::vector<Quantity> q = {
-      {"time", "s", [](const sim::Simulation& s) { return s.time(); }},
-      {"step", "", [](const sim::Simulation& s) { return double(s.stepCount()); }},
-      {"elements", "", [](const sim::Simulation& s) { return double(s.elementCount()); }},
-      {"contacts", "", [](const sim::Simulation& s) { return double(s.contactCount()); }, true},
+      {"time", "s", [](Row& r) { return r.s.time(); }},
+      {"step", "", [](Row& r) { return double(r.s.stepCount()); }},
+      {"elements", "", [](Row& r) { return double(r.s.elementCount()); }},
+      {"contacts", "", [](Row& r) { return double(r.s.contactCount()); }, true},
       {"kinetic", "J", energy(&Ledger::kineticTranslational)},
       {"rotational", "J", energy(&Ledger::kineticRotational)},
       {"gravitational", "J", energy(&Ledger::gravitational)},
@@ -49,7 +61,7 @@ const std::vector<Quantity>& builtins() {
       {"behaviorwork", "J", energy(&Ledger::behaviorWork)},
       {"balance", "J", energy(&Ledger::balance)},
       {"residual", "", energy(&Ledger::residual)},
-      {"timestep", "s", [](const sim::Simulation& s) { return s.timeStep(); }},
+      {"timestep", "s", [](Row& r) { return r.s.timeStep(); }},
   };
   return q;
 }
@@ -70,7 +82,7 @@ Quantity scriptQuantity(const std::vector<std::string>& parts, const Param& p, c
                 {"VALUE", "QUANTITY"});
   Session* session = const_cast<Session*>(&cmd::session(ctx));
   const std::string script = "uplevel #0 " + quoteElement(parts[1]);
-  return {name, parts.size() == 3 ? parts[2] : "", [session, script, name](const sim::Simulation&) {
+  return {name, parts.size() == 3 ? parts[2] : "", [session, script, name](Row&) {
             if (!session->evalScript)
               throw Error("series quantity \"" + name + "\" needs a Tcl interpreter", {"STATE", "TCL"});
             const Session::ScriptResult r = session->evalScript(script);
@@ -105,8 +117,8 @@ Quantity parseQuantity(const std::string& word, const Param& p, const Context& c
     wallParam.type = wallRef();
     const auto id = std::any_cast<sim::WallId>(convertWord(wall, wallParam, ctx));
     const int axis = which == "fx" ? 0 : which == "fy" ? 1 : which == "fz" ? 2 : -1;
-    return {word, "N", [id, axis](const sim::Simulation& s) {
-              const sim::Vec3d f = s.wall(id).force;
+    return {word, "N", [id, axis](Row& r) {
+              const sim::Vec3d f = r.s.wall(id).force;
               return axis >= 0 ? f[axis] : std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
             }};
   }
@@ -134,11 +146,6 @@ PipeType quantitiesType() {
   });
 }
 
-std::string number(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  return b;
-}
 
 // One `series every`: its quantities and rows, the CSV it appends to, whether it prints.
 struct Job {
@@ -151,10 +158,11 @@ struct Job {
   // run), on the terminal. Throws {IO WRITE} when the file cannot be appended to.
   void record(const sim::Simulation& s) {
     std::vector<double> row;
-    for (const Quantity& q : quantities) row.push_back(q.value(s));
+    Row at{s, std::nullopt};
+    for (const Quantity& q : quantities) row.push_back(q.value(at));
     if (!file.empty()) {
       std::ofstream f(file, std::ios::app);
-      for (size_t k = 0; k < row.size(); ++k) f << (k ? "," : "") << number(row[k]);
+      for (size_t k = 0; k < row.size(); ++k) f << (k ? "," : "") << formatReal(row[k]);
       f << '\n';
       if (!f.flush()) throw Error("error writing \"" + file + "\"", {"IO", "WRITE"});
     }
@@ -345,12 +353,6 @@ void registerSeriesCommands(Registry& r) {
     }
     if (ys.empty()) c.bad("y", "must name at least one quantity");
     if (job->rows.empty()) throw Error("the series has no rows to plot", {"STATE", "EMPTY"});
-    std::string data;
-    for (const auto& row : job->rows) {
-      data += number(row[size_t(x)]);
-      for (int y : ys) data += ' ' + number(row[size_t(y)]);
-      data += '\n';
-    }
     std::string script = "set terminal pngcairo size " + std::to_string(size[0]) + "," +
                          std::to_string(size[1]) + " enhanced font \"DejaVu Sans,11\"\n";
     script += "set output " + gnuplotString(file + ".tmp") + "\nset grid\nset key top right\n";
@@ -367,7 +369,7 @@ void registerSeriesCommands(Registry& r) {
     script += "\n";
     for (size_t k = 0; k < ys.size(); ++k) {
       for (const auto& row : job->rows)
-        script += number(row[size_t(x)]) + ' ' + number(row[size_t(ys[k])]) + '\n';
+        script += formatReal(row[size_t(x)]) + ' ' + formatReal(row[size_t(ys[k])]) + '\n';
       script += "e\n";
     }
     FILE* g = popen("gnuplot 2>&1", "w");
