@@ -26,6 +26,7 @@ endif()
 
 file(GLOB DEMLAB_IO_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/io/*.cpp)
 add_library(demlab_io STATIC ${DEMLAB_IO_SOURCES})
+demlab_precompile(demlab_io)
 # A program with the target property DEMLAB_STATIC_LINK gets zlib's static archive.
 target_link_libraries(demlab_io PUBLIC demlab_core
   $<IF:$<BOOL:$<TARGET_PROPERTY:DEMLAB_STATIC_LINK>>,${DEMLAB_ZLIB_STATIC},ZLIB::ZLIB>)

@@ -37,6 +37,7 @@ endif()
 
 file(GLOB DEMLAB_RENDER_SOURCES CONFIGURE_DEPENDS src/render/*.cpp)
 add_library(demlab_render STATIC ${DEMLAB_RENDER_SOURCES})
+demlab_precompile(demlab_render)
 target_link_libraries(demlab_render PUBLIC demlab_core
                       PRIVATE PkgConfig::DEMLAB_OSMESA PNG::PNG JPEG::JPEG Freetype::Freetype)
 target_compile_definitions(demlab_render PUBLIC DEMLAB_HAVE_RENDER=1)

@@ -3,6 +3,7 @@
 file(GLOB DEMLAB_SIM_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/sim/*.cpp
      ${CMAKE_CURRENT_SOURCE_DIR}/src/sim/shapes/*.cpp)
 add_library(demlab_sim STATIC ${DEMLAB_SIM_SOURCES})
+demlab_precompile(demlab_sim)
 target_link_libraries(demlab_sim PUBLIC demlab_physics demlab_core)
 
 demlab_add_unit_tests(sim demlab_sim_tests sim/ demlab_sim)
@@ -11,8 +12,10 @@ demlab_add_unit_tests(sim demlab_sim_tests sim/ demlab_sim)
 # chosen at run time; the rest of the build targets baseline x86-64. No FMA anywhere (a fused
 # multiply-add rounds once where the Eigen loop rounds twice): the kernels give the same bits.
 set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/sim/contact_kernel_sse2.cpp
-  PROPERTIES COMPILE_OPTIONS "-ffp-contract=off")
+  PROPERTIES COMPILE_OPTIONS "-ffp-contract=off" SKIP_PRECOMPILE_HEADERS ON)
 set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/sim/contact_kernel_avx2.cpp
-  PROPERTIES COMPILE_OPTIONS "-mavx2;-mno-fma;-ffp-contract=off")
+  PROPERTIES COMPILE_OPTIONS "-mavx2;-mno-fma;-ffp-contract=off"
+  SKIP_PRECOMPILE_HEADERS ON)
 set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/sim/contact_kernel_avx512.cpp
-  PROPERTIES COMPILE_OPTIONS "-mavx512f;-mavx512dq;-mavx512vl;-mno-fma;-ffp-contract=off")
+  PROPERTIES COMPILE_OPTIONS "-mavx512f;-mavx512dq;-mavx512vl;-mno-fma;-ffp-contract=off"
+  SKIP_PRECOMPILE_HEADERS ON)

@@ -39,6 +39,7 @@ endif()
 # The command groups over the Simulation API.
 file(GLOB DEMLAB_COMMAND_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/cmd/commands/*.cpp)
 add_library(demlab_commands STATIC src/cmd/session.cpp ${DEMLAB_COMMAND_SOURCES})
+demlab_precompile(demlab_commands)
 target_link_libraries(demlab_commands PUBLIC demlab_cmd demlab_sim demlab_io demlab_output
   demlab_analysis)
 set_property(TARGET demlab_commands PROPERTY POSITION_INDEPENDENT_CODE ON)
@@ -99,17 +100,26 @@ add_custom_command(OUTPUT ${CMAKE_BINARY_DIR}/commands.md
   COMMENT "Writing doc/commands.md from the command declarations")
 add_custom_target(demlab_doc ALL DEPENDS ${CMAKE_BINARY_DIR}/commands.md)
 
-# The tcltest suite: through the executable and through the package in a plain tclsh.
-add_test(NAME tcl COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl)
+# The tcltest suite: through the executable and through the package in a plain tclsh, one
+# ctest entry per test file, so that `ctest -j` runs the files side by side (the suite as one
+# program kept one core idle for most of the run).
 # Not in sanitizer builds: a plain tclsh cannot load an ASan-instrumented extension (the ASan
 # runtime must come first in the process), and the commands it would test are the same
 # objects the executable's run of the suite has just checked under the sanitizers.
-set(DEMLAB_TCL_TESTS tcl)
-if(NOT DEMLAB_SANITIZE)
-  add_test(NAME tcl_package COMMAND ${CMAKE_COMMAND} -E env TCLLIBPATH=${CMAKE_BINARY_DIR}/lib
-    ${DEMLAB_TCLSH} ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -package)
-  list(APPEND DEMLAB_TCL_TESTS tcl_package)
-endif()
+file(GLOB DEMLAB_TCL_TEST_FILES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/*.test)
+set(DEMLAB_TCL_TESTS "")
+foreach(test_file ${DEMLAB_TCL_TEST_FILES})
+  get_filename_component(test_name ${test_file} NAME_WE)
+  add_test(NAME tcl.${test_name}
+    COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -file ${test_name}.test)
+  list(APPEND DEMLAB_TCL_TESTS tcl.${test_name})
+  if(NOT DEMLAB_SANITIZE)
+    add_test(NAME tcl_package.${test_name} COMMAND ${CMAKE_COMMAND} -E env
+      TCLLIBPATH=${CMAKE_BINARY_DIR}/lib ${DEMLAB_TCLSH}
+      ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -package -file ${test_name}.test)
+    list(APPEND DEMLAB_TCL_TESTS tcl_package.${test_name})
+  endif()
+endforeach()
 set_tests_properties(${DEMLAB_TCL_TESTS} PROPERTIES ENVIRONMENT "DEMLAB_EXE=$<TARGET_FILE:demlab>")
 
 include(GNUInstallDirs)

@@ -5,6 +5,7 @@ if(TARGET demlab_sim)
   file(GLOB DEMLAB_VERIFY_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/verify/*.cpp)
   list(REMOVE_ITEM DEMLAB_VERIFY_SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/src/verify/verify_main.cpp)
   add_library(demlab_verify STATIC ${DEMLAB_VERIFY_SOURCES})
+  demlab_precompile(demlab_verify)
   target_link_libraries(demlab_verify PUBLIC demlab_sim)
 
   add_executable(demlab_verify_run ${DEMLAB_PROGRAM_SCOPE}

@@ -23,10 +23,16 @@ proc ::demlab::settle {args} {
             return -code error -errorcode {DEMLAB OPTION} \
                 "bad option \"$k\": must be -energy, -chunk, or -maxsteps"
         }
-        if {![string is double -strict $v] || $v <= 0} {
-            set name [string range [lindex $full 0] 1 end]
+        set name [string range [lindex $full 0] 1 end]
+        if {$name eq "energy"} {
+            if {![string is double -strict $v] || !($v > 0) || $v == Inf} {
+                return -code error -errorcode {DEMLAB VALUE ENERGY} \
+                    "bad energy \"$v\": must be a positive finite number"
+            }
+        } elseif {![string is wideinteger -strict $v] || $v <= 0} {
+            # Whole steps only: a fractional chunk would run no steps and loop for ever.
             return -code error -errorcode [list DEMLAB VALUE [string toupper $name]] \
-                "bad $name \"$v\": must be a positive number"
+                "bad $name \"$v\": must be a positive integer"
         }
         set opt([lindex $full 0]) $v
     }
@@ -34,7 +40,7 @@ proc ::demlab::settle {args} {
     set done 0
     set kinetic Inf
     while {$kinetic >= $opt(-energy) && $done < $opt(-maxsteps)} {
-        set n [expr {min(int($opt(-chunk)), int($opt(-maxsteps)) - $done)}]
+        set n [expr {min($opt(-chunk), $opt(-maxsteps) - $done)}]
         sim run -steps $n -quiet
         incr done $n
         set kinetic [demlab::KineticEnergy]
@@ -50,7 +56,9 @@ proc ::demlab::KineticEnergy {} {
 # demlab::each varName ?-tag tag? body
 # Runs body once per element id (of the tag, if given), with varName set to the id, in the
 # order of element list. break and continue work as in foreach. Returns the empty string.
-proc ::demlab::each {varName args} {
+proc ::demlab::each {args} {
+    set varName [lindex $args 0]
+    set args [lrange $args 1 end]
     if {[llength $args] == 1} {
         set ids [element list]
     } elseif {[llength $args] == 3 && [lindex $args 0] eq "-tag"} {
@@ -74,7 +82,18 @@ proc ::demlab::each {varName args} {
 
 # demlab::report dict
 # Returns the text of a run report dict (what sim run prints) for logging from scripts.
-proc ::demlab::report {r} {
+proc ::demlab::report {args} {
+    if {[llength $args] != 1} {
+        return -code error -errorcode {DEMLAB ARGS} {wrong # args: should be "demlab::report dict"}
+    }
+    set r [lindex $args 0]
+    set keys {steps simulated time wall residual modules contacts rebuilds}
+    if {[catch {dict size $r}] || [catch {dict size [dict get $r modules]}] ||
+            [llength [lmap k $keys {expr {[dict exists $r $k] ? [continue] : $k}}]]} {
+        return -code error -errorcode {DEMLAB VALUE REPORT} \
+            "bad report \"[string range $r 0 60]\": must be a dict returned by sim run\
+            (with keys [join $keys {, }])"
+    }
     set s [format "run: %d steps, %.6g s simulated (t = %.6g s), wall %.3g s, energy residual %.3g" \
         [dict get $r steps] [dict get $r simulated] [dict get $r time] [dict get $r wall] \
         [dict get $r residual]]

@@ -56,6 +56,23 @@ struct Session : Context {
   sim::Simulation& scene() const;
 };
 
+// Brackets a long command so Ctrl-C can stop it: clears the stop flag and installs the SIGINT
+// hook for the scope's life. The command polls session.stop (or hands &session.stop to the
+// core) and ends with {INTERRUPTED}, at a consistent point, when it reads true.
+class InterruptScope {
+ public:
+  explicit InterruptScope(Session& s) : s_(s) {
+    s_.stop = false;
+    s_.beginRun();
+  }
+  ~InterruptScope() { s_.endRun(); }
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+
+ private:
+  Session& s_;
+};
+
 // The Session a command runs in.
 inline Session& session(Call& c) {
   return static_cast<Session&>(c.context());

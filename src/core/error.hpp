@@ -20,6 +20,14 @@ class Error : public std::runtime_error {
   // Returns the full error code, starting with "DEMLAB".
   const std::vector<std::string>& code() const noexcept { return code_; }
 
+  // Returns this error with " (context)" after its message and the same code: a file reader's
+  // `(file "x" line 3)`.
+  Error within(const std::string& context) const {
+    Error e = *this;
+    static_cast<std::runtime_error&>(e) = std::runtime_error(std::string(what()) + " (" + context + ")");
+    return e;
+  }
+
  private:
   std::vector<std::string> code_;
 };

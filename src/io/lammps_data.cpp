@@ -1,8 +1,11 @@
 #include "io/lammps_data.hpp"
 
+#include <sys/stat.h>
+
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 #include <string_view>
@@ -77,6 +80,20 @@ bool allWords(const Tokens& t, std::size_t from) {
 // the ids array, sized once for the header's count. One block of 8 to 16 bytes per atom, where
 // a node-based hash map took a small block per atom (40-odd bytes each, freed into holes of
 // the heap that stay resident through the run that follows).
+// Returns the most atom lines a file of path's size can hold: an atom line has at least 14
+// characters ("1 1 1 1 0 0 0" and its newline); a gzip'd file inflates at most 1032-fold.
+std::int64_t atomsTheFileCanHold(const std::string& path) {
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0) return 0;  // the reader's open reports the error
+  unsigned char magic[2] = {0, 0};
+  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+    if (std::fread(magic, 1, 2, f) != 2) magic[0] = 0;
+    std::fclose(f);
+  }
+  const bool gz = magic[0] == 0x1f && magic[1] == 0x8b;
+  return std::int64_t(st.st_size) * (gz ? 1032 : 1) / 14;
+}
+
 class IdIndex {
  public:
   static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
@@ -123,16 +140,14 @@ class IdIndex {
 // Parses the file line by line; one instance per readLammpsData call.
 class Parser {
  public:
-  explicit Parser(const std::string& path) : in_(path) {}
+  explicit Parser(const std::string& path) : in_(path), maxAtoms_(atomsTheFileCanHold(path)) {}
 
   SphereData run();
 
  private:
   // Throws Error(message + where, code): every error names the file and the current line.
   [[noreturn]] void fail(const std::string& message, std::vector<std::string> code) const {
-    std::ostringstream os;
-    os << message << " (file \"" << in_.path() << "\" line " << in_.lineNumber() << ")";
-    throw Error(os.str(), std::move(code));
+    throw Error(message, std::move(code)).within(in_.where());
   }
 
   // Reads the next line that is not blank once comments are cut, into `line` (trimmed) and
@@ -152,6 +167,7 @@ class Parser {
   LineReader in_;
   SphereData d_;
   std::int64_t atomCount_ = -1;
+  std::int64_t maxAtoms_;
   std::array<bool, 3> haveBox_{false, false, false};
   bool haveTypes_ = false;
   bool haveAtoms_ = false;
@@ -280,6 +296,13 @@ void Parser::atoms(std::string_view comment) {
              std::to_string(INT32_MAX - 1),
          {"VALUE", "COUNT"});
   }
+  // The header's count sizes the arrays, so it is checked against what the file can hold
+  // before anything is allocated: a header claiming 10^8 atoms over a few lines fails here.
+  if (atomCount_ > maxAtoms_) {
+    fail("bad atom count " + std::to_string(atomCount_) + ": the file can hold at most " +
+             std::to_string(maxAtoms_) + " atom lines",
+         {"IO", "FORMAT"});
+  }
   d_.ids.reserve(n);
   d_.types.reserve(n);
   d_.diameters.reserve(n);
@@ -346,6 +369,7 @@ void Parser::atoms(std::string_view comment) {
     d_.diameters.push_back(diameter);
     d_.densities.push_back(density);
     d_.positions.push_back(x);
+    d_.lines.push_back(in_.lineNumber());
   }
 }
 

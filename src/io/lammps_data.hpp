@@ -47,6 +47,7 @@ struct SphereData {
   std::vector<Real> diameters;
   std::vector<Real> densities;
   std::vector<Vec3> positions;
+  std::vector<std::size_t> lines;  // the line of the file each atom was read from
   // Empty when the file has no Velocities section; otherwise one entry per atom, in the order
   // of the atoms above (matched by id).
   std::vector<Vec3> velocities;

@@ -7,19 +7,13 @@
 #include <cerrno>
 #include <cstring>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 namespace demlab::io {
 namespace {
 
 constexpr std::size_t kChunk = 1 << 18;
-
-// Returns strerror(err) with its first letter lowered, as Tcl words POSIX errors.
-std::string posixMessage(int err) {
-  std::string s = err != 0 ? std::strerror(err) : "unknown error";
-  if (!s.empty()) s[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(s[0])));
-  return s;
-}
 
 }  // namespace
 

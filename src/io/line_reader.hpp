@@ -26,6 +26,11 @@ class LineReader {
   // Returns the number of the line last returned by next(), counting from 1 (0 before any).
   std::size_t lineNumber() const { return lineNumber_; }
 
+  // Returns `file "path" line n`, n the line last read: the place an error names, in
+  // parentheses after its message (Error::within).
+  std::string where() const {
+    return "file \"" + path_ + "\" line " + std::to_string(lineNumber_);
+  }
   // Returns the path as given to the constructor.
   const std::string& path() const { return path_; }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/validity.hpp"
 
 namespace demlab::physics {
 
@@ -39,11 +40,13 @@ namespace {
 
 void MaterialDef::check() const {
   // Each test is written so that NaN fails it (comparisons with NaN are false).
-  if (!(density > 0 && std::isfinite(density))) {
-    bad("density", density, "a positive number", "DENSITY");
+  using validity::inRange;
+  if (!inRange(density, validity::kMinDensity, validity::kMaxDensity)) {
+    bad("density", density, "a number from 1e-06 to 1000000000", "DENSITY");
   }
-  if (!(young > 0 && (std::isfinite(young) || isRigid()))) {
-    bad("Young's modulus", young, "a positive number", "YOUNG");
+  if (!(inRange(young, validity::kMinYoung, validity::kMaxYoung) || isRigid())) {
+    bad("Young's modulus", young, "a number from 0.001 to 1e+15 (Inf: rigid, for walls)",
+        "YOUNG");
   }
   if (!(poisson > -1 && poisson < 0.5)) {
     bad("Poisson's ratio", poisson, "a number greater than -1 and less than 0.5", "POISSON");
@@ -51,20 +54,20 @@ void MaterialDef::check() const {
   if (!(restitution > 0 && restitution <= 1)) {
     bad("restitution", restitution, "a number greater than 0 and at most 1", "RESTITUTION");
   }
-  if (!(friction >= 0 && std::isfinite(friction))) {
-    bad("friction", friction, "a non-negative number", "FRICTION");
+  if (!inRange(friction, 0, validity::kMaxCoefficient)) {
+    bad("friction", friction, "a number from 0 to 1e+30", "FRICTION");
   }
-  if (!(rollingFriction >= 0 && std::isfinite(rollingFriction))) {
-    bad("rolling friction", rollingFriction, "a non-negative number", "ROLLINGFRICTION");
+  if (!inRange(rollingFriction, 0, validity::kMaxCoefficient)) {
+    bad("rolling friction", rollingFriction, "a number from 0 to 1e+30", "ROLLINGFRICTION");
   }
-  if (!(cohesion >= 0 && std::isfinite(cohesion))) {
-    bad("cohesion", cohesion, "a non-negative number", "COHESION");
+  if (!inRange(cohesion, 0, validity::kMaxCoefficient)) {
+    bad("cohesion", cohesion, "a number from 0 to 1e+30", "COHESION");
   }
-  if (!(normalStiffness >= 0 && std::isfinite(normalStiffness))) {
-    bad("normal stiffness", normalStiffness, "a non-negative number", "NORMALSTIFFNESS");
+  if (!inRange(normalStiffness, 0, validity::kMaxCoefficient)) {
+    bad("normal stiffness", normalStiffness, "a number from 0 to 1e+30", "NORMALSTIFFNESS");
   }
-  if (!(shearStiffness >= 0 && std::isfinite(shearStiffness))) {
-    bad("shear stiffness", shearStiffness, "a non-negative number", "SHEARSTIFFNESS");
+  if (!inRange(shearStiffness, 0, validity::kMaxCoefficient)) {
+    bad("shear stiffness", shearStiffness, "a number from 0 to 1e+30", "SHEARSTIFFNESS");
   }
   if (shearStiffness > 0 && normalStiffness == 0) {
     bad("shear stiffness", shearStiffness, "0 when the normal stiffness is 0 (derived)",

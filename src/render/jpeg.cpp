@@ -10,7 +10,7 @@
 #include <jpeglib.h>
 
 #include "core/error.hpp"
-#include "render/atomic_file.hpp"
+#include "core/atomic_file.hpp"
 
 namespace demlab::render {
 namespace {
@@ -118,17 +118,18 @@ void writeJpeg(const Image& image, const std::string& path, int quality) {
   std::vector<JSAMPLE> rgb(size_t(image.width) * size_t(image.height) * 3);
   for (size_t i = 0, n = size_t(image.width) * size_t(image.height); i < n; ++i)
     for (size_t k = 0; k < 3; ++k) rgb[3 * i + k] = image.rgba[4 * i + k];
-  writeFileAtomically(path, "JPEG", [&](std::FILE* f) {
+  const FileEncoder encodeInto = [&](std::FILE* f) {
     JpegErrorState state;
     return encode(f, rgb, image.width, image.height, quality, state) ? std::string()
                                                                       : std::string(state.message);
-  });
+  };
+  writeFileAtomically(path, encodeInto, "JPEG");
 }
 
 Image readJpeg(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f)
-    throw Error("couldn't open \"" + path + "\": " + std::strerror(errno), {"IO", "JPEG"});
+    throw Error("couldn't open \"" + path + "\": " + posixMessage(errno), {"IO", "JPEG"});
   JpegErrorState state;
   Image image;
   std::vector<JSAMPLE> row;

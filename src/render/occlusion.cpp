@@ -6,6 +6,18 @@
 
 namespace demlab::render {
 
+namespace {
+
+// Returns x as a cell index clamped to [lo, hi]; the clamp happens in double, before the
+// conversion (a far grain's screen coordinate, or NaN, does not fit an int).
+int cellIndex(double x, int lo, int hi) {
+  if (!(x > lo)) return lo;
+  if (!(x < hi)) return hi;
+  return int(x);
+}
+
+}  // namespace
+
 void cullHiddenGrains(const RenderScene& scene, const View& view, std::vector<std::uint32_t>& keep,
                       int cellSize) {
   const size_t n = scene.size();
@@ -62,15 +74,15 @@ void cullHiddenGrains(const RenderScene& scene, const View& view, std::vector<st
     // Occluder: the cells wholly inside the centre-plane circle (radius rho on screen), row by
     // row, each row's span set by the circle's half-width at the row's edge farther from cy.
     const double rho = (ortho ? sy * r : sy * r / d);
-    const int j0 = std::max(int(std::ceil((s.cy - rho) / cs)), 0);
-    const int j1 = std::min(int(std::floor((s.cy + rho) / cs)) - 1, gh - 1);
+    const int j0 = cellIndex(std::ceil((s.cy - rho) / cs), 0, gh);
+    const int j1 = cellIndex(std::floor((s.cy + rho) / cs) - 1, -1, gh - 1);
     const float fd = float(d);
     for (int j = j0; j <= j1; ++j) {
       const double dy = std::max(std::abs(j * cs - s.cy), std::abs((j + 1) * cs - s.cy));
       if (dy >= rho) continue;
       const double hw = std::sqrt(rho * rho - dy * dy);
-      const int i0 = std::max(int(std::ceil((s.cx - hw) / cs)), 0);
-      const int i1 = std::min(int(std::floor((s.cx + hw) / cs)) - 1, gw - 1);
+      const int i0 = cellIndex(std::ceil((s.cx - hw) / cs), 0, gw);
+      const int i1 = cellIndex(std::floor((s.cx + hw) / cs) - 1, -1, gw - 1);
       for (int k = i0; k <= i1; ++k) {
         float& o = occ[size_t(j) * gw + k];
         o = std::min(o, fd);
@@ -86,8 +98,8 @@ void cullHiddenGrains(const RenderScene& scene, const View& view, std::vector<st
       continue;
     }
     if (s.x1 < 0 || s.y1 < 0 || s.x0 > W || s.y0 > H) continue;  // off the image
-    const int i0 = std::max(int(std::floor(s.x0 / cs)), 0), i1 = std::min(int(s.x1 / cs), gw - 1);
-    const int j0 = std::max(int(std::floor(s.y0 / cs)), 0), j1 = std::min(int(s.y1 / cs), gh - 1);
+    const int i0 = cellIndex(std::floor(s.x0 / cs), 0, gw), i1 = cellIndex(s.x1 / cs, -1, gw - 1);
+    const int j0 = cellIndex(std::floor(s.y0 / cs), 0, gh), j1 = cellIndex(s.y1 / cs, -1, gh - 1);
     // float occluder depths are compared with a relative margin, so rounding cannot hide a
     // grain that is level with its occluder.
     const double front = (s.d - scene.radii[i]) * (1 - 1e-5);

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "render/atomic_file.hpp"
+#include "core/atomic_file.hpp"
 
 namespace demlab::render {
 namespace {
@@ -103,15 +103,16 @@ void writePng(const Image& image, const std::string& path) {
       image.rgba.size() != size_t(4) * image.width * image.height)
     throw Error("bad image for \"" + path + "\": pixel buffer does not match its size",
                 {"VALUE", "IMAGE"});
-  writeFileAtomically(path, "PNG", [&](std::FILE* f) {
+  const FileEncoder encodeInto = [&](std::FILE* f) {
     PngErrorState state;
     return encode(f, image, state) ? std::string() : std::string(state.message);
-  });
+  };
+  writeFileAtomically(path, encodeInto, "PNG");
 }
 
 Image readPng(const std::string& path) {
   FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw ioError("open", path, std::strerror(errno));
+  if (!f) throw ioError("open", path, posixMessage(errno));
   PngErrorState state;
   Image image;
   std::vector<png_bytep> rows;

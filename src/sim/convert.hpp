@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/math.hpp"
+#include "core/validity.hpp"
 #include "physics/material.hpp"
 #include "sim/simulation.hpp"
 
@@ -121,6 +122,62 @@ RotationD<D> toRotation(const std::vector<double>& o) {
 inline void checkPositive(double x, const std::string& field) {
   if (!(std::isfinite(x) && x > 0))
     throwBad(field, physics::formatReal(x), "must be a positive number");
+}
+
+// The validity policy's checks of an element's state (core/validity.hpp). Each throws
+// {VALUE <FIELD>} naming the bound; r is the element's bounding radius, already checked.
+inline void checkRadiusRange(double r, const std::string& field = "radius") {
+  if (!validity::inRange(r, validity::kMinRadius, validity::kMaxRadius)) {
+    throwBad(field, physics::formatReal(r),
+             "must be between " + physics::formatReal(validity::kMinRadius) + " and " +
+                 physics::formatReal(validity::kMaxRadius) + " m");
+  }
+}
+template <int D>
+void checkPositionRange(const VecD<D>& x, double r) {
+  const double limit = std::min(validity::kMaxCoordinate, validity::kMaxRadiiFromOrigin * r);
+  if (x.template lpNorm<Eigen::Infinity>() > limit) {
+    Vec3d p{0, 0, 0};
+    for (int k = 0; k < D; ++k) p[k] = x[k];
+    throwBad("position", formatVec(p, D),
+             "must be within " + physics::formatReal(limit) +
+                 " m of the origin on each axis (2^30 radii, at most 1e15 m: farther, the "
+                 "coordinates cannot resolve the element's overlaps)");
+  }
+}
+template <int D>
+void checkVelocityRange(const VecD<D>& v) {
+  if (!(v.norm() <= validity::kMaxSpeed)) {
+    Vec3d p{0, 0, 0};
+    for (int k = 0; k < D; ++k) p[k] = v[k];
+    throwBad("velocity", formatVec(p, D),
+             "must be at most " + physics::formatReal(validity::kMaxSpeed) + " m/s in magnitude");
+  }
+}
+template <class W>
+void checkAngularRange(const W& w, double r, int dim) {
+  double m;
+  Vec3d p{0, 0, 0};
+  if constexpr (std::is_same_v<W, Real>) {
+    m = std::abs(w);
+    p[2] = w;
+  } else {
+    m = w.norm();
+    p = {w[0], w[1], w[2]};
+  }
+  if (!(m * r <= validity::kMaxSpeed)) {
+    throwBad("angular velocity", formatVec(p, dim == 2 ? 3 : 3),
+             "must be at most " + physics::formatReal(validity::kMaxSpeed) +
+                 " m/s at the surface (|w| r)");
+  }
+}
+inline void checkMassRange(double invMass, double r) {
+  if (!validity::inRange(invMass, 1 / validity::kMaxMass, 1 / validity::kMinMass)) {
+    throwBad("radius", physics::formatReal(r),
+             "gives a mass of " + physics::formatReal(1 / invMass) + " kg, outside " +
+                 physics::formatReal(validity::kMinMass) + " to " +
+                 physics::formatReal(validity::kMaxMass) + " kg");
+  }
 }
 
 }  // namespace demlab::sim

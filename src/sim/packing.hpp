@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -71,10 +72,18 @@ struct SizeDistribution {
     if (kind == "constant") return p[0];
     if (kind == "uniform") return p[0] + (p[1] - p[0]) * u();
     if (kind == "powerlaw") {  // density ~ r^exponent on [a, b]
-      double a = p[0], b = p[1], e = p[2];
-      if (std::abs(e + 1) < 1e-12) return a * std::pow(b / a, u());
-      double ea = std::pow(a, e + 1), eb = std::pow(b, e + 1);
-      return std::pow(ea + (eb - ea) * u(), 1 / (e + 1));
+      // The inverse of the distribution function in logarithms, so no power of a or b is
+      // formed: a^(e+1) overflows for a large exponent even when the radii are ordinary.
+      const double a = p[0], b = p[1], t = p[2] + 1, rho = std::log(b / a), x = u();
+      double r;
+      if (std::abs(t) * rho < 1e-12) {
+        r = a * std::exp(rho * x);
+      } else if (t > 0) {
+        r = b * std::exp(std::log(x + (1 - x) * std::exp(-t * rho)) / t);
+      } else {
+        r = a * std::exp(std::log1p(x * std::expm1(t * rho)) / t);
+      }
+      return std::clamp(r, a, b);
     }
     if (kind == "normal") {
       while (true) {
@@ -122,10 +131,11 @@ std::vector<double> drawRadii(const SizeDistribution& dist, const Region& region
 // Returns the centres of balls of the given radii (in that order) placed by random sequential
 // addition inside region, overlapping neither each other nor the balls (existingPositions, dim
 // numbers each; existingRadii) already there. Changes rng. Throws {PACK FULL} naming the first
-// ball that found no place in `tries` attempts.
+// ball that found no place in `tries` attempts, {INTERRUPTED} when *stop reads true (polled
+// every 4096 attempts).
 std::vector<Vec3d> randomSites(const Region& region, int dim, const std::vector<double>& radii,
                                const std::vector<double>& existingPositions,
                                const std::vector<double>& existingRadii, std::int64_t tries,
-                               std::mt19937_64& rng);
+                               std::mt19937_64& rng, const std::atomic<bool>* stop = nullptr);
 
 }  // namespace demlab::sim

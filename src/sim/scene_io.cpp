@@ -7,6 +7,7 @@
 
 #include "sim/behaviors/gravity.hpp"
 #include "sim/behaviors/load.hpp"
+#include "sim/convert.hpp"
 #include "sim/option_table.hpp"
 
 namespace demlab::sim {
@@ -533,6 +534,43 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   if (Writer body; writeOptionSection(body, s)) writeSection(w, kOptionTag, body);
 }
 
+uint64_t hashBytes(std::string_view b) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  size_t k = 0;
+  for (; k + 8 <= b.size(); k += 8) {
+    uint64_t x;
+    std::memcpy(&x, b.data() + k, 8);
+    h = (h ^ x) * 0x100000001b3ull;
+    h ^= h >> 29;
+  }
+  for (; k < b.size(); ++k) h = (h ^ static_cast<unsigned char>(b[k])) * 0x100000001b3ull;
+  return h;
+}
+
+namespace {
+constexpr char kChecksumTag[8] = {'C', 'H', 'E', 'C', 'K', 'S', 'U', 'M'};
+constexpr size_t kTrailer = sizeof kChecksumTag + sizeof(uint64_t);
+}  // namespace
+
+std::string sealCheckpoint(std::string sceneBytes) {
+  const uint64_t sum = hashBytes(sceneBytes);
+  sceneBytes.append(kChecksumTag, sizeof kChecksumTag);
+  sceneBytes.append(reinterpret_cast<const char*>(&sum), sizeof sum);
+  return sceneBytes;
+}
+
+std::string unsealCheckpoint(std::string b) {
+  if (b.size() < kTrailer || std::memcmp(b.data() + b.size() - kTrailer, kChecksumTag, 8) != 0) {
+    if (b.size() < 8 || std::memcmp(b.data(), kMagic, 8) != 0) Reader::bad("not a demlab checkpoint");
+    Reader::bad("no checksum at the end (the file is truncated or damaged)");
+  }
+  uint64_t sum;
+  std::memcpy(&sum, b.data() + b.size() - sizeof sum, sizeof sum);
+  b.resize(b.size() - kTrailer);
+  if (hashBytes(b) != sum) Reader::bad("checksum mismatch (the file is damaged)");
+  return b;
+}
+
 template <int D>
 void readScene(Reader& r, Scene<D>& s) {
   char magic[8];
@@ -746,6 +784,20 @@ void readScene(Reader& r, Scene<D>& s) {
                     (rigid ? e.invInertia[i] == 0
                            : e.invInertia[i] > 0 && std::isfinite(e.invInertia[i]));
     if (!ok) Reader::bad("element mass or inertia");
+  }
+  // Every value as the commands would check it (core/validity.hpp): a file made by hand or by
+  // another program must not bring in what `element add` or `material add` refuses.
+  try {
+    for (size_t m = 0; m < s.materials.size(); ++m) s.materials[m].check();
+    for (size_t i = 0; i < e.size(); ++i) {
+      checkRadiusRange(e.r[i]);
+      checkPositionRange<D>(e.x[i], e.r[i]);
+      checkVelocityRange<D>(e.v[i]);
+      checkAngularRange(e.w[i], e.r[i], D);
+      checkMassRange(e.invMass[i], e.r[i]);
+    }
+  } catch (const Error& err) {
+    Reader::bad(err.what());
   }
 }
 

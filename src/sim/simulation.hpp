@@ -117,6 +117,9 @@ struct ElementDef {
   // finite), 2D {angle}; empty: the identity.
   std::vector<double> orientation;
   unsigned blocked = 0;  // dof:: mask of blocked degrees of freedom (VALUE DOF)
+  // Where the definition came from, for errors: `file "x" line 3` (pack file). A check that
+  // fails appends it to its message in parentheses, as Tcl names a script's file and line.
+  std::string origin;
 };
 
 enum class WallShape {
@@ -340,6 +343,7 @@ struct RelaxReport {
   uint64_t moved = 0;       // grains moved at least once
   double before = 0;        // the largest overlap / smaller radius before
   double after = 0;         // and after
+  bool interrupted = false; // the stop flag ended it between two passes
 };
 
 struct RunOptions {
@@ -587,8 +591,10 @@ class Simulation {
   // overlapping by more than that back to half of it, shared by inverse mass (a grain on a wall
   // moves alone). Velocities are kept; the ledger is rebased (the change is an edit). Throws
   // VALUE FRACTION unless 0 < fraction <= 1, VALUE ITERATIONS unless maxIterations >= 1, VALUE
-  // TIMESTEP as run.
-  virtual RelaxReport relax(double fraction, uint64_t maxIterations) = 0;
+  // TIMESTEP as run. When *stop reads true between two passes it returns with interrupted set:
+  // the passes made stay made, the scene consistent.
+  virtual RelaxReport relax(double fraction, uint64_t maxIterations,
+                            const std::atomic<bool>* stop = nullptr) = 0;
   // Runs one step; returns its report.
   virtual RunReport step() = 0;
   // Runs n steps with no stop flag and no progress callback; returns the report.
@@ -635,7 +641,8 @@ class Simulation {
   // their descriptions returned. Continuing from load() is bit-identical to never stopping.
   virtual std::vector<std::string> save(std::ostream& out, bool skipCallbacks = false) const = 0;
   // Replaces this scene by the checkpoint read from in. Throws LOAD FORMAT (not a demlab
-  // checkpoint, truncated, or another dimension: LOAD DIMENSION), changing nothing.
+  // checkpoint, truncated, damaged: the checksum save appends does not match, or a value out
+  // of range) or LOAD DIMENSION (another dimension), changing nothing.
   virtual void load(std::istream& in) = 0;
 };
 

@@ -374,10 +374,14 @@ typename SimulationManager<D>::CheckedElement SimulationManager<D>::checkElement
     }
     c.r = c.geometry.boundRadius;
   }
+  checkRadiusRange(c.r, c.geometry.boundRadius == 0 ? "radius" : "size");
   c.q = toRotation<D>(def.orientation);
   c.x = toVec<D>(def.position, "position");
   c.v = toVec<D>(def.velocity, "velocity");
   c.w = toAngular<D>(def.angularVelocity, "angular velocity");
+  checkPositionRange<D>(c.x, c.r);
+  checkVelocityRange<D>(c.v);
+  checkAngularRange(c.w, c.r, D);
   c.material = materialIndex(def.material);
   for (const std::string& t : def.tags) checkTagName(t);
   if (!def.name.empty()) {
@@ -392,6 +396,7 @@ typename SimulationManager<D>::CheckedElement SimulationManager<D>::checkElement
   c.blocked = static_cast<uint8_t>(def.blocked);
   std::tie(c.invMass, c.invInertia) =
       inverseMassAndInertia(c.geometry, s_.materials[c.material].density, c.r);
+  checkMassRange(c.invMass, c.r);
   return c;
 }
 
@@ -421,7 +426,12 @@ std::vector<ElementId> SimulationManager<D>::addElements(const std::vector<Eleme
   checked.reserve(defs.size());
   std::unordered_set<std::string> names;
   for (const ElementDef& d : defs) {
-    checked.push_back(checkElement(d));
+    try {
+      checked.push_back(checkElement(d));
+    } catch (const Error& e) {
+      if (d.origin.empty()) throw;
+      throw e.within(d.origin);
+    }
     if (!d.name.empty() && !names.insert(d.name).second) throwNameExists("grain", d.name);
   }
   std::vector<ElementId> ids;
@@ -536,6 +546,7 @@ template <int D>
 void SimulationManager<D>::setElementPosition(ElementId id, const Vec3d& p) {
   const uint32_t i = s_.elements.index(id);
   const VecD<D> x = toVec<D>(p, "position");
+  checkPositionRange<D>(x, s_.elements.a.r[i]);
   const double before = elementEnergy(i);
   s_.elements.a.x[i] = x;
   s_.ledger.reference += elementEnergy(i) - before;
@@ -547,6 +558,7 @@ template <int D>
 void SimulationManager<D>::setElementVelocity(ElementId id, const Vec3d& v) {
   const uint32_t i = s_.elements.index(id);
   const VecD<D> x = toVec<D>(v, "velocity");
+  checkVelocityRange<D>(x);
   const double before = elementEnergy(i);
   s_.elements.a.v[i] = x;
   s_.ledger.reference += elementEnergy(i) - before;
@@ -557,6 +569,7 @@ template <int D>
 void SimulationManager<D>::setElementAngularVelocity(ElementId id, const Vec3d& w) {
   const uint32_t i = s_.elements.index(id);
   const AngularD<D> x = toAngular<D>(w, "angular velocity");
+  checkAngularRange(x, s_.elements.a.r[i], D);
   const double before = elementEnergy(i);
   s_.elements.a.w[i] = x;
   s_.ledger.reference += elementEnergy(i) - before;
@@ -650,7 +663,11 @@ std::vector<WallId> SimulationManager<D>::wallsTagged(const std::string& tag) co
 
 template <int D>
 BehaviorId SimulationManager<D>::addGravity(const Vec3d& g) {
-  auto b = std::make_unique<GravityBehavior<D>>(toVec<D>(g, "gravity"));
+  const VecD<D> gv = toVec<D>(g, "gravity");
+  if (!(gv.norm() <= validity::kMaxAcceleration)) {
+    throwBad("gravity", formatVec(g, D), "must be at most 1e9 m/s^2 in magnitude");
+  }
+  auto b = std::make_unique<GravityBehavior<D>>(gv);
   const double before = ledgerSum();
   const BehaviorId id = s_.behaviors.add(std::move(b));
   s_.ledger.reference += ledgerSum() - before;

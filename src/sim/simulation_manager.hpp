@@ -102,7 +102,8 @@ class SimulationManager final : public Simulation {
 
   RunReport run(const RunOptions& options) override;
   RunReport step() override;
-  RelaxReport relax(double fraction, uint64_t maxIterations) override;
+  RelaxReport relax(double fraction, uint64_t maxIterations,
+                    const std::atomic<bool>* stop = nullptr) override;
 
   EnergyLedger energy() const override;
   size_t contactCount() const override { return s_.contacts.size(); }

@@ -4,10 +4,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <istream>
 #include <iterator>
 #include <optional>
 #include <ostream>
+#include <string_view>
 #include <unordered_set>
 #include <vector>
 
@@ -402,7 +404,8 @@ double SimulationManager<D>::worstOverlap(double fraction, bool push, std::vecto
 }
 
 template <int D>
-RelaxReport SimulationManager<D>::relax(double fraction, uint64_t maxIterations) {
+RelaxReport SimulationManager<D>::relax(double fraction, uint64_t maxIterations,
+                                        const std::atomic<bool>* stop) {
   if (!(fraction > 0 && fraction <= 1)) {
     throw Error("bad fraction \"" + physics::formatReal(fraction) + "\": must be in (0, 1]",
                 {"VALUE", "FRACTION"});
@@ -412,10 +415,18 @@ RelaxReport SimulationManager<D>::relax(double fraction, uint64_t maxIterations)
   }
   RelaxReport rep;
   if (s_.elements.size() == 0) return rep;
+  if (stop && stop->load(std::memory_order_relaxed)) {  // before any work: nothing changed
+    rep.interrupted = true;
+    return rep;
+  }
   prepare();  // the contacts at the current positions
   std::vector<bool> moved(s_.elements.size(), false);
   rep.before = rep.after = worstOverlap(fraction, false);
   while (rep.after > fraction && rep.iterations < maxIterations) {
+    if (stop && stop->load(std::memory_order_relaxed)) {
+      rep.interrupted = true;
+      break;
+    }
     const double before = ledgerSum();
     worstOverlap(fraction, true, &moved);
     rep.iterations += 1;
@@ -710,21 +721,10 @@ std::string SimulationManager<D>::serialize(IoMode mode) const {
   return std::move(w.bytes);
 }
 
+
 template <int D>
 uint64_t SimulationManager<D>::stateDigest() const {
-  const std::string b = serialize(IoMode::Digest);
-  // FNV-1a, 64 bit, eight bytes per round for speed; the digest only needs to tell scenes
-  // apart, not resist an adversary.
-  uint64_t h = 0xcbf29ce484222325ull;
-  size_t k = 0;
-  for (; k + 8 <= b.size(); k += 8) {
-    uint64_t x;
-    std::memcpy(&x, b.data() + k, 8);
-    h = (h ^ x) * 0x100000001b3ull;
-    h ^= h >> 29;
-  }
-  for (; k < b.size(); ++k) h = (h ^ static_cast<unsigned char>(b[k])) * 0x100000001b3ull;
-  return h;
+  return hashBytes(serialize(IoMode::Digest));
 }
 
 template <int D>
@@ -764,14 +764,16 @@ std::vector<std::string> SimulationManager<D>::save(std::ostream& out, bool skip
     for (BehaviorId id : drop) kept.remove(id);
     writeScene(w, s_, IoMode::Checkpoint, &kept);
   }
-  out.write(w.bytes.data(), static_cast<std::streamsize>(w.bytes.size()));
+  const std::string file = sealCheckpoint(std::move(w.bytes));
+  out.write(file.data(), static_cast<std::streamsize>(file.size()));
   if (!out) throw Error("can't write the checkpoint: the stream failed", {"SAVE", "IO"});
   return skipped;
 }
 
 template <int D>
 void SimulationManager<D>::load(std::istream& in) {
-  const std::string b{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const std::string b = unsealCheckpoint(
+      std::string{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()});
   Scene<D> fresh;
   Reader r(b);
   readScene(r, fresh);

@@ -26,9 +26,23 @@ inline void checkUnused(double x, const std::string& field, const char* shape) {
 // Returns v / |v|. Throws {VALUE <FIELD>} for a zero vector.
 template <int D>
 VecD<D> unit(const VecD<D>& v, const std::string& field) {
-  const Real n = v.norm();
-  if (!(n > 0)) throwBad(field, formatVec(fromVec<D>(v), D), "must be a non-zero vector");
-  return v / n;
+  // Scaled by the largest component first: the norm of (1e300 1e300 0) overflows and that of
+  // (1e-200 0 0) underflows, either of which would make a zero or NaN direction.
+  const Real m = v.template lpNorm<Eigen::Infinity>();
+  if (!(m > 0)) throwBad(field, formatVec(fromVec<D>(v), D), "must be a non-zero vector");
+  const VecD<D> u = v / m;
+  return u / u.norm();
+}
+
+// Returns nothing. Throws {VALUE <FIELD>} unless every component of v is at most limit in
+// magnitude (the validity policy's bounds on coordinates and speeds).
+template <int D>
+void checkMagnitude(const VecD<D>& v, double limit, const std::string& field,
+                    const std::string& unit) {
+  if (!(v.template lpNorm<Eigen::Infinity>() <= limit)) {
+    throwBad(field, formatVec(fromVec<D>(v), D),
+             "must be at most " + physics::formatReal(limit) + " " + unit + " on each axis");
+  }
 }
 
 }  // namespace
@@ -39,6 +53,17 @@ Wall<D> SimulationManager<D>::checkWall(const WallDef& def) const {
   w.kind = def.shape;
   w.material = materialIndex(def.material);
   const VecD<D> p = toVec<D>(def.point, "point");
+  checkMagnitude<D>(p, validity::kMaxCoordinate, "point", "m");
+  for (double h : def.halfExtents) {
+    if (h > validity::kMaxCoordinate) {
+      throwBad("half extents", physics::formatReal(h),
+               "must be at most " + physics::formatReal(validity::kMaxCoordinate) + " m");
+    }
+  }
+  if (def.radius > validity::kMaxCoordinate) {
+    throwBad("radius", physics::formatReal(def.radius),
+             "must be at most " + physics::formatReal(validity::kMaxCoordinate) + " m");
+  }
   switch (def.shape) {
     case WallShape::Plane: {
       const char* sh = "plane";
@@ -138,8 +163,14 @@ Wall<D> SimulationManager<D>::checkWall(const WallDef& def) const {
     w.velocity = toVec<D>(m.velocity, "velocity");
     w.omega = toAngular<D>(m.angularVelocity, "angular velocity");
     w.amplitude = toVec<D>(m.amplitude, "amplitude");
-    if (!(std::isfinite(m.frequency) && m.frequency >= 0)) {
-      throwBad("frequency", physics::formatReal(m.frequency), "must be a non-negative number");
+    checkMagnitude<D>(w.velocity, validity::kMaxSpeed, "velocity", "m/s");
+    checkMagnitude<D>(w.amplitude, validity::kMaxCoordinate, "amplitude", "m");
+    const Vec3d om = fromAngular(w.omega);
+    if (!(std::hypot(om[0], om[1], om[2]) <= 1e9)) {
+      throwBad("angular velocity", formatVec(m.angularVelocity, 3), "must be at most 1e9 rad/s");
+    }
+    if (!(m.frequency >= 0 && m.frequency <= 1e9)) {
+      throwBad("frequency", physics::formatReal(m.frequency), "must be a number from 0 to 1e9 Hz");
     }
     if (m.frequency == 0 && w.amplitude.squaredNorm() > 0) {
       throwBad("frequency", "0", "a vibration needs a positive frequency");

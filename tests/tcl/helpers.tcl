@@ -26,3 +26,13 @@ proc near {a b {tol 1e-12}} {
     }
     return 1
 }
+
+# The demlab executable, for tests that start a second process ("" when it is not known: the
+# suite run from a plain tclsh outside ctest); constraint demlabExe.
+set ::demlabExe ""
+if {[info exists ::env(DEMLAB_EXE)]} {
+    set ::demlabExe $::env(DEMLAB_EXE)
+} elseif {[file tail [info nameofexecutable]] eq "demlab"} {
+    set ::demlabExe [info nameofexecutable]
+}
+::tcltest::testConstraint demlabExe [expr {$::demlabExe ne ""}]

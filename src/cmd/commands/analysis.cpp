@@ -10,7 +10,7 @@
 #include "analysis/stress.hpp"
 #include "analysis/structure.hpp"
 #include "cmd/commands/commands.hpp"
-#include "io/atomic_file.hpp"
+#include "core/atomic_file.hpp"
 #include "io/vtk_xml.hpp"
 #include "cmd/words.hpp"
 
@@ -290,7 +290,7 @@ void addCoarseGrain(Registry& r) {
       c.bad("spacing", "makes a grid of " + std::to_string(int64_t(points)) + " points (at most " +
                            std::to_string(int64_t(kMaxCgPoints)) + ")");
     const analysis::CgField f = analysis::coarseGrain(s, sel, spec);
-    if (c.given("file")) io::writeFileAtomically(c.str("file"), io::vtiBytes(cgImage(f, session(c).scene()), io::VtkCompression::Fast));
+    if (c.given("file")) writeFileAtomically(c.str("file"), io::vtiBytes(cgImage(f, session(c).scene()), io::VtkCompression::Fast));
     if (c.given("field")) {
       const analysis::CgArray* a = f.find(c.str("field"));
       return realList(a->values.data(), a->values.size());

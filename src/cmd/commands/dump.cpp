@@ -12,7 +12,7 @@
 #include "cmd/commands/commands.hpp"
 #include "cmd/commands/output_jobs.hpp"
 #include "cmd/words.hpp"
-#include "io/atomic_file.hpp"
+#include "core/atomic_file.hpp"
 #include "io/vtk_xml.hpp"
 #include "output/scene_vtk.hpp"
 
@@ -78,7 +78,7 @@ std::vector<std::string> writeVtk(const sim::Simulation& s, const VtkOptions& o,
   std::vector<std::string> files;
   for (const std::string& part : o.parts) {
     const std::string path = prefix + "_" + part + ".vtp";
-    io::writeFileAtomically(path, io::vtpBytes(partData(s, part), o.compression));
+    writeFileAtomically(path, io::vtpBytes(partData(s, part), o.compression));
     files.push_back(path);
   }
   return files;
@@ -99,13 +99,13 @@ struct Job {
     const std::string prefix = (std::filesystem::path(dir) / "").string();
     for (const std::string& part : options.parts) {
       const std::string file = part + frame + ".vtp";
-      io::writeFileAtomically(prefix + file, io::vtpBytes(partData(s, part), options.compression));
+      writeFileAtomically(prefix + file, io::vtpBytes(partData(s, part), options.compression));
     }
     series.push_back({s.time(), frame, 0});
     for (const std::string& part : options.parts) {
       std::vector<io::PvdEntry> entries = series;
       for (io::PvdEntry& e : entries) e.file = part + e.file + ".vtp";
-      io::writeFileAtomically(prefix + part + ".pvd", io::pvdBytes(entries));
+      writeFileAtomically(prefix + part + ".pvd", io::pvdBytes(entries));
     }
     ++frames;
   }
@@ -321,7 +321,7 @@ void registerDumpCommands(Registry& r) {
       }
       out += '\n';
     }
-    io::writeFileAtomically(c.str("file"), out);
+    writeFileAtomically(c.str("file"), out);
     return Value(c.str("file"));
   });
 
@@ -337,7 +337,7 @@ void registerDumpCommands(Registry& r) {
   data.arg("file", text("file"), "the data file");
   data.changesScene = false;
   data.run([](Call& c) {
-    io::writeFileAtomically(c.str("file"), lammpsData(session(c).scene()));
+    writeFileAtomically(c.str("file"), lammpsData(session(c).scene()));
     return Value(c.str("file"));
   });
 }

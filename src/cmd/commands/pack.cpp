@@ -8,7 +8,9 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/memory_budget.hpp"
 #include "core/tag_table.hpp"
+#include "core/validity.hpp"
 #include "io/lammps_data.hpp"
 #include "io/line_reader.hpp"
 #include "sim/packing.hpp"
@@ -101,8 +103,10 @@ PipeType sizeType() {
         if (s.kind == "uniform" && (p.size() != 2 || !(p[0] > 0) || !(p[1] >= p[0]))) {
           throw bad("should be {uniform min max} with 0 < min <= max");
         }
-        if (s.kind == "powerlaw" && (p.size() != 3 || !(p[0] > 0) || !(p[1] >= p[0]))) {
-          throw bad("should be {powerlaw min max exponent} with 0 < min <= max");
+        if (s.kind == "powerlaw" &&
+            (p.size() != 3 || !(p[0] > 0) || !(p[1] >= p[0]) || !(std::abs(p[2]) <= 1000))) {
+          throw bad("should be {powerlaw min max exponent} with 0 < min <= max and an exponent "
+                    "from -1000 to 1000");
         }
         if (s.kind == "normal" && (p.size() != 2 || !(p[0] > 0) || !(p[1] >= 0))) {
           throw bad("should be {normal mean sd} with mean > 0 and sd >= 0");
@@ -116,6 +120,12 @@ PipeType sizeType() {
           }
           if (!ok || !(total > 0))
             throw bad("should be {discrete r1 w1 r2 w2 ...} with radii > 0 and weights >= 0");
+        }
+        // Every radius it can draw within the validity policy's range (core/validity.hpp).
+        const double lo = s.kind == "discrete" || s.kind == "normal" ? 0 : p[0];
+        if (s.maxRadius() > validity::kMaxRadius || (lo > 0 && lo < validity::kMinRadius)) {
+          throw bad("radii must be from " + formatReal(validity::kMinRadius) + " to " +
+                    formatReal(validity::kMaxRadius) + " m");
         }
         return s;
       });
@@ -153,6 +163,10 @@ sim::ElementDef baseDef(const Call& c, const sim::Simulation& s) {
 
 using sim::kMaxPack;
 
+// What an element costs while it is made and once it is in the scene (its definition, state
+// arrays, search boxes and a few contacts), rounded up: the memory check before a packing.
+constexpr double kBytesPerElement = 1024;
+
 Value addAll(Call& c) {
   auto ids = session(c).scene().addElements(std::any_cast<std::vector<sim::ElementDef>>(c.prepared));
   List l;
@@ -188,6 +202,8 @@ void registerPackCommands(Registry& r) {
     sim::LatticeDef lattice{reg, rad, a, c.str("kind") == "hex"};
     if (sim::latticeCandidates(lattice, d) > double(kMaxPack))
       c.bad("radius", "would make more than 2^27 elements");
+    checkMemoryBudget(sim::latticeCandidates(lattice, d) * kBytesPerElement,
+                      "a lattice of " + formatReal(sim::latticeCandidates(lattice, d)) + " sites");
     sim::ElementDef base = baseDef(c, s);
     base.radius = rad;
     std::vector<sim::ElementDef> defs;
@@ -230,12 +246,15 @@ void registerPackCommands(Registry& r) {
     std::size_t count = 0;
     if (c.given("count")) {
       if (std::uint64_t(c.integer("count")) > kMaxPack) c.bad("count", "must be at most 2^27");
+      checkMemoryBudget(double(c.integer("count")) * kBytesPerElement,
+                        std::to_string(c.integer("count")) + " elements");
       count = std::size_t(c.integer("count"));
     }
     const std::vector<double> radii =
         sim::drawRadii(dist, reg, d, count, c.given("count") ? 0.0 : c.real("fraction"), rng);
-    const std::vector<Vec3d> sites =
-        sim::randomSites(reg, d, radii, s.positions(), s.radii(), c.integer("tries"), rng);
+    InterruptScope interruptible(session(c));
+    const std::vector<Vec3d> sites = sim::randomSites(reg, d, radii, s.positions(), s.radii(),
+                                                      c.integer("tries"), rng, &session(c).stop);
     sim::ElementDef base = baseDef(c, s);
     std::vector<sim::ElementDef> defs;
     defs.reserve(radii.size());
@@ -285,6 +304,7 @@ void registerPackCommands(Registry& r) {
           for (int j = 0; j < 3; ++j)
             base.angularVelocity[std::size_t(j)] = data.angularVelocities[a][j];
         }
+        base.origin = "file \"" + path + "\" line " + std::to_string(data.lines[a]);
         defs.push_back(base);
       }
     } else {
@@ -296,23 +316,24 @@ void registerPackCommands(Registry& r) {
         if (f.empty()) continue;
         std::size_t n = f.size();
         if (n != std::size_t(d + 1) && n != std::size_t(2 * d + 1)) {
-          throw Error(path + ":" + std::to_string(in.lineNumber()) + ": expected " +
-                          std::to_string(d + 1) + " or " + std::to_string(2 * d + 1) +
+          throw Error("expected " + std::to_string(d + 1) + " or " + std::to_string(2 * d + 1) +
                           " numbers (centre, radius, ?velocity?) but got " + std::to_string(n),
-                      {"IO", "FORMAT"});
+                      {"IO", "FORMAT"})
+              .within(in.where());
         }
         std::vector<double> x(n);
         for (std::size_t j = 0; j < n; ++j)
           if (!readReal(f[j], x[j]) || !std::isfinite(x[j])) {
-            throw Error(path + ":" + std::to_string(in.lineNumber()) +
-                            ": expected floating-point number but got \"" + f[j] + "\"",
-                        {"VALUE", "NUMBER"});
+            throw Error("expected floating-point number but got \"" + f[j] + "\"",
+                        {"VALUE", "NUMBER"})
+                .within(in.where());
           }
         base.position = {0, 0, 0};
         for (int j = 0; j < d; ++j) base.position[std::size_t(j)] = k * x[std::size_t(j)];
         base.radius = k * x[std::size_t(d)];
         if (n == std::size_t(2 * d + 1))
           for (int j = 0; j < d; ++j) base.velocity[std::size_t(j)] = k * x[std::size_t(d + 1 + j)];
+        base.origin = in.where();
         defs.push_back(base);
       }
     }

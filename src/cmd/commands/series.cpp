@@ -14,7 +14,7 @@
 #include "cmd/commands/commands.hpp"
 #include "cmd/commands/output_jobs.hpp"
 #include "cmd/words.hpp"
-#include "io/atomic_file.hpp"
+#include "core/atomic_file.hpp"
 
 namespace demlab::cmd {
 
@@ -268,7 +268,7 @@ void registerSeriesCommands(Registry& r) {
     if (c.given("file")) {
       std::string header;
       for (const Quantity& q : job->quantities) header += (header.empty() ? "" : ",") + q.name;
-      io::writeFileAtomically(c.str("file"), header + "\n");
+      writeFileAtomically(c.str("file"), header + "\n");
       job->file = c.str("file");
     }
     job->record(s);

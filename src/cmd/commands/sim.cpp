@@ -1,13 +1,17 @@
 // The "sim" group: the scene as a whole (new, reset, info, time step, digest, save and load,
 // kept copies). Running is in run.cpp.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/atomic_file.hpp"
 #include "core/thread_pool.hpp"
-#include "io/atomic_file.hpp"
 
 namespace demlab::cmd {
 
@@ -54,14 +58,26 @@ PipeType stepWord() {
   return t;
 }
 
-// A file that exists and can be read; value: the path.
+// A regular file that can be read and fits in memory; value: the path. A device such as
+// /dev/zero, or a file larger than a quarter of the machine's memory, is refused before a byte
+// is read (a checkpoint is read whole, then decoded into a scene of about the same size).
 PipeType readableFile() {
   return custom("file", [](std::string_view w, const Param&, const Context&) -> std::any {
-    std::ifstream f{std::string(w), std::ios::binary};
-    if (!f)
-      throw Error("couldn't open \"" + std::string(w) + "\": no such file or not readable",
-                  {"IO", "OPEN"});
-    return std::string(w);
+    const std::string path(w);
+    struct stat st;
+    if (stat(path.c_str(), &st) != 0)
+      throw Error("couldn't open \"" + path + "\": " + posixMessage(errno), {"IO", "OPEN"});
+    if (!S_ISREG(st.st_mode))
+      throw Error("couldn't read \"" + path + "\": not a regular file", {"IO", "OPEN"});
+    const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    if (memory > 0 && double(st.st_size) > memory / 4) {
+      throw Error("couldn't read \"" + path + "\": " + std::to_string(st.st_size) +
+                      " bytes is more than a quarter of this machine's memory",
+                  {"IO", "SIZE"});
+    }
+    if (!std::ifstream{path, std::ios::binary})
+      throw Error("couldn't open \"" + path + "\": permission denied", {"IO", "OPEN"});
+    return path;
   });
 }
 
@@ -158,7 +174,14 @@ void registerSimCommands(Registry& r) {
   rel.option("iterations", integer().min(1), "the most passes").byDefault("1000");
   rel.run([](Call& c) {
     auto& s = session(c).scene();
-    sim::RelaxReport r = s.relax(c.real("overlap"), std::uint64_t(c.integer("iterations")));
+    InterruptScope interruptible(session(c));
+    sim::RelaxReport r =
+        s.relax(c.real("overlap"), std::uint64_t(c.integer("iterations")), &session(c).stop);
+    if (r.interrupted) {
+      throw Error("relax interrupted after " + std::to_string(r.iterations) +
+                      " passes; the elements moved so far stay moved and the scene is consistent",
+                  {"INTERRUPTED"});
+    }
     return Value(Dict{{"iterations", r.iterations},
                       {"moved", r.moved},
                       {"before", r.before},
@@ -184,7 +207,7 @@ void registerSimCommands(Registry& r) {
     auto& s = session(c).scene();
     std::ostringstream out(std::ios::binary);
     std::vector<std::string> skipped = s.save(out, c.flag("skipcallbacks"));
-    io::writeFileAtomically(c.str("file"), out.str());
+    writeFileAtomically(c.str("file"), out.str());
     List l;
     for (auto& d : skipped) l.emplace_back(d);
     return Value(l);
@@ -207,7 +230,8 @@ void registerSimCommands(Registry& r) {
         fresh->load(in);
       } catch (const Error& e) {
         if (e.code().size() >= 3 && e.code()[1] == "LOAD" && e.code()[2] == "DIMENSION") continue;
-        throw;
+        std::vector<std::string> code(e.code().begin() + 1, e.code().end());
+        throw Error("couldn't load \"" + c.str("file") + "\": " + e.what(), std::move(code));
       }
       s.sim = std::move(fresh);
       return Value();

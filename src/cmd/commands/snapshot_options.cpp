@@ -8,6 +8,7 @@
 #include <map>
 
 #include "cmd/words.hpp"
+#include "core/memory_budget.hpp"
 #include "core/tag_table.hpp"
 
 namespace demlab::cmd {
@@ -231,6 +232,10 @@ SnapOptions readOptions(const Call& c, bool now) {
   o.viewHeight = c.real("viewheight");
   o.background = parseColour(c, "background", c.str("background"));
   o.antialias = int(c.integer("antialias"));
+  // The renderer draws antialias^2 times the pixels, 4 bytes of colour and 4 of depth each,
+  // and reads the colour back: checked before the buffers are made.
+  checkMemoryBudget(double(o.width) * o.height * o.antialias * o.antialias * 12,
+                    "a " + size + " image with antialias " + std::to_string(o.antialias));
   o.legend = c.get<bool>("legend");
   o.timeStamp = c.get<bool>("timestamp");
   if (c.given("title")) o.title = c.str("title");

@@ -24,7 +24,7 @@
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
 #include "core/order_fit.hpp"
-#include "io/atomic_file.hpp"
+#include "core/atomic_file.hpp"
 
 namespace demlab::cmd {
 
@@ -698,7 +698,7 @@ Value execute(Call& c) {
     orders.emplace_back(integ, fitOrder(fit));
   }
 
-  if (!p.csv.empty()) io::writeFileAtomically(p.csv, csvText(rows));
+  if (!p.csv.empty()) writeFileAtomically(p.csv, csvText(rows));
   if (!c.flag("quiet")) s.write(tableText(p, rows, orders));
   if (!p.plot.empty()) plot(p, rows, orders);
 

@@ -52,7 +52,7 @@ TEST(PhysicsMaterial, GoodMaterialPasses) {
 }
 
 TEST(PhysicsMaterial, UnsetFieldsAreNaNAndRejected) {
-  expectError(MaterialDef{}, "bad density \"NaN\": must be a positive number", "DENSITY");
+  expectError(MaterialDef{}, "bad density \"NaN\": must be a number from 1e-06 to 1000000000", "DENSITY");
 }
 
 TEST(PhysicsMaterial, EachBadFieldHasItsCode) {
@@ -63,12 +63,20 @@ TEST(PhysicsMaterial, EachBadFieldHasItsCode) {
     std::string code;
   };
   const std::vector<Case> cases{
-      {&MaterialDef::density, -1, "bad density \"-1\": must be a positive number", "DENSITY"},
-      {&MaterialDef::density, 0, "bad density \"0\": must be a positive number", "DENSITY"},
-      {&MaterialDef::density, kInf, "bad density \"Inf\": must be a positive number", "DENSITY"},
-      {&MaterialDef::young, kNaN, "bad Young's modulus \"NaN\": must be a positive number",
+      {&MaterialDef::density, -1, "bad density \"-1\": must be a number from 1e-06 to 1000000000", "DENSITY"},
+      {&MaterialDef::density, 0, "bad density \"0\": must be a number from 1e-06 to 1000000000", "DENSITY"},
+      {&MaterialDef::density, kInf, "bad density \"Inf\": must be a number from 1e-06 to 1000000000", "DENSITY"},
+      {&MaterialDef::density, 1e300,
+       "bad density \"1e+300\": must be a number from 1e-06 to 1000000000", "DENSITY"},
+      {&MaterialDef::young, 1e-300,
+       "bad Young's modulus \"1e-300\": must be a number from 0.001 to 1e+15 (Inf: rigid, for "
+       "walls)",
        "YOUNG"},
-      {&MaterialDef::young, -5e6, "bad Young's modulus \"-5000000\": must be a positive number",
+      {&MaterialDef::cohesion, 1e308, "bad cohesion \"1e+308\": must be a number from 0 to 1e+30",
+       "COHESION"},
+      {&MaterialDef::young, kNaN, "bad Young's modulus \"NaN\": must be a number from 0.001 to 1e+15 (Inf: rigid, for walls)",
+       "YOUNG"},
+      {&MaterialDef::young, -5e6, "bad Young's modulus \"-5000000\": must be a number from 0.001 to 1e+15 (Inf: rigid, for walls)",
        "YOUNG"},
       {&MaterialDef::poisson, 0.5,
        "bad Poisson's ratio \"0.5\": must be a number greater than -1 and less than 0.5",
@@ -84,20 +92,20 @@ TEST(PhysicsMaterial, EachBadFieldHasItsCode) {
        "bad restitution \"1.01\": must be a number greater than 0 and at most 1", "RESTITUTION"},
       {&MaterialDef::restitution, kNaN,
        "bad restitution \"NaN\": must be a number greater than 0 and at most 1", "RESTITUTION"},
-      {&MaterialDef::friction, -0.1, "bad friction \"-0.1\": must be a non-negative number",
+      {&MaterialDef::friction, -0.1, "bad friction \"-0.1\": must be a number from 0 to 1e+30",
        "FRICTION"},
-      {&MaterialDef::friction, kNaN, "bad friction \"NaN\": must be a non-negative number",
+      {&MaterialDef::friction, kNaN, "bad friction \"NaN\": must be a number from 0 to 1e+30",
        "FRICTION"},
-      {&MaterialDef::friction, kInf, "bad friction \"Inf\": must be a non-negative number",
+      {&MaterialDef::friction, kInf, "bad friction \"Inf\": must be a number from 0 to 1e+30",
        "FRICTION"},
       {&MaterialDef::rollingFriction, -0.01,
-       "bad rolling friction \"-0.01\": must be a non-negative number", "ROLLINGFRICTION"},
+       "bad rolling friction \"-0.01\": must be a number from 0 to 1e+30", "ROLLINGFRICTION"},
       {&MaterialDef::rollingFriction, kInf,
-       "bad rolling friction \"Inf\": must be a non-negative number", "ROLLINGFRICTION"},
+       "bad rolling friction \"Inf\": must be a number from 0 to 1e+30", "ROLLINGFRICTION"},
       {&MaterialDef::normalStiffness, -1,
-       "bad normal stiffness \"-1\": must be a non-negative number", "NORMALSTIFFNESS"},
+       "bad normal stiffness \"-1\": must be a number from 0 to 1e+30", "NORMALSTIFFNESS"},
       {&MaterialDef::shearStiffness, kNaN,
-       "bad shear stiffness \"NaN\": must be a non-negative number", "SHEARSTIFFNESS"},
+       "bad shear stiffness \"NaN\": must be a number from 0 to 1e+30", "SHEARSTIFFNESS"},
       {&MaterialDef::shearStiffness, 100,
        "bad shear stiffness \"100\": must be 0 when the normal stiffness is 0 (derived)",
        "SHEARSTIFFNESS"},

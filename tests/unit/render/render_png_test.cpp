@@ -58,7 +58,7 @@ TEST(RenderPng, BadPathsAreErrors) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()),
-              "couldn't open \"/nonexistent_dir_demlab/x.png\": No such file or directory");
+              "couldn't open \"/nonexistent_dir_demlab/x.png\" for writing: no such file or directory");
   }
   // Reading: missing file, not a PNG.
   EXPECT_EQ(errorCode([&] { readPng(dir.path + "/missing.png"); }), "DEMLAB IO PNG");

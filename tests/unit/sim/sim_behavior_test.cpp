@@ -138,10 +138,11 @@ TEST_P(TorqueRamp, UnknownTypeInACheckpoint) {
   a->addBehavior("torque-ramp", ramp(g, {0, 0, 0}, {0, 0, 1}));
   std::stringstream ck;
   a->save(ck);
-  std::string bytes = ck.str();
-  const size_t at = bytes.find("torque-ramp");
-  ASSERT_NE(at, std::string::npos);
-  bytes.replace(at, 11, "torque-ramq");
+  std::string bytes = testing::editCheckpoint(ck.str(), [](std::string& b) {
+    const size_t at = b.find("torque-ramp");
+    ASSERT_NE(at, std::string::npos);
+    b.replace(at, 11, "torque-ramq");
+  });
   std::stringstream bad(bytes);
   auto b = makeSimulation(d);
   const uint64_t before = b->stateDigest();

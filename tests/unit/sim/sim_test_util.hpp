@@ -12,9 +12,19 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "sim/scene_io.hpp"
 #include "sim/simulation.hpp"
 
 namespace demlab::sim::testing {
+
+// Returns checkpoint file bytes with the scene's part changed by edit and the checksum made
+// anew: the reader's own checks see the change instead of the checksum catching it first.
+template <class F>
+std::string editCheckpoint(const std::string& file, F&& edit) {
+  std::string scene = unsealCheckpoint(file);
+  edit(scene);
+  return sealCheckpoint(std::move(scene));
+}
 
 // Returns the error code words after DEMLAB of the Error f throws; fails if it does not throw.
 template <class F>

@@ -1,0 +1,94 @@
+#include "core/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+
+#include "core/error.hpp"
+
+namespace demlab {
+
+std::string posixMessage(int err) {
+  std::string s = err != 0 ? std::strerror(err) : "unknown error";
+  if (!s.empty()) s[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(s[0])));
+  return s;
+}
+
+namespace {
+
+// Returns nothing. Syncs the folder holding path, so the rename itself survives a crash; a
+// file system that cannot sync folders (EINVAL) is left as it is.
+void syncFolderOf(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  const int fd = open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return;
+  fsync(fd);
+  close(fd);
+}
+
+}  // namespace
+
+void writeFileAtomically(const std::string& path, const FileEncoder& encode,
+                         std::string_view kind) {
+  const std::string openCode = kind.empty() ? "OPEN" : std::string(kind);
+  const std::string writeCode = kind.empty() ? "WRITE" : std::string(kind);
+  auto writeError = [&](const std::string& reason) {
+    return Error("error writing \"" + path + "\": " + reason, {"IO", writeCode});
+  };
+  struct stat target;
+  if (stat(path.c_str(), &target) == 0 && S_ISDIR(target.st_mode)) {
+    throw Error("couldn't open \"" + path + "\" for writing: it is a directory",
+                {"IO", openCode});
+  }
+  // The temporary shares the target's folder so the rename is atomic (one file system).
+  std::string tmp = path + ".XXXXXX";
+  const int fd = mkstemp(tmp.data());
+  if (fd < 0) {
+    throw Error("couldn't open \"" + path + "\" for writing: " + posixMessage(errno),
+                {"IO", openCode});
+  }
+  std::FILE* f = fdopen(fd, "wb");
+  if (!f) {
+    const int err = errno;
+    close(fd);
+    unlink(tmp.c_str());
+    throw writeError(posixMessage(err));
+  }
+  std::string reason = encode(f);
+  if (reason.empty() && std::ferror(f)) reason = posixMessage(errno ? errno : EIO);
+  if (reason.empty() && std::fflush(f) != 0) reason = posixMessage(errno);
+  if (reason.empty() && fsync(fileno(f)) != 0 && errno != EINVAL) reason = posixMessage(errno);
+  if (std::fclose(f) != 0 && reason.empty()) reason = posixMessage(errno);
+  if (!reason.empty()) {
+    unlink(tmp.c_str());
+    throw writeError(reason);
+  }
+  // mkstemp makes the file 0600; the result should be readable like any file the user writes.
+  const mode_t mask = umask(0);
+  umask(mask);
+  chmod(tmp.c_str(), 0666 & ~mask);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    unlink(tmp.c_str());
+    throw writeError(posixMessage(err));
+  }
+  syncFolderOf(path);
+}
+
+void writeFileAtomically(const std::string& path, std::string_view bytes, std::string_view kind) {
+  writeFileAtomically(
+      path,
+      [&](std::FILE* f) -> std::string {
+        if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size())
+          return posixMessage(errno ? errno : EIO);
+        return "";
+      },
+      kind);
+}
+
+}  // namespace demlab
