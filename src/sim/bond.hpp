@@ -64,6 +64,7 @@ struct BondBreak {
   uint64_t step = 0;
   VecD<D> point = VecD<D>::Zero();  // the bond's centre when it broke
   double energy = 0;                // elastic energy it held, released
+  double measure = 0;               // what exceeded the strength: sigma (tension) or tau (shear)
 };
 
 // A bond asked to break during a step (the bond module only appends; the manager applies them

@@ -56,6 +56,7 @@ void writeBonds(Writer& w, const Scene<D>& s) {
     w.u64(r.step);
     w.vec<D>(r.point);
     w.f64(r.energy);
+    w.f64(r.measure);
   });
   w.u32(set.nextId);
   w.f64(s.ledger.bondReleased);
@@ -107,6 +108,7 @@ void readBonds(Reader& r, Scene<D>& s) {
     k.step = r.u64();
     k.point = r.vec<D>();
     k.energy = r.f64();
+    k.measure = r.f64();
   }
   set.nextId = r.u32();
   s.ledger.bondReleased = r.f64();

@@ -53,7 +53,8 @@ struct LedgerSums {
   // those of the terms now (the reference's only when withReference).
   double scaleWith(double kinetic, double potential, bool withReference) const {
     return std::max({scale, kinetic, std::abs(potential - gravityReference), elastic,
-                     dampingLoss + frictionLoss + bondReleased, std::abs(wallWork), std::abs(behaviorWork),
+                     dampingLoss + frictionLoss + bondReleased, std::abs(wallWork),
+                     std::abs(behaviorWork),
                      withReference ? std::abs(reference) : 0.0});
   }
 };

@@ -434,7 +434,8 @@ struct BondBreakInfo {
   double time = 0;
   uint64_t step = 0;
   Vec3d point{0, 0, 0};
-  double energy = 0;  // the elastic energy the bond held, released
+  double energy = 0;   // the elastic energy the bond held, released
+  double measure = 0;  // sigma (tension) or tau (shear) when it broke, above the strength
 };
 
 struct OutputDef {

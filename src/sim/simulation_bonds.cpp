@@ -233,6 +233,7 @@ bool SimulationManager<D>::applyBondBreaks(const std::vector<PendingBreak>& brea
     r.step = s_.steps;
     r.point = bondFrame(s_.elements.a, i, j).centre;
     r.energy = b.state.energy;
+    r.measure = p.mode == BondBreakMode::Tension ? b.state.sigma : b.state.tau;
     // The energy the bond held leaves the elastic term for the released one: the balance is
     // unchanged by the break itself.
     s_.ledger.elastic -= r.energy;
@@ -289,8 +290,8 @@ template <int D>
 std::vector<BondBreakInfo> SimulationManager<D>::bondBreaks() const {
   std::vector<BondBreakInfo> out;
   for (const BondBreak<D>& r : s_.bonds.breaks) {
-    out.push_back(
-        {r.bond, r.a, r.b, modeName(r.mode), r.time, r.step, fromVec<D>(r.point), r.energy});
+    out.push_back({r.bond, r.a, r.b, modeName(r.mode), r.time, r.step, fromVec<D>(r.point),
+                   r.energy, r.measure});
   }
   return out;
 }

@@ -227,10 +227,11 @@ void registerBondCommands(Registry& r) {
 
   Command& breaks = r.add("bond breaks",
                           "Returns the breaks as a list of dicts {bond a b mode time step point "
-                          "energy}, in the order they happened.");
+                          "energy measure}, in the order they happened.");
   breaks.details =
       "point is the bond's centre when it broke; energy the elastic energy it held "
-      "(booked in the energy ledger as released).";
+      "(booked in the energy ledger as released); measure the stress (or force) that exceeded the "
+      "strength: sigma for tension, tau for shear.";
   breaks.changesScene = false;
   breaks.run([](Call& c) {
     auto& s = session(c).scene();
@@ -243,7 +244,8 @@ void registerBondCommands(Registry& r) {
                           {"time", k.time},
                           {"step", static_cast<std::int64_t>(k.step)},
                           {"point", vecValue(k.point, s.dim())},
-                          {"energy", k.energy}});
+                          {"energy", k.energy},
+                          {"measure", k.measure}});
     }
     return Value(l);
   });
