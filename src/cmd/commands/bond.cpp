@@ -64,6 +64,14 @@ void declareModel(Registry& r, const sim::BondModelType& t) {
   });
 }
 
+// Returns bond ids as a Tcl list.
+Value idList(const std::vector<std::uint32_t>& ids) {
+  List l;
+  for (std::uint32_t id : ids) l.emplace_back(static_cast<std::int64_t>(id));
+  return Value(l);
+}
+
+// Returns the dict `bond query` gives for b.
 Value bondValue(const sim::BondInfo& b, int dim) {
   return Value(Dict{{"id", static_cast<std::int64_t>(b.id)},
                     {"a", scriptId(b.a)},
@@ -145,9 +153,7 @@ void registerBondCommands(Registry& r) {
       }
       ids = s.addBondsWithin(among, c.real("gap"), c.str("model"));
     }
-    List l;
-    for (std::uint32_t id : ids) l.emplace_back(static_cast<std::int64_t>(id));
-    return Value(l);
+    return idList(ids);
   });
 
   Command& file = r.add("bond file", "Bonds the pairs a file lists; returns the new bonds' ids.");
@@ -170,11 +176,7 @@ void registerBondCommands(Registry& r) {
     }
     Param p;
     p.name = "path";
-    const std::vector<std::uint32_t> ids =
-        session(c).scene().addBonds(readPairs(words, p, c.context()), c.str("model"));
-    List l;
-    for (std::uint32_t id : ids) l.emplace_back(static_cast<std::int64_t>(id));
-    return Value(l);
+    return idList(session(c).scene().addBonds(readPairs(words, p, c.context()), c.str("model")));
   });
 
   Command& list = r.add("bond list", "Returns the bonds as a list of dicts {id a b model intact}.");

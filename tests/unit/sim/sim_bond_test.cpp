@@ -146,44 +146,36 @@ BondBreakInfo breakPair(int d, const std::string& model, double tensile, double 
   return breaks.empty() ? BondBreakInfo{} : breaks[0];
 }
 
+// Breaks a point-spring pair (strength 1 N, load rising at 20 N/s) and a parallel-bond pair
+// (strength 1e4 Pa, the load reaching strength x A at 0.05 s) in mode ("tension": pulled along
+// the axis, "shear": across it) and checks each broke in that mode, on the first step over the
+// strength and when the load equalled it (quasi-static).
+void checkPairBreaks(int d, const std::string& mode) {
+  const bool tension = mode == "tension";
+  const double stress = 1e4;
+  struct Case {
+    const char* model;
+    double strength, rate;
+  } cases[] = {{"pointspring", 1.0, 20.0}, {"parallel", stress, stress * area(d) / 0.05}};
+  for (const Case& c : cases) {
+    const Vec3d rate = tension ? Vec3d{c.rate, 0, 0} : Vec3d{0, c.rate, 0};
+    const BondBreakInfo b =
+        breakPair(d, c.model, tension ? c.strength : kInf, tension ? kInf : c.strength, rate);
+    EXPECT_EQ(b.mode, mode) << c.model;
+    EXPECT_GT(b.measure, c.strength) << c.model;
+    EXPECT_LT(b.measure / c.strength - 1, 1e-3) << c.model;  // the first step over it
+    EXPECT_NEAR(b.time * c.rate / c.strength, 1.0, 0.01) << c.model;
+    std::printf("[bond] %dD %s: %s pair broke at %.6g (strength %g), load then / strength %.5f\n",
+                d, mode.c_str(), c.model, b.measure, c.strength, b.time * c.rate / c.strength);
+  }
+}
+
 TEST_P(SimBond, APairBreaksInTensionAtTheTensileStrength) {
-  const int d = GetParam();
-  // Point spring: strengths are forces. A load rising at 20 N/s reaches 1 N in 0.05 s.
-  const BondBreakInfo p = breakPair(d, "pointspring", 1.0, kInf, {20, 0, 0});
-  EXPECT_EQ(p.mode, "tension");
-  EXPECT_GT(p.measure, 1.0);
-  EXPECT_LT(p.measure - 1.0, 1e-3);     // the first step over the strength
-  EXPECT_NEAR(20 * p.time, 1.0, 0.01);  // quasi-static: the load then is the strength
-  // Parallel bond: a stress; the pull at break is sigma_c A.
-  const double sc = 1e4;
-  const BondBreakInfo q = breakPair(d, "parallel", sc, kInf, {sc * area(d) / 0.05, 0, 0});
-  EXPECT_EQ(q.mode, "tension");
-  EXPECT_GT(q.measure, sc);
-  EXPECT_LT(q.measure / sc - 1, 1e-3);
-  EXPECT_NEAR(q.time / 0.05, 1.0, 0.01);
-  std::printf(
-      "[bond] %dD tension: pointspring broke at %.6g N (strength 1), parallel at "
-      "sigma %.6g Pa (strength %g)\n",
-      d, p.measure, q.measure, sc);
+  checkPairBreaks(GetParam(), "tension");
 }
 
 TEST_P(SimBond, APairBreaksInShearAtTheShearStrength) {
-  const int d = GetParam();
-  const BondBreakInfo p = breakPair(d, "pointspring", kInf, 1.0, {0, 20, 0});
-  EXPECT_EQ(p.mode, "shear");
-  EXPECT_GT(p.measure, 1.0);
-  EXPECT_LT(p.measure - 1.0, 1e-3);
-  EXPECT_NEAR(20 * p.time, 1.0, 0.01);
-  const double tc = 1e4;
-  const BondBreakInfo q = breakPair(d, "parallel", kInf, tc, {0, tc * area(d) / 0.05, 0});
-  EXPECT_EQ(q.mode, "shear");
-  EXPECT_GT(q.measure, tc);
-  EXPECT_LT(q.measure / tc - 1, 1e-3);
-  EXPECT_NEAR(q.time / 0.05, 1.0, 0.01);
-  std::printf(
-      "[bond] %dD shear: pointspring broke at %.6g N (strength 1), parallel at tau "
-      "%.6g Pa (strength %g)\n",
-      d, p.measure, q.measure, tc);
+  checkPairBreaks(GetParam(), "shear");
 }
 
 TEST_P(SimBond, ACantileverChainDeflectsAsEulerBernoulli) {
