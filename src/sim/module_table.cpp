@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "sim/behavior_modules.hpp"
+#include "sim/bond_module.hpp"
 #include "sim/cohesion.hpp"
 #include "sim/constraints.hpp"
 #include "sim/contacts.hpp"
@@ -54,9 +55,10 @@ SceneUse sceneUse(const Scene<D>& s) {
         static_cast<long>(std::find(grainMat.begin(), grainMat.end(), true) - grainMat.begin());
     f.grainPair = m * static_cast<long>(nm) + m;
   }
-  // A shape's normal forces act off its centre: it turns with or without friction.
-  f.rotating = s.rotationEnabled &&
-               (f.anyFriction || s.behaviors.hasTorqueLoads() || spinning || f.shapes);
+  // A shape's normal forces act off its centre: it turns with or without friction; so do
+  // bonded elements (a bond's shear force and moment).
+  f.rotating = s.rotationEnabled && (f.anyFriction || s.behaviors.hasTorqueLoads() || spinning ||
+                                     f.shapes || s.bonds.intact() > 0);
   f.walls = s.walls.size() > 0;
   f.movingWalls = s.walls.anyMoving();
   return f;
@@ -114,6 +116,8 @@ struct Rows {
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
          out.push_back(std::make_unique<CohesionModule<D>>(s));
        }},
+      {"bonds", [](const Scene<D>& s, const SceneUse&) { return s.bonds.intact() > 0; },
+       plain<D, BondModule>},
       // Gravity, then one module per behavior type present (sim/behavior_registry.hpp).
       {"behaviors", [](const Scene<D>& s, const SceneUse&) { return s.behaviors.size() > 0; },
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {

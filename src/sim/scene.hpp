@@ -19,6 +19,7 @@
 #include "physics/pair_params.hpp"
 #include "search/box.hpp"
 #include "sim/behavior.hpp"
+#include "sim/bond.hpp"
 #include "sim/contact_groups.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/pair_springs.hpp"
@@ -34,6 +35,7 @@ enum class IntegratorKind : uint8_t { Synchronized, Verlet };
 struct LedgerSums {
   double dampingLoss = 0, frictionLoss = 0, wallWork = 0, behaviorWork = 0;
   double springWork = 0;        // energy given to Hertz-Mindlin springs by their stiffening
+  double bondReleased = 0;      // elastic energy bonds held when they broke
   double elastic = 0;           // elastic energy in the contacts after the last step
   bool started = false;         // reference taken
   double reference = 0;         // the balance sum when the ledger started (rebased on edits)
@@ -44,14 +46,15 @@ struct LedgerSums {
   // - work done on the grains (simulation.hpp, EnergyLedger). The one formula of the ledger:
   // the ledger's reference, its report and the watchdog's check all call it.
   double balanceSum(double kinetic, double potential) const {
-    return kinetic + potential + elastic + dampingLoss + frictionLoss - wallWork - behaviorWork -
-           springWork;
+    return kinetic + potential + elastic + dampingLoss + frictionLoss + bondReleased - wallWork -
+           behaviorWork - springWork;
   }
   // Returns the energy scale the residual is relative to: the largest of the magnitudes seen and
   // those of the terms now (the reference's only when withReference).
   double scaleWith(double kinetic, double potential, bool withReference) const {
     return std::max({scale, kinetic, std::abs(potential - gravityReference), elastic,
-                     dampingLoss + frictionLoss, std::abs(wallWork), std::abs(behaviorWork),
+                     dampingLoss + frictionLoss + bondReleased, std::abs(wallWork),
+                     std::abs(behaviorWork),
                      withReference ? std::abs(reference) : 0.0});
   }
 };
@@ -112,7 +115,8 @@ struct PairOverride {
 struct DeferredChanges {
   std::vector<ElementDef> create;  // checked when applied, all or none
   std::vector<ElementId> destroy;  // a handle already gone is skipped
-  bool empty() const { return create.empty() && destroy.empty(); }
+  std::vector<PendingBreak> breakBonds;  // bonds whose strength the step exceeded (sim/bond.hpp)
+  bool empty() const { return create.empty() && destroy.empty() && breakBonds.empty(); }
 };
 
 // An element with blocked degrees of freedom (sim/constraints.hpp). Few elements are: a list
@@ -144,6 +148,7 @@ struct Scene {
   BehaviorManager<D> behaviors;
   std::vector<BlockedElement> blocked;  // in the order they were blocked
   DeferredChanges deferred;             // empty at every step boundary
+  BondSet<D> bonds;                     // sim/bond.hpp
 
   // ---- element shapes (sim/shape.hpp) ----
   // The shared Geometry components; ElementArrays::geometry indexes them. [0] is the ball's.

@@ -532,6 +532,11 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     writeSection(w, kShapeTag, body);
   }
   if (Writer body; writeOptionSection(body, s)) writeSection(w, kOptionTag, body);
+  if (!s.bonds.empty()) {
+    Writer body;
+    writeBonds(body, s);
+    writeSection(w, kBondTag, body);
+  }
 }
 
 uint64_t hashBytes(std::string_view b) {
@@ -757,6 +762,8 @@ void readScene(Reader& r, Scene<D>& s) {
       }
     } else if (std::memcmp(tag, kShapeTag, 4) == 0) {
       readShapes(b, s);
+    } else if (std::memcmp(tag, kBondTag, 4) == 0) {
+      readBonds(b, s);
     } else if (std::memcmp(tag, kOptionTag, 4) == 0) {
       readOptionSection(b, s);
     } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {

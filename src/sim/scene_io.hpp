@@ -160,6 +160,9 @@ inline constexpr char kPairYoungTag[5] = "PYNG";
 // the Geometry table by shape type name and parameters, each element's Geometry index, the
 // shape candidate pairs, and the tangential springs of the shape contact points.
 inline constexpr char kShapeTag[5] = "SHAP";
+// The bonds (sim/bond.hpp), written only when the scene has a bond model, a bond or a break
+// (sim/bond_io.cpp has the layout).
+inline constexpr char kBondTag[5] = "BOND";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.
@@ -184,5 +187,12 @@ std::string unsealCheckpoint(std::string fileBytes);
 // garbage and must be dropped by the caller.
 template <int D>
 void readScene(Reader& r, Scene<D>& s);
+
+// Appends the bonds' section body to w; reads it back into s, whose elements are already
+// read (sim/bond_io.cpp). readBonds throws {LOAD FORMAT} on malformed input.
+template <int D>
+void writeBonds(Writer& w, const Scene<D>& s);
+template <int D>
+void readBonds(Reader& r, Scene<D>& s);
 
 }  // namespace demlab::sim

@@ -266,6 +266,7 @@ struct EnergyLedger {
   double wallWork = 0, behaviorWork = 0;     // cumulated work done on the grains
   double springWork = 0;  // cumulated energy given to Hertz-Mindlin tangential springs by
                           // their stiffening (physics/contact.hpp ContactForce::springWork)
+  double bondReleased = 0;  // cumulated elastic energy of bonds when they broke
   double balance = 0, scale = 0, residual = 0;
 };
 
@@ -407,6 +408,40 @@ struct BehaviorInfo {
 // scene without complaint) and survive load(). The callback may read the scene, never change
 // it, and must not add or remove outputs; an exception it throws ends the run after that
 // (complete, consistent) step and propagates out of run().
+// A named set of bond parameters (`bond model TYPE NAME`): its type and values by option name.
+struct BondModelInfo {
+  std::string name, type;
+  std::vector<std::pair<std::string, double>> values;
+};
+
+// One bond as queries see it (sim/bond.hpp). Force and moment act on b (a takes the opposite);
+// normalForce > 0 is tension; sigma and tau are what the model's criterion compares with the
+// strengths; strain is (length - restLength) / restLength.
+struct BondInfo {
+  uint32_t id = 0;
+  ElementId a, b;
+  std::string model;
+  bool intact = true;
+  double restLength = 0, length = 0, strain = 0;
+  Vec3d force{0, 0, 0}, moment{0, 0, 0};
+  double normalForce = 0, sigma = 0, tau = 0, energy = 0;
+  double tensile = 0, shear = 0;  // the bond's own strengths
+  std::string breakMode;          // "" while intact, else "tension" or "shear"
+  double breakTime = 0;
+};
+
+// One breakage: when, where (the bond's centre), how and which pair.
+struct BondBreakInfo {
+  uint32_t bond = 0;
+  ElementId a, b;
+  std::string mode;
+  double time = 0;
+  uint64_t step = 0;
+  Vec3d point{0, 0, 0};
+  double energy = 0;   // the elastic energy the bond held, released
+  double measure = 0;  // sigma (tension) or tau (shear) when it broke, above the strength
+};
+
 struct OutputDef {
   std::string name;         // what outputs() shows, e.g. "snapshot frames/"; may be empty
   uint64_t everySteps = 0;  // > 0, or 0 when everyTime is used
@@ -578,6 +613,30 @@ class Simulation {
   virtual void removeOutput(OutputId id) = 0;
   // Returns the outputs in the order they fire (creation order).
   virtual std::vector<OutputInfo> outputs() const = 0;
+
+  // -- bonds (sim/bond.hpp) --
+  // Defines the bond model name of type type (sim/bond_model.hpp's table) from values by option
+  // name; an option left out takes its default. Checks everything first: VALUE NAME, EXISTS
+  // BONDMODEL, LOOKUP BONDTYPE, VALUE OPTION (an unknown or missing option), VALUE <OPTION> (a
+  // value out of range or not a number).
+  virtual void addBondModel(const std::string& name, const std::string& type,
+                            const std::vector<std::pair<std::string, double>>& values) = 0;
+  virtual std::vector<BondModelInfo> bondModels() const = 0;  // creation order
+  // Bonds each pair (a, b) with the model named model, at its present distance; returns the new
+  // bonds' ids. All or none: LOOKUP BONDMODEL, LOOKUP HANDLE (an element not there), VALUE PAIR
+  // (an element with itself, or a pair given twice or already bonded).
+  virtual std::vector<uint32_t> addBonds(const std::vector<std::pair<ElementId, ElementId>>& pairs,
+                                         const std::string& model) = 0;
+  // Bonds every pair of the elements among (every element when empty) whose surfaces are at
+  // most gap apart (an overlap counts) and that have no bond yet; returns the new ids in
+  // creation order (pairs by their ids' dense order). VALUE GAP (not >= 0 and finite), as
+  // addBonds otherwise.
+  virtual std::vector<uint32_t> addBondsWithin(const std::vector<ElementId>& among, double gap,
+                                               const std::string& model) = 0;
+  // Removes the bonds ids (intact or broken). LOOKUP BOND when one is not there (none removed).
+  virtual void removeBonds(const std::vector<uint32_t>& ids) = 0;
+  virtual std::vector<BondInfo> bonds() const = 0;            // creation order
+  virtual std::vector<BondBreakInfo> bondBreaks() const = 0;  // in the order they broke
 
   // -- running --
   // Runs options.steps steps (stopping early at a step boundary when *stop reads true).

@@ -156,7 +156,7 @@ double SimulationManager<D>::criticalTimeStep() const {
       }
     }
   }
-  return best;
+  return std::min(best, bondCriticalStep());
 }
 
 // ---- materials and laws --------------------------------------------------------------------
@@ -468,6 +468,7 @@ void SimulationManager<D>::removeElement(ElementId id) {
   forgetCandidates();
   dropBlocked([&](ElementId g) { return g == id; });
   const uint32_t slot = s_.elements.remove(id);
+  dropBonds({slot});
   if (s_.keepHistory) s_.histories.removeId(slot);
   std::erase_if(s_.shapeSprings, [&](const auto& e) { return e.first.a == slot || e.first.b == slot; });
   s_.needRebuild = true;
@@ -492,6 +493,7 @@ void SimulationManager<D>::removeElementSet(const std::vector<ElementId>& ids) {
     slots.insert(s_.elements.remove(id));
   }
   dropBlocked([&](ElementId g) { return slots.contains(g.index); });
+  dropBonds(slots);
   std::erase_if(s_.shapeSprings, [&](const auto& e) {
     return slots.contains(e.first.a) || slots.contains(e.first.b);
   });

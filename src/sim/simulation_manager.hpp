@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <unordered_set>
 
 #include "sim/module_table.hpp"
 #include "sim/scene.hpp"
@@ -100,6 +101,17 @@ class SimulationManager final : public Simulation {
   void removeOutput(OutputId id) override;
   std::vector<OutputInfo> outputs() const override;
 
+  void addBondModel(const std::string& name, const std::string& type,
+                    const std::vector<std::pair<std::string, double>>& values) override;
+  std::vector<BondModelInfo> bondModels() const override;
+  std::vector<uint32_t> addBonds(const std::vector<std::pair<ElementId, ElementId>>& pairs,
+                                 const std::string& model) override;
+  std::vector<uint32_t> addBondsWithin(const std::vector<ElementId>& among, double gap,
+                                       const std::string& model) override;
+  void removeBonds(const std::vector<uint32_t>& ids) override;
+  std::vector<BondInfo> bonds() const override;
+  std::vector<BondBreakInfo> bondBreaks() const override;
+
   RunReport run(const RunOptions& options) override;
   RunReport step() override;
   RelaxReport relax(double fraction, uint64_t maxIterations,
@@ -174,6 +186,18 @@ class SimulationManager final : public Simulation {
   // makes the scene ready to step on (loop, step, forces of the changed scene). Returns true if
   // there were any. Throws as addElements does for a bad Def (the removals done stay done).
   bool applyDeferred();
+  // Returns the index of the bond model named name. Throws {LOOKUP BONDMODEL}.
+  uint32_t bondModelIndex(const std::string& name) const;
+  // Makes the bonds of the checked pairs (dense indices) with model m; returns their ids.
+  std::vector<uint32_t> makeBonds(const std::vector<std::pair<uint32_t, uint32_t>>& pairs,
+                                  uint32_t m);
+  // Marks the queued bonds broken, records each break and books its energy as released.
+  // Returns true if any broke. Changes the scene (its forces are then stale).
+  bool applyBondBreaks(const std::vector<PendingBreak>& breaks);
+  // Drops the bonds of the elements whose slots are in slots (they are being removed).
+  void dropBonds(const std::unordered_set<uint32_t>& slots);
+  // Returns the smallest stable step the bonds allow (infinity without bonds).
+  double bondCriticalStep() const;
   // Removes the live grains ids (distinct), their springs, histories and blocked entries, the
   // ledger rebased. Changes the scene and marks the configuration changed.
   void removeElementSet(const std::vector<ElementId>& ids);

@@ -215,7 +215,11 @@ bool SimulationManager<D>::applyDeferred() {
   for (ElementId id : changes.destroy) {
     if (s_.elements.pool().valid(id) && seenIds.insert(id.bits()).second) gone.push_back(id);
   }
-  if (gone.empty() && changes.create.empty()) return false;
+  const bool broke = applyBondBreaks(changes.breakBonds);
+  if (gone.empty() && changes.create.empty()) {
+    if (broke) prepare();
+    return broke;
+  }
   // Shapes the changes bring in need their contact routines: checked before anything changes.
   std::vector<TypeId> extra;
   for (const ElementDef& d : changes.create) {
@@ -480,6 +484,7 @@ EnergyLedger SimulationManager<D>::energy() const {
   e.wallWork = l.wallWork;
   e.behaviorWork = l.behaviorWork;
   e.springWork = l.springWork;
+  e.bondReleased = l.bondReleased;
   const double kinetic = e.kineticTranslational + e.kineticRotational;
   e.balance = l.started ? l.balanceSum(kinetic, e.gravitational) - l.reference : 0;
   e.scale = l.scaleWith(kinetic, e.gravitational, l.started);

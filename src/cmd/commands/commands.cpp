@@ -7,7 +7,8 @@ Registry& registerAllCommands(Registry& r) {
   static constexpr Group groups[] = {
       registerSimCommands,      registerRunCommands,    registerMaterialCommands,
       registerElementCommands,  registerPackCommands,   registerWallCommands,
-      registerBehaviorCommands, registerModuleCommands, registerQueryCommands,
+      registerBehaviorCommands, registerBondCommands,   registerModuleCommands,
+      registerQueryCommands,
       registerHelpCommands,     registerSnapshotCommands,
       registerDumpCommands,     registerSeriesCommands,
       registerStudyCommands,    registerAnalysisCommands,

@@ -16,6 +16,7 @@ void registerElementCommands(Registry& r);   // element
 void registerPackCommands(Registry& r);      // pack: lattice, random, file
 void registerWallCommands(Registry& r);      // wall
 void registerBehaviorCommands(Registry& r);  // behavior
+void registerBondCommands(Registry& r);      // bond: model, add, file, list, query, breaks
 void registerModuleCommands(Registry& r);    // module: list, integrator, rotation, detection
 void registerQueryCommands(Registry& r);     // energy, contacts, bounds, counts
 void registerHelpCommands(Registry& r);      // help

@@ -1,0 +1,334 @@
+// SimulationManager<D>: bonds (models, making, removing, breaking, querying, their time-step
+// bound). The force pass is sim/bond_module.hpp; the models are sim/bond_models/.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "core/name_lookup.hpp"
+#include "sim/bond_module.hpp"
+#include "sim/convert.hpp"
+#include "sim/simulation_manager.hpp"
+
+namespace demlab::sim {
+
+namespace {
+
+// Returns a standard normal deviate that depends on seed and k alone (splitmix64 and
+// Box-Muller): a bond's strengths do not depend on the order bonds are made in.
+double normalDeviate(uint64_t seed, uint64_t k) {
+  auto mix = [](uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  };
+  const uint64_t h1 = mix(seed * 0x9e3779b97f4a7c15ull + k);
+  const uint64_t h2 = mix(h1 + 0x9e3779b97f4a7c15ull);
+  const double u1 = (static_cast<double>(h1 >> 11) + 0.5) / 9007199254740992.0;
+  const double u2 = static_cast<double>(h2 >> 11) / 9007199254740992.0;
+  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2);
+}
+
+const char* modeName(BondBreakMode m) {
+  return m == BondBreakMode::Tension ? "tension" : "shear";
+}
+
+}  // namespace
+
+template <int D>
+uint32_t SimulationManager<D>::bondModelIndex(const std::string& name) const {
+  const auto& ms = s_.bonds.models;
+  for (size_t k = 0; k < ms.size(); ++k) {
+    if (ms[k].name == name) return static_cast<uint32_t>(k);
+  }
+  throw Error("no bond model named \"" + name + "\"", {"LOOKUP", "BONDMODEL"});
+}
+
+template <int D>
+void SimulationManager<D>::addBondModel(const std::string& name, const std::string& type,
+                                        const std::vector<std::pair<std::string, double>>& values) {
+  checkObjectName("bond model", name);
+  for (const BondModel& m : s_.bonds.models) {
+    if (m.name == name) {
+      throw Error("bond model \"" + name + "\" already exists", {"EXISTS", "BONDMODEL"});
+    }
+  }
+  BondModel m;
+  m.name = name;
+  m.type = bondModelType(type);
+  const BondModelType& t = bondModelTypes()[m.type];
+  m.values.resize(t.options.size());
+  for (size_t k = 0; k < t.options.size(); ++k) m.values[k] = t.options[k].fallback;
+  for (const auto& [key, x] : values) {
+    size_t k = 0;
+    while (k < t.options.size() && t.options[k].name != key) ++k;
+    if (k == t.options.size()) {
+      throw Error("bad option \"" + key + "\": a " + type + " bond has no such option",
+                  {"VALUE", "OPTION"});
+    }
+    const BondOption& o = t.options[k];
+    const bool ok = o.strict ? x > o.min : x >= o.min;
+    if (std::isnan(x) || !ok || (std::isinf(x) && o.name != "tensile" && o.name != "shear")) {
+      throwBad(o.name, physics::formatReal(x),
+               std::string("must be ") + (o.strict ? "> " : ">= ") + physics::formatReal(o.min) +
+                   " and finite");
+    }
+    m.values[k] = x;
+  }
+  for (size_t k = 0; k < t.options.size(); ++k) {
+    if (std::isnan(m.values[k])) {
+      throw Error("missing option \"-" + t.options[k].name + "\" of a " + type + " bond",
+                  {"VALUE", "OPTION"});
+    }
+  }
+  s_.bonds.models.push_back(std::move(m));
+}
+
+template <int D>
+std::vector<BondModelInfo> SimulationManager<D>::bondModels() const {
+  std::vector<BondModelInfo> out;
+  for (const BondModel& m : s_.bonds.models) {
+    const BondModelType& t = bondModelTypes()[m.type];
+    BondModelInfo i{m.name, t.name, {}};
+    for (size_t k = 0; k < t.options.size(); ++k)
+      i.values.emplace_back(t.options[k].name, m.values[k]);
+    out.push_back(std::move(i));
+  }
+  return out;
+}
+
+template <int D>
+std::vector<uint32_t> SimulationManager<D>::makeBonds(
+    const std::vector<std::pair<uint32_t, uint32_t>>& pairs, uint32_t m) {
+  const BondModel& model = s_.bonds.models[m];
+  const BondModelType& t = bondModelTypes()[model.type];
+  const double tensile = bondOption(t, model.values, "tensile");
+  const double shear = bondOption(t, model.values, "shear");
+  const double scatter = bondOption(t, model.values, "scatter");
+  const auto seed = static_cast<uint64_t>(bondOption(t, model.values, "seed"));
+  const ElementArrays<D>& a = s_.elements.a;
+  std::vector<uint32_t> ids;
+  for (const auto& [i, j] : pairs) {
+    Bond<D> b;
+    b.id = s_.bonds.nextId++;
+    b.a = s_.elements.pool().handleAt(i);
+    b.b = s_.elements.pool().handleAt(j);
+    b.model = m;
+    b.restLength = (a.x[j] - a.x[i]).norm();
+    b.tensile = tensile;
+    b.shear = shear;
+    if (scatter > 0) {
+      // Two independent draws per bond: tensile and shear strengths scatter independently.
+      b.tensile = std::max(0.0, tensile * (1 + scatter * normalDeviate(seed, 2ull * b.id)));
+      b.shear = std::max(0.0, shear * (1 + scatter * normalDeviate(seed, 2ull * b.id + 1)));
+    }
+    ids.push_back(b.id);
+    s_.bonds.bonds.push_back(b);
+  }
+  if (!ids.empty()) touchConfig();
+  return ids;
+}
+
+template <int D>
+std::vector<uint32_t> SimulationManager<D>::addBonds(
+    const std::vector<std::pair<ElementId, ElementId>>& pairs, const std::string& model) {
+  const uint32_t m = bondModelIndex(model);
+  std::set<std::pair<uint32_t, uint32_t>> seen;
+  for (const Bond<D>& b : s_.bonds.bonds) {
+    seen.insert(std::minmax(b.a.index, b.b.index));
+  }
+  std::vector<std::pair<uint32_t, uint32_t>> dense;
+  for (const auto& [p, q] : pairs) {
+    const uint32_t i = s_.elements.index(p), j = s_.elements.index(q);
+    if (i == j) {
+      throw Error("bad pair \"" + toString(p) + " " + toString(q) +
+                      "\": an element can't be bonded to itself",
+                  {"VALUE", "PAIR"});
+    }
+    if (!seen.insert(std::minmax(p.index, q.index)).second) {
+      throw Error("bad pair \"" + toString(p) + " " + toString(q) + "\": already bonded",
+                  {"VALUE", "PAIR"});
+    }
+    dense.emplace_back(i, j);
+  }
+  return makeBonds(dense, m);
+}
+
+template <int D>
+std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<ElementId>& among,
+                                                           double gap, const std::string& model) {
+  if (!(gap >= 0) || !std::isfinite(gap)) {
+    throwBad("gap", physics::formatReal(gap), "must be >= 0 and finite");
+  }
+  const uint32_t m = bondModelIndex(model);
+  std::vector<uint32_t> idx;
+  if (among.empty()) {
+    for (uint32_t i = 0; i < s_.elements.size(); ++i) idx.push_back(i);
+  } else {
+    for (ElementId id : among) idx.push_back(s_.elements.index(id));
+    std::sort(idx.begin(), idx.end());
+    idx.erase(std::unique(idx.begin(), idx.end()), idx.end());
+  }
+  const ElementArrays<D>& a = s_.elements.a;
+  std::set<std::pair<uint32_t, uint32_t>> bonded;
+  for (const Bond<D>& b : s_.bonds.bonds) bonded.insert(std::minmax(b.a.index, b.b.index));
+  // Sweep along x: a pair within the gap overlaps in x by the radii plus the gap.
+  std::vector<uint32_t> byX = idx;
+  std::sort(byX.begin(), byX.end(), [&](uint32_t p, uint32_t q) {
+    return std::pair(a.x[p][0] - a.r[p], p) < std::pair(a.x[q][0] - a.r[q], q);
+  });
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (size_t k = 0; k < byX.size(); ++k) {
+    const uint32_t i = byX[k];
+    const Real reach = a.x[i][0] + a.r[i] + gap;
+    for (size_t l = k + 1; l < byX.size() && a.x[byX[l]][0] - a.r[byX[l]] <= reach; ++l) {
+      const uint32_t j = byX[l];
+      const Real surface = (a.x[j] - a.x[i]).norm() - a.r[i] - a.r[j];
+      if (surface > gap) continue;
+      if (bonded.contains(std::minmax(a.slot[i], a.slot[j]))) continue;
+      pairs.emplace_back(std::min(i, j), std::max(i, j));
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return makeBonds(pairs, m);
+}
+
+template <int D>
+void SimulationManager<D>::removeBonds(const std::vector<uint32_t>& ids) {
+  std::set<uint32_t> drop(ids.begin(), ids.end());
+  for (uint32_t id : drop) {
+    const bool there = std::any_of(s_.bonds.bonds.begin(), s_.bonds.bonds.end(),
+                                   [&](const Bond<D>& b) { return b.id == id; });
+    if (!there) throw Error("no bond " + std::to_string(id), {"LOOKUP", "BOND"});
+  }
+  std::erase_if(s_.bonds.bonds, [&](const Bond<D>& b) { return drop.contains(b.id); });
+  touchConfig();
+}
+
+template <int D>
+void SimulationManager<D>::dropBonds(const std::unordered_set<uint32_t>& slots) {
+  const size_t before = s_.bonds.bonds.size();
+  std::erase_if(s_.bonds.bonds, [&](const Bond<D>& b) {
+    return slots.contains(b.a.index) || slots.contains(b.b.index);
+  });
+  if (s_.bonds.bonds.size() != before) touchConfig();
+}
+
+template <int D>
+bool SimulationManager<D>::applyBondBreaks(const std::vector<PendingBreak>& breaks) {
+  bool any = false;
+  for (const PendingBreak& p : breaks) {
+    Bond<D>& b = s_.bonds.bonds[p.index];
+    if (!b.intact) continue;
+    b.intact = false;
+    any = true;
+    const uint32_t i = s_.elements.pool().findDense(b.a);
+    const uint32_t j = s_.elements.pool().findDense(b.b);
+    BondBreak<D> r;
+    r.bond = b.id;
+    r.a = b.a;
+    r.b = b.b;
+    r.mode = p.mode;
+    r.time = s_.time;
+    r.step = s_.steps;
+    r.point = bondFrame(s_.elements.a, i, j).centre;
+    r.energy = b.state.energy;
+    r.measure = p.mode == BondBreakMode::Tension ? b.state.sigma : b.state.tau;
+    // The energy the bond held leaves the elastic term for the released one: the balance is
+    // unchanged by the break itself.
+    s_.ledger.elastic -= r.energy;
+    s_.ledger.bondReleased += r.energy;
+    s_.bonds.breaks.push_back(r);
+  }
+  if (any) touchConfig();
+  return any;
+}
+
+template <int D>
+std::vector<BondInfo> SimulationManager<D>::bonds() const {
+  std::vector<BondInfo> out;
+  const ElementArrays<D>& a = s_.elements.a;
+  for (const Bond<D>& b : s_.bonds.bonds) {
+    BondInfo info;
+    info.id = b.id;
+    info.a = b.a;
+    info.b = b.b;
+    info.model = s_.bonds.models[b.model].name;
+    info.intact = b.intact;
+    info.restLength = b.restLength;
+    const BondFrame<D> f =
+        bondFrame(a, s_.elements.pool().findDense(b.a), s_.elements.pool().findDense(b.b));
+    info.length = f.length;
+    info.strain = (f.length - b.restLength) / b.restLength;
+    info.tensile = b.tensile;
+    info.shear = b.shear;
+    if (b.intact) {
+      const BondState<D>& st = b.state;
+      info.force = fromVec<D>(VecD<D>(st.shearForce - st.normalForce * f.n));
+      if constexpr (D == 3) {
+        info.moment = fromAngular(AngularD<D>(st.bendMoment + st.twistMoment * f.n));
+      } else {
+        info.moment = fromAngular(st.bendMoment);
+      }
+      info.normalForce = st.normalForce;
+      info.sigma = st.sigma;
+      info.tau = st.tau;
+      info.energy = st.energy;
+    } else {
+      for (const BondBreak<D>& r : s_.bonds.breaks) {
+        if (r.bond != b.id) continue;
+        info.breakMode = modeName(r.mode);
+        info.breakTime = r.time;
+      }
+    }
+    out.push_back(std::move(info));
+  }
+  return out;
+}
+
+template <int D>
+std::vector<BondBreakInfo> SimulationManager<D>::bondBreaks() const {
+  std::vector<BondBreakInfo> out;
+  for (const BondBreak<D>& r : s_.bonds.breaks) {
+    out.push_back({r.bond, r.a, r.b, modeName(r.mode), r.time, r.step, fromVec<D>(r.point),
+                   r.energy, r.measure});
+  }
+  return out;
+}
+
+template <int D>
+double SimulationManager<D>::bondCriticalStep() const {
+  // Gershgorin's bound on the largest eigenvalue of M^-1/2 K M^-1/2 for the bonds' springs:
+  // each row's sum k/m_i + sum k/sqrt(m_i m_j), for translation and (with inertia) rotation;
+  // the step is 2 / omega_max. Exact for a pair of equal elements, an upper bound on omega
+  // for a chain or a pack (the translation-rotation coupling of the shear spring is in the
+  // rotational stiffness's lever-arm term).
+  const ElementArrays<D>& a = s_.elements.a;
+  std::vector<double> rowT, rowR;
+  for (const Bond<D>& b : s_.bonds.bonds) {
+    if (!b.intact) continue;
+    if (rowT.empty()) {
+      rowT.assign(a.size(), 0);
+      rowR.assign(a.size(), 0);
+    }
+    const uint32_t i = s_.elements.pool().findDense(b.a);
+    const uint32_t j = s_.elements.pool().findDense(b.b);
+    const BondModel& m = s_.bonds.models[b.model];
+    const BondStiffness k = bondModelTypes()[m.type].stiffness(m.values, a.r[i], a.r[j], D);
+    const double cross = std::sqrt(a.invMass[i] * a.invMass[j]);
+    rowT[i] += k.translation * (a.invMass[i] + cross);
+    rowT[j] += k.translation * (a.invMass[j] + cross);
+    const double crossR = std::sqrt(a.invInertia[i] * a.invInertia[j]);
+    rowR[i] += k.rotation * (a.invInertia[i] + crossR);
+    rowR[j] += k.rotation * (a.invInertia[j] + crossR);
+  }
+  double w2 = 0;
+  for (size_t i = 0; i < rowT.size(); ++i)
+    w2 = std::max({w2, rowT[i], s_.rotationEnabled ? rowR[i] : 0});
+  return w2 > 0 ? 2 / std::sqrt(w2) : std::numeric_limits<double>::infinity();
+}
+
+template class SimulationManager<2>;
+template class SimulationManager<3>;
+
+}  // namespace demlab::sim
