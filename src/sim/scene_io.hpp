@@ -159,6 +159,13 @@ inline constexpr char kPairYoungTag[5] = "PYNG";
 // the Geometry table by shape type name and parameters, each element's Geometry index, the
 // shape candidate pairs, and the tangential springs of the shape contact points.
 inline constexpr char kShapeTag[5] = "SHAP";
+// The sources (sim/source.hpp), when any: their Defs, counters and generators' states.
+inline constexpr char kSourceTag[5] = "SRCE";
+// The sinks (sim/sink.hpp), when any: their Defs and counters.
+inline constexpr char kSinkTag[5] = "SINK";
+// The walls' state beyond the fixed wall record, when a wall has any: per wall its work, the
+// rotation turned before its last change of motion, and its servo.
+inline constexpr char kWallExtraTag[5] = "WALX";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

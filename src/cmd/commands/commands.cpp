@@ -10,7 +10,7 @@ Registry& registerAllCommands(Registry& r) {
       registerBehaviorCommands, registerModuleCommands, registerQueryCommands,
       registerHelpCommands,     registerSnapshotCommands,
       registerDumpCommands,     registerSeriesCommands,
-      registerStudyCommands,    registerAnalysisCommands,
+      registerStudyCommands,    registerAnalysisCommands, registerBoundaryCommands,
   };
   for (Group g : groups) g(r);
   return r;
