@@ -1,5 +1,6 @@
 // SimulationManager<D>: walls (checking a WallDef, adding, removing, querying).
 #include <cmath>
+#include <numbers>
 
 #include <type_traits>
 
@@ -53,6 +54,8 @@ void setMotion(Wall<D>& w, const WallMotion& m) {
   w.phase = m.phase;
   w.moving =
       w.velocity.squaredNorm() > 0 || w.amplitude.squaredNorm() > 0 || squaredNorm(w.omega) > 0;
+  // The velocity of the reference point at t0, as moveTo(t0) gives it.
+  w.pointVelocity = w.velocity + w.amplitude * (2 * std::numbers::pi * m.frequency * std::cos(m.phase));
 }
 
 }  // namespace

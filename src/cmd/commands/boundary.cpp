@@ -1,6 +1,7 @@
-// The "source" and "sink" groups: elements inserted into a region during runs, and removed when
-// they enter (or leave) a region or cross a plane (sim/boundaries.hpp). The Defs are built and
-// checked by the scene before anything changes.
+// The "inlet" and "sink" groups: elements inserted into a region during runs (the scene's
+// sources; the group is not called "source", which would hide Tcl's own command), and removed
+// when they enter (or leave) a region or cross a plane (sim/boundaries.hpp). The Defs are built
+// and checked by the scene before anything changes.
 #include <cmath>
 
 #include "cmd/commands/commands.hpp"
@@ -74,11 +75,11 @@ void declareCounters(Registry& r, const std::string& group,
 }  // namespace
 
 void registerBoundaryCommands(Registry& r) {
-  r.describe("source", "Sources: elements inserted into a region during runs, at a rate.");
+  r.describe("inlet", "Inlets (sources): elements inserted into a region during runs, at a rate.");
   r.describe("sink", "Sinks: elements removed during runs where they enter a region or cross a plane.");
 
-  Command& src = r.add("source add",
-                       "Adds a source inserting elements into a region from the next step on, "
+  Command& src = r.add("inlet add",
+                       "Adds an inlet (a source) inserting elements into a region from the next step on, "
                        "at a mass or number rate, never overlapping what is there by more than "
                        "the tolerance.");
   src.arg("name", name(), "its name");
@@ -152,7 +153,7 @@ void registerBoundaryCommands(Registry& r) {
     session(c).scene().addSource(std::any_cast<sim::SourceDef>(c.prepared));
     return Value(c.str("name"));
   });
-  declareCounters<sim::SourceInfo>(r, "source", &sim::Simulation::sources,
+  declareCounters<sim::SourceInfo>(r, "inlet", &sim::Simulation::sources,
                                    &sim::Simulation::removeSource);
 
   Command& sink = r.add("sink add",

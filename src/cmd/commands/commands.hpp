@@ -24,7 +24,7 @@ void registerDumpCommands(Registry& r);      // dump: vtk, every, list, off, csv
 void registerSeriesCommands(Registry& r);    // series: every, get, list, off, plot
 void registerStudyCommands(Registry& r);     // study: convergence
 void registerAnalysisCommands(Registry& r);  // query stress, coordination, fabric, packing...
-void registerBoundaryCommands(Registry& r);  // source, sink
+void registerBoundaryCommands(Registry& r);  // inlet (sources), sink
 
 // Returns the pipe of a region argument, `{box {lo} {hi}}`, `{sphere {centre} radius}` (a
 // disc in 2D) or `{cylinder {centre} {axis} radius halflength}` (3D), giving a sim::Region; a bad word is {VALUE REGION} (pack.cpp).

@@ -70,7 +70,7 @@ const std::vector<Quantity>& builtins() {
 const std::vector<std::string> kWallParts = {"fx", "fy", "fz", "force", "tx", "ty", "tz", "work"};
 const std::vector<std::string> kCounterParts = {"count", "mass", "rate"};
 
-// Returns the quantity source:NAME:PART or sink:NAME:PART (count, mass, or rate: the mass per
+// Returns the quantity inlet:NAME:PART (a source) or sink:NAME:PART (count, mass, or rate: the mass per
 // second since it started). The source or sink must exist now (LOOKUP NAME).
 Quantity counterQuantity(const std::string& word, const std::string& group, const std::string& name,
                          const std::string& part, const Context& ctx) {
@@ -80,7 +80,7 @@ Quantity counterQuantity(const std::string& word, const std::string& group, cons
     auto pick = [&](const auto& list) -> std::array<double, 3> {
       for (const auto& x : list)
         if (x.name == name) return {double(x.count), x.mass, x.start};
-      throw Error("can't find " + std::string(sink ? "sink" : "source") + " \"" + name + "\"",
+      throw Error("can't find " + std::string(sink ? "sink" : "inlet") + " \"" + name + "\"",
                   {"LOOKUP", "NAME"});
     };
     return sink ? pick(s.sinks()) : pick(s.sources());
@@ -155,7 +155,7 @@ Quantity parseQuantity(const std::string& word, const Param& p, const Context& c
               return axis >= 0 ? f[axis] : std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
             }};
   }
-  for (const std::string group : {"source", "sink"}) {
+  for (const std::string group : {"inlet", "sink"}) {
     if (word.rfind(group + ":", 0) != 0) continue;
     const size_t colon = word.rfind(':'), from = group.size() + 1;
     if (colon <= from)
@@ -166,7 +166,7 @@ Quantity parseQuantity(const std::string& word, const Param& p, const Context& c
   std::vector<std::string> names;
   for (const Quantity& q : builtins()) names.push_back(q.name);
   names.push_back("wall:WALL:fx|fy|fz|force|tx|ty|tz|work");
-  names.push_back("source:NAME:count|mass|rate");
+  names.push_back("inlet:NAME:count|mass|rate");
   names.push_back("sink:NAME:count|mass|rate");
   names.push_back("{NAME SCRIPT ?UNIT?}");
   throw Error("bad quantity \"" + word + "\" (" + p.name + "): must be " + alternatives(names),
