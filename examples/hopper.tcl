@@ -42,18 +42,15 @@ inlet add feed -region [list box [list [expr {-$W + 0.003}] 0.1] [list [expr {$W
     -radius {uniform 0.0008 0.0012} -massrate 4 -mass 4 -velocity {0 -0.5} -jitter 0.05 -seed 1
 sink add out -point {0 -0.03} -normal {0 1}
 
-series every -time 0.01 -quantities {time sink:out:mass sink:out:count inlet:feed:mass elements} \
-    -file $csv -quiet
+set flow [series every -time 0.01 -file $csv \
+    -quantities {time sink:out:mass sink:out:count inlet:feed:mass elements}]
 sim run -time $tEnd -quiet -progress 0
-series off
 
 # The flow rate: the slope of the sink's mass against time where it is steady (between a
 # quarter and three quarters of what the source gave).
-set rows [series get]
 set given [inlet get feed -mass]
 set pts {}
-foreach row $rows {
-    lassign $row t m
+foreach t [dict get [series get $flow] time] m [dict get [series get $flow] sink:out:mass] {
     if {$m > 0.25 * $given && $m < 0.75 * $given} {lappend pts $t $m}
 }
 if {[llength $pts] >= 6} {
@@ -70,4 +67,5 @@ if {[llength $pts] >= 6} {
 }
 puts "inserted [inlet get feed -count] grains ([format %.4g $given] kg/m),\
     discharged [sink get out -count] ([format %.4g [sink get out -mass]] kg/m); series in $csv"
+series off
 list [inlet get feed -count] [sink get out -count] [element count]
