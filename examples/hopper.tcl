@@ -18,7 +18,7 @@ foreach a $argv {
 set D 0.012        ;# orifice width, m (six grain diameters)
 set H 0.04         ;# height of the V, m
 set W 0.04         ;# half width of the hopper, m
-set tEnd [expr {$short ? 0.03 : 2.0}]
+set tEnd [expr {$short ? 0.03 : 1.5}]
 
 sim new -dim 2
 material add glass -density 2500 -young 5e6 -poisson 0.3 -restitution 0.5 -friction 0.5
@@ -37,9 +37,10 @@ segment right $W $H [expr {$D / 2}] 0
 segment leftside [expr {-$W}] $H [expr {-$W}] 0.2
 segment rightside $W $H $W 0.2
 
-# The feed: 4 kg/s a metre of depth until 4 kg/m are in; the sink 3 cm below the orifice.
+# The feed: 20 kg/s a metre of depth until 8 kg/m are in, then the hopper empties; the sink
+# 3 cm below the orifice.
 inlet add feed -region [list box [list [expr {-$W + 0.003}] 0.1] [list [expr {$W - 0.003}] 0.18]] \
-    -radius {uniform 0.0008 0.0012} -massrate 4 -mass 4 -velocity {0 -0.5} -jitter 0.05 -seed 1
+    -radius {uniform 0.0008 0.0012} -massrate 20 -mass 8 -velocity {0 -0.5} -jitter 0.05 -seed 1
 sink add out -point {0 -0.03} -normal {0 1}
 
 set flow [series every -time 0.01 -file $csv \

@@ -55,17 +55,9 @@ struct WallServoDef {
   double maxSpeed = 0;  // m/s, > 0 (VALUE MAXSPEED)
 };
 
-// What a source has done: elements and mass inserted, the time it started.
-struct SourceInfo {
-  std::string name;
-  std::string description;
-  uint64_t count = 0;
-  double mass = 0;
-  double start = 0;
-};
-
-// What a sink has removed, and since when.
-struct SinkInfo {
+// What a source has done (elements and mass inserted) or a sink (removed), and the scene time
+// it was added at.
+struct BoundaryInfo {
   std::string name;
   std::string description;
   uint64_t count = 0;

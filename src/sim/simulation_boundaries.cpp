@@ -1,4 +1,5 @@
 // SimulationManager<D>: sources and sinks (checking their Defs, adding, removing, reporting).
+#include <algorithm>
 #include <cmath>
 
 #include "sim/convert.hpp"
@@ -77,6 +78,14 @@ void checkNewName(const char* kind, const std::string& name, const List& list) {
   }
 }
 
+// Removes the item of list whose Def is named name. Throws {LOOKUP NAME}, list unchanged.
+template <class List>
+void eraseNamed(List& list, const std::string& name, const char* kind) {
+  const auto it = std::find_if(list.begin(), list.end(), [&](const auto& x) { return x.def.name == name; });
+  if (it == list.end()) throw Error("can't find " + std::string(kind) + " \"" + name + "\"", {"LOOKUP", "NAME"});
+  list.erase(it);
+}
+
 std::string regionText(const Region& r) {
   switch (r.kind) {
     case Region::Box:
@@ -126,18 +135,13 @@ void SimulationManager<D>::addSource(const SourceDef& def) {
 
 template <int D>
 void SimulationManager<D>::removeSource(const std::string& name) {
-  for (size_t k = 0; k < s_.sources.size(); ++k) {
-    if (s_.sources[k].def.name != name) continue;
-    s_.sources.erase(s_.sources.begin() + static_cast<std::ptrdiff_t>(k));
-    touchConfig();
-    return;
-  }
-  throw Error("can't find source \"" + name + "\"", {"LOOKUP", "NAME"});
+  eraseNamed(s_.sources, name, "source");
+  touchConfig();
 }
 
 template <int D>
-std::vector<SourceInfo> SimulationManager<D>::sources() const {
-  std::vector<SourceInfo> out;
+std::vector<BoundaryInfo> SimulationManager<D>::sources() const {
+  std::vector<BoundaryInfo> out;
   for (const SourceState& s : s_.sources) {
     const SourceDef& d = s.def;
     const std::string rate = d.massRate > 0 ? physics::formatReal(d.massRate) + " kg/s"
@@ -170,18 +174,13 @@ void SimulationManager<D>::addSink(const SinkDef& def) {
 
 template <int D>
 void SimulationManager<D>::removeSink(const std::string& name) {
-  for (size_t k = 0; k < s_.sinks.size(); ++k) {
-    if (s_.sinks[k].def.name != name) continue;
-    s_.sinks.erase(s_.sinks.begin() + static_cast<std::ptrdiff_t>(k));
-    touchConfig();
-    return;
-  }
-  throw Error("can't find sink \"" + name + "\"", {"LOOKUP", "NAME"});
+  eraseNamed(s_.sinks, name, "sink");
+  touchConfig();
 }
 
 template <int D>
-std::vector<SinkInfo> SimulationManager<D>::sinks() const {
-  std::vector<SinkInfo> out;
+std::vector<BoundaryInfo> SimulationManager<D>::sinks() const {
+  std::vector<BoundaryInfo> out;
   for (const SinkState& k : s_.sinks) {
     const SinkDef& d = k.def;
     const std::string where =

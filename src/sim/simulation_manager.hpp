@@ -82,10 +82,10 @@ class SimulationManager final : public Simulation {
 
   void addSource(const SourceDef& def) override;
   void removeSource(const std::string& name) override;
-  std::vector<SourceInfo> sources() const override;
+  std::vector<BoundaryInfo> sources() const override;
   void addSink(const SinkDef& def) override;
   void removeSink(const std::string& name) override;
-  std::vector<SinkInfo> sinks() const override;
+  std::vector<BoundaryInfo> sinks() const override;
 
   void tagElement(ElementId id, const std::string& tag) override;
   void untagElement(ElementId id, const std::string& tag) override;

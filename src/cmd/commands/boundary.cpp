@@ -13,10 +13,12 @@ namespace demlab::cmd {
 
 namespace {
 
+const char* const kRegionHelp =
+    "{box {lo} {hi}}, {sphere {centre} radius} or {cylinder {centre} {axis} radius halflength}";
+
 // Returns the counters of a source or sink as a dict: count, mass, rate (mass per second since
 // it started), start, description.
-template <class Info>
-Dict counterDict(const Info& x, double now) {
+Dict counterDict(const sim::BoundaryInfo& x, double now) {
   const double elapsed = now - x.start;
   return {{"name", x.name},
           {"count", Value(x.count)},
@@ -27,23 +29,22 @@ Dict counterDict(const Info& x, double now) {
 }
 
 // Returns the info named name from list. Throws {LOOKUP NAME}.
-template <class Info>
-const Info& findInfo(const std::vector<Info>& list, const std::string& name, const char* kind) {
-  for (const Info& x : list)
+const sim::BoundaryInfo& findInfo(const std::vector<sim::BoundaryInfo>& list,
+                                  const std::string& name, const char* kind) {
+  for (const sim::BoundaryInfo& x : list)
     if (x.name == name) return x;
   throw Error("can't find " + std::string(kind) + " \"" + name + "\"", {"LOOKUP", "NAME"});
 }
 
 // Declares `GROUP list`, `GROUP get NAME` and `GROUP remove NAME` for sources or sinks.
-template <class Info>
 void declareCounters(Registry& r, const std::string& group,
-                     std::vector<Info> (sim::Simulation::*infos)() const,
+                     std::vector<sim::BoundaryInfo> (sim::Simulation::*infos)() const,
                      void (sim::Simulation::*remove)(const std::string&)) {
   Command& list = r.add(group + " list", "Returns the names of the " + group + "s.");
   list.changesScene = false;
   list.run([infos](Call& c) {
     List l;
-    for (const Info& x : (session(c).scene().*infos)()) l.emplace_back(x.name);
+    for (const sim::BoundaryInfo& x : (session(c).scene().*infos)()) l.emplace_back(x.name);
     return Value(l);
   });
   Command& get = r.add(group + " get",
@@ -57,12 +58,7 @@ void declareCounters(Registry& r, const std::string& group,
   get.run([infos, group](Call& c) {
     auto& s = session(c).scene();
     const Dict d = counterDict(findInfo((s.*infos)(), c.str("name"), group.c_str()), s.time());
-    if (c.flagOrder().empty()) return Value(d);
-    Dict picked;
-    for (const std::string& f : c.flagOrder())
-      for (auto& kv : d)
-        if (kv.first == f) picked.push_back(kv);
-    return picked.size() == 1 ? picked[0].second : Value(picked);
+    return pickFields(c, d);
   });
   Command& rm = r.add(group + " remove", "Removes a " + group + " (what it did stays done).");
   rm.arg("name", name(), "its name");
@@ -83,10 +79,7 @@ void registerBoundaryCommands(Registry& r) {
                        "at a mass or number rate, never overlapping what is there by more than "
                        "the tolerance.");
   src.arg("name", name(), "its name");
-  src.option("region", regionType(),
-             "{box {lo} {hi}}, {sphere {centre} radius} or {cylinder {centre} {axis} radius "
-             "halflength}")
-      .require();
+  src.option("region", regionType(), kRegionHelp).require();
   src.option("radius", sizeType(), "a radius or a size distribution, as pack random's")
       .require();
   src.option("massrate", real().withUnit("kg/s"), "mass inserted per second");
@@ -107,14 +100,7 @@ void registerBoundaryCommands(Registry& r) {
     d.name = c.str("name");
     d.region = c.get<sim::Region>("region");
     d.size = c.get<sim::SizeDistribution>("radius");
-    if (c.given("material")) {
-      d.material = c.str("material");
-    } else {
-      auto names = s.materialNames();
-      if (names.empty())
-        throw Error("no material defined: use \"material add\" first", {"LOOKUP", "MATERIAL"});
-      d.material = names.front();
-    }
+    d.material = materialOrFirst(c, s);
     if (c.has("massrate")) d.massRate = c.real("massrate");
     if (c.has("rate")) d.countRate = c.real("rate");
     if (c.given("massrate") == c.given("rate"))
@@ -142,18 +128,14 @@ void registerBoundaryCommands(Registry& r) {
         c.bad("tries", "must be an integer in [1, 1000000]");
       d.tries = std::uint32_t(c.integer("tries"));
     }
-    if (c.has("tags"))
-      for (auto& t : splitList(c.str("tags"))) {
-        checkTagName(t);
-        d.tags.push_back(t);
-      }
+    d.tags = tagsOption(c);
     c.prepared = d;
   });
   src.run([](Call& c) {
     session(c).scene().addSource(std::any_cast<sim::SourceDef>(c.prepared));
     return Value(c.str("name"));
   });
-  declareCounters<sim::SourceInfo>(r, "inlet", &sim::Simulation::sources,
+  declareCounters(r, "inlet", &sim::Simulation::sources,
                                    &sim::Simulation::removeSource);
 
   Command& sink = r.add("sink add",
@@ -161,9 +143,7 @@ void registerBoundaryCommands(Registry& r) {
                         "element whose centre is in a region (outside it with -outside 1) or "
                         "beyond a plane (against its normal).");
   sink.arg("name", name(), "its name");
-  sink.option("region", regionType(),
-              "{box {lo} {hi}}, {sphere {centre} radius} or {cylinder {centre} {axis} radius "
-              "halflength}");
+  sink.option("region", regionType(), kRegionHelp);
   sink.option("outside", boolean(), "remove what leaves the region instead of what enters it");
   sink.option("point", vector().withUnit("m"), "a point of the plane");
   sink.option("normal", vector(), "the plane's normal, towards the side that is kept");
@@ -191,7 +171,7 @@ void registerBoundaryCommands(Registry& r) {
     session(c).scene().addSink(std::any_cast<sim::SinkDef>(c.prepared));
     return Value(c.str("name"));
   });
-  declareCounters<sim::SinkInfo>(r, "sink", &sim::Simulation::sinks, &sim::Simulation::removeSink);
+  declareCounters(r, "sink", &sim::Simulation::sinks, &sim::Simulation::removeSink);
 }
 
 }  // namespace demlab::cmd

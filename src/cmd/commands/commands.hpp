@@ -34,6 +34,17 @@ PipeType regionType();
 // sim::SizeDistribution; a bad word is {VALUE RADIUS} (pack.cpp).
 PipeType sizeType();
 
+// Returns the dict d itself when the call gave no field flags, else the fields the flags name,
+// in the flags' order: the value alone for one flag, a dict of them for several. Changes nothing.
+Value pickFields(const Call& c, const Dict& d);
+
+// Returns the material the call's -material option names, or the scene's first material.
+// Throws {LOOKUP MATERIAL} when the scene has none.
+std::string materialOrFirst(const Call& c, const sim::Simulation& s);
+
+// Returns the tags of the call's -tags option (none when not given), each checked ({VALUE TAG}).
+std::vector<std::string> tagsOption(const Call& c);
+
 // Declares "<group> tag" and "<group> untag" for the objects ref names (element or wall ids
 // or names, as Id): each calls tag or untag of the scene for every object given, so the tag
 // rules (TagTable) are the scene's. Changes r.

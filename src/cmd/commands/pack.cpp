@@ -148,21 +148,9 @@ void commonOptions(Command& c) {
 // Returns the Def every packed element starts from (material, velocity, tags).
 sim::ElementDef baseDef(const Call& c, const sim::Simulation& s) {
   sim::ElementDef d;
-  if (c.given("material")) {
-    d.material = c.str("material");
-  } else {
-    auto names = s.materialNames();
-    if (names.empty())
-      throw Error("no material defined: use \"material add\" first", {"LOOKUP", "MATERIAL"});
-    d.material = names.front();
-  }
+  d.material = materialOrFirst(c, s);
   if (c.has("velocity")) d.velocity = vec3(c.vec("velocity"));
-  if (c.has("tags")) {
-    for (auto& t : splitList(c.str("tags"))) {
-      checkTagName(t);
-      d.tags.push_back(t);
-    }
-  }
+  d.tags = tagsOption(c);
   return d;
 }
 

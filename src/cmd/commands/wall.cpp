@@ -28,13 +28,8 @@ const char* shapeName(WallShape s) {
   return "?";
 }
 
-// Declares what every wall takes: material, name, tags and the prescribed motion.
-void commonOptions(Command& c) {
-  c.option("point", vector().withUnit("m"),
-           "reference point (the centre for finite walls, boxes and drums)");
-  c.option("material", materialRef(), "its material (default: the first material defined)");
-  c.option("name", name(), "a unique name");
-  c.option("tags", text("list of tags"), "tags to give it");
+// Declares the options of a prescribed motion (wall add, wall set).
+void motionOptions(Command& c) {
   c.option("velocity", vector().withUnit("m/s"), "prescribed velocity of the reference point");
   c.option("angularvelocity", spin().withUnit("rad/s"),
            "prescribed rotation about the reference point");
@@ -43,35 +38,39 @@ void commonOptions(Command& c) {
   c.option("phase", real().withUnit("rad"), "vibration phase");
 }
 
+// Returns the motion the call's motion options give (zero where left out).
+sim::WallMotion motionOf(const Call& c) {
+  sim::WallMotion m;
+  if (c.has("velocity")) m.velocity = vec3(c.vec("velocity"));
+  if (c.has("angularvelocity")) m.angularVelocity = vec3(c.vec("angularvelocity"), true);
+  if (c.has("amplitude")) m.amplitude = vec3(c.vec("amplitude"));
+  if (c.has("frequency")) m.frequency = c.real("frequency");
+  if (c.has("phase")) m.phase = c.real("phase");
+  return m;
+}
+
+// Declares what every wall takes: material, name, tags and the prescribed motion.
+void commonOptions(Command& c) {
+  c.option("point", vector().withUnit("m"),
+           "reference point (the centre for finite walls, boxes and drums)");
+  c.option("material", materialRef(), "its material (default: the first material defined)");
+  c.option("name", name(), "a unique name");
+  c.option("tags", text("list of tags"), "tags to give it");
+  motionOptions(c);
+}
+
 // Builds the Def from the call's options (check phase); shape-specific fields by the caller.
 WallDef baseDef(const Call& c, WallShape shape) {
   const sim::Simulation& s = session(c.context()).scene();
   WallDef d;
   d.shape = shape;
   if (c.has("point")) d.point = vec3(c.vec("point"));
-  if (c.given("material")) {
-    d.material = c.str("material");
-  } else {
-    auto names = s.materialNames();
-    if (names.empty())
-      throw Error("no material defined: use \"material add\" first", {"LOOKUP", "MATERIAL"});
-    d.material = names.front();
-  }
+  d.material = materialOrFirst(c, s);
   if (c.has("name")) d.name = c.str("name");
-  if (c.has("tags"))
-    for (auto& t : splitList(c.str("tags"))) {
-      checkTagName(t);
-      d.tags.push_back(t);
-    }
+  d.tags = tagsOption(c);
   if (c.given("velocity") || c.given("angularvelocity") || c.given("amplitude") ||
       c.given("frequency") || c.given("phase")) {
-    sim::WallMotion m;
-    if (c.has("velocity")) m.velocity = vec3(c.vec("velocity"));
-    if (c.has("angularvelocity")) m.angularVelocity = vec3(c.vec("angularvelocity"), true);
-    if (c.has("amplitude")) m.amplitude = vec3(c.vec("amplitude"));
-    if (c.has("frequency")) m.frequency = c.real("frequency");
-    if (c.has("phase")) m.phase = c.real("phase");
-    d.motion = m;
+    d.motion = motionOf(c);
   }
   return d;
 }
@@ -190,12 +189,7 @@ void registerWallCommands(Registry& r) {
   get.run([](Call& c) {
     auto& s = session(c).scene();
     Dict d = wallDict(s.wall(c.get<WallId>("wall")), s.dim());
-    if (c.flagOrder().empty()) return Value(d);
-    Dict picked;
-    for (const std::string& f : c.flagOrder())
-      for (auto& kv : d)
-        if (kv.first == f) picked.push_back(kv);
-    return picked.size() == 1 ? picked[0].second : Value(picked);
+    return pickFields(c, d);
   });
 
   Command& set = r.add("wall set",
@@ -203,19 +197,9 @@ void registerWallCommands(Registry& r) {
                        "history; the new motion starts where the wall is. Options left out are "
                        "zero: no option stops the wall. Ends a servo.");
   set.arg("wall", wallRef(), "a wall id or name");
-  set.option("velocity", vector().withUnit("m/s"), "velocity of the reference point");
-  set.option("angularvelocity", spin().withUnit("rad/s"), "rotation about the reference point");
-  set.option("amplitude", vector().withUnit("m"), "vibration amplitude (displacement)");
-  set.option("frequency", real().nonNegative().withUnit("Hz"), "vibration frequency");
-  set.option("phase", real().withUnit("rad"), "vibration phase");
+  motionOptions(set);
   set.run([](Call& c) {
-    sim::WallMotion m;
-    if (c.has("velocity")) m.velocity = vec3(c.vec("velocity"));
-    if (c.has("angularvelocity")) m.angularVelocity = vec3(c.vec("angularvelocity"), true);
-    if (c.has("amplitude")) m.amplitude = vec3(c.vec("amplitude"));
-    if (c.has("frequency")) m.frequency = c.real("frequency");
-    if (c.has("phase")) m.phase = c.real("phase");
-    session(c).scene().setWallMotion(c.get<WallId>("wall"), m);
+    session(c).scene().setWallMotion(c.get<WallId>("wall"), motionOf(c));
     return Value();
   });
 

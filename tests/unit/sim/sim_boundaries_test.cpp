@@ -83,8 +83,8 @@ TEST_P(SimBoundariesDim, SourceKeepsItsMassRateAndSinkCountsWhatLeaves) {
   ASSERT_EQ(r.steps, 2500u);
   // Enough elements that one (the most the source can be ahead) is well under 1% of the mass.
   EXPECT_GT(s->sources()[0].count, 150u);
-  const SourceInfo in = s->sources()[0];
-  const SinkInfo gone = s->sinks()[0];
+  const BoundaryInfo in = s->sources()[0];
+  const BoundaryInfo gone = s->sinks()[0];
   EXPECT_NEAR(in.mass / (src.massRate * s->time()), 1, 0.01);
   EXPECT_GT(gone.count, 10u);
   EXPECT_EQ(in.count - gone.count, s->elementCount());
