@@ -41,7 +41,7 @@ struct SinkDef {
   std::string name;
   enum Kind : uint8_t { Region, Plane } kind = Region;
   sim::Region region;
-  bool outside = false;  // Region: remove what leaves the region instead of what enters it
+  bool outside = false;     // Region: remove what leaves the region instead of what enters it
   Vec3d point{}, normal{};  // Plane (normal non-zero: VALUE NORMAL)
 };
 

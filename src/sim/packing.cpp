@@ -128,7 +128,8 @@ std::vector<Vec3d> latticeSites(const LatticeDef& def, int d) {
 double SizeDistribution::cdf(double r) const {
   auto clamp01 = [](double x) { return std::min(1.0, std::max(0.0, x)); };
   if (kind == "constant") return r >= p[0] ? 1 : 0;
-  if (kind == "uniform") return p[1] > p[0] ? clamp01((r - p[0]) / (p[1] - p[0])) : (r >= p[0] ? 1 : 0);
+  if (kind == "uniform")
+    return p[1] > p[0] ? clamp01((r - p[0]) / (p[1] - p[0])) : (r >= p[0] ? 1 : 0);
   if (kind == "powerlaw") {
     const double a = p[0], b = p[1], e = p[2];
     if (r <= a) return 0;

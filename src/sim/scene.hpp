@@ -122,10 +122,10 @@ struct DeferredChanges {
 struct SourceState {
   SourceDef def;
   uint32_t material = 0;
-  double start = 0;        // the scene time it was added at
-  uint64_t count = 0;      // inserted so far
-  double mass = 0;         // kg inserted so far
-  uint64_t rng = 0;        // SplitMix64 state
+  double start = 0;          // the scene time it was added at
+  uint64_t count = 0;        // inserted so far
+  double mass = 0;           // kg inserted so far
+  uint64_t rng = 0;          // SplitMix64 state
   double pendingRadius = 0;  // drawn, not yet placed (0: none)
 };
 

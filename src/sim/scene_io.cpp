@@ -352,7 +352,8 @@ void readSources(Reader& r, Scene<D>& s) {
     const size_t np = r.count(8);
     for (size_t j = 0; j < np; ++j) d.size.p.push_back(r.f64());
     static const char* kinds[] = {"constant", "uniform", "normal", "powerlaw", "discrete"};
-    if (std::none_of(std::begin(kinds), std::end(kinds), [&](const char* x) { return d.size.kind == x; }) ||
+    if (std::none_of(std::begin(kinds), std::end(kinds),
+                     [&](const char* x) { return d.size.kind == x; }) ||
         d.size.p.empty()) {
       Reader::bad("source size distribution");
     }

@@ -544,12 +544,12 @@ class Simulation {
   // VALUE RATE / TARGET / REGION / RADIUS / VELOCITY / JITTER / TOLERANCE / TRIES / TAG.
   virtual void addSource(const SourceDef& def) = 0;
   virtual void removeSource(const std::string& name) = 0;  // LOOKUP NAME
-  virtual std::vector<BoundaryInfo> sources() const = 0;     // in creation order
+  virtual std::vector<BoundaryInfo> sources() const = 0;   // in creation order
   // Adds a sink; it removes from the next step on. VALUE NAME, EXISTS NAME, VALUE REGION,
   // VALUE NORMAL, VALUE POINT.
   virtual void addSink(const SinkDef& def) = 0;
   virtual void removeSink(const std::string& name) = 0;  // LOOKUP NAME
-  virtual std::vector<BoundaryInfo> sinks() const = 0;       // in creation order
+  virtual std::vector<BoundaryInfo> sinks() const = 0;   // in creation order
 
   // -- tags (Tk canvas model: idempotent; an unknown tag is empty) --
   virtual void tagElement(ElementId id, const std::string& tag) = 0;    // LOOKUP HANDLE, VALUE TAG

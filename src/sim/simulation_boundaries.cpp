@@ -13,9 +13,7 @@ namespace {
 // radius r (r = 0: any size). Changes nothing.
 template <int D>
 void checkRegion(const Region& region, Real r) {
-  auto bad = [](const std::string& why) {
-    throw Error("bad region: " + why, {"VALUE", "REGION"});
-  };
+  auto bad = [](const std::string& why) { throw Error("bad region: " + why, {"VALUE", "REGION"}); };
   const Vec3d* points[] = {&region.lo, &region.hi, &region.centre, &region.axis};
   for (const Vec3d* p : points) {
     for (double x : *p) {
@@ -81,8 +79,10 @@ void checkNewName(const char* kind, const std::string& name, const List& list) {
 // Removes the item of list whose Def is named name. Throws {LOOKUP NAME}, list unchanged.
 template <class List>
 void eraseNamed(List& list, const std::string& name, const char* kind) {
-  const auto it = std::find_if(list.begin(), list.end(), [&](const auto& x) { return x.def.name == name; });
-  if (it == list.end()) throw Error("can't find " + std::string(kind) + " \"" + name + "\"", {"LOOKUP", "NAME"});
+  const auto it =
+      std::find_if(list.begin(), list.end(), [&](const auto& x) { return x.def.name == name; });
+  if (it == list.end())
+    throw Error("can't find " + std::string(kind) + " \"" + name + "\"", {"LOOKUP", "NAME"});
   list.erase(it);
 }
 
@@ -146,8 +146,8 @@ std::vector<BoundaryInfo> SimulationManager<D>::sources() const {
     const SourceDef& d = s.def;
     const std::string rate = d.massRate > 0 ? physics::formatReal(d.massRate) + " kg/s"
                                             : physics::formatReal(d.countRate) + " /s";
-    out.push_back({d.name, "source into " + regionText(d.region) + " at " + rate, s.count, s.mass,
-                   s.start});
+    out.push_back(
+        {d.name, "source into " + regionText(d.region) + " at " + rate, s.count, s.mass, s.start});
   }
   return out;
 }

@@ -55,7 +55,8 @@ void setMotion(Wall<D>& w, const WallMotion& m) {
   w.moving =
       w.velocity.squaredNorm() > 0 || w.amplitude.squaredNorm() > 0 || squaredNorm(w.omega) > 0;
   // The velocity of the reference point at t0, as moveTo(t0) gives it.
-  w.pointVelocity = w.velocity + w.amplitude * (2 * std::numbers::pi * m.frequency * std::cos(m.phase));
+  w.pointVelocity =
+      w.velocity + w.amplitude * (2 * std::numbers::pi * m.frequency * std::cos(m.phase));
 }
 
 }  // namespace
@@ -253,7 +254,8 @@ WallState SimulationManager<D>::wall(WallId id) const {
   AngularD<D> torque = Wall<D>::zeroAngular();
   for (const ContactRecord<D>& c : s_.contacts) {
     if (!c.wall || c.b != dense) continue;
-    if (const auto g = recordGeometry(s_, c)) torque += cross(VecD<D>(g->g.point - w.point), c.force);
+    if (const auto g = recordGeometry(s_, c))
+      torque += cross(VecD<D>(g->g.point - w.point), c.force);
   }
   st.torque = fromAngular(torque);
   const physics::Bounds<D> b =

@@ -70,7 +70,8 @@ bool placeFree(const Scene<D>& s, const NearBalls<D>& near, const VecD<D>& p, Re
   const physics::SphereShape<D> ball{p, r};
   for (const Wall<D>& w : s.walls.items) {
     const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
-    const auto g = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&ball, shape);
+    const auto g =
+        np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&ball, shape);
     if (g && g->overlap > tol * r) return false;
   }
   return true;

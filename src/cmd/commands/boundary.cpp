@@ -20,12 +20,9 @@ const char* const kRegionHelp =
 // it started), start, description.
 Dict counterDict(const sim::BoundaryInfo& x, double now) {
   const double elapsed = now - x.start;
-  return {{"name", x.name},
-          {"count", Value(x.count)},
-          {"mass", x.mass},
-          {"rate", elapsed > 0 ? x.mass / elapsed : 0.0},
-          {"start", x.start},
-          {"description", x.description}};
+  return {{"name", x.name},   {"count", Value(x.count)},
+          {"mass", x.mass},   {"rate", elapsed > 0 ? x.mass / elapsed : 0.0},
+          {"start", x.start}, {"description", x.description}};
 }
 
 // Returns the info named name from list. Throws {LOOKUP NAME}.
@@ -47,10 +44,10 @@ void declareCounters(Registry& r, const std::string& group,
     for (const sim::BoundaryInfo& x : (session(c).scene().*infos)()) l.emplace_back(x.name);
     return Value(l);
   });
-  Command& get = r.add(group + " get",
-                       "Returns a " + group +
-                           "'s counters as a dict (count, mass, rate since its start, start, "
-                           "description), or the one asked for.");
+  Command& get =
+      r.add(group + " get", "Returns a " + group +
+                                "'s counters as a dict (count, mass, rate since its start, start, "
+                                "description), or the one asked for.");
   get.arg("name", name(), "its name");
   for (const char* f : {"count", "mass", "rate", "start", "description"})
     get.flag(f, std::string("the ") + f);
@@ -72,16 +69,17 @@ void declareCounters(Registry& r, const std::string& group,
 
 void registerBoundaryCommands(Registry& r) {
   r.describe("inlet", "Inlets (sources): elements inserted into a region during runs, at a rate.");
-  r.describe("sink", "Sinks: elements removed during runs where they enter a region or cross a plane.");
+  r.describe("sink",
+             "Sinks: elements removed during runs where they enter a region or cross a plane.");
 
-  Command& src = r.add("inlet add",
-                       "Adds an inlet (a source) inserting elements into a region from the next step on, "
-                       "at a mass or number rate, never overlapping what is there by more than "
-                       "the tolerance.");
+  Command& src =
+      r.add("inlet add",
+            "Adds an inlet (a source) inserting elements into a region from the next step on, "
+            "at a mass or number rate, never overlapping what is there by more than "
+            "the tolerance.");
   src.arg("name", name(), "its name");
   src.option("region", regionType(), kRegionHelp).require();
-  src.option("radius", sizeType(), "a radius or a size distribution, as pack random's")
-      .require();
+  src.option("radius", sizeType(), "a radius or a size distribution, as pack random's").require();
   src.option("massrate", real().withUnit("kg/s"), "mass inserted per second");
   src.option("rate", real().withUnit("1/s"), "elements inserted per second");
   src.option("mass", real().withUnit("kg"), "stop after this mass (default: never)");
@@ -135,8 +133,7 @@ void registerBoundaryCommands(Registry& r) {
     session(c).scene().addSource(std::any_cast<sim::SourceDef>(c.prepared));
     return Value(c.str("name"));
   });
-  declareCounters(r, "inlet", &sim::Simulation::sources,
-                                   &sim::Simulation::removeSource);
+  declareCounters(r, "inlet", &sim::Simulation::sources, &sim::Simulation::removeSource);
 
   Command& sink = r.add("sink add",
                         "Adds a sink removing, at the end of each step from the next on, every "

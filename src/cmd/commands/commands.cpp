@@ -8,12 +8,12 @@ namespace demlab::cmd {
 Registry& registerAllCommands(Registry& r) {
   using Group = void (*)(Registry&);
   static constexpr Group groups[] = {
-      registerSimCommands,      registerRunCommands,    registerMaterialCommands,
-      registerElementCommands,  registerPackCommands,   registerWallCommands,
-      registerBehaviorCommands, registerModuleCommands, registerQueryCommands,
-      registerHelpCommands,     registerSnapshotCommands,
-      registerDumpCommands,     registerSeriesCommands,
-      registerStudyCommands,    registerAnalysisCommands, registerBoundaryCommands,
+      registerSimCommands,      registerRunCommands,      registerMaterialCommands,
+      registerElementCommands,  registerPackCommands,     registerWallCommands,
+      registerBehaviorCommands, registerModuleCommands,   registerQueryCommands,
+      registerHelpCommands,     registerSnapshotCommands, registerDumpCommands,
+      registerSeriesCommands,   registerStudyCommands,    registerAnalysisCommands,
+      registerBoundaryCommands,
   };
   for (Group g : groups) g(r);
   return r;

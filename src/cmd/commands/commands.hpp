@@ -27,7 +27,8 @@ void registerAnalysisCommands(Registry& r);  // query stress, coordination, fabr
 void registerBoundaryCommands(Registry& r);  // inlet (sources), sink
 
 // Returns the pipe of a region argument, `{box {lo} {hi}}`, `{sphere {centre} radius}` (a
-// disc in 2D) or `{cylinder {centre} {axis} radius halflength}` (3D), giving a sim::Region; a bad word is {VALUE REGION} (pack.cpp).
+// disc in 2D) or `{cylinder {centre} {axis} radius halflength}` (3D), giving a sim::Region; a bad
+// word is {VALUE REGION} (pack.cpp).
 PipeType regionType();
 // Returns the pipe of a size distribution of radii: a number, {uniform a b}, {normal mean sd}
 // (truncated at 3 sd), {powerlaw a b exponent} or {discrete r1 w1 r2 w2 ...}, giving a

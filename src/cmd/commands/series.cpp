@@ -70,11 +70,12 @@ const std::vector<Quantity>& builtins() {
 const std::vector<std::string> kWallParts = {"fx", "fy", "fz", "force", "tx", "ty", "tz", "work"};
 const std::vector<std::string> kCounterParts = {"count", "mass", "rate"};
 
-// Returns the quantity inlet:NAME:PART (a source) or sink:NAME:PART (count, mass, or rate: the mass per
-// second since it started). The source or sink must exist now (LOOKUP NAME).
+// Returns the quantity inlet:NAME:PART (a source) or sink:NAME:PART (count, mass, or rate: the mass
+// per second since it started). The source or sink must exist now (LOOKUP NAME).
 Quantity counterQuantity(const std::string& word, const std::string& group, const std::string& name,
                          const std::string& part, const Context& ctx) {
-  const std::string& which = matchChoice(part, kCounterParts, group + " quantity", {"VALUE", "QUANTITY"});
+  const std::string& which =
+      matchChoice(part, kCounterParts, group + " quantity", {"VALUE", "QUANTITY"});
   const bool sink = group == "sink";
   auto read = [sink, name](const sim::Simulation& s) -> std::array<double, 3> {
     auto pick = [&](const auto& list) -> std::array<double, 3> {
@@ -161,7 +162,8 @@ Quantity parseQuantity(const std::string& word, const Param& p, const Context& c
     if (colon <= from)
       throw Error("bad quantity \"" + word + "\" (" + p.name + "): must be " + group + ":NAME:PART",
                   {"VALUE", "QUANTITY"});
-    return counterQuantity(word, group, word.substr(from, colon - from), word.substr(colon + 1), ctx);
+    return counterQuantity(word, group, word.substr(from, colon - from), word.substr(colon + 1),
+                           ctx);
   }
   std::vector<std::string> names;
   for (const Quantity& q : builtins()) names.push_back(q.name);

@@ -235,8 +235,7 @@ void registerWallCommands(Registry& r) {
         if (!(area > 0 && std::isfinite(area))) c.bad("area", "must be a positive number");
       } else {
         const sim::WallState w = s.wall(id);
-        if (w.shape != WallShape::Finite)
-          c.bad("area", "is needed for a plane (it has no extent)");
+        if (w.shape != WallShape::Finite) c.bad("area", "is needed for a plane (it has no extent)");
         area = s.dim() == 2 ? 2 * w.halfExtents[0] : 4 * w.halfExtents[0] * w.halfExtents[1];
       }
       d.target = stress * area;
