@@ -89,6 +89,7 @@ class WallMotionModule final : public SimModule<D> {
   void run(Scene<D>& s) override {
     const double t = s.time + s.stepDt;
     for (Wall<D>& w : s.walls.items) {
+      if (w.servo) w.servoStep(s.time);
       if (w.moving) w.moveTo(t);
     }
   }

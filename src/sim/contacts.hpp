@@ -599,12 +599,15 @@ class WallContactModule final : public SimModule<D> {
           pass<false>(s, w, begin, end, k, sink);
         }
       });
+      double work = 0;  // this wall's, in chunk order as the ledger's
       for (size_t c = 0; c < chunks; ++c) {
         Chunk& k = chunks_[c];
         wall.force += k.force;
+        work += k.energy.wallWork;
         e.merge(k.energy);
         s.deepest.consider(k.deepest.ratio, k.deepest.record);
       }
+      wall.work += work;
       if (threaded && s.recordContacts) {
         gatherRecords(s, chunks, [&](size_t c) -> std::vector<ContactRecord<D>>& {
           return chunks_[c].records;

@@ -10,10 +10,12 @@
 #include "sim/contacts.hpp"
 #include "sim/detection.hpp"
 #include "sim/integrator.hpp"
-#include "sim/rigid_body.hpp"
 #include "sim/law_models.hpp"
+#include "sim/rigid_body.hpp"
 #include "sim/rolling_resistance.hpp"
 #include "sim/shape_contacts.hpp"
+#include "sim/sink.hpp"
+#include "sim/source.hpp"
 #include "sim/touch.hpp"
 #include "sim/watchdog.hpp"
 
@@ -133,6 +135,11 @@ struct Rows {
       {"rigid-correct", [](const Scene<D>&, const SceneUse& u) { return u.rotating && u.rigid; },
        plain<D, CorrectRigidRotationModule>},
       {"integrate-correct", always<D>, plain<D, CorrectModule>},
+      // Removals, then insertions, asked for at the end of the step (Scene::deferred).
+      {"sinks", [](const Scene<D>& s, const SceneUse&) { return !s.sinks.empty(); },
+       plain<D, SinkModule>},
+      {"sources", [](const Scene<D>& s, const SceneUse&) { return !s.sources.empty(); },
+       plain<D, SourceModule>},
       {"watchdog", [](const Scene<D>& s, const SceneUse&) { return s.watchdog.enabled; },
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
          out.push_back(std::make_unique<WatchdogModule<D>>(watchdogStepLimit(s)));

@@ -146,6 +146,35 @@ std::vector<Vec3d> latticeSites(const LatticeDef& def, int d) {
   return out;
 }
 
+double SizeDistribution::cdf(double r) const {
+  auto clamp01 = [](double x) { return std::min(1.0, std::max(0.0, x)); };
+  if (kind == "constant") return r >= p[0] ? 1 : 0;
+  if (kind == "uniform")
+    return p[1] > p[0] ? clamp01((r - p[0]) / (p[1] - p[0])) : (r >= p[0] ? 1 : 0);
+  if (kind == "powerlaw") {
+    const double a = p[0], b = p[1], e = p[2];
+    if (r <= a) return 0;
+    if (r >= b) return 1;
+    if (std::abs(e + 1) < 1e-12) return std::log(r / a) / std::log(b / a);
+    return (std::pow(r, e + 1) - std::pow(a, e + 1)) / (std::pow(b, e + 1) - std::pow(a, e + 1));
+  }
+  if (kind == "normal") {
+    if (p[1] == 0) return r >= p[0] ? 1 : 0;
+    // Cut at 3 sd and at zero, as draw() cuts it.
+    auto phi = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
+    const double lo = std::max(-3.0, -p[0] / p[1]);
+    const double z = std::min(3.0, (r - p[0]) / p[1]);
+    if (z <= lo) return 0;
+    return clamp01((phi(z) - phi(lo)) / (phi(3) - phi(lo)));
+  }
+  double total = 0, below = 0;
+  for (std::size_t k = 0; k + 1 < p.size(); k += 2) {
+    total += p[k + 1];
+    if (p[k] <= r) below += p[k + 1];
+  }
+  return below / total;
+}
+
 std::vector<double> drawRadii(const SizeDistribution& dist, const Region& region, int d,
                               std::size_t count, double fraction, std::mt19937_64& rng) {
   std::vector<double> radii;

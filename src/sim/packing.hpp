@@ -16,12 +16,15 @@
 
 namespace demlab::sim {
 
-// A region: a box [lo, hi] or a sphere (a disc in 2D). Coordinates beyond the dimension are 0.
+// A region: a box [lo, hi], a sphere (a disc in 2D) or, in 3D, a cylinder (centre, unit axis,
+// radius, half length). Coordinates beyond the dimension are 0.
 struct Region {
-  enum Kind { Box, Sphere } kind = Box;
+  enum Kind { Box, Sphere, Cylinder } kind = Box;
   Vec3d lo{}, hi{};  // Box
-  Vec3d centre{};    // Sphere (a disc in 2D)
+  Vec3d centre{};    // Sphere (a disc in 2D), Cylinder
   double radius = 0;
+  Vec3d axis{};           // Cylinder
+  double halfLength = 0;  // Cylinder
   // Returns true if a ball of radius r at p lies inside the region.
   // Rounding of lattice coordinates is forgiven up to 1e-9 radii, so a lattice that exactly
   // fits its box keeps its last row.
@@ -31,6 +34,16 @@ struct Region {
       for (int k = 0; k < d; ++k)
         if (p[k] - r < lo[k] - tol || p[k] + r > hi[k] + tol) return false;
       return true;
+    }
+    if (kind == Cylinder) {
+      double along = 0;
+      for (int k = 0; k < 3; ++k) along += (p[k] - centre[k]) * axis[k];
+      double s = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double q = p[k] - centre[k] - along * axis[k];
+        s += q * q;
+      }
+      return std::abs(along) + r <= halfLength + tol && std::sqrt(s) + r <= radius + tol;
     }
     double s = 0;
     for (int k = 0; k < d; ++k) s += (p[k] - centre[k]) * (p[k] - centre[k]);
@@ -42,6 +55,7 @@ struct Region {
       for (int k = 0; k < d; ++k) v *= hi[k] - lo[k];
       return v;
     }
+    if (kind == Cylinder) return std::numbers::pi * radius * radius * 2 * halfLength;
     return d == 2 ? std::numbers::pi * radius * radius
                   : 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
   }
@@ -49,6 +63,13 @@ struct Region {
     a = lo, b = hi;
     if (kind == Sphere)
       for (int k = 0; k < d; ++k) a[k] = centre[k] - radius, b[k] = centre[k] + radius;
+    if (kind == Cylinder) {
+      for (int k = 0; k < d; ++k) {
+        const double e = halfLength * std::abs(axis[k]) +
+                         radius * std::sqrt(std::max(0.0, 1 - axis[k] * axis[k]));
+        a[k] = centre[k] - e, b[k] = centre[k] + e;
+      }
+    }
   }
 };
 
@@ -66,8 +87,22 @@ struct SizeDistribution {
     for (std::size_t k = 0; k < p.size(); k += 2) m = std::max(m, p[k]);
     return m;
   }
-  // Returns one radius drawn with rng (reproducible: the generator and the transforms are ours).
-  double draw(std::mt19937_64& rng) const {
+  // Returns the smallest radius it can draw (the normal's cut at 3 sd, when positive; else 0).
+  double minRadius() const {
+    if (kind == "constant" || kind == "uniform" || kind == "powerlaw") return p[0];
+    if (kind == "normal") return std::max(0.0, p[0] - 3 * p[1]);
+    double m = maxRadius();
+    for (std::size_t k = 0; k + 1 < p.size(); k += 2)
+      if (p[k + 1] > 0) m = std::min(m, p[k]);
+    return m;
+  }
+  // Returns the probability that a drawn radius is at most r (the distribution function),
+  // for the tests' Kolmogorov-Smirnov comparison and the sources' statistics.
+  double cdf(double r) const;
+  // Returns one radius drawn with rng, any 64-bit generator (reproducible: the transforms are
+  // ours). Changes rng.
+  template <class Rng>
+  double draw(Rng& rng) const {
     auto u = [&] { return double(rng() >> 11) * 0x1.0p-53; };
     if (kind == "constant") return p[0];
     if (kind == "uniform") return p[0] + (p[1] - p[0]) * u();

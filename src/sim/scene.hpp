@@ -20,6 +20,7 @@
 #include "search/box.hpp"
 #include "sim/behavior.hpp"
 #include "sim/bond.hpp"
+#include "sim/boundaries.hpp"
 #include "sim/contact_groups.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/pair_springs.hpp"
@@ -119,6 +120,27 @@ struct DeferredChanges {
   bool empty() const { return create.empty() && destroy.empty() && breakBonds.empty(); }
 };
 
+// A source's state (sim/source.hpp): its checked Def and what it has done. Its generator's
+// state and the radius it has drawn but not yet placed are part of the scene, so a run resumed
+// from a checkpoint inserts the same elements as one that never stopped.
+struct SourceState {
+  SourceDef def;
+  uint32_t material = 0;
+  double start = 0;          // the scene time it was added at
+  uint64_t count = 0;        // inserted so far
+  double mass = 0;           // kg inserted so far
+  uint64_t rng = 0;          // SplitMix64 state
+  double pendingRadius = 0;  // drawn, not yet placed (0: none)
+};
+
+// A sink's state (sim/sink.hpp).
+struct SinkState {
+  SinkDef def;
+  double start = 0;
+  uint64_t count = 0;
+  double mass = 0;
+};
+
 // An element with blocked degrees of freedom (sim/constraints.hpp). Few elements are: a list
 // beside the hot arrays, so a scene without any pays nothing, not a byte per element.
 struct BlockedElement {
@@ -149,6 +171,8 @@ struct Scene {
   std::vector<BlockedElement> blocked;  // in the order they were blocked
   DeferredChanges deferred;             // empty at every step boundary
   BondSet<D> bonds;                     // sim/bond.hpp
+  std::vector<SourceState> sources;     // in creation order (sim/source.hpp)
+  std::vector<SinkState> sinks;         // in creation order (sim/sink.hpp)
 
   // ---- element shapes (sim/shape.hpp) ----
   // The shared Geometry components; ElementArrays::geometry indexes them. [0] is the ball's.

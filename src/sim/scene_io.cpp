@@ -287,6 +287,172 @@ void readPairOverrides(Reader& r, Scene<D>& s) {
   }
 }
 
+// Writes a region (sim/packing.hpp) as kind, corners, centre, radius, axis, half length.
+void writeRegion(Writer& w, const Region& r) {
+  w.u8(static_cast<uint8_t>(r.kind));
+  for (const Vec3d* v : {&r.lo, &r.hi, &r.centre, &r.axis}) {
+    for (double x : *v) w.f64(x);
+  }
+  w.f64(r.radius);
+  w.f64(r.halfLength);
+}
+
+Region readRegion(Reader& r) {
+  Region g;
+  const uint8_t kind = r.u8();
+  if (kind > Region::Cylinder) Reader::bad("region kind");
+  g.kind = static_cast<Region::Kind>(kind);
+  for (Vec3d* v : {&g.lo, &g.hi, &g.centre, &g.axis}) {
+    for (double& x : *v) x = r.f64();
+  }
+  g.radius = r.f64();
+  g.halfLength = r.f64();
+  return g;
+}
+
+Vec3d readVec3(Reader& r) {
+  Vec3d v;
+  for (double& x : v) x = r.f64();
+  return v;
+}
+
+template <int D>
+void writeSources(Writer& w, const Scene<D>& s) {
+  w.list(s.sources, [&](const SourceState& src) {
+    const SourceDef& d = src.def;
+    w.str(d.name);
+    writeRegion(w, d.region);
+    w.str(d.size.kind);
+    w.list(d.size.p, [&](double x) { w.f64(x); });
+    w.u32(src.material);
+    w.list(d.tags, [&](const std::string& t) { w.str(t); });
+    for (double x : {d.massRate, d.countRate, d.targetMass}) w.f64(x);
+    w.u64(d.targetCount);
+    for (double x : d.velocity) w.f64(x);
+    w.f64(d.jitter);
+    w.f64(d.tolerance);
+    w.u64(d.seed);
+    w.u32(d.tries);
+    w.f64(src.start);
+    w.u64(src.count);
+    w.f64(src.mass);
+    w.u64(src.rng);
+    w.f64(src.pendingRadius);
+  });
+}
+
+template <int D>
+void readSources(Reader& r, Scene<D>& s) {
+  const size_t n = r.count(8);
+  for (size_t k = 0; k < n; ++k) {
+    SourceState src;
+    SourceDef& d = src.def;
+    d.name = r.str();
+    d.region = readRegion(r);
+    d.size.kind = r.str();
+    const size_t np = r.count(8);
+    for (size_t j = 0; j < np; ++j) d.size.p.push_back(r.f64());
+    static const char* kinds[] = {"constant", "uniform", "normal", "powerlaw", "discrete"};
+    if (std::none_of(std::begin(kinds), std::end(kinds),
+                     [&](const char* x) { return d.size.kind == x; }) ||
+        d.size.p.empty()) {
+      Reader::bad("source size distribution");
+    }
+    src.material = r.u32();
+    if (src.material >= s.materials.size()) Reader::bad("source material");
+    const size_t nt = r.count(8);
+    for (size_t j = 0; j < nt; ++j) d.tags.push_back(r.str());
+    d.massRate = r.f64();
+    d.countRate = r.f64();
+    d.targetMass = r.f64();
+    d.targetCount = r.u64();
+    d.velocity = readVec3(r);
+    d.jitter = r.f64();
+    d.tolerance = r.f64();
+    d.seed = r.u64();
+    d.tries = r.u32();
+    d.material = s.materialNames[src.material];
+    src.start = r.f64();
+    src.count = r.u64();
+    src.mass = r.f64();
+    src.rng = r.u64();
+    src.pendingRadius = r.f64();
+    s.sources.push_back(std::move(src));
+  }
+}
+
+template <int D>
+void writeSinks(Writer& w, const Scene<D>& s) {
+  w.list(s.sinks, [&](const SinkState& k) {
+    w.str(k.def.name);
+    w.u8(k.def.kind);
+    writeRegion(w, k.def.region);
+    w.u8(k.def.outside);
+    for (double x : k.def.point) w.f64(x);
+    for (double x : k.def.normal) w.f64(x);
+    w.f64(k.start);
+    w.u64(k.count);
+    w.f64(k.mass);
+  });
+}
+
+template <int D>
+void readSinks(Reader& r, Scene<D>& s) {
+  const size_t n = r.count(8);
+  for (size_t j = 0; j < n; ++j) {
+    SinkState k;
+    k.def.name = r.str();
+    const uint8_t kind = r.u8();
+    if (kind > SinkDef::Plane) Reader::bad("sink kind");
+    k.def.kind = static_cast<SinkDef::Kind>(kind);
+    k.def.region = readRegion(r);
+    k.def.outside = r.u8() != 0;
+    k.def.point = readVec3(r);
+    k.def.normal = readVec3(r);
+    k.start = r.f64();
+    k.count = r.u64();
+    k.mass = r.f64();
+    s.sinks.push_back(std::move(k));
+  }
+}
+
+// Returns true if some wall has state beyond the fixed wall record (the WALX section).
+template <int D>
+bool wallsHaveExtra(const Scene<D>& s) {
+  for (const Wall<D>& x : s.walls.items) {
+    Writer turned, none;
+    turned.rot(x.turnedBefore);
+    none.rot(Wall<D>::identity());
+    if (x.work != 0 || x.servo || turned.bytes != none.bytes) return true;
+  }
+  return false;
+}
+
+template <int D>
+void writeWallExtra(Writer& w, const Scene<D>& s) {
+  w.list(s.walls.items, [&](const Wall<D>& x) {
+    w.f64(x.work);
+    w.rot(x.turnedBefore);
+    w.u8(x.servo);
+    w.f64(x.servoTarget);
+    w.f64(x.servoGain);
+    w.f64(x.servoMaxSpeed);
+  });
+}
+
+template <int D>
+void readWallExtra(Reader& r, Scene<D>& s) {
+  if (r.count(8) != s.walls.items.size()) Reader::bad("wall count");
+  for (Wall<D>& x : s.walls.items) {
+    x.work = r.f64();
+    x.turnedBefore = r.rot<RotationD<D>>();
+    x.servo = r.u8() != 0;
+    x.servoTarget = r.f64();
+    x.servoGain = r.f64();
+    x.servoMaxSpeed = r.f64();
+  }
+}
+
 // Writes the shape section's body: geometries, per-element indices, the shape candidates and
 // the shape springs.
 template <int D>
@@ -531,6 +697,21 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     writeShapes(body, s);
     writeSection(w, kShapeTag, body);
   }
+  if (!s.sources.empty()) {
+    Writer body;
+    writeSources(body, s);
+    writeSection(w, kSourceTag, body);
+  }
+  if (!s.sinks.empty()) {
+    Writer body;
+    writeSinks(body, s);
+    writeSection(w, kSinkTag, body);
+  }
+  if (wallsHaveExtra(s)) {
+    Writer body;
+    writeWallExtra(body, s);
+    writeSection(w, kWallExtraTag, body);
+  }
   if (Writer body; writeOptionSection(body, s)) writeSection(w, kOptionTag, body);
   if (!s.bonds.empty()) {
     Writer body;
@@ -764,6 +945,12 @@ void readScene(Reader& r, Scene<D>& s) {
       readShapes(b, s);
     } else if (std::memcmp(tag, kBondTag, 4) == 0) {
       readBonds(b, s);
+    } else if (std::memcmp(tag, kSourceTag, 4) == 0) {
+      readSources(b, s);
+    } else if (std::memcmp(tag, kSinkTag, 4) == 0) {
+      readSinks(b, s);
+    } else if (std::memcmp(tag, kWallExtraTag, 4) == 0) {
+      readWallExtra(b, s);
     } else if (std::memcmp(tag, kOptionTag, 4) == 0) {
       readOptionSection(b, s);
     } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {

@@ -163,6 +163,13 @@ inline constexpr char kShapeTag[5] = "SHAP";
 // The bonds (sim/bond.hpp), written only when the scene has a bond model, a bond or a break
 // (sim/bond_io.cpp has the layout).
 inline constexpr char kBondTag[5] = "BOND";
+// The sources (sim/source.hpp), when any: their Defs, counters and generators' states.
+inline constexpr char kSourceTag[5] = "SRCE";
+// The sinks (sim/sink.hpp), when any: their Defs and counters.
+inline constexpr char kSinkTag[5] = "SINK";
+// The walls' state beyond the fixed wall record, when a wall has any: per wall its work, the
+// rotation turned before its last change of motion, and its servo.
+inline constexpr char kWallExtraTag[5] = "WALX";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

@@ -184,7 +184,10 @@ class ShapeContactModule final : public SimModule<D> {
         a.f[i] -= f;
         if (rotating) a.t[i] -= cross(ra, f);
         wall.force += f;
-        if (wall.moving) e.wallWork -= f.dot(vWall) * dt;
+        if (wall.moving) {
+          e.wallWork -= f.dot(vWall) * dt;
+          wall.work -= f.dot(vWall) * dt;
+        }
         if (s.recordContacts) appendRecord<D>(s.contacts, {i, w, true, f});
       }
     }

@@ -54,6 +54,10 @@ using BehaviorId = Handle<BehaviorKind>;
 using OutputId = Handle<OutputKind>;
 
 class Simulation;
+struct SourceDef;
+struct SinkDef;
+struct BoundaryInfo;
+struct WallServoDef;
 
 // A function of simulated time (seconds) giving one component of a time-varying load; the Tcl
 // layer wraps a script callback in it. It must be deterministic for runs to be reproducible.
@@ -203,6 +207,12 @@ struct WallState {
   Vec3d angularVelocity{};
   std::array<double, 4> orientation{};  // as ElementState
   Vec3d force{};                        // total force the grains exert on the wall in the last step
+  // Torque of those forces about the reference point (from the last step's contact records:
+  // what the last step recorded, so after a run or at a sampled step; balls only), and the
+  // work the wall has done on the grains since it was made (J).
+  Vec3d torque{};
+  double work = 0;
+  bool servo = false;  // under a servo (WallServoDef)
   Vec3d boundsLo{}, boundsHi{};
   // The geometry now (after any prescribed motion), for renderers and writers. Unit vectors.
   //   Plane : centre (a point on it), normal.
@@ -560,6 +570,25 @@ class Simulation {
   virtual WallId findWall(const std::string& name) const = 0;  // LOOKUP NAME
   virtual std::vector<WallId> wallIds() const = 0;
   virtual size_t wallCount() const = 0;
+  // Replaces a wall's motion from now on, keeping its id, candidates and contact springs: the
+  // new motion starts from where the wall is (no jump); a servo ends. LOOKUP HANDLE, VALUE
+  // <FIELD> as addWall's motion.
+  virtual void setWallMotion(WallId id, const WallMotion& m) = 0;
+  // Puts a plane or finite wall under a servo (sim/boundaries.hpp), from now on. LOOKUP HANDLE,
+  // VALUE SHAPE (another shape), VALUE TARGET / GAIN / MAXSPEED.
+  virtual void setWallServo(WallId id, const WallServoDef& servo) = 0;
+
+  // -- sources and sinks (sim/boundaries.hpp) --
+  // Adds a source; it inserts from the next step on. VALUE NAME, EXISTS NAME, LOOKUP MATERIAL,
+  // VALUE RATE / TARGET / REGION / RADIUS / VELOCITY / JITTER / TOLERANCE / TRIES / TAG.
+  virtual void addSource(const SourceDef& def) = 0;
+  virtual void removeSource(const std::string& name) = 0;  // LOOKUP NAME
+  virtual std::vector<BoundaryInfo> sources() const = 0;   // in creation order
+  // Adds a sink; it removes from the next step on. VALUE NAME, EXISTS NAME, VALUE REGION,
+  // VALUE NORMAL, VALUE POINT.
+  virtual void addSink(const SinkDef& def) = 0;
+  virtual void removeSink(const std::string& name) = 0;  // LOOKUP NAME
+  virtual std::vector<BoundaryInfo> sinks() const = 0;   // in creation order
 
   // -- tags (Tk canvas model: idempotent; an unknown tag is empty) --
   virtual void tagElement(ElementId id, const std::string& tag) = 0;    // LOOKUP HANDLE, VALUE TAG

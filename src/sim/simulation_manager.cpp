@@ -82,7 +82,7 @@ double SimulationManager<D>::timeStep() const {
   if (s_.autoFraction > 0) {
     const double crit = criticalTimeStep();
     if (!std::isfinite(crit)) {
-      throw Error("no time step: it is automatic and the scene has no grains",
+      throw Error("no time step: it is automatic and the scene has no grains and no sources",
                   {"VALUE", "TIMESTEP"});
     }
     return s_.autoFraction * crit;
@@ -127,6 +127,11 @@ double SimulationManager<D>::criticalTimeStep() const {
     shapeR[m] = std::min(shapeR[m], req);
   }
   for (const Wall<D>& w : s_.walls.items) used[w.material] = true;
+  // What the sources will insert counts as if it were there: a source into an empty scene runs.
+  for (const SourceState& src : s_.sources) {
+    used[src.material] = true;
+    rmin[src.material] = std::min(rmin[src.material], Real(src.def.size.minRadius()));
+  }
   Real best = inf;
   for (size_t m = 0; m < nm; ++m) {
     if (!std::isfinite(rmin[m]) && !std::isfinite(shapeR[m])) continue;

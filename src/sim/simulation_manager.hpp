@@ -78,6 +78,15 @@ class SimulationManager final : public Simulation {
   WallId findWall(const std::string& name) const override;
   std::vector<WallId> wallIds() const override;
   size_t wallCount() const override { return s_.walls.size(); }
+  void setWallMotion(WallId id, const WallMotion& m) override;
+  void setWallServo(WallId id, const WallServoDef& servo) override;
+
+  void addSource(const SourceDef& def) override;
+  void removeSource(const std::string& name) override;
+  std::vector<BoundaryInfo> sources() const override;
+  void addSink(const SinkDef& def) override;
+  void removeSink(const std::string& name) override;
+  std::vector<BoundaryInfo> sinks() const override;
 
   void tagElement(ElementId id, const std::string& tag) override;
   void untagElement(ElementId id, const std::string& tag) override;

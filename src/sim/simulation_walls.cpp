@@ -1,9 +1,11 @@
 // SimulationManager<D>: walls (checking a WallDef, adding, removing, querying).
 #include <cmath>
+#include <numbers>
 
 #include <type_traits>
 
 #include "sim/convert.hpp"
+#include "sim/record_geometry.hpp"
 #include "sim/simulation_manager.hpp"
 
 namespace demlab::sim {
@@ -43,6 +45,38 @@ void checkMagnitude(const VecD<D>& v, double limit, const std::string& field,
     throwBad(field, formatVec(fromVec<D>(v), D),
              "must be at most " + physics::formatReal(limit) + " " + unit + " on each axis");
   }
+}
+
+// Gives w the motion m (checked first: VALUE <FIELD>, w unchanged then), from w.t0 on.
+// Changes w's motion fields and its moving flag.
+template <int D>
+void setMotion(Wall<D>& w, const WallMotion& m) {
+  const VecD<D> velocity = toVec<D>(m.velocity, "velocity");
+  const AngularD<D> omega = toAngular<D>(m.angularVelocity, "angular velocity");
+  const VecD<D> amplitude = toVec<D>(m.amplitude, "amplitude");
+  checkMagnitude<D>(velocity, validity::kMaxSpeed, "velocity", "m/s");
+  checkMagnitude<D>(amplitude, validity::kMaxCoordinate, "amplitude", "m");
+  const Vec3d om = fromAngular(omega);
+  if (!(std::hypot(om[0], om[1], om[2]) <= 1e9)) {
+    throwBad("angular velocity", formatVec(m.angularVelocity, 3), "must be at most 1e9 rad/s");
+  }
+  if (!(m.frequency >= 0 && m.frequency <= 1e9)) {
+    throwBad("frequency", physics::formatReal(m.frequency), "must be a number from 0 to 1e9 Hz");
+  }
+  if (m.frequency == 0 && amplitude.squaredNorm() > 0) {
+    throwBad("frequency", "0", "a vibration needs a positive frequency");
+  }
+  if (!std::isfinite(m.phase)) throwBad("phase", physics::formatReal(m.phase), "must be finite");
+  w.velocity = velocity;
+  w.omega = omega;
+  w.amplitude = amplitude;
+  w.frequency = m.frequency;
+  w.phase = m.phase;
+  w.moving =
+      w.velocity.squaredNorm() > 0 || w.amplitude.squaredNorm() > 0 || squaredNorm(w.omega) > 0;
+  // The velocity of the reference point at t0, as moveTo(t0) gives it.
+  w.pointVelocity =
+      w.velocity + w.amplitude * (2 * std::numbers::pi * m.frequency * std::cos(m.phase));
 }
 
 }  // namespace
@@ -158,29 +192,7 @@ Wall<D> SimulationManager<D>::checkWall(const WallDef& def) const {
     default:
       throw Error("bad wall shape", {"VALUE", "SHAPE"});
   }
-  if (def.motion) {
-    const WallMotion& m = *def.motion;
-    w.velocity = toVec<D>(m.velocity, "velocity");
-    w.omega = toAngular<D>(m.angularVelocity, "angular velocity");
-    w.amplitude = toVec<D>(m.amplitude, "amplitude");
-    checkMagnitude<D>(w.velocity, validity::kMaxSpeed, "velocity", "m/s");
-    checkMagnitude<D>(w.amplitude, validity::kMaxCoordinate, "amplitude", "m");
-    const Vec3d om = fromAngular(w.omega);
-    if (!(std::hypot(om[0], om[1], om[2]) <= 1e9)) {
-      throwBad("angular velocity", formatVec(m.angularVelocity, 3), "must be at most 1e9 rad/s");
-    }
-    if (!(m.frequency >= 0 && m.frequency <= 1e9)) {
-      throwBad("frequency", physics::formatReal(m.frequency), "must be a number from 0 to 1e9 Hz");
-    }
-    if (m.frequency == 0 && w.amplitude.squaredNorm() > 0) {
-      throwBad("frequency", "0", "a vibration needs a positive frequency");
-    }
-    if (!std::isfinite(m.phase)) throwBad("phase", physics::formatReal(m.phase), "must be finite");
-    w.frequency = m.frequency;
-    w.phase = m.phase;
-    w.moving =
-        w.velocity.squaredNorm() > 0 || w.amplitude.squaredNorm() > 0 || squaredNorm(w.omega) > 0;
-  }
+  if (def.motion) setMotion(w, *def.motion);
   for (const std::string& t : def.tags) checkTagName(t);
   if (!def.name.empty()) {
     checkObjectName("wall", def.name);
@@ -216,6 +228,43 @@ void SimulationManager<D>::removeWall(WallId id) {
 }
 
 template <int D>
+void SimulationManager<D>::setWallMotion(WallId id, const WallMotion& m) {
+  Wall<D>& live = s_.walls.items[s_.walls.pool().denseIndex(id)];
+  Wall<D> w = live;
+  w.rebase(s_.time);
+  setMotion(w, m);  // throws before anything changed
+  w.servo = false;
+  // Its candidates and springs are kept (same dense index): the contacts go on.
+  live = w;
+  // A new search (the reach of a changed rotation is not what the last one allowed for), and
+  // the loop rebuilt (the walls module comes or goes); the forces of the state stay valid (the
+  // wall has not moved), so a run goes on as if the motion had changed within it.
+  s_.needRebuild = true;
+  configDirty_ = true;
+}
+
+template <int D>
+void SimulationManager<D>::setWallServo(WallId id, const WallServoDef& d) {
+  Wall<D>& live = s_.walls.items[s_.walls.pool().denseIndex(id)];
+  if (live.kind != WallShape::Plane && live.kind != WallShape::Finite) {
+    throw Error("bad wall: a servo moves a plane or a finite wall along its normal",
+                {"VALUE", "SHAPE"});
+  }
+  if (!(std::isfinite(d.target) && d.target >= 0)) {
+    throwBad("target", physics::formatReal(d.target), "must be a non-negative number");
+  }
+  checkPositive(d.gain, "gain");
+  checkPositive(d.maxSpeed, "maxspeed");
+  live.rebase(s_.time);
+  live.servo = true;
+  live.servoTarget = d.target;
+  live.servoGain = d.gain;
+  live.servoMaxSpeed = d.maxSpeed;
+  s_.needRebuild = true;
+  configDirty_ = true;
+}
+
+template <int D>
 WallState SimulationManager<D>::wall(WallId id) const {
   const Wall<D>& w = s_.walls.items[s_.walls.pool().denseIndex(id)];
   WallState st;
@@ -227,8 +276,19 @@ WallState SimulationManager<D>::wall(WallId id) const {
   st.point = fromVec<D>(w.point);
   st.velocity = fromVec<D>(w.pointVelocity);
   st.angularVelocity = fromAngular(w.omega);
-  st.orientation = fromRotation(w.turned);
+  st.orientation = fromRotation((w.turned * w.turnedBefore).normalized());
   st.force = fromVec<D>(w.force);
+  st.work = w.work;
+  st.servo = w.servo;
+  // The torque about the reference point, from the records of the last step that kept them.
+  const uint32_t dense = s_.walls.pool().denseIndex(id);
+  AngularD<D> torque = Wall<D>::zeroAngular();
+  for (const ContactRecord<D>& c : s_.contacts) {
+    if (!c.wall || c.b != dense) continue;
+    if (const auto g = recordGeometry(s_, c))
+      torque += cross(VecD<D>(g->g.point - w.point), c.force);
+  }
+  st.torque = fromAngular(torque);
   const physics::Bounds<D> b =
       std::visit([](const auto& sh) { return physics::bounds(sh); }, w.shape);
   for (int k = 0; k < D; ++k) {

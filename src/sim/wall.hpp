@@ -4,6 +4,7 @@
 // The current geometry is a physics shape (physics/shapes.hpp) the narrow phase reads.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -48,6 +49,13 @@ struct Wall {
 
   // Total force the grains exerted on the wall in the last step.
   VecD<D> force = VecD<D>::Zero();
+  // Work the wall has done on the grains since it was made (J), summed by the contact passes.
+  double work = 0;
+  // The rotation turned before the last change of motion (rebase): orientation = turned * it.
+  RotationD<D> turnedBefore = identity();
+  // A servo (WallServoDef): its velocity along its normal is set each step from force.
+  bool servo = false;
+  double servoTarget = 0, servoGain = 0, servoMaxSpeed = 0;
 
   // Eigen leaves its fixed-size types uninitialised: these give the zero and the identity.
   static AngularD<D> zeroAngular() {
@@ -107,6 +115,49 @@ struct Wall {
           return s;
         },
         shape0);
+  }
+
+  // Makes the geometry at time t the new reference of the motion (shape0, point0, t0), so a new
+  // motion starts from where the wall is, without a jump; the motion itself is left to the
+  // caller. Changes shape0, point0, t0, turnedBefore (and the current geometry, to t).
+  void rebase(double t) {
+    if (moving) moveTo(t);  // a still wall is where it is: no rounding of its geometry
+    shape0 = shape;
+    point0 = point;
+    t0 = t;
+    turnedBefore = (turned * turnedBefore).normalized();
+    turned = identity();
+  }
+
+  // Returns the unit normal of a plane or finite wall now (the side the grains are on for a
+  // plane), zero for the other shapes.
+  VecD<D> normalNow() const {
+    if (const auto* p = std::get_if<physics::PlaneShape<D>>(&shape)) return p->normal;
+    if (const auto* f = std::get_if<physics::FlatWallShape<D>>(&shape)) {
+      if constexpr (D == 2) {
+        return VecD<D>(f->axes[0].y(), -f->axes[0].x());
+      } else {
+        return f->axes[0].cross(f->axes[1]).normalized();
+      }
+    }
+    return VecD<D>::Zero();
+  }
+
+  // Sets a servo wall's velocity for the step from the force the grains put on it in the last
+  // one: v = n gain (target - measured), measured = -force . n (what pushes the wall back along
+  // its normal), capped at servoMaxSpeed; the motion is rebased at t so the new velocity
+  // starts there. Changes velocity, moving and the reference of the motion.
+  void servoStep(double t) {
+    const VecD<D> n = normalNow();
+    const double measured = -force.dot(n);
+    double speed = servoGain * (servoTarget - measured);
+    speed = std::clamp(speed, -servoMaxSpeed, servoMaxSpeed);
+    rebase(t);
+    velocity = n * speed;
+    amplitude.setZero();
+    omega = zeroAngular();
+    frequency = phase = 0;
+    moving = true;
   }
 
   // Returns an upper bound of how far any point of the wall that can touch a grain has moved
@@ -192,7 +243,7 @@ class WallSet {
   }
   bool anyMoving() const {
     for (const auto& w : items) {
-      if (w.moving) return true;
+      if (w.moving || w.servo) return true;
     }
     return false;
   }

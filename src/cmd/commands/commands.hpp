@@ -25,10 +25,27 @@ void registerDumpCommands(Registry& r);      // dump: vtk, every, list, off, csv
 void registerSeriesCommands(Registry& r);    // series: every, get, list, off, plot
 void registerStudyCommands(Registry& r);     // study: convergence
 void registerAnalysisCommands(Registry& r);  // query stress, coordination, fabric, packing...
+void registerBoundaryCommands(Registry& r);  // inlet (sources), sink
 
-// Returns the pipe of a region argument, `{box {lo} {hi}}` or `{sphere {centre} radius}` (a
-// disc in 2D), giving a sim::Region; a bad word is {VALUE REGION} (pack.cpp).
+// Returns the pipe of a region argument, `{box {lo} {hi}}`, `{sphere {centre} radius}` (a
+// disc in 2D) or `{cylinder {centre} {axis} radius halflength}` (3D), giving a sim::Region; a bad
+// word is {VALUE REGION} (pack.cpp).
 PipeType regionType();
+// Returns the pipe of a size distribution of radii: a number, {uniform a b}, {normal mean sd}
+// (truncated at 3 sd), {powerlaw a b exponent} or {discrete r1 w1 r2 w2 ...}, giving a
+// sim::SizeDistribution; a bad word is {VALUE RADIUS} (pack.cpp).
+PipeType sizeType();
+
+// Returns the dict d itself when the call gave no field flags, else the fields the flags name,
+// in the flags' order: the value alone for one flag, a dict of them for several. Changes nothing.
+Value pickFields(const Call& c, const Dict& d);
+
+// Returns the material the call's -material option names, or the scene's first material.
+// Throws {LOOKUP MATERIAL} when the scene has none.
+std::string materialOrFirst(const Call& c, const sim::Simulation& s);
+
+// Returns the tags of the call's -tags option (none when not given), each checked ({VALUE TAG}).
+std::vector<std::string> tagsOption(const Call& c);
 
 // Declares "<group> tag" and "<group> untag" for the objects ref names (element or wall ids
 // or names, as Id): each calls tag or untag of the scene for every object given, so the tag

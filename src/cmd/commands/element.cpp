@@ -185,12 +185,7 @@ void registerElementCommands(Registry& r) {
   get.run([](Call& c) {
     auto& s = session(c).scene();
     Dict d = stateDict(s.element(c.get<ElementId>("element")), s.dim());
-    if (c.flagOrder().empty()) return Value(d);
-    Dict picked;
-    for (const std::string& f : c.flagOrder())
-      for (auto& kv : d)
-        if (kv.first == f) picked.push_back(kv);
-    return picked.size() == 1 ? picked[0].second : Value(picked);
+    return pickFields(c, d);
   });
 
   Command& set = r.add("element set",

@@ -59,16 +59,29 @@ PipeType regionType() {
           }
           return r;
         }
-        throw bad("must be {box {lo} {hi}} or {sphere {centre} radius}");
+        if (parts.size() == 5 && parts[0] == "cylinder") {
+          if (d == 2) throw bad("a cylinder is a 3D region");
+          r.kind = Region::Cylinder;
+          r.centre = vec3(std::any_cast<std::vector<double>>(convertWord(parts[1], q, c)));
+          const auto axis = std::any_cast<std::vector<double>>(convertWord(parts[2], q, c));
+          const double n = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+          if (!(n > 0)) throw bad("the axis must be a non-zero vector");
+          r.axis = {axis[0] / n, axis[1] / n, axis[2] / n};
+          if (!readReal(parts[3], r.radius) || !(r.radius > 0) || !std::isfinite(r.radius) ||
+              !readReal(parts[4], r.halfLength) || !(r.halfLength > 0) ||
+              !std::isfinite(r.halfLength)) {
+            throw bad("the radius and half length must be positive numbers");
+          }
+          return r;
+        }
+        throw bad(
+            "must be {box {lo} {hi}}, {sphere {centre} radius} or {cylinder {centre} {axis} "
+            "radius halflength}");
       });
-  t.choices = {"box", "sphere"};
+  t.choices = {"box", "sphere", "cylinder"};
   return t;
 }
 
-namespace {
-
-// A size distribution of radii: a number, {uniform a b}, {normal mean sd} (truncated at 3 sd),
-// {powerlaw a b exponent}, or {discrete r1 w1 r2 w2 ...}.
 PipeType sizeType() {
   PipeType t =
       custom("size distribution", [](std::string_view w, const Param&, const Context&) -> std::any {
@@ -133,6 +146,8 @@ PipeType sizeType() {
   return t;
 }
 
+namespace {
+
 // Declares the options every pack command shares.
 void commonOptions(Command& c) {
   c.option("material", materialRef(), "their material (default: the first material defined)");
@@ -143,21 +158,9 @@ void commonOptions(Command& c) {
 // Returns the Def every packed element starts from (material, velocity, tags).
 sim::ElementDef baseDef(const Call& c, const sim::Simulation& s) {
   sim::ElementDef d;
-  if (c.given("material")) {
-    d.material = c.str("material");
-  } else {
-    auto names = s.materialNames();
-    if (names.empty())
-      throw Error("no material defined: use \"material add\" first", {"LOOKUP", "MATERIAL"});
-    d.material = names.front();
-  }
+  d.material = materialOrFirst(c, s);
   if (c.has("velocity")) d.velocity = vec3(c.vec("velocity"));
-  if (c.has("tags")) {
-    for (auto& t : splitList(c.str("tags"))) {
-      checkTagName(t);
-      d.tags.push_back(t);
-    }
-  }
+  d.tags = tagsOption(c);
   return d;
 }
 

@@ -32,12 +32,7 @@ void registerQueryCommands(Registry& r) {
            {"balance", e.balance},
            {"scale", e.scale},
            {"residual", e.residual}};
-    if (c.flagOrder().empty()) return Value(d);
-    Dict picked;
-    for (const std::string& f : c.flagOrder())
-      for (auto& kv : d)
-        if (kv.first == f) picked.push_back(kv);
-    return picked.size() == 1 ? picked[0].second : Value(picked);
+    return pickFields(c, d);
   });
 
   Command& ct = r.add("query contacts",

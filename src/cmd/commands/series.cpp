@@ -15,6 +15,7 @@
 #include "cmd/commands/output_jobs.hpp"
 #include "cmd/words.hpp"
 #include "core/atomic_file.hpp"
+#include "sim/boundaries.hpp"
 
 namespace demlab::cmd {
 
@@ -66,7 +67,35 @@ const std::vector<Quantity>& builtins() {
   return q;
 }
 
-const std::vector<std::string> kWallParts = {"fx", "fy", "fz", "force"};
+const std::vector<std::string> kWallParts = {"fx", "fy", "fz", "force", "tx", "ty", "tz", "work"};
+const std::vector<std::string> kCounterParts = {"count", "mass", "rate"};
+
+// Returns the quantity inlet:NAME:PART (a source) or sink:NAME:PART (count, mass, or rate: the mass
+// per second since it started). The source or sink must exist now (LOOKUP NAME).
+Quantity counterQuantity(const std::string& word, const std::string& group, const std::string& name,
+                         const std::string& part, const Context& ctx) {
+  const std::string& which =
+      matchChoice(part, kCounterParts, group + " quantity", {"VALUE", "QUANTITY"});
+  const bool sink = group == "sink";
+  auto read = [sink, name](const sim::Simulation& s) -> std::array<double, 3> {
+    auto pick = [&](const auto& list) -> std::array<double, 3> {
+      for (const auto& x : list)
+        if (x.name == name) return {double(x.count), x.mass, x.start};
+      throw Error("can't find " + std::string(sink ? "sink" : "inlet") + " \"" + name + "\"",
+                  {"LOOKUP", "NAME"});
+    };
+    return sink ? pick(s.sinks()) : pick(s.sources());
+  };
+  read(session(ctx).scene());  // the lookup's error now, not at the first row
+  const std::string unit = which == "count" ? "" : which == "mass" ? "kg" : "kg/s";
+  return {word, unit, [read, which](Row& r) {
+            const auto c = read(r.s);
+            if (which == "count") return c[0];
+            if (which == "mass") return c[1];
+            const double elapsed = r.s.time() - c[2];
+            return elapsed > 0 ? c[1] / elapsed : 0.0;
+          }};
+}
 
 // Returns the quantity {NAME SCRIPT ?UNIT?}: the value of a Tcl script evaluated at global
 // level at each row (during a run only the query and help commands answer it; the others are
@@ -116,15 +145,31 @@ Quantity parseQuantity(const std::string& word, const Param& p, const Context& c
     wallParam.name = p.name;
     wallParam.type = wallRef();
     const auto id = std::any_cast<sim::WallId>(convertWord(wall, wallParam, ctx));
+    if (which == "work") return {word, "J", [id](Row& r) { return r.s.wall(id).work; }};
+    if (which[0] == 't') {
+      const int axis = which[1] - 'x';
+      return {word, "N m", [id, axis](Row& r) { return r.s.wall(id).torque[axis]; }, true};
+    }
     const int axis = which == "fx" ? 0 : which == "fy" ? 1 : which == "fz" ? 2 : -1;
     return {word, "N", [id, axis](Row& r) {
               const sim::Vec3d f = r.s.wall(id).force;
               return axis >= 0 ? f[axis] : std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
             }};
   }
+  for (const std::string group : {"inlet", "sink"}) {
+    if (word.rfind(group + ":", 0) != 0) continue;
+    const size_t colon = word.rfind(':'), from = group.size() + 1;
+    if (colon <= from)
+      throw Error("bad quantity \"" + word + "\" (" + p.name + "): must be " + group + ":NAME:PART",
+                  {"VALUE", "QUANTITY"});
+    return counterQuantity(word, group, word.substr(from, colon - from), word.substr(colon + 1),
+                           ctx);
+  }
   std::vector<std::string> names;
   for (const Quantity& q : builtins()) names.push_back(q.name);
-  names.push_back("wall:WALL:fx|fy|fz|force");
+  names.push_back("wall:WALL:fx|fy|fz|force|tx|ty|tz|work");
+  names.push_back("inlet:NAME:count|mass|rate");
+  names.push_back("sink:NAME:count|mass|rate");
   names.push_back("{NAME SCRIPT ?UNIT?}");
   throw Error("bad quantity \"" + word + "\" (" + p.name + "): must be " + alternatives(names),
               {"VALUE", "QUANTITY"});

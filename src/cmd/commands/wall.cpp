@@ -4,6 +4,7 @@
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
 #include "core/tag_table.hpp"
+#include "sim/boundaries.hpp"
 
 namespace demlab::cmd {
 
@@ -27,13 +28,8 @@ const char* shapeName(WallShape s) {
   return "?";
 }
 
-// Declares what every wall takes: material, name, tags and the prescribed motion.
-void commonOptions(Command& c) {
-  c.option("point", vector().withUnit("m"),
-           "reference point (the centre for finite walls, boxes and drums)");
-  c.option("material", materialRef(), "its material (default: the first material defined)");
-  c.option("name", name(), "a unique name");
-  c.option("tags", text("list of tags"), "tags to give it");
+// Declares the options of a prescribed motion (wall add, wall set).
+void motionOptions(Command& c) {
   c.option("velocity", vector().withUnit("m/s"), "prescribed velocity of the reference point");
   c.option("angularvelocity", spin().withUnit("rad/s"),
            "prescribed rotation about the reference point");
@@ -42,35 +38,39 @@ void commonOptions(Command& c) {
   c.option("phase", real().withUnit("rad"), "vibration phase");
 }
 
+// Returns the motion the call's motion options give (zero where left out).
+sim::WallMotion motionOf(const Call& c) {
+  sim::WallMotion m;
+  if (c.has("velocity")) m.velocity = vec3(c.vec("velocity"));
+  if (c.has("angularvelocity")) m.angularVelocity = vec3(c.vec("angularvelocity"), true);
+  if (c.has("amplitude")) m.amplitude = vec3(c.vec("amplitude"));
+  if (c.has("frequency")) m.frequency = c.real("frequency");
+  if (c.has("phase")) m.phase = c.real("phase");
+  return m;
+}
+
+// Declares what every wall takes: material, name, tags and the prescribed motion.
+void commonOptions(Command& c) {
+  c.option("point", vector().withUnit("m"),
+           "reference point (the centre for finite walls, boxes and drums)");
+  c.option("material", materialRef(), "its material (default: the first material defined)");
+  c.option("name", name(), "a unique name");
+  c.option("tags", text("list of tags"), "tags to give it");
+  motionOptions(c);
+}
+
 // Builds the Def from the call's options (check phase); shape-specific fields by the caller.
 WallDef baseDef(const Call& c, WallShape shape) {
   const sim::Simulation& s = session(c.context()).scene();
   WallDef d;
   d.shape = shape;
   if (c.has("point")) d.point = vec3(c.vec("point"));
-  if (c.given("material")) {
-    d.material = c.str("material");
-  } else {
-    auto names = s.materialNames();
-    if (names.empty())
-      throw Error("no material defined: use \"material add\" first", {"LOOKUP", "MATERIAL"});
-    d.material = names.front();
-  }
+  d.material = materialOrFirst(c, s);
   if (c.has("name")) d.name = c.str("name");
-  if (c.has("tags"))
-    for (auto& t : splitList(c.str("tags"))) {
-      checkTagName(t);
-      d.tags.push_back(t);
-    }
+  d.tags = tagsOption(c);
   if (c.given("velocity") || c.given("angularvelocity") || c.given("amplitude") ||
       c.given("frequency") || c.given("phase")) {
-    sim::WallMotion m;
-    if (c.has("velocity")) m.velocity = vec3(c.vec("velocity"));
-    if (c.has("angularvelocity")) m.angularVelocity = vec3(c.vec("angularvelocity"), true);
-    if (c.has("amplitude")) m.amplitude = vec3(c.vec("amplitude"));
-    if (c.has("frequency")) m.frequency = c.real("frequency");
-    if (c.has("phase")) m.phase = c.real("phase");
-    d.motion = m;
+    d.motion = motionOf(c);
   }
   return d;
 }
@@ -104,6 +104,9 @@ Dict wallDict(const sim::WallState& w, int d) {
           {"orientation", d == 2 ? Value(w.orientation[0])
                                  : Value(Reals{{w.orientation.begin(), w.orientation.end()}, 0})},
           {"force", vecValue(w.force, d)},
+          {"torque", vecValue(w.torque, d, true)},
+          {"work", w.work},
+          {"servo", w.servo},
           {"bounds", List{vecValue(w.boundsLo, d), vecValue(w.boundsHi, d)}},
           {"tags", tags}};
 }
@@ -180,18 +183,87 @@ void registerWallCommands(Registry& r) {
   Command& get = r.add("wall get", "Returns a wall's state as a dict, or the fields asked for.");
   get.arg("wall", wallRef(), "a wall id or name");
   for (const char* f : {"id", "name", "shape", "material", "point", "velocity", "angularvelocity",
-                        "orientation", "force", "bounds", "tags"})
+                        "orientation", "force", "torque", "work", "servo", "bounds", "tags"})
     get.flag(f, std::string("the ") + f);
   get.changesScene = false;
   get.run([](Call& c) {
     auto& s = session(c).scene();
     Dict d = wallDict(s.wall(c.get<WallId>("wall")), s.dim());
-    if (c.flagOrder().empty()) return Value(d);
-    Dict picked;
-    for (const std::string& f : c.flagOrder())
-      for (auto& kv : d)
-        if (kv.first == f) picked.push_back(kv);
-    return picked.size() == 1 ? picked[0].second : Value(picked);
+    return pickFields(c, d);
+  });
+
+  Command& set = r.add("wall set",
+                       "Replaces a wall's motion from now on, keeping its id and its contacts' "
+                       "history; the new motion starts where the wall is. Options left out are "
+                       "zero: no option stops the wall. Ends a servo.");
+  set.arg("wall", wallRef(), "a wall id or name");
+  motionOptions(set);
+  set.run([](Call& c) {
+    session(c).scene().setWallMotion(c.get<WallId>("wall"), motionOf(c));
+    return Value();
+  });
+
+  Command& servo = r.add("wall servo",
+                         "Moves a plane or finite wall along its normal to hold a normal force "
+                         "or stress: v = gain (target - measured), |v| <= maxspeed, measured "
+                         "the force the elements push it back with in the last step. Stable "
+                         "for gain < 2 / (K dt), K the packing's normal stiffness.");
+  servo.arg("wall", wallRef(), "a plane or finite wall, id or name");
+  servo.option("force", real().withUnit("N"), "the normal force to hold");
+  servo.option("stress", real().withUnit("Pa"), "the normal stress to hold (force / area)");
+  servo.option("area", real().withUnit("m^2"),
+               "the area the stress acts on (default: a finite wall's own; 2D: per unit depth)");
+  servo.option("gain", real().withUnit("m/(N s)"), "velocity per newton of error").require();
+  servo.option("maxspeed", real().withUnit("m/s"), "the largest speed").require();
+  servo.run([](Call& c) {
+    auto& s = session(c).scene();
+    const WallId id = c.get<WallId>("wall");
+    if (c.given("force") == c.given("stress"))
+      throw Error("bad servo: give exactly one of -force and -stress", {"VALUE", "TARGET"});
+    sim::WallServoDef d;
+    d.gain = c.real("gain");
+    d.maxSpeed = c.real("maxspeed");
+    if (c.has("force")) {
+      if (c.given("area")) c.bad("area", "is for a stress");
+      d.target = c.real("force");
+    } else {
+      const double stress = c.real("stress");
+      if (!(stress >= 0 && std::isfinite(stress))) c.bad("stress", "must be a non-negative number");
+      double area = 0;
+      if (c.has("area")) {
+        area = c.real("area");
+        if (!(area > 0 && std::isfinite(area))) c.bad("area", "must be a positive number");
+      } else {
+        const sim::WallState w = s.wall(id);
+        if (w.shape != WallShape::Finite) c.bad("area", "is needed for a plane (it has no extent)");
+        area = s.dim() == 2 ? 2 * w.halfExtents[0] : 4 * w.halfExtents[0] * w.halfExtents[1];
+      }
+      d.target = stress * area;
+    }
+    s.setWallServo(id, d);
+    return Value(d.target);
+  });
+
+  Command& torque = r.add("wall torque",
+                          "Returns the torque the elements put on a wall in the last recorded "
+                          "step, about a point (default: its reference point).");
+  torque.arg("wall", wallRef(), "a wall id or name");
+  torque.option("about", vector().withUnit("m"), "the point");
+  torque.changesScene = false;
+  torque.run([](Call& c) {
+    auto& s = session(c).scene();
+    const sim::WallState w = s.wall(c.get<WallId>("wall"));
+    sim::Vec3d t = w.torque;
+    if (c.has("about")) {
+      // T_p = T_ref + (ref - p) x F
+      const sim::Vec3d p = vec3(c.vec("about"));
+      const sim::Vec3d r{w.point[0] - p[0], w.point[1] - p[1], w.point[2] - p[2]};
+      const sim::Vec3d& f = w.force;
+      t[0] += r[1] * f[2] - r[2] * f[1];
+      t[1] += r[2] * f[0] - r[0] * f[2];
+      t[2] += r[0] * f[1] - r[1] * f[0];
+    }
+    return vecValue(t, s.dim(), true);
   });
 
   Command& rm = r.add("wall remove", "Removes walls; returns how many.");
