@@ -3,6 +3,7 @@
 #include "sim/scene_io.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "sim/behaviors/gravity.hpp"
@@ -837,8 +838,11 @@ void readScene(Reader& r, Scene<D>& s) {
   for (uint32_t k = 0; k < nb; ++k) s.behaviors.items().push_back(readBehavior<D>(r));
   s.keepHistory = r.u8();
   s.rotating = r.u8();
+  // The table's size is kept so it rebuilds the same layout; a power of two, bounded by what
+  // the scene's pairs can need (a damaged size must not allocate terabytes).
   const size_t buckets = r.u64();
-  if (buckets > (size_t{1} << 40)) Reader::bad("history table size");
+  const size_t mostBuckets = std::bit_ceil(64 * std::max<size_t>(n, 16));
+  if (buckets > mostBuckets || (buckets & (buckets - 1)) != 0) Reader::bad("history table size");
   const size_t nh = r.count(8 + 8 * D);
   s.histories.reserveBuckets(buckets);
   for (size_t k = 0; k < nh; ++k) {
