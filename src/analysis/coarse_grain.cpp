@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "analysis/tensor.hpp"
+#include "core/interrupt.hpp"
 
 namespace demlab::analysis {
 
@@ -45,6 +46,9 @@ struct Grid {
   CgField& f;
   const Kernel& W;
   int d;
+  // Polled once per row of grid points: a wide kernel on a fine grid visits thousands of
+  // points per element.
+  mutable InterruptPoll poll{"coarse-graining"};
   // Calls add(point index, W) for each grid point within the cutoff of x.
   template <class Add>
   void spread(const Vec3d& x, const Add& add) const {
@@ -56,7 +60,8 @@ struct Grid {
       if (to[k] < from[k]) return;
     }
     for (long k = from[2]; k <= to[2]; ++k)
-      for (long j = from[1]; j <= to[1]; ++j)
+      for (long j = from[1]; j <= to[1]; ++j) {
+        poll();
         for (long i = from[0]; i <= to[0]; ++i) {
           const long idx[3] = {i, j, k};
           double r2 = 0;
@@ -67,6 +72,7 @@ struct Grid {
           double w = W(r2);
           if (w > 0) add(size_t(i) + f.dims[0] * (size_t(j) + f.dims[1] * size_t(k)), w);
         }
+      }
   }
 };
 
@@ -124,6 +130,7 @@ CgField coarseGrain(const Sample& s, const Selection& sel, const CgSpec& spec) {
   }
   std::vector<double> vel(3 * n, 0), sk(9 * n, 0);
   for (size_t p = 0; p < n; ++p) {
+    g.poll();
     Vec3d V{};
     if (rho[p] > 0)
       for (int k = 0; k < 3; ++k) V[k] = mom[3 * p + k] / rho[p];

@@ -37,6 +37,10 @@ struct Context {
   // runs (a callback, a load's expression, a redirected puts) may read the scene but not
   // change or replace it: the running command holds the scene and its parts.
   std::string busyWith;
+  // Bracket the check and execute phases of a command declared interruptible: in between,
+  // Ctrl-C sets the flag demlab::interruptRequested() reads. By default nothing can interrupt.
+  virtual void beginInterruptible() {}
+  virtual void endInterruptible() {}
 };
 
 struct Param {
@@ -88,6 +92,10 @@ struct Command {
   // Refused while another command that changes the scene runs (see Context::busyWith), like
   // those that change it, although it does not: it changes what the running command uses.
   bool needsIdle = false;
+  // Its work grows with the scene or its arguments: Ctrl-C stops it, with {INTERRUPTED}, at a
+  // point where it has changed nothing (a run: at a step boundary). Its loops poll
+  // demlab::pollInterrupt (core/interrupt.hpp).
+  bool interruptible = false;
   std::function<void(Call&)> check;     // optional: cross-argument checks, read-only
   std::function<Value(Call&)> execute;  // phase 3
 

@@ -167,6 +167,14 @@ Value Registry::invoke(const std::vector<std::string>& words, Context& ctx) cons
     }
   } hold{ctx.busyWith, exclusive};
   if (exclusive) ctx.busyWith = where;
+  struct Interruptible {
+    Context& ctx;
+    bool on;
+    ~Interruptible() {
+      if (on) ctx.endInterruptible();
+    }
+  } interruptible{ctx, c.interruptible};
+  if (c.interruptible) ctx.beginInterruptible();
   // Phase 2: check.
   PipeLine::check(c, stack, ctx);
   Call call(c, stack, ctx);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "cmd/words.hpp"
+#include "core/interrupt.hpp"
 #include "core/name_lookup.hpp"
 #include "core/tag_table.hpp"
 
@@ -10,6 +11,19 @@ namespace demlab::cmd {
 
 void Session::requireScene() const {
   if (!sim) throw Error("no simulation: use \"sim new\" first", {"STATE", "NOSIM"});
+}
+
+void Session::beginInterruptible() {
+  if (interruptDepth_++ == 0) {
+    stop = false;
+    outerInterruptFlag_ = setInterruptFlag(&stop);
+  }
+  catchSigint();
+}
+
+void Session::endInterruptible() {
+  releaseSigint();
+  if (--interruptDepth_ == 0) setInterruptFlag(outerInterruptFlag_);
 }
 
 sim::Simulation& Session::scene() const {

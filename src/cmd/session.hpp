@@ -27,6 +27,9 @@ struct Session : Context {
   bool terminal = false;
   std::function<void(std::string_view)> write = [](std::string_view) {};
   std::function<void()> beginRun = [] {}, endRun = [] {};
+  // Install and remove only the SIGINT hook (an interruptible command that is not a run: the
+  // scripts it evaluates may still change the scene it works on, as a study's do).
+  std::function<void()> catchSigint = [] {}, releaseSigint = [] {};
   // Returns a function of time evaluating a Tcl expression in `t`; throws demlab::Error
   // {VALUE <what>} if the expression does not evaluate to a number at time t0.
   std::function<sim::TimeFunction(const std::string& expr, const std::string& what, double t0)>
@@ -49,29 +52,23 @@ struct Session : Context {
   // scripts (study convergence). Never throws: failures come back in the ScriptResult.
   std::function<ScriptResult(const std::string& script)> evalScript;
 
+  // Clears the stop flag (outermost command only: a query run from a callback must not
+  // swallow a Ctrl-C meant for the run), installs the SIGINT hook and points
+  // demlab::interruptRequested() at the flag; the end undoes it.
+  void beginInterruptible() override;
+  void endInterruptible() override;
+
   int dimension() const override { return sim ? sim->dim() : 3; }
   // Throws demlab::Error {STATE NOSIM}: `no simulation: use "sim new" first`.
   void requireScene() const override;
   // Returns the current simulation; throws {STATE NOSIM} when there is none.
   sim::Simulation& scene() const;
-};
-
-// Brackets a long command so Ctrl-C can stop it: clears the stop flag and installs the SIGINT
-// hook for the scope's life. The command polls session.stop (or hands &session.stop to the
-// core) and ends with {INTERRUPTED}, at a consistent point, when it reads true.
-class InterruptScope {
- public:
-  explicit InterruptScope(Session& s) : s_(s) {
-    s_.stop = false;
-    s_.beginRun();
-  }
-  ~InterruptScope() { s_.endRun(); }
-  InterruptScope(const InterruptScope&) = delete;
-  InterruptScope& operator=(const InterruptScope&) = delete;
 
  private:
-  Session& s_;
+  int interruptDepth_ = 0;
+  const std::atomic<bool>* outerInterruptFlag_ = nullptr;
 };
+
 
 // The Session a command runs in.
 inline Session& session(Call& c) {

@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 
 namespace demlab {
 
@@ -59,7 +60,14 @@ void writeFileAtomically(const std::string& path, const FileEncoder& encode,
     unlink(tmp.c_str());
     throw writeError(posixMessage(err));
   }
-  std::string reason = encode(f);
+  std::string reason;
+  try {
+    reason = encode(f);
+  } catch (...) {  // an encoder's own error (Ctrl-C, say): no temporary is left either
+    std::fclose(f);
+    unlink(tmp.c_str());
+    throw;
+  }
   if (reason.empty() && std::ferror(f)) reason = posixMessage(errno ? errno : EIO);
   if (reason.empty() && std::fflush(f) != 0) reason = posixMessage(errno);
   if (reason.empty() && fsync(fileno(f)) != 0 && errno != EINVAL) reason = posixMessage(errno);
@@ -89,6 +97,30 @@ void writeFileAtomically(const std::string& path, std::string_view bytes, std::s
         return "";
       },
       kind);
+}
+
+std::string readFileBytes(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw Error("couldn't open \"" + path + "\": " + posixMessage(errno), {"IO", "OPEN"});
+  std::string bytes;
+  constexpr size_t kChunk = size_t(1) << 20;
+  try {
+    for (;;) {
+      pollInterrupt("reading");
+      const size_t at = bytes.size();
+      bytes.resize(at + kChunk);
+      const size_t got = std::fread(bytes.data() + at, 1, kChunk, f);
+      bytes.resize(at + got);
+      if (got < kChunk) break;
+    }
+    if (std::ferror(f))
+      throw Error("error reading \"" + path + "\": " + posixMessage(errno), {"IO", "READ"});
+  } catch (...) {
+    std::fclose(f);
+    throw;
+  }
+  std::fclose(f);
+  return bytes;
 }
 
 }  // namespace demlab

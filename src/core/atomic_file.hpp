@@ -22,12 +22,18 @@ using FileEncoder = std::function<std::string(std::FILE*)>;
 // {IO OPEN} ("couldn't open "path" for writing: reason") when the temporary cannot be made and
 // {IO WRITE} ("error writing "path": reason") when encoding, syncing or the rename fails; with
 // kind given (e.g. "PNG"), both codes are {IO kind}. On failure no temporary is left and the
-// target keeps its old contents. Changes only path.
+// target keeps its old contents; an exception from encode passes through the same way.
+// Changes only path.
 void writeFileAtomically(const std::string& path, const FileEncoder& encode,
                          std::string_view kind = {});
 
 // The same for bytes already in memory.
 void writeFileAtomically(const std::string& path, std::string_view bytes,
                          std::string_view kind = {});
+
+// Returns the whole contents of path, read in chunks with a poll for Ctrl-C between them
+// (core/interrupt.hpp). Throws demlab::Error {IO OPEN} ("couldn't open "path": reason"),
+// {IO READ} ("error reading "path": reason") or {INTERRUPTED}. Changes nothing.
+std::string readFileBytes(const std::string& path);
 
 }  // namespace demlab

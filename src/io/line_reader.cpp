@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 
 namespace demlab::io {
 namespace {
@@ -62,6 +63,7 @@ bool LineReader::fill() {
 }
 
 bool LineReader::next(std::string_view& line) {
+  if ((lineNumber_ & 4095u) == 4095u) pollInterrupt("reading");
   std::size_t searched = begin_;
   for (;;) {
     const char* base = buffer_.data();

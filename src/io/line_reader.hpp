@@ -19,7 +19,8 @@ class LineReader {
   LineReader& operator=(const LineReader&) = delete;
 
   // Reads the next line into `line` (without its "\n" or "\r\n"; valid until the next call)
-  // and returns true, or returns false at the end of the file. Throws Error {IO READ} when the
+  // and returns true, or returns false at the end of the file. Every 4096 lines it polls for
+  // Ctrl-C (Error {INTERRUPTED}, core/interrupt.hpp). Throws Error {IO READ} when the
   // file cannot be read or a gzip stream is corrupt or cut short.
   bool next(std::string_view& line);
 

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "core/thread_pool.hpp"
 
 namespace demlab::io {
@@ -46,6 +47,7 @@ std::string deflateBlock(const char* data, size_t n, VtkCompression c) {
 // Appends the bytes of one array to the appended block in the file's encoding: raw (a UInt64
 // byte count, then the bytes) or zlib (VTK's block header, then the compressed blocks).
 void appendEncoded(std::string& out, const void* data, size_t bytes, VtkCompression c) {
+  pollInterrupt("writing");  // between arrays, on this thread: nothing is written yet
   if (c == VtkCompression::None) {
     appendU64(out, bytes);
     out.append(static_cast<const char*>(data), bytes);
@@ -56,9 +58,11 @@ void appendEncoded(std::string& out, const void* data, size_t bytes, VtkCompress
   // The blocks are independent deflate streams: they are compressed on the thread pool, each
   // into its own buffer, and laid out in order (the same bytes for any thread count).
   ThreadPool::global().forEach(blocks, [&](size_t k, unsigned) {
+    if (interruptRequested()) return;  // the pool's threads skip; this one throws below
     packed[k] = deflateBlock(static_cast<const char*>(data) + k * kBlockBytes,
                              std::min(kBlockBytes, bytes - k * kBlockBytes), c);
   });
+  pollInterrupt("writing");
   appendU64(out, blocks);
   appendU64(out, kBlockBytes);
   appendU64(out, bytes % kBlockBytes);  // 0: the last block is whole

@@ -24,6 +24,7 @@ namespace demlab::render {
   X(PFNGLBLENDFUNCPROC, BlendFunc)                             \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                         \
   X(PFNGLREADPIXELSPROC, ReadPixels)                           \
+  X(PFNGLFINISHPROC, Finish)                                   \
   X(PFNGLDRAWARRAYSPROC, DrawArrays)                           \
   X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)         \
   X(PFNGLDRAWELEMENTSPROC, DrawElements)                       \

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "render/colour_map.hpp"
 #include "render/gl_api.hpp"
 #include "render/gl_context.hpp"
@@ -74,6 +75,7 @@ class GlRenderer : public Renderer {
     const int ss = options.antialias;
     const int w = options.width * ss, h = options.height * ss;
     ensureFramebuffer(w, h);
+    pollInterrupt("snapshot");
 
     const View view = makeView(scene, options);
     fillGrains(scene, options, view);
@@ -108,7 +110,16 @@ class GlRenderer : public Renderer {
       gl_.BindBuffer(GL_ARRAY_BUFFER, grainBuffer_);
       gl_.BufferData(GL_ARRAY_BUFFER, grains_.size() * sizeof(GrainInstance), grains_.data(),
                      GL_STREAM_DRAW);
-      gl_.DrawElements(GL_TRIANGLES, GLsizei(6 * drawn), GL_UNSIGNED_INT, nullptr);
+      // In batches, each finished before the next, so Ctrl-C stops a frame of millions of
+      // grains within one batch's drawing.
+      constexpr size_t kBatch = size_t(1) << 12;
+      for (size_t first = 0; first < drawn; first += kBatch) {
+        pollInterrupt("snapshot");
+        const size_t count = std::min(kBatch, drawn - first);
+        gl_.DrawElements(GL_TRIANGLES, GLsizei(6 * count), GL_UNSIGNED_INT,
+                         reinterpret_cast<const void*>(6 * first * sizeof(GLuint)));
+        if (count < drawn) gl_.Finish();
+      }
     }
     if (!meshFaces_.empty()) {
       // Opaque shapes, depth tested and written like the balls.
@@ -159,6 +170,7 @@ class GlRenderer : public Renderer {
     }
     gl_.BindVertexArray(0);
 
+    pollInterrupt("snapshot");
     pixels_.resize(size_t(4) * w * h);
     gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
     gl_.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, pixels_.data());
@@ -232,7 +244,9 @@ class GlRenderer : public Renderer {
     grains_.resize(4 * keep_.size());
     const bool marks = scene.dim == 2 && !scene.angles.empty();
     const Vec3& anchor = view.anchor;
+    InterruptPoll poll("snapshot");
     for (size_t m = 0; m < keep_.size(); ++m) {
+      poll();
       const size_t i = keep_[m];
       GrainInstance& g = grains_[4 * m];
       const Vec3 c = grainCentre(scene, i) - anchor;
@@ -356,6 +370,7 @@ class GlRenderer : public Renderer {
     const int w = width * ss, h = height * ss;
     const unsigned n = unsigned(ss * ss), round = n / 2;
     for (int y = 0; y < height; ++y) {
+      if ((y & 63) == 0) pollInterrupt("snapshot");
       std::uint8_t* out = img.at(0, height - 1 - y);
       for (int x = 0; x < width; ++x) {
         unsigned sum[3] = {0, 0, 0};

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/interrupt.hpp"
+
 namespace demlab::render {
 
 namespace {
@@ -37,7 +39,9 @@ void cullHiddenGrains(const RenderScene& scene, const View& view, std::vector<st
     double d, cx, cy, x0, x1, y0, y1;
   };
   std::vector<Screen> scr(n);
+  InterruptPoll poll("snapshot");
   for (size_t i = 0; i < n; ++i) {
+    poll();
     const Vec3 e = R * (grainCentre(scene, i) - view.anchor) + T;
     const double r = scene.radii[i], d = -e.z();
     Screen& s = scr[i];

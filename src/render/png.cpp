@@ -1,6 +1,7 @@
 #include "render/png.hpp"
 
 #include <png.h>
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/atomic_file.hpp"
+#include "core/interrupt.hpp"
 
 namespace demlab::render {
 namespace {
@@ -62,7 +64,15 @@ bool encode(FILE* f, const Image& image, PngErrorState& state) {
   png_write_info(png, info);
   // libpng 1.6 accepts the filler only once the header names the colour type.
   if (opaque) png_set_filler(png, 0, PNG_FILLER_AFTER);  // drop the alpha bytes on the way out
-  png_write_image(png, rows.data());
+  // In bands, polling for Ctrl-C between them: a large frame takes a while to compress.
+  constexpr int kBand = 64;
+  for (int y = 0; y < image.height; y += kBand) {
+    if (interruptRequested()) {
+      png_destroy_write_struct(&png, &info);
+      pollInterrupt("snapshot");
+    }
+    png_write_rows(png, rows.data() + y, png_uint_32(std::min(kBand, image.height - y)));
+  }
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   return true;

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "physics/material.hpp"
 
 namespace demlab::sim {
@@ -127,9 +128,11 @@ std::vector<Vec3d> latticeSites(const LatticeDef& def, int d) {
   Vec3d lo, hi;
   def.region.bounds(d, lo, hi);
   std::vector<Vec3d> out;
+  InterruptPoll poll("pack");
   for (long z = 0; z < long(n[2]); ++z)
     for (long y = 0; y < long(n[1]); ++y)
       for (long x = 0; x < long(n[0]); ++x) {
+        poll();
         Vec3d p{lo[0] + rad + double(x) * step[0], lo[1] + rad + double(y) * step[1], 0};
         if (d == 3) p[2] = lo[2] + rad + double(z) * step[2];
         if (hex) {

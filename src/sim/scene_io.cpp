@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 
+#include "core/interrupt.hpp"
 #include "sim/behaviors/gravity.hpp"
 #include "sim/behaviors/load.hpp"
 #include "sim/convert.hpp"
@@ -563,7 +564,9 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   // Grains.
   const ElementArrays<D>& a = s.elements.a;
   writePool(w, s.elements.pool());
+  InterruptPoll poll("save");
   for (size_t i = 0; i < a.size(); ++i) {
+    poll();
     w.vec<D>(a.x[i]);
     w.vec<D>(a.v[i]);
     w.vec<D>(a.f[i]);
@@ -725,6 +728,7 @@ uint64_t hashBytes(std::string_view b) {
   uint64_t h = 0xcbf29ce484222325ull;
   size_t k = 0;
   for (; k + 8 <= b.size(); k += 8) {
+    if ((k & ((size_t(1) << 22) - 1)) == 0) pollInterrupt("checkpoint");  // every 4 MiB
     uint64_t x;
     std::memcpy(&x, b.data() + k, 8);
     h = (h ^ x) * 0x100000001b3ull;
@@ -744,6 +748,13 @@ std::string sealCheckpoint(std::string sceneBytes) {
   sceneBytes.append(kChecksumTag, sizeof kChecksumTag);
   sceneBytes.append(reinterpret_cast<const char*>(&sum), sizeof sum);
   return sceneBytes;
+}
+
+int checkpointDimension(std::string_view b) {
+  if (b.size() < 16 || std::memcmp(b.data(), kMagic, 8) != 0) return 0;
+  uint32_t dim;
+  std::memcpy(&dim, b.data() + 12, sizeof dim);
+  return dim == 2 || dim == 3 ? int(dim) : 0;
 }
 
 std::string unsealCheckpoint(std::string b) {
@@ -792,7 +803,9 @@ void readScene(Reader& r, Scene<D>& s) {
   readPool(r, s.elements.pool());
   ElementArrays<D>& a = s.elements.a;
   const uint32_t n = s.elements.pool().size();
+  InterruptPoll poll("load");
   for (uint32_t i = 0; i < n; ++i) {
+    poll();
     const VecD<D> x = r.vec<D>(), v = r.vec<D>(), f = r.vec<D>(), fp = r.vec<D>();
     const RotationD<D> q = r.rot<RotationD<D>>();
     const AngularD<D> w = r.ang<AngularD<D>>(), t = r.ang<AngularD<D>>(), tp = r.ang<AngularD<D>>();

@@ -732,7 +732,13 @@ class Simulation {
   // checkpoint, truncated, damaged: the checksum save appends does not match, or a value out
   // of range) or LOAD DIMENSION (another dimension), changing nothing.
   virtual void load(std::istream& in) = 0;
+  // The same from the file's bytes, without a copy.
+  virtual void loadBytes(std::string fileBytes) = 0;
 };
+
+// Returns the dimension a checkpoint's header names (2 or 3), or 0 when the bytes do not start
+// with a demlab checkpoint header (the loader then says what is wrong).
+int checkpointDimension(std::string_view fileBytes);
 
 // Returns a new, empty scene of dimension dim. Throws VALUE DIMENSION unless dim is 2 or 3.
 std::unique_ptr<Simulation> makeSimulation(int dim);

@@ -5,7 +5,9 @@
 #include <limits>
 #include <set>
 
+#include "core/interrupt.hpp"
 #include "core/name_lookup.hpp"
+#include "search/cgrid.hpp"
 #include "sim/bond_module.hpp"
 #include "sim/convert.hpp"
 #include "sim/simulation_manager.hpp"
@@ -107,10 +109,15 @@ std::vector<uint32_t> SimulationManager<D>::makeBonds(
   const double scatter = bondOption(t, model.values, "scatter");
   const auto seed = static_cast<uint64_t>(bondOption(t, model.values, "seed"));
   const ElementArrays<D>& a = s_.elements.a;
-  std::vector<uint32_t> ids;
+  // Made aside, then appended: Ctrl-C while they are made leaves no bond.
+  std::vector<Bond<D>> made;
+  made.reserve(pairs.size());
+  InterruptPoll poll("bond add");
+  uint32_t next = s_.bonds.nextId;
   for (const auto& [i, j] : pairs) {
+    poll();
     Bond<D> b;
-    b.id = s_.bonds.nextId++;
+    b.id = next++;
     b.a = s_.elements.pool().handleAt(i);
     b.b = s_.elements.pool().handleAt(j);
     b.model = m;
@@ -122,9 +129,13 @@ std::vector<uint32_t> SimulationManager<D>::makeBonds(
       b.tensile = std::max(0.0, tensile * (1 + scatter * normalDeviate(seed, 2ull * b.id)));
       b.shear = std::max(0.0, shear * (1 + scatter * normalDeviate(seed, 2ull * b.id + 1)));
     }
-    ids.push_back(b.id);
-    s_.bonds.bonds.push_back(b);
+    made.push_back(b);
   }
+  std::vector<uint32_t> ids;
+  ids.reserve(made.size());
+  for (const Bond<D>& b : made) ids.push_back(b.id);
+  s_.bonds.bonds.insert(s_.bonds.bonds.end(), made.begin(), made.end());
+  s_.bonds.nextId = next;
   if (!ids.empty()) touchConfig();
   return ids;
 }
@@ -172,22 +183,30 @@ std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<Ele
   const ElementArrays<D>& a = s_.elements.a;
   std::set<std::pair<uint32_t, uint32_t>> bonded;
   for (const Bond<D>& b : s_.bonds.bonds) bonded.insert(std::minmax(b.a.index, b.b.index));
-  // Sweep along x: a pair within the gap overlaps in x by the radii plus the gap.
-  std::vector<uint32_t> byX = idx;
-  std::sort(byX.begin(), byX.end(), [&](uint32_t p, uint32_t q) {
-    return std::pair(a.x[p][0] - a.r[p], p) < std::pair(a.x[q][0] - a.r[q], q);
-  });
-  std::vector<std::pair<uint32_t, uint32_t>> pairs;
-  for (size_t k = 0; k < byX.size(); ++k) {
-    const uint32_t i = byX[k];
-    const Real reach = a.x[i][0] + a.r[i] + gap;
-    for (size_t l = k + 1; l < byX.size() && a.x[byX[l]][0] - a.r[byX[l]] <= reach; ++l) {
-      const uint32_t j = byX[l];
-      const Real surface = (a.x[j] - a.x[i]).norm() - a.r[i] - a.r[j];
-      if (surface > gap) continue;
-      if (bonded.contains(std::minmax(a.slot[i], a.slot[j]))) continue;
-      pairs.emplace_back(std::min(i, j), std::max(i, j));
+  // Candidates from CGrid over each element's box grown by half the gap: a pair within the
+  // gap has overlapping boxes. (A sweep along x alone met n^(2/3) elements per element in a
+  // dense block: minutes for 10^6.)
+  std::vector<search::Box<D, double>> boxes(idx.size());
+  for (size_t k = 0; k < idx.size(); ++k) {
+    const uint32_t i = idx[k];
+    const double reach = a.r[i] + gap / 2;
+    for (int c = 0; c < D; ++c) {
+      boxes[k].lo[c] = a.x[i][c] - reach;
+      boxes[k].hi[c] = a.x[i][c] + reach;
     }
+  }
+  pollInterrupt("bond add");
+  std::vector<search::IndexPair> found;
+  search::CGrid<D, double>().findPairs(boxes, found);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  InterruptPoll poll("bond add");  // before any bond is made
+  for (const search::IndexPair& f : found) {
+    poll();
+    const uint32_t i = idx[f.first], j = idx[f.second];
+    const Real surface = (a.x[j] - a.x[i]).norm() - a.r[i] - a.r[j];
+    if (surface > gap) continue;
+    if (bonded.contains(std::minmax(a.slot[i], a.slot[j]))) continue;
+    pairs.emplace_back(std::min(i, j), std::max(i, j));
   }
   std::sort(pairs.begin(), pairs.end());
   return makeBonds(pairs, m);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <unordered_set>
 
+#include "core/interrupt.hpp"
 #include "core/name_lookup.hpp"
 #include "physics/critical_step.hpp"
 #include "sim/behaviors/gravity.hpp"
@@ -430,7 +431,9 @@ std::vector<ElementId> SimulationManager<D>::addElements(const std::vector<Eleme
   std::vector<CheckedElement> checked;
   checked.reserve(defs.size());
   std::unordered_set<std::string> names;
+  InterruptPoll poll("adding elements");  // before anything is added
   for (const ElementDef& d : defs) {
+    poll();
     try {
       checked.push_back(checkElement(d));
     } catch (const Error& e) {

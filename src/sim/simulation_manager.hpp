@@ -144,6 +144,7 @@ class SimulationManager final : public Simulation {
   std::unique_ptr<Simulation> clone() const override;
   std::vector<std::string> save(std::ostream& out, bool skipCallbacks) const override;
   void load(std::istream& in) override;
+  void loadBytes(std::string fileBytes) override;
 
   // For tests and the benchmark: the scene itself.
   const Scene<D>& scene() const { return s_; }

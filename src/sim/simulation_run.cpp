@@ -13,6 +13,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "core/interrupt.hpp"
 #include "physics/critical_step.hpp"
 #include "physics/narrow_phase.hpp"
 #include "sim/behavior_modules.hpp"
@@ -439,6 +440,10 @@ RelaxReport SimulationManager<D>::relax(double fraction, uint64_t maxIterations,
     s_.ledger.reference += ledgerSum() - before;
     s_.needRebuild = true;
     s_.forcesReady = false;
+    if (stop && stop->load(std::memory_order_relaxed)) {  // the next run's prepare catches up
+      rep.interrupted = true;
+      break;
+    }
     prepare();
     rep.after = worstOverlap(fraction, false);
   }
@@ -663,10 +668,12 @@ ElementTable SimulationManager<D>::elementTable() const {
   const size_t n = s_.elements.size();
   ElementTable t;
   t.ids = elementIds();
-  auto three = [n](auto&& get) {
+  InterruptPoll poll("reading the elements");
+  auto three = [n, &poll](auto&& get) {
     std::vector<double> out;
     out.reserve(3 * n);
     for (size_t i = 0; i < n; ++i) {
+      poll();
       const Vec3d v = get(i);
       out.insert(out.end(), v.begin(), v.end());
     }
@@ -777,8 +784,15 @@ std::vector<std::string> SimulationManager<D>::save(std::ostream& out, bool skip
 
 template <int D>
 void SimulationManager<D>::load(std::istream& in) {
-  const std::string b = unsealCheckpoint(
-      std::string{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()});
+  std::string bytes;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) bytes.append(chunk, size_t(in.gcount()));
+  loadBytes(std::move(bytes));
+}
+
+template <int D>
+void SimulationManager<D>::loadBytes(std::string fileBytes) {
+  const std::string b = unsealCheckpoint(std::move(fileBytes));
   Scene<D> fresh;
   Reader r(b);
   readScene(r, fresh);

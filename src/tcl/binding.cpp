@@ -122,6 +122,8 @@ void setupSession(Tcl_Interp* interp, InterpState* st) {
     endRun();
     st->running = false;
   };
+  s.catchSigint = [st] { beginRun(&st->session.stop); };
+  s.releaseSigint = [] { endRun(); };
   s.evalScript = [interp](const std::string& script) {
     cmd::Session::ScriptResult r;
     Tcl_Obj* o = Tcl_NewStringObj(script.c_str(), int(script.size()));

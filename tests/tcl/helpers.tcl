@@ -36,3 +36,10 @@ if {[info exists ::env(DEMLAB_EXE)]} {
     set ::demlabExe [info nameofexecutable]
 }
 ::tcltest::testConstraint demlabExe [expr {$::demlabExe ne ""}]
+
+# How much slower than the Release build this build runs: 1, or what $DEMLAB_TIME_FACTOR says
+# (the sanitizer build sets 5). Tests with a time limit scale it by this.
+set ::timeFactor 1
+if {[info exists ::env(DEMLAB_TIME_FACTOR)] && [string is double -strict $::env(DEMLAB_TIME_FACTOR)]} {
+    set ::timeFactor $::env(DEMLAB_TIME_FACTOR)
+}

@@ -242,6 +242,7 @@ void addMotion(Registry& r) {
 
 void addCoarseGrain(Registry& r) {
   Command& cg = r.add("query cg", "Coarse-grains the elements onto a regular grid; returns a summary.");
+  cg.interruptible = true;
   cg.details =
       "Fields (Goldhirsch 2010): density, momentum, velocity, contactStress and kineticStress "
       "(compression positive, as query stress), with a Gaussian kernel of standard deviation "

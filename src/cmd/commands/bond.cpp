@@ -7,6 +7,7 @@
 #include "analysis/region_geometry.hpp"
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/interrupt.hpp"
 #include "sim/bond_model.hpp"
 #include "sim/packing.hpp"
 
@@ -119,6 +120,7 @@ void registerBondCommands(Registry& r) {
   });
 
   Command& add = r.add("bond add", "Bonds pairs of elements; returns the new bonds' ids.");
+  add.interruptible = true;
   add.details =
       "With -gap, every pair whose surfaces are at most the gap apart (an overlap counts) and "
       "that has no bond yet, among the elements whose centre is in -region and that carry -tag "
@@ -157,6 +159,7 @@ void registerBondCommands(Registry& r) {
   });
 
   Command& file = r.add("bond file", "Bonds the pairs a file lists; returns the new bonds' ids.");
+  file.interruptible = true;
   file.details =
       "One pair a line: two element ids or names; blank lines and lines starting "
       "with # are skipped. All or none.";
@@ -169,7 +172,9 @@ void registerBondCommands(Registry& r) {
                   {"VALUE", "PATH"});
     }
     std::string line, words;
+    InterruptPoll poll("bond file");
     while (std::getline(in, line)) {
+      poll();
       const auto first = line.find_first_not_of(" \t\r");
       if (first == std::string::npos || line[first] == '#') continue;
       words += "{" + line + "} ";

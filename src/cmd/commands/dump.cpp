@@ -13,6 +13,7 @@
 #include "cmd/commands/output_jobs.hpp"
 #include "cmd/words.hpp"
 #include "core/atomic_file.hpp"
+#include "core/interrupt.hpp"
 #include "io/vtk_xml.hpp"
 #include "output/scene_vtk.hpp"
 
@@ -195,7 +196,9 @@ std::string lammpsData(const sim::Simulation& s) {
     o << formatReal(lo) << ' ' << formatReal(hi) << ' ' << ax[k] << "lo " << ax[k] << "hi\n";
   }
   o << "\nAtoms # sphere\n\n";
+  InterruptPoll poll("dump");
   for (size_t i = 0; i < n; ++i) {
+    poll();
     const double d = 2 * t.radius[i];
     const double volume = s.dim() == 3 ? M_PI * d * d * d / 6 : M_PI * d * d / 4;
     o << t.ids[i].scriptId() + 1 << ' ' << t.material[i] + 1 << ' ' << formatReal(d) << ' '
@@ -205,6 +208,7 @@ std::string lammpsData(const sim::Simulation& s) {
   }
   o << "\nVelocities\n\n";
   for (size_t i = 0; i < n; ++i) {
+    poll();
     o << t.ids[i].scriptId() + 1;
     for (int k = 0; k < 3; ++k) o << ' ' << formatReal(t.velocity[3 * i + k]);
     for (int k = 0; k < 3; ++k) o << ' ' << formatReal(t.angularVelocity[3 * i + k]);
@@ -219,6 +223,7 @@ void registerDumpCommands(Registry& r) {
   r.describe("dump", "The scene written for other tools: VTK for ParaView, CSV, LAMMPS data.");
 
   Command& vtk = r.add("dump vtk", "Writes the scene as VTK PolyData files; returns their paths.");
+  vtk.interruptible = true;
   vtk.details =
       "Writes PREFIX_elements.vtp (a vertex per element: id, tag_NAME 0/1 per tag, material and "
       "shape indices into the field data's material_names and shape_names, shape_params, "
@@ -302,6 +307,7 @@ void registerDumpCommands(Registry& r) {
   csv.option("fields", csvFieldsType(), "the columns, from: " + joinList(csvFieldNames()))
       .byDefault("id material radius mass x y z vx vy vz");
   csv.changesScene = false;
+  csv.interruptible = true;
   csv.run([](Call& c) {
     const sim::ElementTable t = session(c).scene().elementTable();
     std::vector<const CsvField*> cols;
@@ -314,7 +320,9 @@ void registerDumpCommands(Registry& r) {
       out += cols[k]->name;
     }
     out += '\n';
+    InterruptPoll poll("dump");
     for (size_t i = 0; i < t.ids.size(); ++i) {
+      poll();
       for (size_t k = 0; k < cols.size(); ++k) {
         if (k) out += ',';
         out += cols[k]->value(t, i);
@@ -336,6 +344,7 @@ void registerDumpCommands(Registry& r) {
       "of other shapes are refused (the format holds balls only).";
   data.arg("file", text("file"), "the data file");
   data.changesScene = false;
+  data.interruptible = true;
   data.run([](Call& c) {
     writeFileAtomically(c.str("file"), lammpsData(session(c).scene()));
     return Value(c.str("file"));

@@ -8,6 +8,7 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/interrupt.hpp"
 #include "core/memory_budget.hpp"
 #include "core/tag_table.hpp"
 #include "core/validity.hpp"
@@ -186,6 +187,7 @@ void registerPackCommands(Registry& r) {
   Command& lat =
       r.add("pack lattice",
             "Fills a region with a regular lattice of equal elements; returns their ids.");
+  lat.interruptible = true;
   lat.option("region", regionType(), "{box {lo} {hi}} or {sphere {centre} radius}").require();
   lat.option("radius", real().positive().withUnit("m"), "radius of every element").require();
   lat.option("spacing", real().positive().withUnit("m"),
@@ -210,7 +212,9 @@ void registerPackCommands(Registry& r) {
     sim::ElementDef base = baseDef(c, s);
     base.radius = rad;
     std::vector<sim::ElementDef> defs;
+    InterruptPoll poll("pack");
     for (const Vec3d& p : sim::latticeSites(lattice, d)) {
+      poll();
       base.position = p;
       defs.push_back(base);
     }
@@ -222,6 +226,7 @@ void registerPackCommands(Registry& r) {
   Command& rnd =
       r.add("pack random",
             "Fills a region with randomly placed, non-overlapping elements; returns their ids.");
+  rnd.interruptible = true;
   rnd.details =
       "Random sequential addition, largest first, avoiding each other and the elements already in "
       "the "
@@ -255,7 +260,6 @@ void registerPackCommands(Registry& r) {
     }
     const std::vector<double> radii =
         sim::drawRadii(dist, reg, d, count, c.given("count") ? 0.0 : c.real("fraction"), rng);
-    InterruptScope interruptible(session(c));
     const std::vector<Vec3d> sites = sim::randomSites(reg, d, radii, s.positions(), s.radii(),
                                                       c.integer("tries"), rng, &session(c).stop);
     sim::ElementDef base = baseDef(c, s);
@@ -271,6 +275,7 @@ void registerPackCommands(Registry& r) {
   rnd.run(addAll);
 
   Command& file = r.add("pack file", "Adds the elements listed in a file; returns their ids.");
+  file.interruptible = true;
   file.details =
       "Formats: xyzr (one element per line: the centre's coordinates then the radius, optionally "
       "followed "

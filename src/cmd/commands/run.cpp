@@ -7,6 +7,7 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/interrupt.hpp"
 
 namespace demlab::cmd {
 
@@ -149,6 +150,12 @@ sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool qui
   }
   sim::RunReport rep;
   s.beginRun();
+  // The run stops at step boundaries through o.stop: outputs written during it (a dump, a
+  // snapshot) must finish, not throw from their own polls.
+  struct Unpolled {
+    const std::atomic<bool>* outer = setInterruptFlag(nullptr);
+    ~Unpolled() { setInterruptFlag(outer); }
+  } unpolled;
   try {
     rep = sim.run(o);
   } catch (const sim::RunStopped& e) {
@@ -187,6 +194,7 @@ void raiseIfStopped(Session& s, const sim::RunReport& rep) {
 
 void registerRunCommands(Registry& r) {
   Command& run = r.add("sim run", "Runs the scene for a number of steps or a simulated time.");
+  run.interruptible = true;
   run.details =
       "Shows a progress bar with rate and ETA when output is a terminal, prints a report at the "
       "end "
@@ -238,6 +246,7 @@ void registerRunCommands(Registry& r) {
   });
 
   Command& step = r.add("sim step", "Runs one step (or n) quietly; returns the report dict.");
+  step.interruptible = true;
   step.optionalArg("n", integer().min(1), "number of steps").byDefault("1");
   step.run([](Call& c) {
     Session& s = session(c);

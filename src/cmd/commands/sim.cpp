@@ -162,6 +162,7 @@ void registerSimCommands(Registry& r) {
   });
 
   Command& rel = r.add("sim relax", "Moves overlapping elements apart; returns what it did.");
+  rel.interruptible = true;
   rel.details =
       "Deep overlaps placed by a script (the watchdog reports them before the first step) are "
       "relaxed geometrically: each pass pushes every contact overlapping by more than the "
@@ -174,7 +175,6 @@ void registerSimCommands(Registry& r) {
   rel.option("iterations", integer().min(1), "the most passes").byDefault("1000");
   rel.run([](Call& c) {
     auto& s = session(c).scene();
-    InterruptScope interruptible(session(c));
     sim::RelaxReport r =
         s.relax(c.real("overlap"), std::uint64_t(c.integer("iterations")), &session(c).stop);
     if (r.interrupted) {
@@ -200,6 +200,7 @@ void registerSimCommands(Registry& r) {
   dig.run([](Call& c) { return Value(hex64(session(c).scene().stateDigest())); });
 
   Command& save = r.add("sim save", "Writes the whole scene to a checkpoint file.");
+  save.interruptible = true;
   save.arg("file", text("file"), "the file to write");
   save.flag("skipcallbacks", "leave out loads defined by scripts instead of failing");
   save.changesScene = false;
@@ -214,30 +215,23 @@ void registerSimCommands(Registry& r) {
   });
 
   Command& load = r.add("sim load", "Replaces the scene by the one in a checkpoint file.");
+  load.interruptible = true;
   load.arg("file", readableFile(), "a file written by sim save");
   load.needsScene = false;
   load.run([](Call& c) {
     Session& s = session(c);
-    std::ifstream f(c.str("file"), std::ios::binary);
-    std::stringstream buf;
-    buf << f.rdbuf();
-    std::string bytes = buf.str();
-    int first = s.sim ? s.sim->dim() : 3;
-    for (int dim : {first, 5 - first}) {
-      auto fresh = sim::makeSimulation(dim);
-      std::istringstream in(bytes, std::ios::binary);
-      try {
-        fresh->load(in);
-      } catch (const Error& e) {
-        if (e.code().size() >= 3 && e.code()[1] == "LOAD" && e.code()[2] == "DIMENSION") continue;
-        std::vector<std::string> code(e.code().begin() + 1, e.code().end());
-        throw Error("couldn't load \"" + c.str("file") + "\": " + e.what(), std::move(code));
-      }
-      s.sim = std::move(fresh);
-      return Value();
+    const std::string& path = c.str("file");
+    std::string bytes = readFileBytes(path);
+    const int dim = sim::checkpointDimension(bytes);
+    auto fresh = sim::makeSimulation(dim ? dim : s.sim ? s.sim->dim() : 3);
+    try {
+      fresh->loadBytes(std::move(bytes));
+    } catch (const Error& e) {
+      std::vector<std::string> code(e.code().begin() + 1, e.code().end());
+      throw Error("couldn't load \"" + path + "\": " + e.what(), std::move(code));
     }
-    throw Error("couldn't load \"" + c.str("file") + "\": not a 2D or 3D demlab checkpoint",
-                {"LOAD", "FORMAT"});
+    s.sim = std::move(fresh);
+    return Value();
   });
 
   Command& keep =

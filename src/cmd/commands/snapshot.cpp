@@ -62,6 +62,7 @@ void registerSnapshotCommands(Registry& r) {
 
   Command& write =
       r.add("snapshot write", "Renders the scene now into a PNG or JPEG file; returns its path.");
+  write.interruptible = true;
   write.details =
       "2D scenes are seen from above, discs with a mark showing their rotation; 3D scenes from "
       "an automatic viewpoint unless -position and -lookat are given. The file's extension picks "

@@ -729,6 +729,7 @@ void registerStudyCommands(Registry& r) {
   Command& cv = r.add("study convergence",
                       "Runs a scene at several time steps with each integrator; returns the "
                       "errors, observed orders and costs.");
+  cv.interruptible = true;
   cv.details =
       "For every integrator and every time step (coarsest first), the -scene command builds a "
       "fresh scene (it must start with sim new, or sim load or sim restore); the study then sets "
