@@ -24,7 +24,8 @@ endif()
 set_property(TARGET demlab_core PROPERTY POSITION_INDEPENDENT_CODE ON)
 
 add_library(demlab_cmd STATIC
-  src/cmd/words.cpp src/cmd/pipe.cpp src/cmd/command.cpp src/cmd/registry.cpp)
+  src/cmd/words.cpp src/cmd/pipe.cpp src/cmd/command.cpp src/cmd/registry.cpp
+  src/cmd/declaration.cpp)
 target_link_libraries(demlab_cmd PUBLIC demlab_core)
 set_property(TARGET demlab_cmd PROPERTY POSITION_INDEPENDENT_CODE ON)
 
@@ -121,6 +122,7 @@ foreach(test_file ${DEMLAB_TCL_TEST_FILES})
   endif()
 endforeach()
 set_tests_properties(${DEMLAB_TCL_TESTS} PROPERTIES ENVIRONMENT "DEMLAB_EXE=$<TARGET_FILE:demlab>")
+
 
 include(GNUInstallDirs)
 install(TARGETS demlab RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
