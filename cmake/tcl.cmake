@@ -123,6 +123,10 @@ foreach(test_file ${DEMLAB_TCL_TEST_FILES})
 endforeach()
 set_tests_properties(${DEMLAB_TCL_TESTS} PROPERTIES ENVIRONMENT "DEMLAB_EXE=$<TARGET_FILE:demlab>")
 
+# The sequences the command fuzzer found failing, kept as regression tests: each is run again
+# in a runner process and must now keep every invariant (tests/fuzz/command_fuzz.tcl).
+add_test(NAME fuzz_corpus.tcl COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/command_fuzz.tcl
+  replay ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/corpus/tcl)
 
 include(GNUInstallDirs)
 install(TARGETS demlab RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
