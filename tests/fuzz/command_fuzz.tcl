@@ -90,12 +90,17 @@ proc runSequence {steps} {
     return $result
 }
 
+# Returns the folder where the runner with process id pid works.
+proc runnerFolder {pid} {
+    file join [expr {[info exists ::env(TMPDIR)] ? $::env(TMPDIR) : "/tmp"}] \
+        demlab-command-fuzz-$pid
+}
+
 # Reads sequences from stdin, one per line (newlines and backslashes escaped), and answers
 # each with a line "FUZZRESULT <dict>". Returns at end of input.
 proc runnerLoop {} {
     # What the sequences write (dumps, checkpoints, images) goes to a folder of this process.
-    set ::runnerDir [file join [expr {[info exists ::env(TMPDIR)] ? $::env(TMPDIR) : "/tmp"}] \
-        demlab-command-fuzz-[pid]]
+    set ::runnerDir [runnerFolder [pid]]
     file mkdir $::runnerDir
     fconfigure stdout -buffering line
     while {[gets stdin line] >= 0} {
@@ -131,11 +136,14 @@ proc driver::start {} {
 proc driver::stop {{signal ""}} {
     variable ch
     if {$ch eq ""} return
-    if {$signal ne ""} {catch {exec kill -$signal {*}[pid $ch]}}
+    set pids [pid $ch]
+    if {$signal ne ""} {catch {exec kill -$signal {*}$pids}}
     fileevent $ch readable {}
     catch {fconfigure $ch -blocking 1}
     catch {close $ch}
     set ch ""
+    # A runner that was killed leaves its folder (runnerLoop).
+    foreach p $pids {file delete -force [runnerFolder $p]}
 }
 
 proc driver::read {} {
