@@ -138,7 +138,7 @@ TEST_F(RegistryTest, ErrorsUseTclWordingAndCodesAndChangeNothing) {
   EXPECT_EQ(m, "bad velocity \"1 2\": expected a vector of 3 numbers but got 2");
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-velocity", "{1 2"}, &m),
             "DEMLAB VALUE VELOCITY");
-  EXPECT_EQ(m, "unmatched open brace in list");
+  EXPECT_EQ(m, "bad velocity \"{1 2\": unmatched open brace in list");  // the word is named
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-law", "h"}, &m), "none");
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-law", "x"}, &m), "DEMLAB VALUE LAW");
   EXPECT_EQ(m, "bad law \"x\": must be linear or hertz");
