@@ -24,7 +24,8 @@ endif()
 set_property(TARGET demlab_core PROPERTY POSITION_INDEPENDENT_CODE ON)
 
 add_library(demlab_cmd STATIC
-  src/cmd/words.cpp src/cmd/pipe.cpp src/cmd/command.cpp src/cmd/registry.cpp)
+  src/cmd/words.cpp src/cmd/pipe.cpp src/cmd/command.cpp src/cmd/registry.cpp
+  src/cmd/declaration.cpp)
 target_link_libraries(demlab_cmd PUBLIC demlab_core)
 set_property(TARGET demlab_cmd PROPERTY POSITION_INDEPENDENT_CODE ON)
 
@@ -129,6 +130,11 @@ if(DEMLAB_SANITIZE OR DEMLAB_TSAN)
 endif()
 set_tests_properties(${DEMLAB_TCL_TESTS} PROPERTIES ENVIRONMENT
   "DEMLAB_EXE=$<TARGET_FILE:demlab>;DEMLAB_TIME_FACTOR=${DEMLAB_TIME_FACTOR}")
+
+# The sequences the command fuzzer found failing, kept as regression tests: each is run again
+# in a runner process and must now keep every invariant (tests/fuzz/command_fuzz.tcl).
+add_test(NAME fuzz_corpus.tcl COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/command_fuzz.tcl
+  replay ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/corpus/tcl)
 
 include(GNUInstallDirs)
 install(TARGETS demlab RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

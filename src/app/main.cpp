@@ -1,7 +1,8 @@
 // demlab: the executable. With no arguments, an interactive console (libedit) on a terminal
 // or commands from stdin otherwise; `demlab script.tcl ?arg ...?` runs a batch script with
 // argv, argc and argv0 set and exits non-zero, printing the error, when it fails.
-// `demlab --markdown` prints the command reference (the build writes doc/commands.md with it).
+// `demlab --markdown` prints the command reference (the build writes doc/commands.md with it);
+// `demlab --declarations` prints the declarations it is made from, as data.
 #include <unistd.h>
 
 #include <cstdio>
@@ -20,6 +21,7 @@ const char* kUsage =
     "terminal)\n"
     "       demlab script.tcl ?arg ...?  run a batch script\n"
     "       demlab --markdown          print the command reference (Markdown)\n"
+    "       demlab --declarations      print the command declarations as a Tcl list of dicts\n"
     "       demlab --help | --version\n";
 
 }  // namespace
@@ -28,6 +30,10 @@ int main(int argc, char** argv) {
   using namespace demlab;
   if (argc > 1 && std::strcmp(argv[1], "--markdown") == 0) {
     std::fputs(cmd::commandRegistry().markdown().c_str(), stdout);
+    return 0;
+  }
+  if (argc > 1 && std::strcmp(argv[1], "--declarations") == 0) {
+    std::puts(cmd::toString(cmd::commandRegistry().declarations({})).c_str());
     return 0;
   }
   if (argc > 1 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {

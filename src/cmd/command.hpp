@@ -127,6 +127,12 @@ struct Command {
   std::string helpText() const;
   // Returns the Markdown section for doc/commands.md.
   std::string markdown() const;
+  // Returns the declaration as data (declaration.cpp): a dict of command, needsscene,
+  // changesscene, needsidle, params (a dict per parameter: name, role positional|variadic|option|
+  // flag, required, optional, kind real|integer|boolean|text|name|choice|vector|reals|integers|
+  // custom, label, unit, min, max, minopen, maxopen, length, choices, default, hasdefault) and
+  // exclusive (a dict per group: names, requireone). Changes nothing.
+  Value declaration() const;
 };
 
 // One slot per parameter: the word it was given (PipeSource), then its typed value.

@@ -129,7 +129,28 @@ const std::string& matchChoice(std::string_view word, const std::vector<std::str
               std::move(code));
 }
 
+namespace {
+
+std::any convertChecked(std::string_view word, const Param& p, const Context& ctx);
+
+}  // namespace
+
 std::any convertWord(std::string_view word, const Param& p, const Context& ctx) {
+  try {
+    return convertChecked(word, p, ctx);
+  } catch (const Error& e) {
+    // A word that is not a well-formed list ("{"): Tcl's message alone does not say which
+    // word; wherever the pipe split it (a vector, a region, a custom list), name it here.
+    const auto& code = e.code();
+    if (code.size() == 3 && code[1] == "VALUE" && code[2] == "LIST") badValue(p, word, e.what());
+    throw;
+  }
+}
+
+namespace {
+
+// Returns the typed value of word for p (convertWord without the naming of list errors).
+std::any convertChecked(std::string_view word, const Param& p, const Context& ctx) {
   const PipeType& t = p.type;
   switch (t.kind) {
     case PipeType::Kind::Real:
@@ -145,6 +166,7 @@ std::any convertWord(std::string_view word, const Param& p, const Context& ctx) 
       return b;
     }
     case PipeType::Kind::Text:
+      if (t.list) splitList(word);  // throws {VALUE LIST}, which convertWord names
       return std::string(word);
     case PipeType::Kind::Name:
       try {
@@ -160,12 +182,7 @@ std::any convertWord(std::string_view word, const Param& p, const Context& ctx) 
     case PipeType::Kind::Choice:
       return matchChoice(word, t.choices, p.name, {"VALUE", codeWord(p.name)});
     case PipeType::Kind::Vector: {
-      std::vector<std::string> items;
-      try {
-        items = splitList(word);
-      } catch (const Error& e) {
-        throw Error(e.what(), {"VALUE", codeWord(p.name)});
-      }
+      std::vector<std::string> items = splitList(word);
       std::size_t n = std::size_t(t.length > 0 ? t.length : ctx.dimension());
       if (items.size() != n) {
         badValue(p, word,
@@ -178,12 +195,7 @@ std::any convertWord(std::string_view word, const Param& p, const Context& ctx) 
     }
     case PipeType::Kind::Reals:
     case PipeType::Kind::Ints: {
-      std::vector<std::string> items;
-      try {
-        items = splitList(word);
-      } catch (const Error& e) {
-        throw Error(e.what(), {"VALUE", codeWord(p.name)});
-      }
+      std::vector<std::string> items = splitList(word);
       if (t.kind == PipeType::Kind::Ints) {
         std::vector<std::int64_t> out;
         for (const std::string& s : items) out.push_back(toInt(s, p));
@@ -198,5 +210,7 @@ std::any convertWord(std::string_view word, const Param& p, const Context& ctx) 
   }
   return {};
 }
+
+}  // namespace
 
 }  // namespace demlab::cmd

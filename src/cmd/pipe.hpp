@@ -30,6 +30,7 @@ struct PipeType {
   std::optional<double> lo, hi;  // range of reals and integers (and of vector components)
   bool loOpen = false, hiOpen = false;
   int length = 0;                    // Vector: number of components; 0 means the dimension
+  bool list = false;                 // Text: the word must be a well-formed Tcl list
   std::vector<std::string> choices;  // Choice: the accepted words (unique prefixes accepted)
   // Custom: converts and checks the word; may read the context (names of existing objects).
   std::function<std::any(std::string_view word, const Param& p, const Context& ctx)> custom;
@@ -57,6 +58,13 @@ struct PipeType {
     return t;
   }
   PipeType range(double a, double b) const { return min(a).max(b); }
+  // A text that the command reads as a list: a word that is not one is refused in the check
+  // phase, naming the parameter, instead of where the command splits it.
+  PipeType asList() const {
+    PipeType t = *this;
+    t.list = true;
+    return t;
+  }
   PipeType complete(std::function<std::vector<std::string>(const Context&)> f) const {
     PipeType t = *this;
     t.candidates = std::move(f);

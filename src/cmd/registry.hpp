@@ -46,6 +46,10 @@ class Registry {
   // Returns the Markdown command reference (doc/commands.md).
   std::string markdown() const;
 
+  // Returns the declarations (Command::declaration) of the commands under a topic ({} for all),
+  // in the reference's order. Throws demlab::Error {LOOKUP COMMAND} or {LOOKUP SUBCOMMAND}.
+  Value declarations(const std::vector<std::string>& topic) const;
+
   // Returns every command, in declaration order.
   std::vector<const Command*> commands() const;
 

@@ -1,8 +1,14 @@
 #include "cmd/session.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <fstream>
 
 #include "cmd/words.hpp"
+#include "core/atomic_file.hpp"
 #include "core/interrupt.hpp"
 #include "core/name_lookup.hpp"
 #include "core/tag_table.hpp"
@@ -107,7 +113,30 @@ PipeType behaviorRef() {
       for (const auto& b : session(c).scene().behaviors())
         if (b.id == h) return h;
     }
-    throw Error("no behavior with id " + std::string(w), {"LOOKUP", "BEHAVIOR"});
+    throw Error("no behavior with id \"" + std::string(w) + "\"", {"LOOKUP", "BEHAVIOR"});
+  });
+}
+
+// A regular file that can be read and fits in memory; value: the path. A device such as
+// /dev/zero, or a file larger than a quarter of the machine's memory, is refused before a byte
+// is read (a checkpoint is read whole, then decoded into a scene of about the same size).
+PipeType readableFile() {
+  return custom("file", [](std::string_view w, const Param&, const Context&) -> std::any {
+    const std::string path(w);
+    struct stat st;
+    if (stat(path.c_str(), &st) != 0)
+      throw Error("couldn't open \"" + path + "\": " + posixMessage(errno), {"IO", "OPEN"});
+    if (!S_ISREG(st.st_mode))
+      throw Error("couldn't read \"" + path + "\": not a regular file", {"IO", "OPEN"});
+    const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    if (memory > 0 && double(st.st_size) > memory / 4) {
+      throw Error("couldn't read \"" + path + "\": " + std::to_string(st.st_size) +
+                      " bytes is more than a quarter of this machine's memory",
+                  {"IO", "SIZE"});
+    }
+    if (!std::ifstream{path, std::ios::binary})
+      throw Error("couldn't open \"" + path + "\": permission denied", {"IO", "OPEN"});
+    return path;
   });
 }
 
@@ -118,6 +147,13 @@ PipeType lawChoice() {
   });
   t.choices = {"linear", "hertz_mindlin"};
   return t;
+}
+
+PipeType tagList() {
+  return custom("list of tags", [](std::string_view w, const Param&, const Context&) -> std::any {
+    for (const std::string& t : splitList(w)) checkTagName(t);
+    return std::string(w);
+  });
 }
 
 PipeType tagName() {

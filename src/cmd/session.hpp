@@ -106,6 +106,13 @@ PipeType behaviorRef();
 PipeType lawChoice();
 // A tag (a letter or "_" first); value: std::string. {VALUE TAG}.
 PipeType tagName();
+// A list of tags, each checked as tagName's; value: the word (std::string). {VALUE TAG}, or
+// {VALUE <PARAM>} when the word is not a list.
+PipeType tagList();
+// A regular file that can be read and fits in memory; value: the path. {IO OPEN} when it is
+// missing, unreadable or not a regular file (a directory, a device), {IO SIZE} when it is larger
+// than a quarter of the machine's memory: checked before a byte is read.
+PipeType readableFile();
 // An angular quantity: one number in 2D (about z), three in 3D; value: std::vector<double>.
 PipeType spin();
 

@@ -340,11 +340,6 @@ bool readBool(std::string_view text, bool& out) {
     out = i != 0;
     return true;
   }
-  double d;
-  if (readReal(s, d) && !std::isnan(d)) {
-    out = d != 0;
-    return true;
-  }
   if (s.empty()) return false;
   auto prefixOf = [&](std::string_view word, std::size_t minLen) {
     return s.size() >= minLen && s.size() <= word.size() && word.substr(0, s.size()) == s;

@@ -23,8 +23,9 @@
 
 namespace demlab {
 
-// Throws demlab::Error {VALUE NAME} unless name can name an object of this kind: not empty, and
-// starting with a letter (any non-ASCII byte counts as one) or "_". Changes nothing.
+// Throws demlab::Error {VALUE NAME} unless name can name an object of this kind: not empty,
+// starting with a letter (any non-ASCII byte counts as one) or "_", and holding no white space,
+// control character or any of {}[]"\$; (so it stays one element of any list). Changes nothing.
 void checkObjectName(std::string_view kind, std::string_view name);
 
 // Throws demlab::Error {EXISTS NAME}: `<kind> "<name>" already exists`.

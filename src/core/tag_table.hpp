@@ -22,8 +22,9 @@
 
 namespace demlab {
 
-// Throws demlab::Error {VALUE TAG} unless tag is a usable tag: not empty, and starting with a
-// letter (any non-ASCII byte counts as one) or "_". Changes nothing.
+// Throws demlab::Error {VALUE TAG} unless tag is a usable tag: not empty,
+// starting with a letter (any non-ASCII byte counts as one) or "_", and holding no white space,
+// control character or any of {}[]"\$; (so it stays one element of any list). Changes nothing.
 void checkTagName(std::string_view tag);
 
 template <class Kind = void>

@@ -10,6 +10,7 @@
 #include "analysis/stress.hpp"
 #include "analysis/structure.hpp"
 #include "cmd/commands/commands.hpp"
+#include "cmd/words.hpp"
 #include "core/atomic_file.hpp"
 #include "io/vtk_xml.hpp"
 #include "cmd/words.hpp"
@@ -287,8 +288,10 @@ void addCoarseGrain(Registry& r) {
       }
     }
     const double points = analysis::cgPointCount(spec, d);
-    if (points > kMaxCgPoints)
-      c.bad("spacing", "makes a grid of " + std::to_string(int64_t(points)) + " points (at most " +
+    if (!(points <= kMaxCgPoints))  // also NaN, from a width of Inf
+      c.bad("spacing", "makes a grid of " +
+                           (points < 1e15 ? std::to_string(int64_t(points)) : formatReal(points)) +
+                           " points (at most " +
                            std::to_string(int64_t(kMaxCgPoints)) + ")");
     const analysis::CgField f = analysis::coarseGrain(s, sel, spec);
     if (c.given("file")) writeFileAtomically(c.str("file"), io::vtiBytes(cgImage(f, session(c).scene()), io::VtkCompression::Fast));

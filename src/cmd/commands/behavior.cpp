@@ -14,12 +14,7 @@ namespace {
 PipeType loadVector(bool isSpin) {
   return custom(isSpin ? "spin of expressions" : "vector of expressions",
                 [isSpin](std::string_view w, const Param& p, const Context& c) -> std::any {
-                  std::vector<std::string> parts;
-                  try {
-                    parts = splitList(w);
-                  } catch (const Error& e) {
-                    throw Error(e.what(), {"VALUE", codeWord(p.name)});
-                  }
+                  std::vector<std::string> parts = splitList(w);
                   std::size_t n =
                       isSpin ? (c.dimension() == 2 ? 1 : 3) : std::size_t(c.dimension());
                   if (parts.size() != n) {

@@ -29,6 +29,10 @@ Pairs readPairs(std::string_view w, const Param& p, const Context& c) {
     }
     out.emplace_back(std::any_cast<sim::ElementId>(element.custom(two[0], p, c)),
                      std::any_cast<sim::ElementId>(element.custom(two[1], p, c)));
+    if (out.back().first == out.back().second) {
+      throw Error("bad " + p.name + " \"" + pair + "\": an element can't be bonded to itself",
+                  {"VALUE", codeWord(p.name)});
+    }
   }
   return out;
 }
@@ -163,25 +167,28 @@ void registerBondCommands(Registry& r) {
   file.details =
       "One pair a line: two element ids or names; blank lines and lines starting "
       "with # are skipped. All or none.";
-  file.arg("path", text("path"), "the file");
+  file.arg("path", readableFile(), "the file");
   file.option("model", text("model"), "the bond model").require();
   file.run([](Call& c) {
-    std::ifstream in(c.str("path"));
-    if (!in) {
-      throw Error("couldn't open \"" + c.str("path") + "\": no such file or not readable",
-                  {"VALUE", "PATH"});
-    }
-    std::string line, words;
+    const std::string& path = c.str("path");
+    std::ifstream in(path);
+    Param p;
+    p.name = "pair";
+    Pairs pairs;
+    std::string line;
     InterruptPoll poll("bond file");
-    while (std::getline(in, line)) {
+    for (int number = 1; std::getline(in, line); ++number) {
       poll();
       const auto first = line.find_first_not_of(" \t\r");
       if (first == std::string::npos || line[first] == '#') continue;
-      words += "{" + line + "} ";
+      try {
+        const Pairs one = readPairs(quoteElement(line), p, c.context());
+        pairs.insert(pairs.end(), one.begin(), one.end());
+      } catch (const Error& e) {
+        throw e.within("file \"" + path + "\" line " + std::to_string(number));
+      }
     }
-    Param p;
-    p.name = "path";
-    return idList(session(c).scene().addBonds(readPairs(words, p, c.context()), c.str("model")));
+    return idList(session(c).scene().addBonds(pairs, c.str("model")));
   });
 
   Command& list = r.add("bond list", "Returns the bonds as a list of dicts {id a b model intact}.");

@@ -80,8 +80,9 @@ void registerBoundaryCommands(Registry& r) {
   src.arg("name", name(), "its name");
   src.option("region", regionType(), kRegionHelp).require();
   src.option("radius", sizeType(), "a radius or a size distribution, as pack random's").require();
-  src.option("massrate", real().withUnit("kg/s"), "mass inserted per second");
-  src.option("rate", real().withUnit("1/s"), "elements inserted per second");
+  src.option("massrate", real().positive().withUnit("kg/s"), "mass inserted per second");
+  src.option("rate", real().positive().withUnit("1/s"), "elements inserted per second");
+  src.oneOf({"massrate", "rate"}, true);
   src.option("mass", real().withUnit("kg"), "stop after this mass (default: never)");
   src.option("count", integer(), "stop after this many elements (default: never)");
   src.option("material", materialRef(), "their material (default: the first material defined)");
@@ -91,7 +92,7 @@ void registerBoundaryCommands(Registry& r) {
              "allowed placed overlap, a fraction of the smaller radius (default 0)");
   src.option("seed", integer(), "the seed of its generator (default 1)");
   src.option("tries", integer(), "placement attempts per element per step (default 200)");
-  src.option("tags", text("list of tags"), "tags to give each element");
+  src.option("tags", tagList(), "tags to give each element");
   src.onCheck([](Call& c) {
     const sim::Simulation& s = session(c).scene();
     sim::SourceDef d;
@@ -101,10 +102,6 @@ void registerBoundaryCommands(Registry& r) {
     d.material = materialOrFirst(c, s);
     if (c.has("massrate")) d.massRate = c.real("massrate");
     if (c.has("rate")) d.countRate = c.real("rate");
-    if (c.given("massrate") == c.given("rate"))
-      throw Error("bad rate: give exactly one of -massrate and -rate", {"VALUE", "RATE"});
-    if (c.has("massrate") && !(d.massRate > 0)) c.bad("massrate", "must be a positive number");
-    if (c.has("rate") && !(d.countRate > 0)) c.bad("rate", "must be a positive number");
     if (c.has("mass")) {
       d.targetMass = c.real("mass");
       if (!(d.targetMass > 0 && std::isfinite(d.targetMass)))

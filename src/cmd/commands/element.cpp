@@ -74,7 +74,7 @@ void blockOptions(Command& cmd) {
   cmd.option("fixed", boolean(),
              "1: every degree of freedom blocked (it keeps its velocity, zero unless given); "
              "0: none");
-  cmd.option("block", text("list of x y z rx ry rz"),
+  cmd.option("block", text("list of x y z rx ry rz").asList(),
              "the degrees of freedom to block (their velocities stay as they are whatever the "
              "forces); the others are freed. 2D: x y rz");
 }
@@ -121,7 +121,7 @@ void registerElementCommands(Registry& r) {
   add.option("position", vector().withUnit("m"), "centre (default: the origin)");
   add.option("velocity", vector().withUnit("m/s"), "velocity");
   add.option("angularvelocity", spin().withUnit("rad/s"), "angular velocity (a number in 2D)");
-  add.option("tags", text("list of tags"), "tags to give it");
+  add.option("tags", tagList(), "tags to give it");
   add.option("name", name(), "a unique name").to(&sim::ElementDef::name);
   add.option("shape", text("shape type"),
              "its shape type: sphere (3D) or disc (2D), the default, or another of `element "

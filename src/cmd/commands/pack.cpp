@@ -41,7 +41,10 @@ PipeType regionType() {
         }
         int d = c.dimension();
         Param q = p;
-        q.type = vector();
+        q.type = vector().range(-validity::kMaxCoordinate, validity::kMaxCoordinate);
+        auto length = [&](const std::string& word, double& out) {
+          return readReal(word, out) && out > 0 && out <= validity::kMaxCoordinate;
+        };
         Region r;
         if (parts.size() == 3 && parts[0] == "box") {
           auto lo = std::any_cast<std::vector<double>>(convertWord(parts[1], q, c));
@@ -55,9 +58,8 @@ PipeType regionType() {
         if (parts.size() == 3 && parts[0] == "sphere") {
           r.kind = Region::Sphere;
           r.centre = vec3(std::any_cast<std::vector<double>>(convertWord(parts[1], q, c)));
-          if (!readReal(parts[2], r.radius) || !(r.radius > 0) || !std::isfinite(r.radius)) {
-            throw bad("the radius must be a positive number");
-          }
+          if (!length(parts[2], r.radius))
+            throw bad("the radius must be a positive number, at most 1e15");
           return r;
         }
         if (parts.size() == 5 && parts[0] == "cylinder") {
@@ -68,11 +70,8 @@ PipeType regionType() {
           const double n = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
           if (!(n > 0)) throw bad("the axis must be a non-zero vector");
           r.axis = {axis[0] / n, axis[1] / n, axis[2] / n};
-          if (!readReal(parts[3], r.radius) || !(r.radius > 0) || !std::isfinite(r.radius) ||
-              !readReal(parts[4], r.halfLength) || !(r.halfLength > 0) ||
-              !std::isfinite(r.halfLength)) {
-            throw bad("the radius and half length must be positive numbers");
-          }
+          if (!length(parts[3], r.radius) || !length(parts[4], r.halfLength))
+            throw bad("the radius and half length must be positive numbers, at most 1e15");
           return r;
         }
         throw bad(
@@ -153,7 +152,7 @@ namespace {
 void commonOptions(Command& c) {
   c.option("material", materialRef(), "their material (default: the first material defined)");
   c.option("velocity", vector().withUnit("m/s"), "their velocity");
-  c.option("tags", text("list of tags"), "tags to give each of them");
+  c.option("tags", tagList(), "tags to give each of them");
 }
 
 // Returns the Def every packed element starts from (material, velocity, tags).

@@ -86,11 +86,15 @@ void registerHelpCommands(Registry& r) {
       r.add("help", "Describes the commands: help, help <command>, help <command> <subcommand>.");
   h.variadicArg("topic", text("word"), "a command and subcommand (unique prefixes accepted)")
       .optional = true;
+  h.flag("declarations",
+         "return the declarations of the commands under the topic as data: a list of dicts "
+         "(command, params with their kind, range, unit, default...), for tests and tools");
   h.needsScene = false;
   h.changesScene = false;
   h.run([&r](Call& c) {
     std::vector<std::string> topic;
     if (c.given("topic")) topic = c.all<std::string>("topic");
+    if (c.flag("declarations")) return r.declarations(topic);
     return Value(r.help(topic));
   });
 }

@@ -376,7 +376,7 @@ void registerSeriesCommands(Registry& r) {
   plot.arg("id", jobs().ref(), "a series output id");
   plot.option("file", text("file"), "the PNG file").require();
   plot.option("x", text("quantity"), "the abscissa").byDefault("time");
-  plot.option("y", text("quantities"), "the quantities plotted (a list)").require();
+  plot.option("y", text("quantities").asList(), "the quantities plotted (a list)").require();
   plot.option("title", text("text"), "a title above the plot");
   plot.option("size", ints(), "{width height} in pixels").byDefault("800 500");
   plot.flag("logy", "a logarithmic y axis");

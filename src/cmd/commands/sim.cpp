@@ -58,28 +58,6 @@ PipeType stepWord() {
   return t;
 }
 
-// A regular file that can be read and fits in memory; value: the path. A device such as
-// /dev/zero, or a file larger than a quarter of the machine's memory, is refused before a byte
-// is read (a checkpoint is read whole, then decoded into a scene of about the same size).
-PipeType readableFile() {
-  return custom("file", [](std::string_view w, const Param&, const Context&) -> std::any {
-    const std::string path(w);
-    struct stat st;
-    if (stat(path.c_str(), &st) != 0)
-      throw Error("couldn't open \"" + path + "\": " + posixMessage(errno), {"IO", "OPEN"});
-    if (!S_ISREG(st.st_mode))
-      throw Error("couldn't read \"" + path + "\": not a regular file", {"IO", "OPEN"});
-    const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
-    if (memory > 0 && double(st.st_size) > memory / 4) {
-      throw Error("couldn't read \"" + path + "\": " + std::to_string(st.st_size) +
-                      " bytes is more than a quarter of this machine's memory",
-                  {"IO", "SIZE"});
-    }
-    if (!std::ifstream{path, std::ios::binary})
-      throw Error("couldn't open \"" + path + "\": permission denied", {"IO", "OPEN"});
-    return path;
-  });
-}
 
 }  // namespace
 

@@ -125,13 +125,13 @@ void drawingOptions(Command& c, bool series) {
       .byDefault("speed");
   c.option("colormap", choice(kColourMaps),
            "colour map (default: categorical for id, material and tag, else viridis)");
-  c.option("range", text("{min max}, first or auto"),
+  c.option("range", text("{min max}, first or auto").asList(),
            series ? "field values mapped over the colour map: {min max}, first (fixed at the "
                     "first frame whose values differ; the default, so colours mean the same in "
                     "every frame) or auto (each frame its own)"
                   : "field values mapped over the colour map: {min max} or auto (the default: "
                     "the frame's own)");
-  c.option("tags", text("list of tags"),
+  c.option("tags", tagList(),
            "draw only the grains with one of these tags (with -color tag: one colour each)");
   c.option("values", reals(), "with -color value: one number per element, in element order");
   c.option("unit", text("unit"), "with -color value: the values' unit, shown in the legend");
@@ -166,7 +166,7 @@ void drawingOptions(Command& c, bool series) {
   c.option("chainmin", real().nonNegative(),
            "with -chains: draw only contacts whose force exceeds this fraction of the mean")
       .byDefault("1");
-  c.option("clip", text("{px py pz nx ny nz}"),
+  c.option("clip", text("{px py pz nx ny nz}").asList(),
            "leave out the grains whose centre lies on the normal's side of this plane (whole "
            "grains: none is cut; in 2D the x and y parts count)");
   c.option("walls", boolean(), "draw the walls").byDefault("1");
@@ -227,6 +227,9 @@ SnapOptions readOptions(const Call& c, bool now) {
   }
   o.up = vec3(c.vec("up"));
   if (o.up == sim::Vec3d{0, 0, 0}) c.bad("up", "must not be the zero vector");
+  // A direction: scaled by its largest component, so {1e-300 0 0} does not underflow to zero.
+  const double largest = std::max({std::fabs(o.up[0]), std::fabs(o.up[1]), std::fabs(o.up[2])});
+  for (double& x : o.up) x /= largest;
   o.fov = c.real("fov");
   o.ortho = c.flag("ortho");
   o.viewHeight = c.real("viewheight");

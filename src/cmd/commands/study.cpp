@@ -380,12 +380,7 @@ std::string tableText(const Plan& p, const std::vector<Row>& rows,
 PipeType integratorList() {
   PipeType t = custom(
       "list of integrators", [](std::string_view w, const Param&, const Context&) -> std::any {
-        std::vector<std::string> items;
-        try {
-          items = splitList(w);
-        } catch (const Error& e) {
-          throw Error(e.what(), {"VALUE", "INTEGRATORS"});
-        }
+        std::vector<std::string> items = splitList(w);
         if (items.empty()) {
           throw Error("bad integrators \"" + std::string(w) + "\": must name at least one of " +
                           alternatives(kIntegrators, "and"),
@@ -592,7 +587,13 @@ Value execute(Call& c) {
     std::uint64_t n0 = p.steps;
     if (p.byTime) {
       // The largest step not above the scene's own that divides -time into whole steps.
-      n0 = std::uint64_t(std::max(1.0, std::ceil(p.time / dt0 * (1 - 1e-12))));
+      const double steps = std::ceil(p.time / dt0 * (1 - 1e-12));
+      if (!(steps <= 1e12)) {  // before the conversion to an integer, which would overflow
+        throw Error("bad time \"" + formatReal(p.time) + "\": needs more than 10^12 steps at the "
+                    "scene's time step " + formatReal(dt0),
+                    {"VALUE", "TIME"});
+      }
+      n0 = std::uint64_t(std::max(1.0, steps));
       dt0 = p.time / double(n0);
     }
     if (double(n0) * std::pow(double(p.ratio), p.refine - 1) > 1e12) {

@@ -55,7 +55,7 @@ void commonOptions(Command& c) {
            "reference point (the centre for finite walls, boxes and drums)");
   c.option("material", materialRef(), "its material (default: the first material defined)");
   c.option("name", name(), "a unique name");
-  c.option("tags", text("list of tags"), "tags to give it");
+  c.option("tags", tagList(), "tags to give it");
   motionOptions(c);
 }
 
@@ -209,17 +209,17 @@ void registerWallCommands(Registry& r) {
                          "the force the elements push it back with in the last step. Stable "
                          "for gain < 2 / (K dt), K the packing's normal stiffness.");
   servo.arg("wall", wallRef(), "a plane or finite wall, id or name");
-  servo.option("force", real().withUnit("N"), "the normal force to hold");
-  servo.option("stress", real().withUnit("Pa"), "the normal stress to hold (force / area)");
-  servo.option("area", real().withUnit("m^2"),
+  servo.option("force", real().nonNegative().withUnit("N"), "the normal force to hold");
+  servo.option("stress", real().nonNegative().withUnit("Pa"),
+               "the normal stress to hold (force / area)");
+  servo.oneOf({"force", "stress"}, true);
+  servo.option("area", real().positive().withUnit("m^2"),
                "the area the stress acts on (default: a finite wall's own; 2D: per unit depth)");
   servo.option("gain", real().withUnit("m/(N s)"), "velocity per newton of error").require();
   servo.option("maxspeed", real().withUnit("m/s"), "the largest speed").require();
   servo.run([](Call& c) {
     auto& s = session(c).scene();
     const WallId id = c.get<WallId>("wall");
-    if (c.given("force") == c.given("stress"))
-      throw Error("bad servo: give exactly one of -force and -stress", {"VALUE", "TARGET"});
     sim::WallServoDef d;
     d.gain = c.real("gain");
     d.maxSpeed = c.real("maxspeed");
@@ -228,11 +228,9 @@ void registerWallCommands(Registry& r) {
       d.target = c.real("force");
     } else {
       const double stress = c.real("stress");
-      if (!(stress >= 0 && std::isfinite(stress))) c.bad("stress", "must be a non-negative number");
       double area = 0;
       if (c.has("area")) {
         area = c.real("area");
-        if (!(area > 0 && std::isfinite(area))) c.bad("area", "must be a positive number");
       } else {
         const sim::WallState w = s.wall(id);
         if (w.shape != WallShape::Finite) c.bad("area", "is needed for a plane (it has no extent)");

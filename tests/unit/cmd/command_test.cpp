@@ -138,7 +138,7 @@ TEST_F(RegistryTest, ErrorsUseTclWordingAndCodesAndChangeNothing) {
   EXPECT_EQ(m, "bad velocity \"1 2\": expected a vector of 3 numbers but got 2");
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-velocity", "{1 2"}, &m),
             "DEMLAB VALUE VELOCITY");
-  EXPECT_EQ(m, "unmatched open brace in list");
+  EXPECT_EQ(m, "bad velocity \"{1 2\": unmatched open brace in list");  // the word is named
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-law", "h"}, &m), "none");
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-law", "x"}, &m), "DEMLAB VALUE LAW");
   EXPECT_EQ(m, "bad law \"x\": must be linear or hertz");
@@ -196,6 +196,30 @@ TEST_F(RegistryTest, HelpComesFromTheDeclaration) {
             std::string::npos);
   EXPECT_NE(md.find("| `-density` | real | kg/m^3 | > 0 | `2500` | density |"), std::string::npos)
       << md;
+}
+
+TEST_F(RegistryTest, DeclarationsAreTheDeclarationAsData) {
+  std::string all = toString(reg.declarations({}));
+  std::vector<std::string> commands = splitList(all);
+  ASSERT_EQ(commands.size(), 4u);  // ball add, ball get, ball run, help
+  std::string add = toString(reg.declarations({"ball", "add"}));
+  EXPECT_EQ(splitList(add).size(), 1u);
+  EXPECT_EQ(splitList(add)[0], commands[0]);
+  EXPECT_NE(add.find("command {ball add}"), std::string::npos) << add;
+  EXPECT_NE(add.find("{name radius role option required 1 optional 0 kind real label real unit m "
+                     "min 0.0 minopen 1 max {} maxopen 0 length 0 choices {} default {} "
+                     "hasdefault 0}"),
+            std::string::npos)
+      << add;
+  EXPECT_NE(add.find("name material role positional required 1"), std::string::npos) << add;
+  EXPECT_NE(add.find("kind choice label {linear hertz} unit {} min {} minopen 0 max {} maxopen 0 "
+                     "length 0 choices {linear hertz} default hertz hasdefault 1"),
+            std::string::npos)
+      << add;
+  std::string run = toString(reg.declarations({"ball", "run"}));
+  EXPECT_NE(run.find("exclusive {{names {steps time} requireone 1}}"), std::string::npos) << run;
+  EXPECT_EQ(splitList(toString(reg.declarations({"ball"}))).size(), 3u);
+  EXPECT_EQ(codeOf([&] { reg.declarations({"ball", "zzz"}); }), "DEMLAB LOOKUP SUBCOMMAND");
 }
 
 TEST_F(RegistryTest, CompletionOffersCommandsOptionsAndChoices) {

@@ -1,0 +1,410 @@
+# The command-sequence fuzzer: random sequences of demlab commands built from the declarations
+# (help -declarations, through tests/tcl/declcalls.tcl), with valid words, bad and boundary
+# words, and re-entrant callbacks (a redirected puts, a load expression, a study's scripts that
+# call other commands). Each sequence runs in a fresh interpreter of a runner process; after
+# every command the runner checks the invariants:
+#   - an error has an -errorcode starting DEMLAB, and not DEMLAB INTERNAL;
+#   - a command that fails leaves `sim digest` unchanged (except the outcomes documented as
+#     partial: the watchdog's stop, an interrupt, a failing load expression);
+#   - the scene's energies, bounds and element positions are finite.
+# The driver runs the runner as a child process, so a crash (the runner dies) or a hang (no
+# answer, even to SIGINT) is seen too. A failing sequence is minimised (delta debugging on its
+# list of commands) and saved as a Tcl file in the corpus, which `replay` runs again.
+#
+# Usage (through the demlab executable):
+#   demlab command_fuzz.tcl fuzz ?-seconds N? ?-seed S? ?-corpus DIR? ?-timeout SECONDS?
+#   demlab command_fuzz.tcl replay PATH ...     (saved sequences: files, or folders of *.tcl)
+#   demlab command_fuzz.tcl runner              (internal: the child the driver talks to)
+# fuzz prints one line of figures at the end: sequences, commands, seconds, findings; it exits 1
+# when it found something. replay exits 1 when a saved sequence still breaks an invariant.
+
+set here [file dirname [file normalize [info script]]]
+source [file join $here .. tcl declcalls.tcl]
+
+# ---------------------------------------------------------------------------------------------
+# The runner: runs sequences, checking the invariants after each command.
+
+# Returns the scene's digest in interpreter fz, or "" when it has no scene.
+proc digestOf {fz} {
+    if {[catch {$fz eval {sim digest}} d]} {return ""}
+    return $d
+}
+
+# Returns "" if what the scene in fz reports is finite, else the first non-finite report.
+proc nonFinite {fz} {
+    foreach q {{query energy} {query bounds} {element array position -flat}
+               {element array velocity -flat}} {
+        if {[catch {$fz eval $q} value]} continue
+        if {[regexp -nocase {nan|inf} $value]} {return "$q gave [string range $value 0 200]"}
+    }
+    return ""
+}
+
+# The error codes of failures documented as leaving the steps done (doc/reliability.md): the
+# digest may change.
+proc partialOutcome {code} {
+    expr {[lindex $code 1] in {WATCHDOG INTERRUPTED CALLBACK}}
+}
+
+# Runs one sequence (a list of calls, each a list of words) in a fresh interpreter. Returns a
+# dict: commands (how many ran), status (ok or violation), and for a violation, step (its
+# index), rule, and message.
+proc runSequence {steps} {
+    set fz [interp create]
+    load {} Demlab $fz
+    # The reports of runs go nowhere, unless a sequence redirects puts itself.
+    $fz eval {rename ::puts ::fuzz_puts; proc ::puts args {}}
+    cd $::runnerDir
+    set result [dict create commands 0 errors 0 status ok]
+    set i 0
+    foreach call $steps {
+        # Which command runs, for the driver to name if this one crashes or hangs.
+        puts "FUZZSTEP $i"
+        set before [digestOf $fz]
+        set failed [catch {$fz eval $call} msg opts]
+        dict incr result commands
+        if {$failed} {dict incr result errors}
+        set rule ""
+        if {$failed && [lindex $call 0] ni {proc rename}} {
+            set code [dict get $opts -errorcode]
+            if {[lindex $code 0] ne "DEMLAB" || [lindex $code 1] eq "INTERNAL"} {
+                set rule "errorcode {$code}"
+            } elseif {![partialOutcome $code] && [digestOf $fz] ne $before} {
+                set rule "the scene changed although the command failed"
+            }
+        }
+        if {$rule eq ""} {
+            set bad [nonFinite $fz]
+            if {$bad ne ""} {set rule "non-finite: $bad"}
+        }
+        if {$rule ne ""} {
+            dict set result status violation
+            dict set result step $i
+            dict set result rule $rule
+            dict set result message [string range $msg 0 300]
+            break
+        }
+        incr i
+    }
+    interp delete $fz
+    return $result
+}
+
+# Returns the folder where the runner with process id pid works.
+proc runnerFolder {pid} {
+    file join [expr {[info exists ::env(TMPDIR)] ? $::env(TMPDIR) : "/tmp"}] \
+        demlab-command-fuzz-$pid
+}
+
+# Reads sequences from stdin, one per line (newlines and backslashes escaped), and answers
+# each with a line "FUZZRESULT <dict>". Returns at end of input.
+proc runnerLoop {} {
+    # What the sequences write (dumps, checkpoints, images) goes to a folder of this process.
+    set ::runnerDir [runnerFolder [pid]]
+    file mkdir $::runnerDir
+    fconfigure stdout -buffering line
+    while {[gets stdin line] >= 0} {
+        set steps [string map {\\n \n \\\\ \\} $line]
+        puts "FUZZRESULT [list [runSequence $steps]]"
+        file delete -force $::runnerDir
+        file mkdir $::runnerDir
+    }
+    file delete -force $::runnerDir
+}
+
+# ---------------------------------------------------------------------------------------------
+# The driver: generates sequences and talks to a runner child.
+
+namespace eval driver {
+    variable ch ""          ;# the runner's pipe
+    variable output ""      ;# what the runner wrote besides its answers (sanitizer reports)
+    variable answer ""
+    variable step 0         ;# the index of the command the runner last started
+    variable timeout 20     ;# seconds a sequence may take before the runner is sent SIGINT
+}
+
+# Starts a runner child if none is running. Changes driver::ch.
+proc driver::start {} {
+    variable ch
+    if {$ch ne ""} return
+    set ch [open |[list [info nameofexecutable] [file normalize $::argv0] runner 2>@1] r+]
+    fconfigure $ch -buffering line -blocking 0
+    fileevent $ch readable driver::read
+}
+
+# Stops the runner child (closing its input; killed when it does not go). Changes driver::ch.
+proc driver::stop {{signal ""}} {
+    variable ch
+    if {$ch eq ""} return
+    set pids [pid $ch]
+    if {$signal ne ""} {catch {exec kill -$signal {*}$pids}}
+    fileevent $ch readable {}
+    catch {fconfigure $ch -blocking 1}
+    catch {close $ch}
+    set ch ""
+    # A runner that was killed leaves its folder (runnerLoop).
+    foreach p $pids {file delete -force [runnerFolder $p]}
+}
+
+proc driver::read {} {
+    variable ch
+    variable output
+    variable answer
+    variable step
+    if {[gets $ch line] >= 0} {
+        if {[string match "FUZZRESULT *" $line]} {
+            set answer [lindex [string range $line 11 end] 0]
+        } elseif {[regexp {^FUZZSTEP (\d+)$} $line -> step]} {
+        } else {
+            append output $line \n
+        }
+    } elseif {[eof $ch]} {
+        set answer eof
+    }
+}
+
+# Runs a sequence on the runner. Returns the runner's result dict, or a dict with status
+# crash (the runner died; output: what it printed), slow (no answer within the timeout, but
+# the runner answered or ended within 5 s of a SIGINT: not a finding, long work is allowed) or
+# hang (no answer even then). Restarts the runner after a crash, a slow sequence or a hang.
+proc driver::run {steps} {
+    variable ch
+    variable output ""
+    variable answer ""
+    variable step 0
+    variable timeout
+    start
+    puts $ch [string map {\\ \\\\ \n \\n} $steps]
+    set timer [after [expr {int($timeout * 1000)}] {set driver::answer timeout}]
+    vwait driver::answer
+    after cancel $timer
+    if {$answer eq "timeout"} {
+        catch {exec kill -INT {*}[pid $ch]}
+        set timer [after 5000 {set driver::answer hang}]
+        vwait driver::answer
+        after cancel $timer
+        if {$answer ne "hang"} {
+            stop KILL
+            return [dict create status slow commands 0 errors 0 rule slow message ""]
+        }
+    }
+    switch -- $answer {
+        eof {
+            stop KILL
+            return [dict create status crash commands [expr {$step + 1}] errors 0 step $step \
+                rule crash message [string range $output 0 2000]]
+        }
+        hang {
+            stop KILL
+            return [dict create status hang commands [expr {$step + 1}] errors 0 step $step rule hang \
+                message "no answer in $timeout s, nor 5 s after SIGINT"]
+        }
+    }
+    return $answer
+}
+
+# Returns a word for parameter p of decl: mostly a valid one, sometimes a bad or boundary one.
+proc randomWord {decl p} {
+    if {rand() < 0.75} {
+        set w [validWord $decl $p]
+        if {[dict get $p kind] eq "real" && rand() < 0.5} {
+            set pick [lindex {0.005 0.01 0.02 0.1} [expr {int(rand() * 4)}]]
+            if {![outsideRange $p $pick]} {set w $pick}
+        }
+        return $w
+    }
+    set words [badWords $p]
+    if {$words eq {}} {return [validWord $decl $p]}
+    lindex [lindex $words [expr {int(rand() * [llength $words])}]] 0
+}
+
+# Returns a random call of decl: its required parameters, some optional ones.
+proc randomCall {decl} {
+    set call [dict get $decl command]
+    set options {}
+    set chosen {}
+    foreach g [dict get $decl exclusive] {
+        set names [dict get $g names]
+        if {[dict get $g requireone] || rand() < 0.3} {
+            lappend chosen [lindex $names [expr {int(rand() * [llength $names])}]]
+        }
+        foreach n $names {if {$n ni $chosen} {lappend excluded $n}}
+    }
+    foreach p [dict get $decl params] {
+        set n [dict get $p name]
+        set role [dict get $p role]
+        set wanted [expr {[dict get $p required] || $n in $chosen
+            || (![info exists excluded] || $n ni $excluded) && rand() < 0.25}]
+        if {!$wanted} continue
+        switch -- $role {
+            positional - variadic {lappend call [randomWord $decl $p]}
+            flag {lappend options -$n}
+            option {lappend options -$n [randomWord $decl $p]}
+        }
+    }
+    concat $call $options
+}
+
+# Returns a call that sets up a callback into demlab from inside another command: puts
+# redirected to a command, a load whose force expression runs one, a kept puts restored.
+proc randomCallback {decls} {
+    set inner [randomCall [lindex $decls [expr {int(rand() * [llength $decls])}]]]
+    switch -- [expr {int(rand() * 4)}] {
+        0 {return [list proc ::puts args $inner]}
+        1 {return [list proc ::puts args "catch [list $inner]; ::fuzz_puts {*}\$args"]}
+        2 {
+            return [list behavior add load -element first \
+                -force [list 0 0 "\[catch [list $inner]\] * 0.0"]]
+        }
+        3 {
+            return [list study convergence -scene ::valid::tinyScene -steps 1 -quiet \
+                -measure "[list catch $inner]; expr 1.0"]
+        }
+    }
+}
+
+# Returns a random sequence: the scene with one of everything (or a bare one), then up to
+# `length` random calls and callbacks.
+proc randomSequence {decls length} {
+    set steps [expr {rand() < 0.8 ? [sceneSteps dumps] : [list {sim new -dim 2}]}]
+    set n [expr {1 + int(rand() * $length)}]
+    for {set k 0} {$k < $n} {incr k} {
+        if {rand() < 0.1} {
+            lappend steps [randomCallback $decls]
+        } else {
+            lappend steps [randomCall [lindex $decls [expr {int(rand() * [llength $decls])}]]]
+        }
+    }
+    return $steps
+}
+
+# Returns 1 if result is a failure of the same kind as the one being minimised.
+proc sameFailure {result target} {
+    expr {[dict get $result status] eq [dict get $target status]
+          && [lindex [dict get $result rule] 0] eq [lindex [dict get $target rule] 0]}
+}
+
+# Returns the smallest sublist of steps found (delta debugging: dropping chunks, then single
+# steps) that still fails the way target does.
+proc minimise {steps target} {
+    set chunk [expr {max(1, [llength $steps] / 2)}]
+    while {$chunk >= 1} {
+        set progress 0
+        for {set start 0} {$start < [llength $steps]} {incr start $chunk} {
+            set trial [lreplace $steps $start [expr {$start + $chunk - 1}]]
+            if {$trial eq {}} continue
+            if {[sameFailure [driver::run $trial] $target]} {
+                set steps $trial
+                set progress 1
+                incr start -$chunk
+            }
+        }
+        if {!$progress} {set chunk [expr {$chunk / 2}]}
+    }
+    return $steps
+}
+
+# Saves a minimised failing sequence as a Tcl file in dir. Returns the file's path.
+proc saveFinding {dir steps result seed} {
+    file mkdir $dir
+    set body "# A sequence found by tests/fuzz/command_fuzz.tcl (seed $seed): [dict get $result status]\n"
+    foreach line [split "[dict get $result rule]: [dict get $result message]" \n] {
+        append body "# $line\n"
+    }
+    append body "set steps {\n"
+    foreach s $steps {append body "    [list $s]\n"}
+    append body "}\n"
+    set name [format "%s-%08x.tcl" [dict get $result status] [expr {[zlib crc32 $steps] & 0xffffffff}]]
+    set path [file join $dir $name]
+    set f [open $path w]
+    puts -nonewline $f $body
+    close $f
+    return $path
+}
+
+# Fuzzes for the given seconds from seed. Returns the number of findings; prints the figures.
+proc fuzz {seconds seed corpus} {
+    set decls [help -declarations]
+    expr {srand($seed)}
+    set deadline [expr {[clock milliseconds] + int($seconds * 1000)}]
+    set sequences 0
+    set commands 0
+    set findings 0
+    set slow 0
+    set errors 0
+    set started [clock milliseconds]
+    while {[clock milliseconds] < $deadline} {
+        set steps [randomSequence $decls 20]
+        set result [driver::run $steps]
+        incr sequences
+        incr commands [dict get $result commands]
+        incr errors [dict get $result errors]
+        if {[dict get $result status] eq "slow"} {incr slow}
+        if {[dict get $result status] in {ok slow}} continue
+        incr findings
+        puts "finding: [dict get $result status] [dict get $result rule]"
+        # What follows the command that crashed or hung does not matter; a hang is tried again
+        # with a shorter timeout.
+        set steps [lrange $steps 0 [dict get $result step]]
+        set timeout $driver::timeout
+        if {[dict get $result status] eq "hang"} {set driver::timeout [expr {min($timeout, 5)}]}
+        set small [minimise $steps $result]
+        set driver::timeout $timeout
+        set path [saveFinding $corpus $small $result $seed]
+        puts "  minimised from [llength $steps] to [llength $small] commands: $path"
+    }
+    driver::stop
+    set elapsed [expr {([clock milliseconds] - $started) / 1000.0}]
+    puts "command_fuzz: seed $seed, $sequences sequences, $commands commands ($errors failed, as\
+        they may) in $elapsed s,\
+        $findings findings, $slow interrupted after [set driver::timeout] s"
+    return $findings
+}
+
+# Replays saved sequences; returns the number that still fail.
+proc replay {paths} {
+    set failures 0
+    set files {}
+    foreach p $paths {
+        if {[file isdirectory $p]} {
+            lappend files {*}[lsort [glob -nocomplain -directory $p *.tcl]]
+        } else {
+            lappend files $p
+        }
+    }
+    foreach f $files {
+        unset -nocomplain steps
+        source $f
+        set result [driver::run $steps]
+        if {[dict get $result status] ne "ok"} {
+            incr failures
+            puts "FAILED $f: [dict get $result status] [dict get $result rule]\
+                [dict get $result message]"
+        }
+    }
+    driver::stop
+    puts "command_fuzz replay: [llength $files] sequences, $failures failing"
+    return $failures
+}
+
+set mode [lindex $argv 0]
+switch -- $mode {
+    runner {
+        runnerLoop
+    }
+    fuzz {
+        set opts [dict merge {-seconds 60 -seed 1 -corpus "" -timeout 20} [lrange $argv 1 end]]
+        set corpus [dict get $opts -corpus]
+        if {$corpus eq ""} {set corpus [file join $here corpus tcl]}
+        set driver::timeout [dict get $opts -timeout]
+        exit [expr {[fuzz [dict get $opts -seconds] [dict get $opts -seed] $corpus] > 0}]
+    }
+    replay {
+        exit [expr {[replay [lrange $argv 1 end]] > 0}]
+    }
+    default {
+        puts stderr "usage: demlab command_fuzz.tcl fuzz ?-seconds N? ?-seed S? ?-corpus DIR?\
+            ?-timeout SECONDS? | replay PATH ..."
+        exit 2
+    }
+}
