@@ -5,24 +5,26 @@
 # x faces, S3 < S1 across the y faces. By Kirsch's solution the hoop stress on the hole's wall
 # is S1 + S3 - 2 (S1 - S3) cos 2 theta (theta from x): largest, 3 S1 - S3, where the wall is
 # crossed by the y axis, so the rock breaks out on the two sides of the hole in the direction of
-# the least compressive stress S3, perpendicular to S1. The script measures where: the
+# the least compressive stress S3, perpendicular to S1; with S3 = S1 / 3 (the defaults, 60 and
+# 20 MPa) the hoop stress is nowhere tensile. The script measures where: the
 # histogram of the angles (folded to [0, 90] degrees from the x axis) of the broken bonds
 # within 2.5 hole radii of the centre, written as a CSV table, and the share of them within 30
 # degrees of the y axis (a uniform spread would put a third there). With -frames DIR it writes
 # PNG frames of the block coloured by each element's broken bonds.
 #
 #   build/demlab examples/borehole.tcl ?file.csv? ?-short? ?-frames DIR? ?-s1 Pa? ?-s3 Pa?
+#                                      ?-hole m?
 #
 # -short: a smaller block (the test suite's form).
 
 source [file join [file dirname [info script]] rock.tcl]
 
-array set opt {-short 0 -frames {} -s1 {} -s3 {} -seed 1 -csv borehole.csv}
+array set opt {-short 0 -frames {} -s1 {} -s3 {} -hole {} -seed 1 -csv borehole.csv}
 rock::parseArgs opt $argv
 set L [expr {$opt(-short) ? 0.012 : 0.024}]      ;# the block's side, m
-set a [expr {$opt(-short) ? 0.0018 : 0.003}]     ;# the hole's radius, m
-set S1 [expr {$opt(-s1) ne {} ? $opt(-s1) : 4e7}]
-set S3 [expr {$opt(-s3) ne {} ? $opt(-s3) : 5e6}]
+set a [expr {$opt(-hole) ne {} ? $opt(-hole) : ($opt(-short) ? 0.0018 : 0.003)}]   ;# the hole's radius, m
+set S1 [expr {$opt(-s1) ne {} ? $opt(-s1) : 6e7}]
+set S3 [expr {$opt(-s3) ne {} ? $opt(-s3) : 2e7}]
 
 rock::scene 2
 rock::cement
@@ -58,11 +60,14 @@ proc frame {k title} {
 }
 frame 0 "drilled: S1 = S3 = 0"
 
-# The servo walls: each holds its face's stress over the block's side (per unit thickness);
-# the gain is a tenth of the stability bound 2 / (K dt) for the block's stiffness K ~ E; the
-# speed limit loads the block at a strain rate of at most 4/s, quasi-static as in ucs.tcl.
-set gain [expr {0.2 / ($rock::modulus * [sim timestep])}]
-set speed [expr {4.0 * $L / 2}]
+# The servo walls: each holds its face's stress over the block's side (per unit thickness).
+# The gain is a tenth of the stability bound 2 / (K dt), K the stiffness the wall meets first:
+# its contacts with the L / (2 r) discs along it, each kn = E* R = 4 E_c per unit thickness (a
+# wall's R* is the disc's radius). The speed limit loads the block at a strain rate of at most
+# 10/s, as ucs.tcl's short form.
+set along [expr {$L / ($rock::rmin + $rock::rmax)}]
+set gain [expr {0.2 / ($along * 4 * $rock::modulus * [sim timestep])}]
+set speed [expr {10.0 * $L / 2}]
 foreach {w s} [list $left $S1 $right $S1 $bottom $S3 $top $S3] {
     wall servo $w -stress $s -area $L -gain $gain -maxspeed $speed
 }

@@ -27,7 +27,7 @@ rock::parseArgs opt $argv
 set d $opt(-dim)
 set rate [expr {$opt(-rate) ne {} ? $opt(-rate) : ($opt(-short) ? 10.0 : 4.0)}]
 # Width by height (2D); 3D a square prism of that cross-section, one width deep.
-set W [expr {$opt(-short) ? ($d == 2 ? 0.006 : 0.004) : ($d == 2 ? 0.016 : 0.006)}]
+set W [expr {$opt(-short) ? ($d == 2 ? 0.006 : 0.004) : ($d == 2 ? 0.016 : 0.005)}]
 set H [expr {2 * $W}]
 set axis [expr {$d - 1}]
 

@@ -1,7 +1,7 @@
 # The bonded-sample laboratory's studies (run by scripts/bond-figures): the examples ucs.tcl,
 # brazil.tcl and borehole.tcl in their full forms, on one thread, their CSV tables and frames
 # written into OUTDIR and their figures as Markdown tables into OUTDIR/tables.md:
-#   - unconfined compression at 4/s and at 2/s (quasi-static: the rate halved);
+#   - unconfined compression at 4/s and at 2/s (quasi-static: the rate halved), and in 3D;
 #   - micro to macro: the bonds' stiffness and strength times 0.5, 1 and 2, at 4/s;
 #   - the Brazilian test; the borehole breakout.
 #
@@ -28,20 +28,21 @@ proc line {text} {
 
 set ucs [dict create]
 foreach {key rate k s} {r4 4 1 1 r2 2 1 1 k05 4 0.5 1 k2 4 2 1 s05 4 1 0.5 s2 4 1 2} {
-    set csv [expr {$key in {r4 r2} ? "ucs-$key.csv" : "ucs-$key.csv"}]
-    dict set ucs $key [example ucs $csv -rate $rate -kscale $k -sscale $s]
+    dict set ucs $key [example ucs ucs-$key.csv -rate $rate -kscale $k -sscale $s]
 }
+dict set ucs d3 [example ucs ucs-3d.csv -dim 3 -rate 4]
 set base [dict get $ucs r4]
 line "Sample (\`demlab::sample\`, examples/rock.tcl): [dict get $base elements] discs, [dict get $base bonds] bonds,\
     solid fraction [format %.3f [dict get $base fraction]], mean stress locked in after bonding and\
     removing the walls [format %.3g [dict get $base lockedin]] Pa, that is [format %.1e [expr {[dict get $base lockedin] / 5e7}]]\
     of the bond strength (50 MPa)."
 line ""
-line "| run | strain rate (1/s) | peak (MPa) | strain at peak | E (GPa) | Poisson's ratio | cracks at peak | tension / shear at the end | steps | time per step (us) |"
-line "|---|---|---|---|---|---|---|---|---|---|"
-foreach {key label} {r4 {base} r2 {rate halved} k05 {bond kn, ks x 0.5} k2 {bond kn, ks x 2} s05 {bond strengths x 0.5} s2 {bond strengths x 2}} {
+line "| run | elements / bonds | strain rate (1/s) | peak (MPa) | strain at peak | E (GPa) | Poisson's ratio | cracks at peak | tension / shear at the end | steps | time per step (us) |"
+line "|---|---|---|---|---|---|---|---|---|---|---|"
+foreach {key label} {r4 {base} r2 {rate halved} k05 {bond kn, ks x 0.5} k2 {bond kn, ks x 2} s05 {bond strengths x 0.5} s2 {bond strengths x 2} d3 {3D, base}} {
     set r [dict get $ucs $key]
-    line [format "| %s | %g | %.2f | %.5f | %.2f | %.3f | %d | %d / %d | %d | %.0f |" $label [dict get $r rate] \
+    line [format "| %s | %d / %d | %g | %.2f | %.5f | %.2f | %.3f | %d | %d / %d | %d | %.0f |" $label \
+        [dict get $r elements] [dict get $r bonds] [dict get $r rate] \
         [expr {[dict get $r peak] / 1e6}] [dict get $r peakstrain] [expr {[dict get $r modulus] / 1e9}] \
         [dict get $r poisson] [dict get $r peakcracks] [dict get $r tension] [dict get $r shear] \
         [dict get $r steps] [expr {1e6 * [dict get $r seconds] / [dict get $r steps]}]]
