@@ -75,7 +75,7 @@ line [format "Brazilian test (examples/brazil.tcl): a disc of %d discs, %d bonds
 
 set bh [example borehole borehole.csv -frames [file join $out frames]]
 line ""
-line [format "Borehole breakout (examples/borehole.tcl): %d discs, %d bonds after drilling; the walls held %.1f MPa across x and %.1f MPa across y; %d bonds broke, %d of them within 2.5 hole radii, %.0f %% of those within 30 degrees of the y axis (a uniform spread: 33 %%). Broken bonds per 10-degree bin from the x axis: %s." \
+line [format "Borehole breakout (examples/borehole.tcl, a 12 mm block, a hole of radius 1.8 mm, S1 = 60 MPa, S3 = 20 MPa): %d discs, %d bonds after drilling; the servo walls held %.1f MPa across x and %.1f MPa across y; %d bonds broke, %d of them within 2.5 hole radii, %.0f %% of those within 30 degrees of the y axis (a uniform spread: 33 %%). Broken bonds per 10-degree bin from the x axis: %s." \
     [dict get $bh elements] [dict get $bh bonds] [expr {[dict get $bh sx] / 1e6}] \
     [expr {[dict get $bh sy] / 1e6}] [dict get $bh broken] [dict get $bh near] \
     [expr {100 * [dict get $bh share]}] [join [dict get $bh bins] {, }]]

@@ -105,11 +105,13 @@ proc ::demlab::report {args} {
     return $s
 }
 
-# demlab::sample -region REGION -radius DIST -model MODEL ?-material M? ?-seed N? ?-start F?
-#     ?-overlap X? ?-iterations N? ?-gap G? ?-tag T? ?-steps N? ?-keepwalls 0|1?
+# demlab::sample -region REGION -radius DIST -model MODEL ?-material M? ?-wallmaterial W?
+#     ?-seed N? ?-start F? ?-overlap X? ?-iterations N? ?-gap G? ?-tag T? ?-steps N?
+#     ?-keepwalls 0|1?
 # Makes a bonded sample after Potyondy and Cundall's genesis: places elements of the size
 # distribution DIST (as pack random takes it) at random in REGION at solid fraction -start
-# (default 0.5 in 2D, 0.3 in 3D), holds them by walls on the region's boundary (planes for a
+# (default 0.5 in 2D, 0.3 in 3D), holds them by walls of -wallmaterial (default: the
+# elements' material) on the region's boundary (planes for a
 # box, a drum for a disc in 2D or a cylinder in 3D, the cylinder closed by two planes) and
 # grows every radius (element resize) in steps of 1 % (in the logarithm of the factor), each
 # followed by sim relax -overlap X -iterations N (defaults 1e-5 and 300): the geometric
@@ -132,7 +134,7 @@ proc ::demlab::report {args} {
 proc ::demlab::sample {args} {
     set usage {demlab::sample -region REGION -radius DIST -model MODEL ?-option value ...?}
     set d [sim dimension]
-    array set opt [list -material {} -seed 1 -start [expr {$d == 2 ? 0.5 : 0.3}] -gap {} \
+    array set opt [list -material {} -wallmaterial {} -seed 1 -start [expr {$d == 2 ? 0.5 : 0.3}] -gap {} \
         -tag sample -steps 1000 -overlap 1e-5 -iterations 300 -keepwalls 0]
     set required {-region -radius -model}
     if {[llength $args] % 2} {
@@ -180,7 +182,8 @@ proc ::demlab::sample {args} {
     set tag $opt(-tag)
     set ids [pack random -region $region -radius $opt(-radius) -fraction $opt(-start) \
         -seed $opt(-seed) -material $material -tags [list $tag]]
-    set walls [demlab::RegionWalls $region $d $material]
+    set wallMaterial [expr {$opt(-wallmaterial) eq {} ? $material : $opt(-wallmaterial)}]
+    set walls [demlab::RegionWalls $region $d $wallMaterial]
     set volume [demlab::RegionVolume $region $d]
     set friction [material get $material -friction]
     set restitution [material get $material -restitution]
