@@ -14,9 +14,10 @@ namespace eval rock {
     variable strength 5e7      ;# bond tensile and shear strength, Pa
 }
 
-# Starts a new scene of dimension d with the rock's material and rigid platens ("plate").
+# Starts a new scene of dimension d with the rock's material and rigid platens ("plate"), the
+# contacts' modulus E_c times cscale.
 # Returns nothing.
-proc rock::scene {d} {
+proc rock::scene {d {cscale 1}} {
     sim new -dim $d
     # Restitution 0.2: the contacts' damping settles the genesis and takes the platens' noise.
     material add rock -density 2650 -young 3e10 -poisson 0.25 -restitution 0.2 -friction 0.5
@@ -29,7 +30,7 @@ proc rock::scene {d} {
     variable rmax
     variable modulus
     set rstar [expr {($rmin + $rmax) / 4}]
-    set young [expr {$d == 2 ? 2 * $modulus / $rstar : 8 * $modulus}]
+    set young [expr {$cscale * ($d == 2 ? 2 * $modulus / $rstar : 8 * $modulus)}]
     law default linear
     law coefficients rock rock -young $young
     law coefficients rock plate -young $young

@@ -12,17 +12,18 @@
 # them as a dict.
 #
 #   build/demlab examples/ucs.tcl ?file.csv? ?-short? ?-dim 2|3? ?-rate 1/s? ?-kscale k?
-#                                 ?-sscale s? ?-seed n?
+#                                 ?-sscale s? ?-cscale c? ?-seed n?
 #
 # -short: a smaller sample at a faster rate (the test suite's form). -rate: the strain rate
-# (default 4/s, 10/s short); -kscale, -sscale: factors on the bonds' stiffness and strength.
+# (default 4/s, 10/s short); -kscale, -sscale: factors on the bonds' stiffness and strength;
+# -cscale: on the contacts' modulus.
 # At 4/s the sample's height shortens by 1e-5 per P-wave transit (quasi-static: halving the
 # rate changes the peak by a few percent, doc/verification.md). The run stops when the stress
 # has fallen below 60 % of the peak after it, or at 2 % strain.
 
 source [file join [file dirname [info script]] rock.tcl]
 
-array set opt {-short 0 -dim 2 -rate {} -kscale 1 -sscale 1 -seed 1 -csv ucs.csv}
+array set opt {-short 0 -dim 2 -rate {} -kscale 1 -sscale 1 -cscale 1 -seed 1 -csv ucs.csv}
 rock::parseArgs opt $argv
 set d $opt(-dim)
 set rate [expr {$opt(-rate) ne {} ? $opt(-rate) : ($opt(-short) ? 10.0 : 4.0)}]
@@ -31,7 +32,7 @@ set W [expr {$opt(-short) ? ($d == 2 ? 0.006 : 0.004) : ($d == 2 ? 0.016 : 0.005
 set H [expr {2 * $W}]
 set axis [expr {$d - 1}]
 
-rock::scene $d
+rock::scene $d $opt(-cscale)
 rock::cement $opt(-kscale) $opt(-sscale)
 set region [expr {$d == 2 ? [list box {0 0} [list $W $H]] : [list box {0 0 0} [list $W $W $H]]}]
 set made [rock::sample $region -seed $opt(-seed)]

@@ -27,19 +27,21 @@ proc line {text} {
 }
 
 set ucs [dict create]
-foreach {key rate k s} {r4 4 1 1 r2 2 1 1 k05 4 0.5 1 k2 4 2 1 s05 4 1 0.5 s2 4 1 2} {
-    dict set ucs $key [example ucs ucs-$key.csv -rate $rate -kscale $k -sscale $s]
+foreach {key rate k s c} {r4 4 1 1 1 r2 2 1 1 1 k05 4 0.5 1 1 k2 4 2 1 1 s05 4 1 0.5 1 s2 4 1 2 1 e05 4 0.5 1 0.5 e15 4 1.5 1 1.5} {
+    dict set ucs $key [example ucs ucs-$key.csv -rate $rate -kscale $k -sscale $s -cscale $c]
 }
 dict set ucs d3 [example ucs ucs-3d.csv -dim 3 -rate 4]
 set base [dict get $ucs r4]
 line "Sample (\`demlab::sample\`, examples/rock.tcl): [dict get $base elements] discs, [dict get $base bonds] bonds,\
-    solid fraction [format %.3f [dict get $base fraction]], mean stress locked in after bonding and\
-    removing the walls [format %.3g [dict get $base lockedin]] Pa, that is [format %.1e [expr {[dict get $base lockedin] / 5e7}]]\
-    of the bond strength (50 MPa)."
+    solid fraction [format %.3f [dict get $base fraction]]; the mean stress of its contacts when bonded\
+    [format %.3g [dict get $base stress]] Pa and after the walls went [format %.3g [dict get $base lockedin]] Pa,\
+    against the bond strength 50 MPa[expr {[dict get $base stress] == 0 && [dict get $base lockedin] == 0 ?\
+    { (0: no contact overlaps; the relax left them below 1e-5 radii)} : {}}]. The stress excludes\
+    the bonds' own forces (\`query stress\` sums contacts)."
 line ""
 line "| run | elements / bonds | strain rate (1/s) | peak (MPa) | strain at peak | E (GPa) | Poisson's ratio | cracks at peak | tension / shear at the end | steps | time per step (us) |"
 line "|---|---|---|---|---|---|---|---|---|---|---|"
-foreach {key label} {r4 {base} r2 {rate halved} k05 {bond kn, ks x 0.5} k2 {bond kn, ks x 2} s05 {bond strengths x 0.5} s2 {bond strengths x 2} d3 {3D, base}} {
+foreach {key label} {r4 {base} r2 {rate halved} k05 {bond kn, ks x 0.5} k2 {bond kn, ks x 2} e05 {bonds' and contacts' moduli x 0.5} e15 {bonds' and contacts' moduli x 1.5} s05 {bond strengths x 0.5} s2 {bond strengths x 2} d3 {3D, base}} {
     set r [dict get $ucs $key]
     line [format "| %s | %d / %d | %g | %.2f | %.5f | %.2f | %.3f | %d | %d / %d | %d | %.0f |" $label \
         [dict get $r elements] [dict get $r bonds] [dict get $r rate] \
@@ -58,7 +60,7 @@ line "Micro to macro (ratios to the base run; Potyondy and Cundall: the modulus 
 line ""
 line "| bond change | E / E_base | peak / peak_base |"
 line "|---|---|---|"
-foreach {key label} {k05 {kn, ks x 0.5} k2 {kn, ks x 2} s05 {strengths x 0.5} s2 {strengths x 2}} {
+foreach {key label} {k05 {bond kn, ks x 0.5} k2 {bond kn, ks x 2} e05 {bonds' and contacts' moduli x 0.5} e15 {bonds' and contacts' moduli x 1.5} s05 {bond strengths x 0.5} s2 {bond strengths x 2}} {
     set r [dict get $ucs $key]
     line [format "| %s | %.3f | %.3f |" $label [expr {[dict get $r modulus] / [dict get $base modulus]}] \
         [expr {[dict get $r peak] / [dict get $base peak]}]]
