@@ -1,121 +1,126 @@
-# Unconfined compression of a bonded sample (2D, after MIMES's bonded samples and Potyondy and
-# Cundall's parallel-bonded rock): a hexagonal pack of equal discs in a box (a random dense pack
-# needs a generator that compresses and relaxes, not written yet), bonded to every neighbour by
-# parallel bonds with scattered strengths, squeezed between two platens moving
-# towards each other at a constant strain rate, no side walls. Every few steps it reads the axial
-# stress (the platens' mean force over the sample's width, per unit thickness), the axial strain
-# (the change of the sample's height, between the mean centres of its top and bottom rows, over
-# the initial one), the lateral strain (the same across its sides) and the number of broken bonds by mode, and
-# writes them as a CSV table; at the end it prints the peak strength, the modulus and Poisson's
-# ratio (secant, from 0 to half the peak) and the cracks at the peak.
+# Unconfined compression of a bonded sample (the thesis's figure 1-8; Potyondy and Cundall's
+# parallel-bonded rock): the rock of examples/rock.tcl made by demlab::sample in a box (a random
+# dense pack of a size distribution, compacted to a low stress, bonded), squeezed between two
+# rigid platens moving towards each other at a constant strain rate, no side walls. Every few
+# steps it reads the axial stress (the platens' mean force over the sample's width, per unit
+# thickness in 2D; over its cross-section in 3D), the axial strain (the change of the distance
+# between the mean centres of the elements on the top and bottom faces, over its initial value),
+# the lateral strain (the same across the sides) and the cracks (broken bonds) by mode, and writes
+# them as a CSV table. At the end it prints the peak strength, Young's modulus and Poisson's
+# ratio (least-squares slopes of the stress and of the lateral strain against the axial
+# strain between 25 % and 50 % of the peak, before it) and the cracks at the peak, and returns
+# them as a dict.
 #
-#   build/demlab examples/ucs.tcl ?file.csv? ?-short?
+#   build/demlab examples/ucs.tcl ?file.csv? ?-short? ?-dim 2|3? ?-rate 1/s? ?-kscale k?
+#                                 ?-sscale s? ?-cscale c? ?-seed n?
 #
-# -short: a smaller sample (the test suite's form). The full form (about 900 discs) takes a few minutes on a busy 2-core machine. The platens move at a speed far below the
-# sample's wave speed, so the loading is quasi-static (the sample crosses many times per percent
-# of strain); bonds carry no damping, the contacts' restitution damps the rest.
+# -short: a smaller sample at a faster rate (the test suite's form). -rate: the strain rate
+# (default 4/s, 10/s short); -kscale, -sscale: factors on the bonds' stiffness and strength;
+# -cscale: on the contacts' modulus.
+# At 4/s the sample's height shortens by 1e-5 per P-wave transit (quasi-static: halving the
+# rate changes the peak by a few percent, doc/verification.md). The run stops when the stress
+# has fallen below 60 % of the peak after it, or at 2 % strain.
 
-set csv ucs.csv
-set short 0
-foreach a $argv {
-    if {$a eq "-short"} {set short 1} else {set csv $a}
-}
+source [file join [file dirname [info script]] rock.tcl]
 
-set W [expr {$short ? 0.008 : 0.02}]   ;# sample width and height, m
+array set opt {-short 0 -dim 2 -rate {} -kscale 1 -sscale 1 -cscale 1 -seed 1 -csv ucs.csv}
+rock::parseArgs opt $argv
+set d $opt(-dim)
+set rate [expr {$opt(-rate) ne {} ? $opt(-rate) : ($opt(-short) ? 10.0 : 4.0)}]
+# Width by height (2D); 3D a square prism of that cross-section, one width deep.
+set W [expr {$opt(-short) ? ($d == 2 ? 0.006 : 0.004) : ($d == 2 ? 0.016 : 0.005)}]
 set H [expr {2 * $W}]
-set r 0.0005                           ;# disc radius, m
-set strainRate [expr {$short ? 100.0 : 20.0}]                   ;# 1/s: each platen at strainRate H / 2
-set strainEnd 0.004                  ;# stop at this axial strain
-set rows [expr {$short ? 20 : 60}]                           ;# table rows over the run
+set axis [expr {$d - 1}]
 
-sim new -dim 2
-material add rock -density 2600 -young 2e10 -poisson 0.25 -restitution 0.3 -friction 0.5
-# Rigid platens: the sample's stiffness, not the platens' Hertz contacts, is what is measured.
-material add plate -rigid 1 -density 7800 -poisson 0.3 -restitution 0.3 -friction 0.5
-# A stiff disc-platen pair: the load reaches the sample without deep platen overlaps.
-law coefficients rock plate -young 1e13
-pack lattice -region [list box {0 0} [list $W $H]] -radius $r -kind hex
-# Parallel bonds: modulus E_c = kn (Ri + Rj) = 2 GPa, kn = ks, strengths 2 MPa +- 20 %.
-set kn [expr {2e9 / (2 * $r)}]
-bond model parallel cement -kn $kn -ks $kn -tensile 2e6 -shear 2e6 -scatter 0.2 -seed 3
-set nBonds [llength [bond add -model cement -gap [expr {0.01 * $r}]]]
-# Platens just outside the sample's extremes, moving towards each other.
-set lo 1e9
-set hi -1e9
-foreach id [element list] {
-    set y [lindex [element get $id -position] 1]
-    set r [element get $id -radius]
-    set lo [expr {min($lo, $y - $r)}]
-    set hi [expr {max($hi, $y + $r)}]
-}
-set height [expr {$hi - $lo}]
-# The sample's own dimensions: the mean heights of its top and bottom rows, the mean abscissae of
-# its left and right columns (the platens' contacts are not part of the strain).
-set left 1e9
-set right -1e9
-foreach id [element list] {
-    set x [lindex [element get $id -position] 0]
-    set left [expr {min($left, $x)}]
-    set right [expr {max($right, $x)}]
-}
-foreach id [element list] {
-    lassign [element get $id -position] x y
-    if {$y > $hi - 1.5 * $r} {element tag toprow $id}
-    if {$y < $lo + 1.5 * $r} {element tag bottomrow $id}
-    if {$x < $left + 0.5 * $r} {element tag leftcol $id}
-    if {$x > $right - 0.5 * $r} {element tag rightcol $id}
-}
-# Returns the mean coordinate k of the elements carrying tag.
-proc meanOf {tag k} {
-    set sum 0.0
-    set ids [element list -tag $tag]
-    foreach id $ids {set sum [expr {$sum + [lindex [element get $id -position] $k]}]}
-    expr {$sum / [llength $ids]}
-}
-set h0 [expr {[meanOf toprow 1] - [meanOf bottomrow 1]}]
-set w0 [expr {[meanOf rightcol 0] - [meanOf leftcol 0]}]
-set v [expr {$strainRate * $height / 2}]
-set bottom [wall add plane -normal {0 1} -point [list 0 $lo] -material plate -velocity [list 0 $v]]
-set top [wall add plane -normal {0 -1} -point [list 0 $hi] -material plate -velocity [list 0 [expr {-$v}]]]
+rock::scene $d $opt(-cscale)
+rock::cement $opt(-kscale) $opt(-sscale)
+set region [expr {$d == 2 ? [list box {0 0} [list $W $H]] : [list box {0 0 0} [list $W $W $H]]}]
+set made [rock::sample $region -seed $opt(-seed)]
+set bonds [dict get $made bonds]
 
-set total [expr {$strainEnd / $strainRate}]
-set fh [open $csv w]
+# The faces: the elements within the largest radius of each extreme.
+for {set k 0} {$k < $d} {incr k} {rock::tagFaces sample $k $rock::rmax}
+lassign [rock::extent sample $axis] lo hi
+set area 1.0
+for {set k 0} {$k < $axis} {incr k} {
+    lassign [rock::extent sample $k] a b
+    set area [expr {$area * ($b - $a)}]
+}
+set h0 [expr {[rock::meanOf hi$axis $axis] - [rock::meanOf lo$axis $axis]}]
+set w0 [expr {[rock::meanOf hi0 0] - [rock::meanOf lo0 0]}]
+set v [expr {$rate * ($hi - $lo) / 2}]
+set n [lrepeat $d 0]
+set bottom [wall add plane -normal [lreplace $n $axis $axis 1] -point [lreplace $n $axis $axis $lo] \
+    -material plate -velocity [lreplace $n $axis $axis $v]]
+set top [wall add plane -normal [lreplace $n $axis $axis -1] -point [lreplace $n $axis $axis $hi] \
+    -material plate -velocity [lreplace $n $axis $axis [expr {-$v}]]]
+
+set strainEnd 0.02
+set interval [expr {($opt(-short) ? 4e-5 : 1e-5) / $rate}]   ;# a row every 1e-5 of strain
+set fh [open $opt(-csv) w]
 puts $fh "strain,lateral_strain,stress_Pa,broken,tension,shear"
 set peak 0
 set peakStrain 0
 set peakCracks 0
 set curve {}
-for {set k 1} {$k <= $rows} {incr k} {
-    sim run -time [expr {$total / $rows}] -quiet -progress 0
-    set strain [expr {1 - ([meanOf toprow 1] - [meanOf bottomrow 1]) / $h0}]
-    set lateral [expr {([meanOf rightcol 0] - [meanOf leftcol 0]) / $w0 - 1}]
-    set fTop [lindex [wall get $top -force] 1]
-    set fBottom [lindex [wall get $bottom -force] 1]
+set start [clock milliseconds]
+set steps0 [sim time -steps]
+while {1} {
+    sim run -time $interval -quiet -progress 0
+    set strain [expr {1 - ([rock::meanOf hi$axis $axis] - [rock::meanOf lo$axis $axis]) / $h0}]
+    set lateral [expr {([rock::meanOf hi0 0] - [rock::meanOf lo0 0]) / $w0 - 1}]
     # Force on each wall from the elements: the top is pushed up, the bottom down.
-    set stress [expr {($fTop - $fBottom) / 2 / $W}]
-    set c [bond count]
-    puts $fh [join [list $strain $lateral $stress [dict get $c broken] [dict get $c tension] [dict get $c shear]] ,]
+    set stress [expr {([lindex [wall get $top -force] $axis] - [lindex [wall get $bottom -force] $axis]) / 2 / $area}]
+    lassign [rock::cracks] tension shear
+    puts $fh [join [list $strain $lateral $stress [expr {$tension + $shear}] $tension $shear] ,]
     lappend curve $strain $stress $lateral
     if {$stress > $peak} {
         set peak $stress
         set peakStrain $strain
-        set peakCracks [dict get $c broken]
+        set peakCracks [expr {$tension + $shear}]
     }
+    if {$stress < 0.6 * $peak || $strain > $strainEnd} break
 }
 close $fh
-# Secant modulus from the origin to the first point at half the peak.
-# Poisson's ratio: minus the lateral over the axial strain there.
-set modulus 0
-set poisson 0
+set seconds [expr {([clock milliseconds] - $start) / 1000.0}]
+set steps [expr {[sim time -steps] - $steps0}]
+
+# Least-squares slopes against the axial strain over the rows between 25 % and 50 % of the
+# peak, before it.
+set xs {}
+set ys {}
+set ls {}
 foreach {e s l} $curve {
-    if {$s >= $peak / 2} {
-        set modulus [expr {$s / $e}]
-        set poisson [expr {-$l / $e}]
-        break
+    if {$e > $peakStrain} break
+    if {$s >= 0.25 * $peak && $s <= 0.5 * $peak} {
+        lappend xs $e
+        lappend ys $s
+        lappend ls $l
     }
 }
-set c [bond count]
-puts [format "ucs: %d discs, %d bonds; peak %.4g MPa at strain %.4g (%d cracks then); modulus %.4g GPa, Poisson's ratio %.3g; at the end %d broken (%d tension, %d shear); table in %s" \
-    [element count] $nBonds [expr {$peak / 1e6}] $peakStrain $peakCracks [expr {$modulus / 1e9}] $poisson \
-    [dict get $c broken] [dict get $c tension] [dict get $c shear] $csv]
-list $peak $modulus $poisson [dict get $c broken]
+# Returns the least-squares slope of ys against xs (0 with fewer than two points).
+proc slope {xs ys} {
+    set n [llength $xs]
+    if {$n < 2} {return 0}
+    set mx [expr {[tcl::mathop::+ {*}$xs] / $n}]
+    set my [expr {[tcl::mathop::+ {*}$ys] / $n}]
+    set sxy 0.0
+    set sxx 0.0
+    foreach x $xs y $ys {
+        set sxy [expr {$sxy + ($x - $mx) * ($y - $my)}]
+        set sxx [expr {$sxx + ($x - $mx) ** 2}]
+    }
+    expr {$sxy / $sxx}
+}
+set modulus [slope $xs $ys]
+set poisson [slope $xs $ls]
+lassign [rock::cracks] tension shear
+puts [format "ucs (%dD): %d elements, %d bonds, fraction %.3f, locked-in stress %.3g MPa (%.2g %% of the bond strength); rate %g/s: peak %.4g MPa at strain %.4g (%d cracks then); E %.4g GPa, Poisson's ratio %.3f; at the end %d tension, %d shear cracks; %d steps in %.1f s (%.3g us/step); table in %s" \
+    $d [dict get $made elements] $bonds [dict get $made fraction] [expr {[dict get $made lockedin] / 1e6}] \
+    [expr {100 * [dict get $made lockedin] / ($opt(-sscale) * $rock::strength)}] $rate \
+    [expr {$peak / 1e6}] $peakStrain $peakCracks [expr {$modulus / 1e9}] $poisson $tension $shear \
+    $steps $seconds [expr {1e6 * $seconds / max(1, $steps)}] $opt(-csv)]
+dict create elements [dict get $made elements] bonds $bonds fraction [dict get $made fraction] \
+    lockedin [dict get $made lockedin] stress [dict get $made stress] peak $peak \
+    peakstrain $peakStrain peakcracks $peakCracks modulus $modulus poisson $poisson \
+    tension $tension shear $shear rate $rate steps $steps seconds $seconds

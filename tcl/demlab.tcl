@@ -3,7 +3,7 @@
 # also installed beside pkgIndex.tcl for reading.
 
 namespace eval ::demlab {
-    namespace export settle each report
+    namespace export settle each report sample
 }
 
 # demlab::settle ?-energy E? ?-chunk N? ?-maxsteps N?
@@ -103,4 +103,193 @@ proc ::demlab::report {args} {
     append s [format "\n  contacts %d, neighbour searches %d" \
         [dict get $r contacts] [dict get $r rebuilds]]
     return $s
+}
+
+# demlab::sample -region REGION -radius DIST -model MODEL ?-material M? ?-wallmaterial W?
+#     ?-seed N? ?-start F? ?-overlap X? ?-iterations N? ?-gap G? ?-tag T? ?-steps N?
+#     ?-keepwalls 0|1?
+# Makes a bonded sample after Potyondy and Cundall's genesis: places elements of the size
+# distribution DIST (as pack random takes it) at random in REGION at solid fraction -start
+# (default 0.5 in 2D, 0.3 in 3D), holds them by walls of -wallmaterial (default: the
+# elements' material) on the region's boundary (planes for a
+# box, a drum for a disc in 2D or a cylinder in 3D, the cylinder closed by two planes) and
+# grows every radius (element resize) in steps of 1 % (in the logarithm of the factor), each
+# followed by sim relax -overlap X -iterations N (defaults 1e-5 and 300): the geometric
+# separation of the overlaps, without dynamics and so without kinetic energy to damp. When the
+# separation fails the step is undone and the steps made ten times shorter, down to 1e-4: the
+# packing is then one at the edge of jamming whose overlaps are below X times the smaller
+# radius, which bounds the stress locked into it. With the material's friction off (and its
+# restitution 0.05) it runs -steps steps (default 1000) from rest, bonds every pair within -gap
+# (default 1 % of the mean radius) with MODEL, gives the friction and restitution back, removes
+# the walls (unless -keepwalls 1) and lets the bonded sample relax -steps steps. The stresses
+# reported are the Love-Weber mean stress of the elements' contacts (query stress -part
+# static) over the region's volume, compression positive (per unit thickness in 2D).
+# Returns a dict: elements, bonds (their number), fraction (the region's solid fraction when
+# bonded), stress (the mean stress when bonded, Pa), lockedin (the same after the walls went
+# and the sample relaxed, Pa), factor (the radii's growth), steps (run by this call), walls
+# (the ids left), tag. Changes the scene: adds the elements (tagged -tag, default sample), the
+# bonds and, with -keepwalls 1, the walls; runs it. Errors: DEMLAB ARGS, DEMLAB OPTION, DEMLAB
+# VALUE <OPTION>, DEMLAB LOOKUP BONDMODEL, and those of the commands it calls (nothing is added
+# when pack random fails).
+proc ::demlab::sample {args} {
+    set usage {demlab::sample -region REGION -radius DIST -model MODEL ?-option value ...?}
+    set d [sim dimension]
+    array set opt [list -material {} -wallmaterial {} -seed 1 -start [expr {$d == 2 ? 0.5 : 0.3}] -gap {} \
+        -tag sample -steps 1000 -overlap 1e-5 -iterations 300 -keepwalls 0]
+    set required {-region -radius -model}
+    if {[llength $args] % 2} {
+        return -code error -errorcode {DEMLAB ARGS} "wrong # args: should be \"$usage\""
+    }
+    set known [lsort [concat $required [array names opt]]]
+    foreach {k v} $args {
+        if {$k ni $known} {
+            return -code error -errorcode {DEMLAB OPTION} \
+                "bad option \"$k\": must be [join [lrange $known 0 end-1] {, }] or [lindex $known end]"
+        }
+        set opt($k) $v
+    }
+    foreach k $required {
+        if {![info exists opt($k)]} {
+            return -code error -errorcode {DEMLAB ARGS} \
+                "missing required option $k: should be \"$usage\""
+        }
+    }
+    foreach {k test why} {
+        -start {$v > 0 && $v < 0.9} "a fraction in (0, 0.9)"
+        -overlap {$v > 0 && $v <= 1} "a fraction in (0, 1]"
+        -iterations {$v == int($v) && $v >= 1} "a positive integer"
+        -steps {$v == int($v) && $v >= 1} "a positive integer"
+        -gap {$v >= 0 && $v < Inf} "a non-negative finite number"
+    } {
+        set v $opt($k)
+        if {$k eq "-gap" && $v eq {}} continue
+        if {![string is double -strict $v] || ![expr $test]} {
+            set name [string range $k 1 end]
+            return -code error -errorcode [list DEMLAB VALUE [string toupper $name]] \
+                "bad $name \"$v\": must be $why"
+        }
+    }
+    if {$opt(-model) ni [lmap m [bond models] {dict get $m name}]} {
+        return -code error -errorcode {DEMLAB LOOKUP BONDMODEL} "no bond model named \"$opt(-model)\""
+    }
+    if {$d == 3 && [lindex $opt(-region) 0] eq "sphere"} {
+        return -code error -errorcode {DEMLAB VALUE REGION} \
+            "bad region \"$opt(-region)\": a 3D sample is a box or a cylinder"
+    }
+    set material $opt(-material)
+    if {$material eq {}} {set material [lindex [material list] 0]}
+    set region $opt(-region)
+    set tag $opt(-tag)
+    set ids [pack random -region $region -radius $opt(-radius) -fraction $opt(-start) \
+        -seed $opt(-seed) -material $material -tags [list $tag]]
+    set wallMaterial [expr {$opt(-wallmaterial) eq {} ? $material : $opt(-wallmaterial)}]
+    set walls [demlab::RegionWalls $region $d $wallMaterial]
+    set volume [demlab::RegionVolume $region $d]
+    set friction [material get $material -friction]
+    set restitution [material get $material -restitution]
+    # Frictionless and nearly critically damped contacts: a dense pack at rest. The watchdog's
+    # energy check off until the end: the scene's energy scale is next to zero, at rest, and
+    # round-off alone exceeds its fraction of it.
+    material set $material -friction 0 -restitution 0.05
+    set energyCheck [dict get [module watchdog] energy]
+    module watchdog -energy 0
+    # Radius expansion without dynamics (no kinetic energy to damp): the radii grow in steps,
+    # each followed by sim relax, until it can no longer separate the overlaps (the packing has
+    # jammed); the last step is then undone and the steps made ten times shorter, down to 1e-4.
+    set s 0.0
+    set inc 0.01
+    set relaxed $opt(-overlap)
+    while {$inc >= 1e-4} {
+        element resize -tag $tag -factor [expr {exp($inc)}]
+        set r [sim relax -overlap $relaxed -iterations $opt(-iterations)]
+        if {[dict get $r after] <= $relaxed} {
+            set s [expr {$s + $inc}]
+            continue
+        }
+        element resize -tag $tag -factor [expr {exp(-$inc)}]
+        sim relax -overlap $relaxed -iterations $opt(-iterations)
+        set inc [expr {$inc / 10}]
+    }
+    # The dynamics from rest settle what the separation left.
+    set steps $opt(-steps)
+    sim run -steps $steps -quiet -progress 0
+    set p [demlab::MeanStress $tag $volume]
+    set fraction [dict get [query packing -region $region -tag $tag] fraction]
+    set gap $opt(-gap)
+    if {$gap eq {}} {
+        set radii [element array radius -tag $tag]
+        set gap [expr {0.01 * [tcl::mathop::+ {*}$radii] / [llength $radii]}]
+    }
+    set bonds [llength [bond add -model $opt(-model) -gap $gap -tag $tag]]
+    material set $material -friction $friction -restitution $restitution
+    if {!$opt(-keepwalls)} {
+        wall remove {*}$walls
+        set walls {}
+    }
+    sim run -steps $opt(-steps) -quiet -progress 0
+    incr steps $opt(-steps)
+    module watchdog -energy $energyCheck
+    dict create elements [llength $ids] bonds $bonds fraction $fraction stress $p \
+        lockedin [demlab::MeanStress $tag $volume] factor [expr {exp($s)}] \
+        steps $steps walls $walls tag $tag
+}
+
+# Returns the mean static stress (compression positive) of the elements carrying tag over
+# volume (an area in 2D).
+proc ::demlab::MeanStress {tag volume} {
+    dict get [query stress -tag $tag -volume $volume -part static] pressure
+}
+
+# Returns the volume (area in 2D) of a pack region {box lo hi}, {sphere centre r} (a disc in
+# 2D) or {cylinder centre axis r halflength}.
+proc ::demlab::RegionVolume {region d} {
+    switch -- [lindex $region 0] {
+        box {
+            set v 1.0
+            foreach a [lrange [lindex $region 1] 0 $d-1] b [lrange [lindex $region 2] 0 $d-1] {
+                set v [expr {$v * ($b - $a)}]
+            }
+            return $v
+        }
+        sphere {
+            set r [lindex $region 2]
+            return [expr {$d == 2 ? acos(-1) * $r * $r : 4.0 / 3 * acos(-1) * $r ** 3}]
+        }
+        cylinder {
+            lassign $region - - - r h
+            return [expr {acos(-1) * $r * $r * 2 * $h}]
+        }
+    }
+}
+
+# Adds the walls that hold a pack region's elements in: a plane on each face of a box, a drum
+# around a disc (2D) or a cylinder (3D, with a plane on each end). Returns their ids; throws
+# nothing (the caller refuses a sphere in 3D: no wall holds one).
+proc ::demlab::RegionWalls {region d material} {
+    set walls {}
+    switch -- [lindex $region 0] {
+        box {
+            lassign $region - lo hi
+            for {set k 0} {$k < $d} {incr k} {
+                set n [lrepeat $d 0]
+                lappend walls [wall add plane -normal [lreplace $n $k $k 1] -point $lo -material $material]
+                lappend walls [wall add plane -normal [lreplace $n $k $k -1] -point $hi -material $material]
+            }
+        }
+        sphere {
+            lassign $region - c r
+            lappend walls [wall add drum -radius $r -point $c -material $material]
+        }
+        cylinder {
+            lassign $region - c axis r h
+            set len [expr {sqrt([tcl::mathop::+ {*}[lmap a $axis {expr {$a * $a}}]])}]
+            set u [lmap a $axis {expr {$a / $len}}]
+            lappend walls [wall add drum -radius $r -axis $u -halflength $h -point $c -material $material]
+            foreach sign {1 -1} {
+                set p [lmap x $c a $u {expr {$x - $sign * $h * $a}}]
+                lappend walls [wall add plane -normal [lmap a $u {expr {$sign * $a}}] -point $p -material $material]
+            }
+        }
+    }
+    return $walls
 }

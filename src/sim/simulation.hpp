@@ -561,6 +561,13 @@ class Simulation {
   // Blocks the degrees of freedom in mask (dof::) and frees the others; the velocities stay as
   // they are. LOOKUP HANDLE, VALUE DOF (a bit the dimension does not have).
   virtual void setElementBlocked(ElementId id, unsigned mask) = 0;
+  // Multiplies the radii of the balls ids (distinct) by factor, their mass and inertia following
+  // at their material's density; positions, velocities and bonds' rest lengths stay, so the
+  // overlaps between them grow or shrink (radius expansion, as sample generators compact a
+  // packing). All or none: LOOKUP HANDLE, VALUE FACTOR (not > 0 and finite), VALUE SHAPE (an
+  // element that is not a ball), VALUE RADIUS (a new radius out of range). Returns nothing;
+  // the ledger is rebased (an edit, like relax).
+  virtual void scaleElementRadii(const std::vector<ElementId>& ids, double factor) = 0;
   virtual size_t elementCount() const = 0;
 
   // -- walls --

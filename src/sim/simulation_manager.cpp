@@ -616,6 +616,42 @@ void SimulationManager<D>::setElementBlocked(ElementId id, unsigned mask) {
 }
 
 template <int D>
+void SimulationManager<D>::scaleElementRadii(const std::vector<ElementId>& ids, double factor) {
+  if (!(std::isfinite(factor) && factor > 0)) {
+    throw Error("bad factor \"" + physics::formatReal(factor) + "\": must be a positive number",
+                {"VALUE", "FACTOR"});
+  }
+  ElementArrays<D>& a = s_.elements.a;
+  std::vector<uint32_t> slots;
+  slots.reserve(ids.size());
+  for (ElementId id : ids) {
+    const uint32_t i = s_.elements.index(id);
+    if (s_.geometries[a.geometry[i]]->shape != ShapeTable<D>::ball()) {
+      throw Error("bad element " + std::to_string(id.scriptId()) +
+                      ": only balls can be resized (a shape's size is in its parameters)",
+                  {"VALUE", "SHAPE"});
+    }
+    const double r = a.r[i] * factor;
+    checkRadiusRange(r);
+    const auto inverses =
+        inverseMassAndInertia(*s_.geometries[a.geometry[i]], s_.materials[a.material[i]].density, r);
+    checkMassRange(inverses.first, r);
+    slots.push_back(i);
+  }
+  const double before = ledgerSum();
+  for (uint32_t i : slots) {
+    a.r[i] *= factor;
+    std::tie(a.invMass[i], a.invInertia[i]) = inverseMassAndInertia(
+        *s_.geometries[a.geometry[i]], s_.materials[a.material[i]].density, a.r[i]);
+  }
+  // An edit: the kinetic energy the masses changed and the elastic energy the overlaps changed
+  // (rebased by the next force pass) are the user's, not the run's.
+  s_.ledger.reference += ledgerSum() - before;
+  s_.needRebuild = true;
+  touchConfig();
+}
+
+template <int D>
 template <class Pred>
 void SimulationManager<D>::dropBlocked(Pred gone) {
   std::erase_if(s_.blocked, [&](const BlockedElement& b) { return gone(b.id); });

@@ -70,6 +70,7 @@ class SimulationManager final : public Simulation {
   void setElementAngularVelocity(ElementId id, const Vec3d& w) override;
   void setElementOrientation(ElementId id, const std::vector<double>& o) override;
   void setElementBlocked(ElementId id, unsigned mask) override;
+  void scaleElementRadii(const std::vector<ElementId>& ids, double factor) override;
   size_t elementCount() const override { return s_.elements.size(); }
 
   WallId addWall(const WallDef& def) override;

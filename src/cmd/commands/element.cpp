@@ -286,6 +286,37 @@ void registerElementCommands(Registry& r) {
     return Value(n);
   });
 
+  Command& resize = r.add("element resize",
+                          "Multiplies the radii of elements (ids, names, every one with -tag, or "
+                          "all) by a factor; returns how many.");
+  resize.details =
+      "Radius expansion: mass and inertia follow the material's density; positions, velocities "
+      "and bonds stay, so overlaps grow (or shrink) by the change. demlab::sample compacts a "
+      "packing to a target stress with it. Balls only; all or none.";
+  resize.variadicArg("element", elementRef(), "element ids or names").optional = true;
+  resize.option("tag", tagName(), "every element carrying this tag");
+  resize.option("factor", real().positive(), "the factor on every radius").require();
+  resize.onCheck([](Call& c) {
+    if (c.given("element") && c.given("tag")) {
+      throw Error("wrong # args: should be \"" + c.command().usage() +
+                      "\" with element ids or -tag, not both",
+                  {"ARGS"});
+    }
+  });
+  resize.run([](Call& c) {
+    auto& s = session(c).scene();
+    std::vector<ElementId> ids;
+    if (c.given("element")) {
+      std::unordered_set<std::uint64_t> seen;
+      for (ElementId g : c.all<ElementId>("element"))
+        if (seen.insert(g.bits()).second) ids.push_back(g);
+    } else {
+      ids = targets(c, s);
+    }
+    s.scaleElementRadii(ids, c.get<double>("factor"));
+    return Value(ids.size());
+  });
+
   Command& list = r.add("element list", "Returns the ids of all elements, or of those with a tag.");
   list.option("tag", tagName(), "only elements carrying this tag");
   list.changesScene = false;
