@@ -17,9 +17,9 @@
 # -short: a smaller sample at a faster rate (the test suite's form). -rate: the strain rate
 # (default 4/s, 10/s short); -kscale, -sscale: factors on the bonds' stiffness and strength;
 # -cscale: on the contacts' modulus.
-# At 4/s the sample's height shortens by 1e-5 per P-wave transit (quasi-static: halving the
-# rate changes the peak by a few percent, doc/verification.md). The run stops when the stress
-# has fallen below 60 % of the peak after it, or at 2 % strain.
+# At 4/s the sample shortens by a few 1e-5 of its height per P-wave transit, a few percent of
+# the strain at the peak: quasi-static (doc/verification.md compares a run at half the rate).
+# The run stops when the stress has fallen below 60 % of the peak after it, or at 2 % strain.
 
 source [file join [file dirname [info script]] rock.tcl]
 

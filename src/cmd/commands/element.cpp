@@ -291,8 +291,8 @@ void registerElementCommands(Registry& r) {
                           "all) by a factor; returns how many.");
   resize.details =
       "Radius expansion: mass and inertia follow the material's density; positions, velocities "
-      "and bonds stay, so overlaps grow (or shrink) by the change. demlab::sample compacts a "
-      "packing to a target stress with it. Balls only; all or none.";
+      "and bonds stay, so overlaps grow (or shrink) by the change. demlab::sample grows a "
+      "random packing until it jams with it. Balls only; all or none.";
   resize.variadicArg("element", elementRef(), "element ids or names").optional = true;
   resize.option("tag", tagName(), "every element carrying this tag");
   resize.option("factor", real().positive(), "the factor on every radius").require();
