@@ -108,9 +108,13 @@ add_custom_target(demlab_doc ALL DEPENDS ${CMAKE_BINARY_DIR}/commands.md)
 # extension), without leak checks: the programs the tests start (gnuplot, python3) inherit it.
 set(DEMLAB_TCLSH_ENV TCLLIBPATH=${CMAKE_BINARY_DIR}/lib)
 if(DEMLAB_SANITIZE)
+  # libstdc++ too: ASan intercepts __cxa_throw only if the C++ runtime is there when it starts.
   execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libasan.so
     OUTPUT_VARIABLE DEMLAB_ASAN_RUNTIME OUTPUT_STRIP_TRAILING_WHITESPACE)
-  list(APPEND DEMLAB_TCLSH_ENV LD_PRELOAD=${DEMLAB_ASAN_RUNTIME} ASAN_OPTIONS=detect_leaks=0)
+  execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libstdc++.so.6
+    OUTPUT_VARIABLE DEMLAB_CXX_RUNTIME OUTPUT_STRIP_TRAILING_WHITESPACE)
+  list(APPEND DEMLAB_TCLSH_ENV LD_PRELOAD=${DEMLAB_ASAN_RUNTIME}:${DEMLAB_CXX_RUNTIME}
+    ASAN_OPTIONS=detect_leaks=0)
 endif()
 file(GLOB DEMLAB_TCL_TEST_FILES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/*.test)
 set(DEMLAB_TCL_TESTS "")

@@ -313,7 +313,12 @@ void registerElementCommands(Registry& r) {
     } else {
       ids = targets(c, s);
     }
-    s.scaleElementRadii(ids, c.get<double>("factor"));
+    try {
+      s.scaleElementRadii(ids, c.get<double>("factor"));
+    } catch (const Error& e) {  // a radius out of the validity range: the factor is what was typed
+      if (e.code().size() < 3 || e.code()[2] != "RADIUS") throw;
+      c.bad("factor", std::string("makes a ") + e.what());
+    }
     return Value(ids.size());
   });
 
