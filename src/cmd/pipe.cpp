@@ -35,7 +35,12 @@ std::string rangeFault(const PipeType& t, double x, bool integral) {
   bool below = t.lo && (t.loOpen ? !(x > *t.lo) : !(x >= *t.lo));
   bool above = t.hi && (t.hiOpen ? !(x < *t.hi) : !(x <= *t.hi));
   if (!below && !above) return "";
-  if (t.lo && t.hi) return std::string("must be between ") + num(*t.lo) + " and " + num(*t.hi);
+  if (t.lo && t.hi && !t.loOpen && !t.hiOpen)
+    return std::string("must be between ") + num(*t.lo) + " and " + num(*t.hi);
+  if (t.lo && t.hi) {
+    return std::string("must be ") + (t.loOpen ? "> " : ">= ") + num(*t.lo) + " and " +
+           (t.hiOpen ? "< " : "<= ") + num(*t.hi);
+  }
   if (t.lo && *t.lo == 0)
     return std::string("must be a ") + (t.loOpen ? "positive " : "non-negative ") + what;
   if (t.lo) return std::string("must be ") + (t.loOpen ? "> " : ">= ") + num(*t.lo);
@@ -68,7 +73,8 @@ std::int64_t toInt(std::string_view word, const Param& p) {
 }  // namespace
 
 std::string PipeType::constraint() const {
-  if (lo && hi) return num(*lo) + (loOpen ? " < x" : "..") + (hiOpen ? " < " : "") + num(*hi);
+  if (lo && hi && !loOpen && !hiOpen) return num(*lo) + ".." + num(*hi);
+  if (lo && hi) return num(*lo) + (loOpen ? " < x " : " <= x ") + (hiOpen ? "< " : "<= ") + num(*hi);
   if (lo) return std::string(loOpen ? "> " : ">= ") + num(*lo);
   if (hi) return std::string(hiOpen ? "< " : "<= ") + num(*hi);
   return "";

@@ -1,5 +1,7 @@
 // The "element" group: one element at a time (add, get, set, clone, remove, tags) and bulk
 // queries that return Tcl lists (ids, positions, ...). Many at once: pack.cpp.
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -7,6 +9,7 @@
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
 #include "core/tag_table.hpp"
+#include "core/validity.hpp"
 
 namespace demlab::cmd {
 
@@ -204,15 +207,38 @@ void registerElementCommands(Registry& r) {
   blockOptions(set);
   set.onCheck([](Call& c) {
     auto& s = session(c).scene();
-    s.element(c.get<ElementId>("element"));  // LOOKUP HANDLE before anything changes
+    const double r = s.element(c.get<ElementId>("element")).radius;  // LOOKUP before changes
+    // The setters each check their own value, but run one after another: a velocity refused
+    // after the position was set would leave the position changed. The validity policy's
+    // bounds are checked here, before any of them runs.
+    auto largest = [](const std::vector<double>& v) {
+      double m = 0;
+      for (double x : v) m = std::max(m, std::fabs(x));
+      return m;
+    };
+    auto length = [](const std::vector<double>& v) {
+      double m = 0;
+      for (double x : v) m = std::hypot(m, x);
+      return m;
+    };
+    const double reach = std::min(validity::kMaxCoordinate, validity::kMaxRadiiFromOrigin * r);
+    if (c.has("position") && !(largest(c.vec("position")) <= reach))
+      c.bad("position", "must be within " + formatReal(reach) + " m of the origin on each axis");
+    if (c.has("velocity") && !(length(c.vec("velocity")) <= validity::kMaxSpeed))
+      c.bad("velocity", "must be at most " + formatReal(validity::kMaxSpeed) + " m/s in magnitude");
+    if (c.has("angularvelocity") &&
+        !(length(c.get<std::vector<double>>("angularvelocity")) * r <= validity::kMaxSpeed)) {
+      c.bad("angularvelocity", "must be at most " + formatReal(validity::kMaxSpeed) +
+                                   " m/s at the surface (|w| r)");
+    }
     c.prepared = blockedMask(c, s.dim());
   });
   set.run([](Call& c) {
     auto& s = session(c).scene();
     ElementId g = c.get<ElementId>("element");
     const auto mask = std::any_cast<std::optional<unsigned>>(c.prepared);
-    // The pipes made every vector the right size and the check read the mask, so none of
-    // these calls can fail half-way.
+    // The pipes made every vector the right size, the check read the mask and checked the
+    // values against the validity policy, so none of these calls can fail half-way.
     // The orientation first: the one setter that checks its value (VALUE ORIENTATION), so a
     // bad one fails before anything has changed.
     if (c.given("orientation")) s.setElementOrientation(g, c.get<std::vector<double>>("orientation"));

@@ -12,6 +12,7 @@
 #include "cmd/words.hpp"
 #include "core/atomic_file.hpp"
 #include "core/thread_pool.hpp"
+#include "core/validity.hpp"
 
 namespace demlab::cmd {
 
@@ -45,13 +46,17 @@ Value info(const sim::Simulation& s) {
   return d;
 }
 
-// A time step word: a positive real, or "auto".
+// The longest time step: a grain at the largest allowed speed moves at most the coordinate
+// bound in one step (a step of 1e300 s put Inf into the positions at the first step).
+constexpr double kMaxTimeStep = validity::kMaxCoordinate / validity::kMaxSpeed;
+
+// A time step word: a positive real up to kMaxTimeStep, or "auto".
 PipeType stepWord() {
   PipeType t =
       custom("real|auto", [](std::string_view w, const Param& p, const Context& c) -> std::any {
         if (w == "auto") return std::string("auto");
         Param q = p;
-        q.type = real().positive();
+        q.type = real().positive().max(kMaxTimeStep);
         return convertWord(w, q, c);
       });
   t.choices = {"auto"};

@@ -1,0 +1,10 @@
+# A sequence found by tests/fuzz/command_fuzz.tcl (seed 6): violation
+# the scene changed although the command failed: bad box 0: coordinate is NaN on axis 2
+set steps {
+    {sim new -dim 3}
+    {material add steel -density 7800 -young 2e8 -poisson 0.3 -restitution 0.5 -friction 0.3}
+    {element add -radius 0.005 -position {0.1 0.1 0.1} -material steel}
+    {behavior add load -element 0 -force {0 0 1e-4}}
+    {sim timestep 1e300}
+    {sim step}
+}
