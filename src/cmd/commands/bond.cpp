@@ -1,13 +1,12 @@
 // The "bond" group: bond models (one `bond model TYPE` per row of the bond model table,
 // sim/bond_model.hpp), making bonds (by gap within a region or tag group, by named pairs, from
 // a file), listing, querying, removing them and the list of breaks.
-#include <fstream>
 #include <sstream>
 
 #include "analysis/region_geometry.hpp"
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
-#include "core/interrupt.hpp"
+#include "io/line_reader.hpp"
 #include "sim/bond_model.hpp"
 #include "sim/packing.hpp"
 
@@ -170,22 +169,19 @@ void registerBondCommands(Registry& r) {
   file.arg("path", readableFile(), "the file");
   file.option("model", text("model"), "the bond model").require();
   file.run([](Call& c) {
-    const std::string& path = c.str("path");
-    std::ifstream in(path);
+    io::LineReader in(c.str("path"));  // counts lines and polls for Ctrl-C
     Param p;
     p.name = "pair";
     Pairs pairs;
-    std::string line;
-    InterruptPoll poll("bond file");
-    for (int number = 1; std::getline(in, line); ++number) {
-      poll();
-      const auto first = line.find_first_not_of(" \t\r");
-      if (first == std::string::npos || line[first] == '#') continue;
+    std::string_view line;
+    while (in.next(line)) {
+      const auto first = line.find_first_not_of(" \t");
+      if (first == std::string_view::npos || line[first] == '#') continue;
       try {
-        const Pairs one = readPairs(quoteElement(line), p, c.context());
+        const Pairs one = readPairs(quoteElement(std::string(line)), p, c.context());
         pairs.insert(pairs.end(), one.begin(), one.end());
       } catch (const Error& e) {
-        throw e.within("file \"" + path + "\" line " + std::to_string(number));
+        throw e.within(in.where());
       }
     }
     return idList(session(c).scene().addBonds(pairs, c.str("model")));
