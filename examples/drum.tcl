@@ -48,8 +48,7 @@ sim run -time [expr {$short ? 0.05 : 0.3}] -quiet -progress 0  ;# the last layer
 puts "[element count] grains ([llength [element list -tag large]] large, [llength [element list -tag small]] small), dt = [sim timestep] s"
 
 # Turn the drum (counterclockwise) and film it.
-wall remove $drum
-wall add drum -radius $R -name drum -angularvelocity $omega
+wall set $drum -angularvelocity $omega
 file mkdir $dir
 foreach f [glob -nocomplain -directory $dir frame_*.png] {file delete $f}
 snapshot every -time $frameEvery -dir $dir -size 960x720 -color tag -tags {large small} \

@@ -34,8 +34,7 @@ sim run -time 0.1 -quiet -progress 0
 
 # Turn the drum about its axis and film it: a frame every 0.3 s, one colour range fixed
 # by hand (0 to the rim speed) and the first frame's automatic framing (the series' default).
-wall remove $drum
-wall add drum -radius $R -axis {0 1 0} -halflength $L -name drum -angularvelocity [list 0 $omega 0]
+wall set $drum -angularvelocity [list 0 $omega 0]
 file mkdir $dir
 foreach f [glob -nocomplain -directory $dir drum_*.jpg] {file delete $f}
 snapshot every -time 0.3 -dir $dir -format jpeg -quality 85 -size 480x360 -color speed \

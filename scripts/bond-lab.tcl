@@ -33,11 +33,11 @@ foreach {key rate k s c} {r4 4 1 1 1 r2 2 1 1 1 k05 4 0.5 1 1 k2 4 2 1 1 s05 4 1
 dict set ucs d3 [example ucs ucs-3d.csv -dim 3 -rate 4]
 set base [dict get $ucs r4]
 line "Sample (\`demlab::sample\`, examples/rock.tcl): [dict get $base elements] discs, [dict get $base bonds] bonds,\
-    solid fraction [format %.3f [dict get $base fraction]]; the mean stress of its contacts when bonded\
-    [format %.3g [dict get $base stress]] Pa and after the walls went [format %.3g [dict get $base lockedin]] Pa,\
+    solid fraction [format %.3f [dict get $base fraction]]; the mean stress of the forces between its elements when bonded\
+    [format %.3g [dict get $base stress]] Pa, and of its contacts alone after the walls went [format %.3g [dict get $base lockedin]] Pa\
+    (the compression the bonds' tension balances: \`query stress -part contacts\`),\
     against the bond strength 50 MPa[expr {[dict get $base stress] == 0 && [dict get $base lockedin] == 0 ?\
-    { (0: no contact overlaps; the relax left them below 1e-5 radii)} : {}}]. The stress excludes\
-    the bonds' own forces (\`query stress\` sums contacts)."
+    { (0: no contact overlaps; the relax left them below 1e-5 radii)} : {}}]."
 line ""
 line "| run | elements / bonds | strain rate (1/s) | peak (MPa) | strain at peak | E (GPa) | Poisson's ratio | cracks at peak | tension / shear at the end | steps | time per step (us) |"
 line "|---|---|---|---|---|---|---|---|---|---|---|"

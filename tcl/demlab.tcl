@@ -122,11 +122,13 @@ proc ::demlab::report {args} {
 # restitution 0.05) it runs -steps steps (default 1000) from rest, bonds every pair within -gap
 # (default 1 % of the mean radius) with MODEL, gives the friction and restitution back, removes
 # the walls (unless -keepwalls 1) and lets the bonded sample relax -steps steps. The stresses
-# reported are the Love-Weber mean stress of the elements' contacts (query stress -part
-# static) over the region's volume, compression positive (per unit thickness in 2D).
+# reported are Love-Weber mean stresses over the region's volume, compression positive (per
+# unit thickness in 2D).
 # Returns a dict: elements, bonds (their number), fraction (the region's solid fraction when
-# bonded), stress (the mean stress when bonded, Pa), lockedin (the same after the walls went
-# and the sample relaxed, Pa), factor (the radii's growth), steps (run by this call), walls
+# bonded), stress (the mean stress of the forces between elements when bonded, Pa), lockedin
+# (the mean stress of the contacts alone after the walls went and the sample relaxed, Pa: the
+# compression the sample keeps, which the bonds' tension balances, so that in a sample at rest
+# without walls the two add up to about zero), factor (the radii's growth), steps (run by this call), walls
 # (the ids left), tag. Changes the scene: adds the elements (tagged -tag, default sample), the
 # bonds and, with -keepwalls 1, the walls; runs it. Errors: DEMLAB ARGS, DEMLAB OPTION, DEMLAB
 # VALUE <OPTION>, DEMLAB LOOKUP BONDMODEL, and those of the commands it calls (nothing is added
@@ -230,14 +232,14 @@ proc ::demlab::sample {args} {
     incr steps $opt(-steps)
     module watchdog -energy $energyCheck
     dict create elements [llength $ids] bonds $bonds fraction $fraction stress $p \
-        lockedin [demlab::MeanStress $tag $volume] factor [expr {exp($s)}] \
+        lockedin [demlab::MeanStress $tag $volume contacts] factor [expr {exp($s)}] \
         steps $steps walls $walls tag $tag
 }
 
 # Returns the mean static stress (compression positive) of the elements carrying tag over
 # volume (an area in 2D).
-proc ::demlab::MeanStress {tag volume} {
-    dict get [query stress -tag $tag -volume $volume -part static] pressure
+proc ::demlab::MeanStress {tag volume {part static}} {
+    dict get [query stress -tag $tag -volume $volume -part $part] pressure
 }
 
 # Returns the volume (area in 2D) of a pack region {box lo hi}, {sphere centre r} (a disc in

@@ -1,5 +1,6 @@
 #include "analysis/sample.hpp"
 
+#include <cmath>
 #include <numbers>
 #include <unordered_map>
 
@@ -7,7 +8,7 @@
 
 namespace demlab::analysis {
 
-Sample gatherSample(const sim::Simulation& sim) {
+Sample gatherSample(const sim::Simulation& sim, bool withBonds) {
   Sample s;
   const int d = s.dim = sim.dim();
   // Every element's state in one call (no ElementState per element).
@@ -40,6 +41,30 @@ Sample gatherSample(const sim::Simulation& sim) {
     k.wall = c.wall.isNull() ? -1 : int64_t(c.wall.index);
     k.point = c.point, k.normal = c.normal, k.force = c.force;
     s.contacts.push_back(k);
+  }
+  if (!withBonds) return s;
+  for (const sim::BondInfo& b : sim.bonds()) {
+    if (!b.intact) continue;
+    SampleContact k;
+    k.a = denseOfSlot.at(b.a.index);
+    const uint32_t j = denseOfSlot.at(b.b.index);
+    k.b = int64_t(j);
+    Vec3d n{};
+    double len2 = 0;
+    for (int q = 0; q < d; ++q) {
+      n[q] = s.position[j][q] - s.position[k.a][q];
+      len2 += n[q] * n[q];
+    }
+    const double len = std::sqrt(len2);
+    // Midway between the surfaces (any point of the line gives the pair's f (x) (x_b - x_a);
+    // this one splits the branch as a contact between the two would).
+    const double along = len > 0 ? (s.radius[k.a] + 0.5 * (len - s.radius[k.a] - s.radius[j])) / len : 0.5;
+    for (int q = 0; q < 3; ++q) {
+      k.normal[q] = len > 0 ? n[q] / len : 0;
+      k.point[q] = s.position[k.a][q] + along * n[q];
+    }
+    k.force = b.force;
+    s.bonds.push_back(k);
   }
   return s;
 }

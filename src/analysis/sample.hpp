@@ -33,12 +33,15 @@ struct Sample {
   std::vector<double> radius, mass, volume;  // volume: area in 2D
   std::vector<char> ball;                    // 1 for a ball (sphere or disc)
   std::vector<SampleContact> contacts;       // the records' order
+  // The intact bonds, when gathered: the point midway between the surfaces on the line of
+  // centres, the bond's force on b. Apart from the contacts: a bond is not a contact.
+  std::vector<SampleContact> bonds;
   size_t size() const { return ids.size(); }
 };
 
 // Returns the elements and the last step's contacts of sim (a volume is mass / density for an
-// element that is not a ball). Changes nothing.
-Sample gatherSample(const sim::Simulation& sim);
+// element that is not a ball), and with withBonds its intact bonds. Changes nothing.
+Sample gatherSample(const sim::Simulation& sim, bool withBonds = false);
 
 // One side of a contact seen from one of its elements: the force on that element, applied at
 // the contact point, and the branch from the element's centre to that point. A grain pair has

@@ -7,16 +7,21 @@ namespace demlab::analysis {
 StressResult loveWeberStress(const Sample& s, const Selection& sel, double volume) {
   StressResult out;
   out.volume = volume;
-  for (const SampleContact& c : s.contacts) {
-    for (const Arm& a : armsOf(s, c)) {
-      double w = armWeight(s, sel, a);
-      if (w == 0) continue;
-      // The force on the element is the opposite of what it exerts: -f (x) l is the arm's
-      // compression-positive moment.
-      addScaled(out.contact, outer(a.force, a.branch), -w / volume);
-      out.arms += w;
+  const auto sum = [&](const std::vector<SampleContact>& pairs, Tensor& into, double& arms) {
+    for (const SampleContact& c : pairs) {
+      for (const Arm& a : armsOf(s, c)) {
+        double w = armWeight(s, sel, a);
+        if (w == 0) continue;
+        // The force on the element is the opposite of what it exerts: -f (x) l is the arm's
+        // compression-positive moment.
+        addScaled(into, outer(a.force, a.branch), -w / volume);
+        arms += w;
+      }
     }
-  }
+  };
+  sum(s.contacts, out.contact, out.arms);
+  double bondArms = 0;
+  sum(s.bonds, out.bond, bondArms);
   const MotionResult m = meanMotion(s, sel);
   out.elements = m.elements;
   for (size_t i = 0; i < s.size(); ++i) {

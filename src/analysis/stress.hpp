@@ -1,6 +1,6 @@
 // The Love-Weber average stress of a set of elements (Love 1927, Weber 1966; Christoffersen et
-// al. 1981), static and kinetic parts apart:
-//   sigma = (1/V) [ sum over contact arms  w  f (x) l  +  sum over elements m v' (x) v' ]
+// al. 1981), static (contacts, bonds) and kinetic parts apart:
+//   sigma = (1/V) [ sum over contact and bond arms  w  f (x) l  +  sum over elements m v' (x) v' ]
 // with compression positive (the soil-mechanics convention: a bed under gravity has positive
 // vertical stress; LIGGGHTS and LAMMPS report the opposite sign). For a grain pair the two
 // arms add up to f_ab (x) (x_b - x_a), f_ab the force on b; a wall contact has one arm, the
@@ -14,13 +14,20 @@
 namespace demlab::analysis {
 
 struct StressResult {
-  Tensor contact{};  // the static (contact) part, Pa (N/m in 2D)
+  Tensor contact{};  // the contacts' static part, Pa (N/m in 2D)
+  Tensor bond{};     // the bonds' static part (zero when the sample has no bonds)
   Tensor kinetic{};  // the kinetic (velocity fluctuation) part
   double volume = 0;
   size_t elements = 0;  // elements in the kinetic sum
   double arms = 0;      // the summed arm weights of the contact sum
-  Tensor total() const {
+  // The forces between elements: contacts and bonds.
+  Tensor statics() const {
     Tensor t = contact;
+    addScaled(t, bond, 1);
+    return t;
+  }
+  Tensor total() const {
+    Tensor t = statics();
     addScaled(t, kinetic, 1);
     return t;
   }

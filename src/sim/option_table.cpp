@@ -129,8 +129,8 @@ struct Rows {
         .name = "placed",
         .type = OptionType::Real,
         .def = 0.5,
-        .help = "largest overlap of the scene as set up, checked before its first step "
-                "(default 0.5; 0: no check)",
+        .help = "largest overlap of the scene as set up, checked before its first step, and "
+                "of what edits placed since, before the next run (default 0.5; 0: no check)",
         .lo = 0,
         .store = kTagged,
         .effect = kLoop},
@@ -207,10 +207,12 @@ constexpr OptionGroup kGroups[] = {
      "position or velocity is non-finite (NAN), no element moves more in one step than the "
      "neighbour search tracks, half the skin (SPEED), no contact overlaps by more than a "
      "fraction of the smaller radius (OVERLAP; another fraction, -placed, for the scene as "
-     "set up, before its first step) and the energy balance has not grown by more "
+     "set up, before its first step, and for the contacts of elements and walls added, moved "
+     "or grown since the last step, before the next run) and the energy balance has not grown by more "
      "than a fraction of the energy scale (ENERGY). When one fails the run stops at that step "
      "with the error DEMLAB WATCHDOG <check>, naming the elements, the likely cause and the "
-     "fix. The options are part of the scene (saved with it).",
+     "fix; a check that fails before the run's first step leaves the scene unchanged. The "
+     "options are part of the scene (saved with it).",
      false, true, kWatchdogTag},
     {"touch",
      "Turns the sub-step treatment of contact onset and release on or off, or returns whether "

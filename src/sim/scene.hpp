@@ -173,6 +173,12 @@ struct Scene {
   BondSet<D> bonds;                     // sim/bond.hpp
   std::vector<SourceState> sources;     // in creation order (sim/source.hpp)
   std::vector<SinkState> sinks;         // in creation order (sim/sink.hpp)
+  // Elements and walls that edits placed (added, moved, grown, turned) since the scene's last
+  // step, when it has had one: the next run's first check holds their contacts to the
+  // watchdog's `placed` limit, since such an overlap is the user's doing, not the run's. Before
+  // the first step every contact is held to it, so nothing is listed. Emptied by every run.
+  std::vector<ElementId> placedElements;
+  std::vector<WallId> placedWalls;
 
   // ---- element shapes (sim/shape.hpp) ----
   // The shared Geometry components; ElementArrays::geometry indexes them. [0] is the ball's.

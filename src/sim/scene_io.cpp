@@ -266,6 +266,22 @@ void readBlocked(Reader& r, Scene<D>& s) {
   }
 }
 
+// Reads the placed section's body into s.placedElements and s.placedWalls, checking every
+// handle against its pool (read before). Throws {LOAD FORMAT}.
+template <int D>
+void readPlaced(Reader& r, Scene<D>& s) {
+  const auto read = [&](auto& ids, const auto& pool) {
+    ids.resize(r.count(8));
+    for (auto& id : ids) {
+      id.index = r.u32();
+      id.generation = r.u32();
+      if (!pool.valid(id)) Reader::bad("placed handle");
+    }
+  };
+  read(s.placedElements, s.elements.pool());
+  read(s.placedWalls, s.walls.pool());
+}
+
 // Reads the pair section's body into s.pairOverrides, checking indices and ranges (NaN:
 // unset). Throws {LOAD FORMAT}.
 template <int D>
@@ -722,6 +738,16 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     writeBonds(body, s);
     writeSection(w, kBondTag, body);
   }
+  if (!s.placedElements.empty() || !s.placedWalls.empty()) {
+    Writer body;
+    const auto handle = [&](auto id) {
+      body.u32(id.index);
+      body.u32(id.generation);
+    };
+    body.list(s.placedElements, handle);
+    body.list(s.placedWalls, handle);
+    writeSection(w, kPlacedTag, body);
+  }
 }
 
 uint64_t hashBytes(std::string_view b) {
@@ -960,6 +986,8 @@ void readScene(Reader& r, Scene<D>& s) {
       }
     } else if (std::memcmp(tag, kShapeTag, 4) == 0) {
       readShapes(b, s);
+    } else if (std::memcmp(tag, kPlacedTag, 4) == 0) {
+      readPlaced(b, s);
     } else if (std::memcmp(tag, kBondTag, 4) == 0) {
       readBonds(b, s);
     } else if (std::memcmp(tag, kSourceTag, 4) == 0) {

@@ -170,6 +170,9 @@ inline constexpr char kSinkTag[5] = "SINK";
 // The walls' state beyond the fixed wall record, when a wall has any: per wall its work, the
 // rotation turned before its last change of motion, and its servo.
 inline constexpr char kWallExtraTag[5] = "WALX";
+// What edits placed since the last step (Scene::placedElements, placedWalls), when anything:
+// u64 count, per element its handle (u32 index, u32 generation); the same for the walls.
+inline constexpr char kPlacedTag[5] = "PLCD";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.

@@ -291,6 +291,8 @@ struct RunReport {
   double time = 0;           // scene time at the end
   double wallSeconds = 0;
   bool interrupted = false;         // the stop flag ended the run early
+  // The run failed (RunOptions::failed) and the scene is back as it was before it.
+  bool undone = false;
   std::vector<ModuleTime> modules;  // wall time per module, in loop order
   uint64_t contacts = 0;            // at the end
   uint64_t neighborRebuilds = 0;    // CGrid searches done by this run
@@ -304,7 +306,8 @@ struct RunReport {
 //           smallest radius (a contact would begin deep, a thin wall could be crossed);
 //   OVERLAP a contact overlaps by more than `overlap` x the smaller radius (a wall: the grain's),
 //           or, before the scene's first step, by more than `placed` x it (grains placed
-//           overlapping);
+//           overlapping), as do, before a later run, the contacts of what edits placed since
+//           the last step;
 //   ENERGY  the ledger's balance has grown (energy created) by more than `energy` x the energy
 //           scale (EnergyLedger::scale).
 // Part of the scene (digest, clone and checkpoint carry it). Defaults: on, 2, 0.5, 0.5, on.
@@ -336,7 +339,8 @@ struct WatchdogTrip {
 
 // Thrown by Simulation::run when the watchdog fires: {WATCHDOG <check>}, the message naming the
 // grains by handle. The scene stays at the step boundary where the run stopped (consistent and
-// inspectable, nothing rolled back); report() covers the steps done up to there.
+// inspectable, nothing rolled back); report() covers the steps done up to there. A check that
+// fires before the run's first step leaves the scene exactly as it was (trip().atStart).
 class RunStopped : public Error {
  public:
   RunStopped(WatchdogTrip trip, RunReport report);
@@ -365,6 +369,11 @@ struct RunOptions {
   // the run, at least 1) and once at the end. It may read the scene, not change it.
   std::function<void(uint64_t, uint64_t)> progress;
   uint64_t progressEvery = 0;
+  // Asked when the run stops early through `stop`: true when the stop came from a failure (a
+  // script callback's error) rather than an interrupt. A run that failed is undone: the scene
+  // goes back to its state before the run (RunReport::undone). Only scenes with script
+  // callbacks can fail so, and only they pay for the copy this keeps.
+  std::function<bool()> failed;
 };
 
 // One named parameter of a behavior: what `behavior add TYPE -NAME VALUE` gives, what a query

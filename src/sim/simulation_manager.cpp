@@ -421,6 +421,7 @@ ElementId SimulationManager<D>::addElement(const ElementDef& def) {
   s_.elements.a.q.back() = c.q;
   if (c.blocked != 0) s_.blocked.push_back({id, c.blocked});
   s_.ledger.reference += elementEnergy(static_cast<uint32_t>(s_.elements.size() - 1));
+  markPlaced(id);
   s_.needRebuild = true;
   touchConfig();
   return id;
@@ -457,6 +458,7 @@ std::vector<ElementId> SimulationManager<D>::addElements(const std::vector<Eleme
     a.q.back() = c.q;
     if (c.blocked != 0) s_.blocked.push_back({ids.back(), c.blocked});
     s_.ledger.reference += elementEnergy(static_cast<uint32_t>(n0 + k));
+    markPlaced(ids.back());
   }
   s_.needRebuild = true;
   touchConfig();
@@ -475,6 +477,7 @@ void SimulationManager<D>::removeElement(ElementId id) {
   s_.ledger.reference -= elementEnergy(i);
   forgetCandidates();
   dropBlocked([&](ElementId g) { return g == id; });
+  std::erase(s_.placedElements, id);
   const uint32_t slot = s_.elements.remove(id);
   dropBonds({slot});
   if (s_.keepHistory) s_.histories.removeId(slot);
@@ -501,6 +504,7 @@ void SimulationManager<D>::removeElementSet(const std::vector<ElementId>& ids) {
     slots.insert(s_.elements.remove(id));
   }
   dropBlocked([&](ElementId g) { return slots.contains(g.index); });
+  std::erase_if(s_.placedElements, [&](ElementId g) { return slots.contains(g.index); });
   dropBonds(slots);
   std::erase_if(s_.shapeSprings, [&](const auto& e) {
     return slots.contains(e.first.a) || slots.contains(e.first.b);
@@ -560,6 +564,7 @@ void SimulationManager<D>::setElementPosition(ElementId id, const Vec3d& p) {
   const double before = elementEnergy(i);
   s_.elements.a.x[i] = x;
   s_.ledger.reference += elementEnergy(i) - before;
+  markPlaced(id);
   s_.needRebuild = true;
   s_.forcesReady = false;
 }
@@ -594,6 +599,7 @@ void SimulationManager<D>::setElementOrientation(ElementId id, const std::vector
   const double before = elementEnergy(i);
   s_.elements.a.q[i] = q;
   s_.ledger.reference += elementEnergy(i) - before;
+  markPlaced(id);
   s_.forcesReady = false;
 }
 
@@ -639,6 +645,7 @@ void SimulationManager<D>::scaleElementRadii(const std::vector<ElementId>& ids, 
     slots.push_back(i);
   }
   const double before = ledgerSum();
+  for (ElementId id : ids) markPlaced(id);
   for (uint32_t i : slots) {
     a.r[i] *= factor;
     std::tie(a.invMass[i], a.invInertia[i]) = inverseMassAndInertia(

@@ -215,12 +215,22 @@ class SimulationManager final : public Simulation {
   // Parks the springs and drops the candidate pairs and contact records, which hold dense
   // indices: call before grains or walls are removed (the dense order changes).
   void forgetCandidates();
+  // Lists the element or wall among those edits placed since the last step (Scene::
+  // placedElements); nothing before the first step, when every contact counts as placed.
+  void markPlaced(ElementId id) {
+    if (s_.steps > 0) s_.placedElements.push_back(id);
+  }
+  void markPlaced(WallId id) {
+    if (s_.steps > 0) s_.placedWalls.push_back(id);
+  }
   // Marks the configuration changed: the next run mixes, chooses and rebuilds again.
   void touchConfig() {
     configDirty_ = true;
     s_.forcesReady = false;
   }
   std::string serialize(IoMode mode) const;
+  // Returns a deep copy of the scene, as clone() and a run's undo need it. Changes nothing.
+  Scene<D> copyScene() const;
 
   // The output modules: none when there are no outputs (sim/simulation_outputs.cpp).
   std::vector<std::unique_ptr<SimModule<D>>> outputModules() const;

@@ -144,6 +144,16 @@ void SimulationManager<D>::checkFinite() const {
 
 template <int D>
 RunReport SimulationManager<D>::run(const RunOptions& options) {
+  // What an undo goes back to. A check that fires before the first step must leave the scene
+  // as it was, but after edits the force pass below changes it (forces, contacts, ledger); a
+  // scene with script callbacks is undone when one fails. Other runs keep no copy.
+  const bool scripted =
+      options.failed && std::any_of(s_.behaviors.items().begin(), s_.behaviors.items().end(),
+                                    [](const auto& b) { return b->hasCallbacks(); });
+  std::optional<Scene<D>> before;
+  if ((s_.watchdog.enabled && (!s_.forcesReady || configDirty_)) || scripted) {
+    before = copyScene();
+  }
   prepare();
   RunReport rep;
   const uint64_t steps0 = s_.steps, rebuilds0 = s_.rebuilds;
@@ -171,7 +181,10 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   std::optional<WatchdogTrip> trip;
   try {
     // The scene as set up (placed overlaps, initial speeds) before the first step.
-    if (watched) watchdogCheck(s_, watchdogStepLimit(s_), s_.steps == 0);
+    if (watched) {
+      watchdogCheck(s_, watchdogStepLimit(s_),
+                    s_.steps == 0 ? CheckPoint::BeforeFirstStep : CheckPoint::BeforeRun);
+    }
     for (uint64_t k = 0; k < total; ++k) {
       if (options.stop && options.stop->load(std::memory_order_relaxed)) {
         rep.interrupted = true;
@@ -190,6 +203,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   } catch (const WatchdogHit& h) {
     trip = describeTrip(h, s_.steps == steps0);
   }
+  s_.placedElements.clear();
+  s_.placedWalls.clear();
   if (!watched) checkFinite();
   rep.steps = s_.steps - steps0;
   if (options.progress && !trip) options.progress(rep.steps, total);
@@ -203,6 +218,13 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   const EnergyLedger e = energy();
   if (!trip) s_.ledger.scale = e.scale;
   rep.energyResidual = e.residual;
+  const bool failed = !trip && options.failed && options.failed();
+  if (before && ((trip && s_.steps == steps0) || failed)) {
+    s_ = std::move(*before);
+    configDirty_ = true;
+    rep.undone = failed;
+    rep.time = s_.time;
+  }
   if (trip) throw RunStopped(std::move(*trip), rep);
   return rep;
 }
@@ -740,12 +762,19 @@ uint64_t SimulationManager<D>::stateDigest() const {
 }
 
 template <int D>
-std::unique_ptr<Simulation> SimulationManager<D>::clone() const {
+Scene<D> SimulationManager<D>::copyScene() const {
   const std::string b = serialize(IoMode::Clone);
-  auto m = std::make_unique<SimulationManager<D>>();
+  Scene<D> c;
   Reader r(b);
-  readScene(r, m->s_);
-  m->s_.behaviors = s_.behaviors;  // deep copies, sharing the TimeFunctions
+  readScene(r, c);
+  c.behaviors = s_.behaviors;  // deep copies, sharing the TimeFunctions
+  return c;
+}
+
+template <int D>
+std::unique_ptr<Simulation> SimulationManager<D>::clone() const {
+  auto m = std::make_unique<SimulationManager<D>>();
+  m->s_ = copyScene();
   return m;
 }
 

@@ -210,6 +210,7 @@ template <int D>
 WallId SimulationManager<D>::addWall(const WallDef& def) {
   Wall<D> w = checkWall(def);
   const WallId id = s_.walls.add(std::move(w), def.name, def.tags);
+  markPlaced(id);
   s_.needRebuild = true;
   touchConfig();
   return id;
@@ -223,6 +224,7 @@ void SimulationManager<D>::removeWall(WallId id) {
   // Its slot may come back for a new wall: its shape springs go with it.
   std::erase_if(s_.shapeSprings, [&](const auto& e) { return e.first.b == wallPairId(id.index); });
   s_.walls.remove(id);
+  std::erase(s_.placedWalls, id);
   s_.needRebuild = true;
   touchConfig();
 }

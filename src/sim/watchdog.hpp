@@ -21,6 +21,8 @@
 //           beds overlap by up to a radius, so a lower default would stop them; for stiff,
 //           physical materials 0.2 is a good limit (module watchdog -overlap 0.2). Before the
 //           scene's first step the limit is `placed` (default 0.5): grains placed overlapping;
+//           before a later run, it is for the contacts of elements and walls that edits placed
+//           since the last step (added, moved, grown, turned), the others keeping `overlap`;
 //   ENERGY  the ledger's balance (energy present + dissipated - work done - the reference) >
 //           energy x the energy scale at two checks in a row, every 16 steps (the pass divides
 //           by the masses): the integration creates energy. Only growth counts; the bound
@@ -36,6 +38,7 @@
 #include <utility>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "sim/contacts.hpp"
 #include "sim/element_chunks.hpp"
@@ -65,11 +68,13 @@ Real watchdogStepLimit(const Scene<D>& s) {
 }
 
 // Returns the contact record of s whose overlap is the largest fraction of the smaller radius
-// above f, with that fraction; {null, f} when none is. Shapes: the scene has elements that are
-// not balls, whose records are left out (a shape's radius is its bound, not a measure of its
-// overlap); false instantiates the loop without the test. Changes nothing.
-template <bool Shapes, int D>
-std::pair<const ContactRecord<D>*, Real> deepestRecord(const Scene<D>& s, Real f) {
+// above f, with that fraction, among those keep(record) accepts; {null, f} when none is.
+// Shapes: the scene has elements that are not balls, whose records are left out (a shape's
+// radius is its bound, not a measure of its overlap); false instantiates the loop without the
+// test. Changes nothing.
+template <bool Shapes, int D, class Keep = bool (*)(const ContactRecord<D>&)>
+std::pair<const ContactRecord<D>*, Real> deepestRecord(
+    const Scene<D>& s, Real f, Keep keep = [](const ContactRecord<D>&) { return true; }) {
   const ElementArrays<D>& a = s.elements.a;
   const ContactRecord<D>* worst = nullptr;
   Real worstRatio = f;
@@ -77,6 +82,7 @@ std::pair<const ContactRecord<D>*, Real> deepestRecord(const Scene<D>& s, Real f
     if constexpr (Shapes) {
       if (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0)) continue;
     }
+    if (!keep(c)) continue;
     const Real ratio = recordOverlapRatio(s, c, f);
     if (ratio > worstRatio) {
       worstRatio = ratio;
@@ -86,11 +92,32 @@ std::pair<const ContactRecord<D>*, Real> deepestRecord(const Scene<D>& s, Real f
   return {worst, worstRatio};
 }
 
-// Runs every enabled check on the scene as it is; throws WatchdogHit on the first that fails.
-// stepLimit: watchdogStepLimit(s); placed: check the overlaps against the `placed` limit (the
-// scene as set up) instead of `overlap`. Changes nothing.
+// Returns deepestRecord among the contacts of an element or wall that edits placed since the
+// last step (Scene::placedElements, placedWalls). Changes nothing.
 template <int D>
-void watchdogCheck(const Scene<D>& s, Real stepLimit, bool placed = false) {
+std::pair<const ContactRecord<D>*, Real> deepestPlacedRecord(const Scene<D>& s, Real f) {
+  std::vector<uint8_t> element(s.elements.a.size(), 0), wall(s.walls.items.size(), 0);
+  for (ElementId id : s.placedElements) {
+    if (s.elements.pool().valid(id)) element[s.elements.index(id)] = 1;
+  }
+  for (WallId id : s.placedWalls) {
+    if (s.walls.pool().valid(id)) wall[s.walls.pool().denseIndex(id)] = 1;
+  }
+  return deepestRecord<true>(s, f, [&](const ContactRecord<D>& c) {
+    return element[c.a] || (c.wall ? wall[c.b] : element[c.b]);
+  });
+}
+
+// When a check runs: at the end of a step; before a run that follows edits, when the contacts
+// of what they placed are held to the `placed` limit; before the scene's first step, when every
+// contact is (the scene as set up).
+enum class CheckPoint { Step, BeforeRun, BeforeFirstStep };
+
+// Runs every enabled check on the scene as it is; throws WatchdogHit on the first that fails.
+// stepLimit: watchdogStepLimit(s); when: see CheckPoint. Changes nothing.
+template <int D>
+void watchdogCheck(const Scene<D>& s, Real stepLimit, CheckPoint when = CheckPoint::Step) {
+  const bool placed = when == CheckPoint::BeforeFirstStep;
   const WatchdogOptions& o = s.watchdog;
   const ElementArrays<D>& a = s.elements.a;
   const size_t n = a.size();
@@ -148,6 +175,22 @@ void watchdogCheck(const Scene<D>& s, Real stepLimit, bool placed = false) {
     h.limit = stepLimit;
     throw h;
   }
+  const auto overlapHit = [&](const ContactRecord<D>* worst, Real ratio, Real limit, bool user) {
+    WatchdogHit h{WatchdogHit::Overlap};
+    h.a = worst->a;
+    h.b = worst->b;
+    h.hasB = true;
+    h.wall = worst->wall;
+    h.value = ratio;
+    h.limit = limit;
+    h.placed = user;
+    return h;
+  };
+  if (when == CheckPoint::BeforeRun && o.placed > 0 && s.recordContacts &&
+      (!s.placedElements.empty() || !s.placedWalls.empty())) {
+    const auto [worst, ratio] = deepestPlacedRecord(s, o.placed);
+    if (worst) throw overlapHit(worst, ratio, o.placed, true);
+  }
   const Real f = placed ? o.placed : o.overlap;
   // Between a run's records (its last step, outputs) the passes keep the step's deepest contact
   // themselves (trackDeepest): the same measure, in the same record order, shape contacts left
@@ -160,17 +203,7 @@ void watchdogCheck(const Scene<D>& s, Real stepLimit, bool placed = false) {
         !s.recordContacts ? deepest
         : s.anyShapes     ? deepestRecord<true>(s, f)
                           : deepestRecord<false>(s, f);
-    if (worst) {
-      WatchdogHit h{WatchdogHit::Overlap};
-      h.a = worst->a;
-      h.b = worst->b;
-      h.hasB = true;
-      h.wall = worst->wall;
-      h.value = worstRatio;
-      h.limit = f;
-      h.placed = placed;
-      throw h;
-    }
+    if (worst) throw overlapHit(worst, worstRatio, f, placed);
   }
 }
 

@@ -78,8 +78,8 @@ struct Scope {
 };
 
 // Returns the call's Scope (selectionOf with useRegion). Throws as selectionOf; changes nothing.
-Scope scopeOf(Call& c, bool useRegion) {
-  Scope scope{analysis::gatherSample(session(c).scene()), {}};
+Scope scopeOf(Call& c, bool useRegion, bool withBonds = false) {
+  Scope scope{analysis::gatherSample(session(c).scene(), withBonds), {}};
   scope.sel = selectionOf(c, scope.s, useRegion);
   return scope;
 }
@@ -123,10 +123,11 @@ Command& addNetworkQuery(Registry& r, const std::string& path, std::string summa
 void addStress(Registry& r) {
   Command& st = addSelectionQuery(
       r, "query stress", "Returns the Love-Weber average stress of a region or tag group as a dict.",
-      "sigma = (1/V) [sum over contacts f (x) l + sum over elements m v' (x) v'], COMPRESSION "
-      "POSITIVE (soil-mechanics convention; LIGGGHTS and LAMMPS report tension positive). l is "
-      "the branch vector, centre to centre for two elements and centre to contact point for a "
-      "wall (with the force the wall receives); each contact counts by the fraction of its branch "
+      "sigma = (1/V) [sum over contacts and bonds f (x) l + sum over elements m v' (x) v'], "
+      "COMPRESSION POSITIVE (soil-mechanics convention; LIGGGHTS and LAMMPS report tension "
+      "positive). l is the branch vector, centre to centre for two elements (a bond's force "
+      "acting midway between the surfaces) and centre to contact point for a wall (with the "
+      "force the wall receives); each contact and bond counts by the fraction of its branch "
       "inside the region, so neighbouring regions add up to their union. v' is the velocity less "
       "the selection's mass-weighted mean; the kinetic part counts the elements whose centre is "
       "inside. The dict: tensor (d x d, row-major, Pa; N/m in 2D), pressure (trace / d), "
@@ -135,11 +136,12 @@ void addStress(Registry& r) {
       "without a region needs -volume. Contacts are those recorded at the last step of a run.");
   st.option("volume", real().positive().withUnit("m^3"),
             "the volume the sums are divided by (an area in 2D; default: the region's)");
-  st.option("part", choice({"total", "static", "kinetic"}),
-            "static (contacts), kinetic (velocity fluctuations) or their sum")
+  st.option("part", choice({"total", "static", "contacts", "bonds", "kinetic"}),
+            "static (the forces between elements: contacts and bonds), either of those alone, "
+            "kinetic (velocity fluctuations) or the sum of static and kinetic")
       .byDefault("total");
   st.run([](Call& c) {
-    const auto [s, sel] = scopeOf(c, true);
+    const auto [s, sel] = scopeOf(c, true, true);
     if (!c.given("volume") && !sel.region)
       throw Error("query stress needs -region or -volume: a tag group has no volume of its own",
                   {"VALUE", "VOLUME"});
@@ -147,7 +149,11 @@ void addStress(Registry& r) {
     const double V = c.given("volume") ? c.real("volume") : sel.region->volume(d);
     const analysis::StressResult res = analysis::loveWeberStress(s, sel, V);
     const std::string& part = c.str("part");
-    const Tensor t = part == "static" ? res.contact : part == "kinetic" ? res.kinetic : res.total();
+    const Tensor t = part == "static"     ? res.statics()
+                     : part == "contacts" ? res.contact
+                     : part == "bonds"    ? res.bond
+                     : part == "kinetic"  ? res.kinetic
+                                          : res.total();
     Dict out = tensorSummary(t, d, "pressure");
     out.emplace_back("volume", V);
     out.emplace_back("elements", res.elements);

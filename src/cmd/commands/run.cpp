@@ -144,6 +144,7 @@ sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool qui
   sim::RunOptions o;
   o.steps = steps;
   o.stop = &s.stop;
+  o.failed = [&s] { return !s.callbackError.empty(); };
   if (progress && s.terminal) {
     o.progress = [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); };
     o.progressEvery = 16;  // the bar itself redraws at most every 0.1 s
@@ -178,8 +179,9 @@ void raiseIfStopped(Session& s, const sim::RunReport& rep) {
   if (!s.callbackError.empty()) {
     std::string msg = s.callbackError;
     s.callbackError.clear();
-    throw Error("run stopped at step " + std::to_string(s.sim->stepCount()) +
-                    " (t = " + formatReal(s.sim->time()) + " s): " + msg,
+    // The run is undone (RunOptions::failed): the scene is where the command found it.
+    throw Error("run undone: a script callback failed after " + std::to_string(rep.steps) +
+                    " steps: " + msg + "; the scene is as it was before the run",
                 {"CALLBACK"});
   }
   if (rep.interrupted) {
