@@ -73,6 +73,7 @@ set peakStrain 0
 set peakCracks 0
 set curve {}
 set start [clock milliseconds]
+set cpu0 [rock::cpuSeconds]
 set steps0 [sim time -steps]
 while {1} {
     sim run -time $interval -quiet -progress 0
@@ -92,6 +93,7 @@ while {1} {
 }
 close $fh
 set seconds [expr {([clock milliseconds] - $start) / 1000.0}]
+set cpu [expr {$cpu0 eq {} ? {} : [rock::cpuSeconds] - $cpu0}]
 set steps [expr {[sim time -steps] - $steps0}]
 
 # Least-squares slopes against the axial strain over the rows between 25 % and 50 % of the
@@ -132,4 +134,4 @@ puts [format "ucs (%dD): %d elements, %d bonds, fraction %.3f, locked-in stress 
 dict create elements [dict get $made elements] bonds $bonds fraction [dict get $made fraction] \
     lockedin [dict get $made lockedin] stress [dict get $made stress] peak $peak \
     peakstrain $peakStrain peakcracks $peakCracks modulus $modulus poisson $poisson \
-    tension $tension shear $shear rate $rate steps $steps seconds $seconds
+    tension $tension shear $shear rate $rate steps $steps seconds $seconds cpu $cpu
