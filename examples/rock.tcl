@@ -98,6 +98,55 @@ proc rock::cracks {} {
     list [dict get $c tension] [dict get $c shear]
 }
 
+# Writes the bonded sample and its loading for another DEM code to rebuild (scripts/peer-bond):
+# prefix.elements.csv (dump csv: id radius mass x y z), prefix.bonds.csv (a,b,tensile,shear,
+# restlength,gap: every intact bond with its own drawn strengths, Pa, and the surface gap it
+# was made at, m) and prefix.meta (key value lines; the lists are Tcl lists of element ids). The
+# extra pairs are key value arguments written as they are. Returns nothing.
+proc rock::export {prefix args} {
+    dump csv $prefix.elements.csv -fields {id radius mass x y z}
+    set fh [open $prefix.bonds.csv w]
+    puts $fh a,b,tensile,shear,restlength,gap
+    foreach b [bond list] {
+        if {![dict get $b intact]} continue
+        set q [bond query [dict get $b id]]
+        set gap [expr {[dict get $q restlength] - [element get [dict get $b a] -radius] \
+            - [element get [dict get $b b] -radius]}]
+        puts $fh [join [list [dict get $b a] [dict get $b b] [dict get $q tensile] \
+            [dict get $q shear] [dict get $q restlength] $gap] ,]
+    }
+    close $fh
+    set fh [open $prefix.meta w]
+    set bond [lindex [bond models] 0]
+    foreach {k v} [dict get $bond values] {puts $fh "bond_$k $v"}
+    foreach pair {{rock rock} {rock plate}} {
+        set c [law coefficients {*}$pair]
+        foreach k {young friction restitution} {puts $fh "[join $pair _]_$k [dict get $c $k]"}
+    }
+    foreach k {density poisson} {puts $fh "rock_$k [material get rock -$k]"}
+    puts $fh "dt [sim timestep]"
+    foreach {k v} $args {puts $fh "$k $v"}
+    close $fh
+}
+
+# Returns the CPU time (user and system) this process has used, s, or "" where Linux's
+# /proc/self/stat is not there. On a machine shared with other jobs it is steadier than the wall
+# time, which counts the time others held the core.
+proc rock::cpuSeconds {} {
+    variable clockTicks
+    if {![file readable /proc/self/stat]} {return {}}
+    if {![info exists clockTicks]} {
+        if {[catch {exec getconf CLK_TCK} clockTicks]} {set clockTicks 100}
+    }
+    set fh [open /proc/self/stat]
+    set stat [read $fh]
+    close $fh
+    # The fields after the command's name, which is in parentheses: the state is the third
+    # field, utime and stime (clock ticks) the 14th and 15th.
+    set fields [string range $stat [string last ) $stat]+2 end]
+    expr {double([lindex $fields 11] + [lindex $fields 12]) / $clockTicks}
+}
+
 # Reads an example's arguments into the array named arrayName, which holds the defaults: -short
 # alone sets opt(-short) to 1, any other known -option takes the next word, anything else is
 # the CSV file (opt(-csv)). Returns nothing.

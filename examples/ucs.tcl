@@ -12,23 +12,27 @@
 # them as a dict.
 #
 #   build/demlab examples/ucs.tcl ?file.csv? ?-short? ?-dim 2|3? ?-rate 1/s? ?-kscale k?
-#                                 ?-sscale s? ?-cscale c? ?-seed n?
+#                                 ?-sscale s? ?-cscale c? ?-seed n? ?-width m? ?-export prefix?
 #
 # -short: a smaller sample at a faster rate (the test suite's form). -rate: the strain rate
 # (default 4/s, 10/s short); -kscale, -sscale: factors on the bonds' stiffness and strength;
-# -cscale: on the contacts' modulus.
+# -cscale: on the contacts' modulus; -width: the sample's width in m (the height is twice
+# it); -export: write the sample and its loading for another code before loading it
+# (rock::export; scripts/peer-bond runs yade on them).
 # At 4/s the sample shortens by a few 1e-5 of its height per P-wave transit, a few percent of
 # the strain at the peak: quasi-static (doc/verification.md compares a run at half the rate).
 # The run stops when the stress has fallen below 60 % of the peak after it, or at 2 % strain.
 
 source [file join [file dirname [info script]] rock.tcl]
 
-array set opt {-short 0 -dim 2 -rate {} -kscale 1 -sscale 1 -cscale 1 -seed 1 -csv ucs.csv}
+array set opt {-short 0 -dim 2 -rate {} -kscale 1 -sscale 1 -cscale 1 -seed 1 -csv ucs.csv
+    -width {} -export {}}
 rock::parseArgs opt $argv
 set d $opt(-dim)
 set rate [expr {$opt(-rate) ne {} ? $opt(-rate) : ($opt(-short) ? 10.0 : 4.0)}]
 # Width by height (2D); 3D a square prism of that cross-section, one width deep.
 set W [expr {$opt(-short) ? ($d == 2 ? 0.006 : 0.004) : ($d == 2 ? 0.016 : 0.005)}]
+if {$opt(-width) ne {}} {set W $opt(-width)}
 set H [expr {2 * $W}]
 set axis [expr {$d - 1}]
 
@@ -57,6 +61,11 @@ set top [wall add plane -normal [lreplace $n $axis $axis -1] -point [lreplace $n
 
 set strainEnd 0.02
 set interval [expr {($opt(-short) ? 4e-5 : 1e-5) / $rate}]   ;# a row every 1e-5 of strain
+if {$opt(-export) ne {}} {
+    rock::export $opt(-export) axis $axis rate $rate velocity $v lo $lo hi $hi area $area \
+        h0 $h0 interval $interval strain_end $strainEnd \
+        lo_face [element list -tag lo$axis] hi_face [element list -tag hi$axis]
+}
 set fh [open $opt(-csv) w]
 puts $fh "strain,lateral_strain,stress_Pa,broken,tension,shear"
 set peak 0
@@ -64,6 +73,7 @@ set peakStrain 0
 set peakCracks 0
 set curve {}
 set start [clock milliseconds]
+set cpu0 [rock::cpuSeconds]
 set steps0 [sim time -steps]
 while {1} {
     sim run -time $interval -quiet -progress 0
@@ -83,6 +93,7 @@ while {1} {
 }
 close $fh
 set seconds [expr {([clock milliseconds] - $start) / 1000.0}]
+set cpu [expr {$cpu0 eq {} ? {} : [rock::cpuSeconds] - $cpu0}]
 set steps [expr {[sim time -steps] - $steps0}]
 
 # Least-squares slopes against the axial strain over the rows between 25 % and 50 % of the
@@ -123,4 +134,4 @@ puts [format "ucs (%dD): %d elements, %d bonds, fraction %.3f, locked-in stress 
 dict create elements [dict get $made elements] bonds $bonds fraction [dict get $made fraction] \
     lockedin [dict get $made lockedin] stress [dict get $made stress] peak $peak \
     peakstrain $peakStrain peakcracks $peakCracks modulus $modulus poisson $poisson \
-    tension $tension shear $shear rate $rate steps $steps seconds $seconds
+    tension $tension shear $shear rate $rate steps $steps seconds $seconds cpu $cpu
