@@ -31,6 +31,8 @@ inline constexpr double kMinDensity = 1e-6, kMaxDensity = 1e9;
 inline constexpr double kMinYoung = 1e-3, kMaxYoung = 1e15;
 // Any other non-negative coefficient (friction, cohesion, stiffness, loads): at most this.
 inline constexpr double kMaxCoefficient = 1e30;
+// Times a scene's settings name (a ramp's start, s): within this of zero, as coordinates.
+inline constexpr double kMaxTime = 1e15;
 // Accelerations (gravity, m/s^2).
 inline constexpr double kMaxAcceleration = 1e9;
 

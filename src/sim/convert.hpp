@@ -145,6 +145,18 @@ void checkPositionRange(const VecD<D>& x, double r) {
                  "coordinates cannot resolve the element's overlaps)");
   }
 }
+// Throws {VALUE <FIELD>} unless every component of a load's force, torque or rate is within
+// the loads' bound (validity::kMaxCoefficient). angular: v is a torque or its rate, which a
+// 2D scene gives as its z component alone.
+inline void checkLoadRange(const Vec3d& v, const std::string& field, int dim, bool angular) {
+  for (int k = 0; k < 3; ++k) {
+    if (!(std::abs(v[k]) <= validity::kMaxCoefficient)) {
+      throwBad(field, angular && dim == 2 ? physics::formatReal(v[2]) : formatVec(v, dim),
+               "must be at most " + physics::formatReal(validity::kMaxCoefficient) +
+                   " in magnitude on each axis");
+    }
+  }
+}
 template <int D>
 void checkVelocityRange(const VecD<D>& v) {
   if (!(v.norm() <= validity::kMaxSpeed)) {

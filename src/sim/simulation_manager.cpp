@@ -737,6 +737,8 @@ BehaviorId SimulationManager<D>::addLoad(const LoadDef& def) {
   if (!def.tag.empty()) checkTagName(def.tag);
   toVec<D>(def.force, "force");
   toAngular<D>(def.torque, "torque");
+  checkLoadRange(def.force, "force", D, false);
+  checkLoadRange(def.torque, "torque", D, true);
   if (D == 2) {
     if (def.forceFn[2]) throwBad("force", "z", "must have z = 0 in 2D");
     if (def.torqueFn[0] || def.torqueFn[1]) throwBad("torque", "x y", "must be about z only in 2D");

@@ -10,6 +10,8 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/validity.hpp"
+#include "physics/material.hpp"
 
 extern const char* const demlabTclLibrary;  // tcl/demlab.tcl, compiled in (generated)
 
@@ -165,10 +167,15 @@ void setupSession(Tcl_Interp* interp, InterpState* st) {
     return [fn](double t) {
       double out = 0;
       std::string err;
-      if (!fn->eval(t, out, err) || !std::isfinite(out)) {
+      // The loads' bound (core/validity.hpp) holds for values of scripts as for constants.
+      const bool ok = fn->eval(t, out, err);
+      if (!ok || !(std::abs(out) <= validity::kMaxCoefficient)) {
         if (fn->state->session.callbackError.empty()) {
           fn->state->session.callbackError =
-              err.empty() ? "a load expression gave a non-finite value" : err;
+              !ok ? err
+                  : "a load expression gave " + physics::formatReal(out) +
+                        ", beyond the loads' bound " +
+                        physics::formatReal(validity::kMaxCoefficient);
         }
         fn->state->session.stop = true;
         return 0.0;

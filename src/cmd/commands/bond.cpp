@@ -131,7 +131,8 @@ void registerBondCommands(Registry& r) {
       "A bond's rest length is the pair's centre distance when it is made. The bond acts beside "
       "the pair's contact law; when it breaks only its own force goes.";
   add.option("model", text("model"), "the bond model (see bond model)").require();
-  add.option("gap", real().nonNegative().withUnit("m"), "largest surface gap of a bonded pair");
+  add.option("gap", real().nonNegative().withUnit("m"),
+             "largest surface gap of a bonded pair (at most the largest diameter of the elements)");
   add.option("pairs", pairList(), "the pairs {{a b} ...} (element ids or names)");
   add.oneOf({"gap", "pairs"}, true);
   add.option("region", regionType(), "{box {lo} {hi}} or {sphere {centre} radius}");

@@ -36,15 +36,19 @@ class TorqueRampBehavior final : public Behavior<D> {
     auto b = std::make_unique<TorqueRampBehavior>();
     if (const BehaviorParam* e = findParam(p, "element")) b->grain_ = e->grain;
     if (const BehaviorParam* t = findParam(p, "tag")) b->tag_ = t->text;
+    checkLoadRange(paramVec(p, "torque"), "torque", D, true);
+    checkLoadRange(paramVec(p, "rate"), "rate", D, true);
     b->t0_ = toAngular<D>(paramVec(p, "torque"), "torque");
     b->rate_ = toAngular<D>(paramVec(p, "rate"), "rate");
     b->start_ = paramNumber(p, "start", 0);
-    if (!std::isfinite(b->start_))
-      throwBad("start", physics::formatReal(b->start_), "must be finite");
+    if (!validity::inRange(b->start_, -validity::kMaxTime, validity::kMaxTime))
+      throwBad("start", physics::formatReal(b->start_),
+               "must be a time within 1e15 s of zero");
     if (findParam(p, "max")) {
       b->max_ = paramNumber(p, "max", 0);
       checkPositive(b->max_, "max");
     }
+
     return b;
   }
 
@@ -57,9 +61,12 @@ class TorqueRampBehavior final : public Behavior<D> {
         return Vec3::Zero();
       }
     }
+    // Within the bounds on torque, rate (1e30) and start (1e15 s) T stays finite (|T| < 1e46
+    // for any t the scene reaches), and no ramp passes the loads' bound, max or not.
     AngularD<D> T = t0_ + rate_ * (t - start_);
+    const Real cap = std::min(max_, validity::kMaxCoefficient);
     const Real n2 = squaredNorm(T);
-    if (n2 > max_ * max_) T = T * (max_ / std::sqrt(n2));
+    if (n2 > cap * cap) T = T * (cap / std::sqrt(n2));
     return T;
   }
 
