@@ -17,6 +17,7 @@ namespace demlab::render {
   X(PFNGLCLEARCOLORPROC, ClearColor)                           \
   X(PFNGLCLEARDEPTHPROC, ClearDepth)                           \
   X(PFNGLCLEARPROC, Clear)                                     \
+  X(PFNGLSCISSORPROC, Scissor)                                 \
   X(PFNGLENABLEPROC, Enable)                                   \
   X(PFNGLDISABLEPROC, Disable)                                 \
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                             \

@@ -34,6 +34,9 @@ struct GrainInstance {
 };
 
 class GlRenderer : public Renderer {
+  // Rows per band of the clear and the read-back, between which Ctrl-C is polled.
+  static constexpr int kClearBand = 256;
+
  public:
   GlRenderer() : context_(makeGlContext()) {
     gl_.load([this](const char* name) { return context_->procAddress(name); });
@@ -86,7 +89,21 @@ class GlRenderer : public Renderer {
     const Rgb& bg = options.background;
     gl_.ClearColor(bg[0], bg[1], bg[2], 1);
     gl_.ClearDepth(1);
-    gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    // Cleared in bands of rows with Ctrl-C polled between them: software GL takes longer than
+    // an interrupt may wait to clear a frame of tens of megapixels in one call.
+    gl_.Enable(GL_SCISSOR_TEST);
+    for (int y = 0; y < h; y += kClearBand) {
+      gl_.Scissor(0, y, w, std::min(kClearBand, h - y));
+      gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      if (h > kClearBand) {
+        gl_.Finish();
+        if (interruptRequested()) {
+          gl_.Disable(GL_SCISSOR_TEST);
+          pollInterrupt("snapshot");
+        }
+      }
+    }
+    gl_.Disable(GL_SCISSOR_TEST);
     gl_.Enable(GL_DEPTH_TEST);
     gl_.DepthFunc(GL_LESS);
     gl_.DepthMask(GL_TRUE);
@@ -173,7 +190,15 @@ class GlRenderer : public Renderer {
     pollInterrupt("snapshot");
     pixels_.resize(size_t(4) * w * h);
     gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
-    gl_.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, pixels_.data());
+    // Read back in bands of rows, Ctrl-C polled between them, as the clear is.
+    for (int y = 0; y < h; y += kClearBand) {
+      const int rows = std::min(kClearBand, h - y);
+      gl_.ReadPixels(0, y, w, rows, GL_RGBA, GL_UNSIGNED_BYTE, &pixels_[size_t(4) * w * y]);
+      if (interruptRequested()) {
+        gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        pollInterrupt("snapshot");
+      }
+    }
     gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
     if (const GLenum err = gl_.GetError(); err != GL_NO_ERROR)
       throw Error("OpenGL error " + std::to_string(err) + " while rendering", {"RENDER", "GL"});

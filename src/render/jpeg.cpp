@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/atomic_file.hpp"
+#include "core/interrupt.hpp"
 
 namespace demlab::render {
 namespace {
@@ -66,6 +67,12 @@ bool encode(std::FILE* f, const std::vector<JSAMPLE>& rgb, int width, int height
   }
   jpeg_start_compress(&c, TRUE);
   while (c.next_scanline < c.image_height) {
+    // Ctrl-C every 64 rows: libjpeg's state is freed first, then the interrupt is thrown
+    // (writeFileAtomically removes the partial file).
+    if ((c.next_scanline & 63) == 0 && interruptRequested()) {
+      jpeg_destroy_compress(&c);
+      pollInterrupt("snapshot");
+    }
     JSAMPROW row = const_cast<JSAMPROW>(&rgb[size_t(c.next_scanline) * size_t(width) * 3]);
     jpeg_write_scanlines(&c, &row, 1);
   }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "core/validity.hpp"
 #include "core/error.hpp"
 #include "physics/material.hpp"
 #include "sim/scene_io.hpp"
@@ -100,6 +101,7 @@ struct Rows {
         .type = OptionType::Real,
         .def = -1.0,
         .help = "Verlet skin (negative: automatic, 0: search every step)",
+        .hi = validity::kMaxCoordinate,  // the search's boxes stay finite
         .unit = "m",
         .store = kHeader,
         .effect = kSearch},
