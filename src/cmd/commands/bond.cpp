@@ -52,10 +52,11 @@ void declareModel(Registry& r, const sim::BondModelType& t) {
   for (const sim::BondOption& o : t.options) {
     PipeType p = real();
     if (!o.unit.empty()) p = p.withUnit(o.unit);
-    Param& q = c.option(
-        o.name, p,
-        o.help + (std::isnan(o.fallback) ? " (required)"
-                                         : " (default " + physics::formatReal(o.fallback) + ")"));
+    // A required option says so through require(); help adds the word once.
+    Param& q = c.option(o.name, p,
+                        std::isnan(o.fallback)
+                            ? o.help
+                            : o.help + " (default " + physics::formatReal(o.fallback) + ")");
     if (std::isnan(o.fallback)) q.require();
   }
   c.run([t](Call& c) {
