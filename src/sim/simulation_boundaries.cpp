@@ -117,9 +117,17 @@ void SimulationManager<D>::addSource(const SourceDef& def) {
     throwBad("target", physics::formatReal(def.targetMass), "must be a non-negative number");
   checkSizes(def.size);
   checkRegion<D>(def.region, def.size.maxRadius());
-  toVec<D>(def.velocity, "velocity");
+  const VecD<D> v = toVec<D>(def.velocity, "velocity");
+  checkVelocityRange<D>(v);
   if (!(std::isfinite(def.jitter) && def.jitter >= 0))
     throwBad("jitter", physics::formatReal(def.jitter), "must be a non-negative number");
+  // Every inserted velocity within the speed bound, checked here rather than when an element
+  // is inserted mid-step (which would fail after the step had changed the scene).
+  if (v.norm() + std::sqrt(double(D)) * def.jitter > validity::kMaxSpeed) {
+    throwBad("jitter", physics::formatReal(def.jitter),
+             "must keep every inserted speed within " + physics::formatReal(validity::kMaxSpeed) +
+                 " m/s (|velocity| + sqrt(dimension) x jitter)");
+  }
   if (!(def.tolerance >= 0 && def.tolerance < 1))
     throwBad("tolerance", physics::formatReal(def.tolerance), "must be in [0, 1)");
   if (def.tries < 1) throwBad("tries", std::to_string(def.tries), "must be at least 1");
