@@ -160,7 +160,10 @@ void registerBehaviorCommands(Registry& r) {
   load.details =
       "Each component is a number or a Tcl expression in $t (the simulated time, s), e.g. "
       "-force {0 0 {-2.0*sin(50*$t)}}; an expression is evaluated at every step, so keep it cheap. "
-      "Loads with expressions cannot be saved in a checkpoint (see sim save -skipcallbacks).";
+      "Every component, given or computed, must be within 1e30 in magnitude; an expression that "
+      "fails or gives more (or a non-finite value) during a run undoes that run (DEMLAB "
+      "CALLBACK). Loads with expressions cannot be saved in a checkpoint (see sim save "
+      "-skipcallbacks).";
   load.option("element", elementRef(), "the element");
   load.option("tag", tagName(), "every element carrying this tag (evaluated at each step)");
   load.oneOf({"element", "tag"}, true);
