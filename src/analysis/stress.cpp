@@ -7,7 +7,9 @@ namespace demlab::analysis {
 StressResult loveWeberStress(const Sample& s, const Selection& sel, double volume) {
   StressResult out;
   out.volume = volume;
-  const auto sum = [&](const std::vector<SampleContact>& pairs, Tensor& into, double& arms) {
+  // Returns the summed arm weights of pairs, whose stress it adds to into.
+  const auto sum = [&](const std::vector<SampleContact>& pairs, Tensor& into) {
+    double arms = 0;
     for (const SampleContact& c : pairs) {
       for (const Arm& a : armsOf(s, c)) {
         double w = armWeight(s, sel, a);
@@ -18,10 +20,10 @@ StressResult loveWeberStress(const Sample& s, const Selection& sel, double volum
         arms += w;
       }
     }
+    return arms;
   };
-  sum(s.contacts, out.contact, out.arms);
-  double bondArms = 0;
-  sum(s.bonds, out.bond, bondArms);
+  out.arms = sum(s.contacts, out.contact);  // the contacts' alone, as StressResult says
+  sum(s.bonds, out.bond);
   const MotionResult m = meanMotion(s, sel);
   out.elements = m.elements;
   for (size_t i = 0; i < s.size(); ++i) {

@@ -36,10 +36,11 @@ class TorqueRampBehavior final : public Behavior<D> {
     auto b = std::make_unique<TorqueRampBehavior>();
     if (const BehaviorParam* e = findParam(p, "element")) b->grain_ = e->grain;
     if (const BehaviorParam* t = findParam(p, "tag")) b->tag_ = t->text;
-    checkLoadRange(paramVec(p, "torque"), "torque", D, true);
-    checkLoadRange(paramVec(p, "rate"), "rate", D, true);
-    b->t0_ = toAngular<D>(paramVec(p, "torque"), "torque");
-    b->rate_ = toAngular<D>(paramVec(p, "rate"), "rate");
+    const Vec3d torque = paramVec(p, "torque"), rate = paramVec(p, "rate");
+    checkLoadRange(torque, "torque", D, true);
+    checkLoadRange(rate, "rate", D, true);
+    b->t0_ = toAngular<D>(torque, "torque");
+    b->rate_ = toAngular<D>(rate, "rate");
     b->start_ = paramNumber(p, "start", 0);
     if (!validity::inRange(b->start_, -validity::kMaxTime, validity::kMaxTime))
       throwBad("start", physics::formatReal(b->start_),
