@@ -117,14 +117,22 @@ if(DEMLAB_SANITIZE)
     ASAN_OPTIONS=detect_leaks=0)
 endif()
 file(GLOB DEMLAB_TCL_TEST_FILES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/*.test)
+# Files run through the executable only: they exercise the engine's physics through commands
+# every other file already runs through the package, and each takes over 40 s in the sanitizer
+# build, time the test command spends on fuzzing instead (doc/reliability.md, "The test command").
+set(DEMLAB_TCL_EXECUTABLE_ONLY lab threads wallmotion)
 set(DEMLAB_TCL_TESTS "")
 foreach(test_file ${DEMLAB_TCL_TEST_FILES})
   get_filename_component(test_name ${test_file} NAME_WE)
   add_test(NAME tcl.${test_name}
     COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -file ${test_name}.test)
+  list(APPEND DEMLAB_TCL_TESTS tcl.${test_name})
+  if(test_name IN_LIST DEMLAB_TCL_EXECUTABLE_ONLY)
+    continue()
+  endif()
   add_test(NAME tcl_package.${test_name} COMMAND ${CMAKE_COMMAND} -E env ${DEMLAB_TCLSH_ENV}
     ${DEMLAB_TCLSH} ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -package -file ${test_name}.test)
-  list(APPEND DEMLAB_TCL_TESTS tcl.${test_name} tcl_package.${test_name})
+  list(APPEND DEMLAB_TCL_TESTS tcl_package.${test_name})
 endforeach()
 # Time limits in the tests (Ctrl-C's latency) are scaled by DEMLAB_TIME_FACTOR: the sanitizer
 # build runs several times slower than Release.
@@ -139,6 +147,16 @@ set_tests_properties(${DEMLAB_TCL_TESTS} PROPERTIES ENVIRONMENT
 # in a runner process and must now keep every invariant (tests/fuzz/command_fuzz.tcl).
 add_test(NAME fuzz_corpus.tcl COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/command_fuzz.tcl
   replay ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/corpus/tcl)
+# The sanitizer build also fuzzes: new random command sequences for DEMLAB_FUZZ_SECONDS x 3
+# (failing ones are minimised into fuzz-findings/ of the build folder). It starts first (COST)
+# and runs beside the other tests.
+if(DEMLAB_SANITIZE)
+  math(EXPR DEMLAB_COMMAND_FUZZ_SECONDS "${DEMLAB_FUZZ_SECONDS} * 3")
+  add_test(NAME fuzz.commands COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/command_fuzz.tcl
+    fuzz -seconds ${DEMLAB_COMMAND_FUZZ_SECONDS} -seed 1 -corpus ${CMAKE_BINARY_DIR}/fuzz-findings)
+  set_tests_properties(fuzz.commands PROPERTIES COST 10000
+    ENVIRONMENT "DEMLAB_THREADS=1;ASAN_OPTIONS=detect_leaks=0")
+endif()
 
 include(GNUInstallDirs)
 install(TARGETS demlab RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

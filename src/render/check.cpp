@@ -201,6 +201,9 @@ void checkOptions(const RenderOptions& o) {
     throw Error("bad size \"" + size + "\": with antialias " + std::to_string(o.antialias) +
                     " each side must be at most " + std::to_string(kMaxImageSize / o.antialias),
                 {"VALUE", "SIZE"});
+  if (o.stripPixels < 1)
+    throw Error("bad strip \"" + std::to_string(o.stripPixels) + "\": must be at least 1 pixel",
+                {"VALUE", "STRIP"});
   for (const Rgb* c : {&o.background, &o.defaultColour, &o.outlineColour})
     if (!unitColour(*c))
       throw Error("bad colour: components must be numbers from 0 to 1", {"VALUE", "COLOUR"});

@@ -3,6 +3,7 @@
 // reused; only the instance buffers are refilled per frame.
 #include <algorithm>
 #include <cstring>
+#include <memory>
 
 #include "core/error.hpp"
 #include "core/interrupt.hpp"
@@ -34,9 +35,6 @@ struct GrainInstance {
 };
 
 class GlRenderer : public Renderer {
-  // Rows per band of the clear and the read-back, between which Ctrl-C is polled.
-  static constexpr int kClearBand = 256;
-
  public:
   GlRenderer() : context_(makeGlContext()) {
     gl_.load([this](const char* name) { return context_->procAddress(name); });
@@ -73,37 +71,64 @@ class GlRenderer : public Renderer {
 
  private:
   // Returns the scene drawn over the whole of an image of options' size, without overlay.
+  // The frame (antialias x the size) is drawn in strips of rows, each into a framebuffer of one
+  // strip's size: the viewport is the whole frame, shifted down by the strip's first row, so
+  // each strip gets exactly the pixels of one whole-frame draw. Strips bound the framebuffer
+  // (allocating one of tens of megapixels took 0.3 s in one call) and the clear and each draw
+  // call between two polls for Ctrl-C, where a grain filling such a frame took seconds.
+  // Throws demlab::Error {INTERRUPTED} between strips and batches of grains.
   Image renderScene(const RenderScene& scene, const RenderOptions& options) {
     context_->makeCurrent();
     const int ss = options.antialias;
     const int w = options.width * ss, h = options.height * ss;
-    ensureFramebuffer(w, h);
+    const int strip =
+        int(std::clamp(options.stripPixels / std::max(w, 1), 1L, static_cast<long>(h)));
+    ensureFramebuffer(w, strip);
     pollInterrupt("snapshot");
 
     const View view = makeView(scene, options);
     fillGrains(scene, options, view);
     wallGeometry(scene, sceneBounds(scene), view.anchor, options.wallAlpha, walls_);
+    fillChains(scene, view);
+    // Not zeroed (every byte is read back into): zeroing a frame of tens of megapixels took
+    // a tenth of a second in one call, and the read-back of each strip touches its part.
+    const size_t bytes = size_t(4) * w * h;
+    if (bytes != pixelBytes_) {
+      pixels_.reset();
+      pixels_ = std::make_unique_for_overwrite<std::uint8_t[]>(bytes);
+      pixelBytes_ = bytes;
+    }
+    gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
+    for (int y = 0; y < h; y += strip) {
+      drawStrip(scene, options, view, w, h, y);
+      pollInterrupt("snapshot");
+      gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+      gl_.ReadPixels(0, 0, w, std::min(strip, h - y), GL_RGBA, GL_UNSIGNED_BYTE,
+                     &pixels_[size_t(4) * w * y]);
+      gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+    if (const GLenum err = gl_.GetError(); err != GL_NO_ERROR)
+      throw Error("OpenGL error " + std::to_string(err) + " while rendering", {"RENDER", "GL"});
 
+    Image image = downsample(options.width, options.height, ss);
+    if (pixelBytes_ > kKeptPixelBytes) {  // a large frame's read-back is not kept
+      pixels_.reset();
+      pixelBytes_ = 0;
+    }
+    return image;
+  }
+
+  // Draws the rows from y of the w x h frame into the strip framebuffer (from its row 0).
+  // Throws demlab::Error {INTERRUPTED} between batches of grains. Changes the GL state.
+  void drawStrip(const RenderScene& scene, const RenderOptions& options, const View& view,
+                 int w, int h, int y) {
+    const int ss = options.antialias;
     gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    gl_.Viewport(0, 0, w, h);
+    gl_.Viewport(0, -y, w, h);
     const Rgb& bg = options.background;
     gl_.ClearColor(bg[0], bg[1], bg[2], 1);
     gl_.ClearDepth(1);
-    // Cleared in bands of rows with Ctrl-C polled between them: software GL takes longer than
-    // an interrupt may wait to clear a frame of tens of megapixels in one call.
-    gl_.Enable(GL_SCISSOR_TEST);
-    for (int y = 0; y < h; y += kClearBand) {
-      gl_.Scissor(0, y, w, std::min(kClearBand, h - y));
-      gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      if (h > kClearBand) {
-        gl_.Finish();
-        if (interruptRequested()) {
-          gl_.Disable(GL_SCISSOR_TEST);
-          pollInterrupt("snapshot");
-        }
-      }
-    }
-    gl_.Disable(GL_SCISSOR_TEST);
+    gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl_.Enable(GL_DEPTH_TEST);
     gl_.DepthFunc(GL_LESS);
     gl_.DepthMask(GL_TRUE);
@@ -178,7 +203,6 @@ class GlRenderer : public Renderer {
       gl_.DepthMask(GL_TRUE);
       gl_.Disable(GL_BLEND);
     }
-    fillChains(scene, view);
     if (!chains_.empty()) {
       // Over everything, without depth test: a chain runs through the grains it joins.
       gl_.Disable(GL_DEPTH_TEST);
@@ -186,24 +210,7 @@ class GlRenderer : public Renderer {
       gl_.Enable(GL_DEPTH_TEST);
     }
     gl_.BindVertexArray(0);
-
-    pollInterrupt("snapshot");
-    pixels_.resize(size_t(4) * w * h);
-    gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
-    // Read back in bands of rows, Ctrl-C polled between them, as the clear is.
-    for (int y = 0; y < h; y += kClearBand) {
-      const int rows = std::min(kClearBand, h - y);
-      gl_.ReadPixels(0, y, w, rows, GL_RGBA, GL_UNSIGNED_BYTE, &pixels_[size_t(4) * w * y]);
-      if (interruptRequested()) {
-        gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
-        pollInterrupt("snapshot");
-      }
-    }
-    gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
-    if (const GLenum err = gl_.GetError(); err != GL_NO_ERROR)
-      throw Error("OpenGL error " + std::to_string(err) + " while rendering", {"RENDER", "GL"});
-
-    return downsample(options.width, options.height, ss);
+    gl_.Finish();
   }
 
   // Returns nothing; fills chains_ with scene's force chains as lines between grain centres,
@@ -444,7 +451,9 @@ class GlRenderer : public Renderer {
   std::vector<GrainInstance> grains_;
   std::vector<std::uint8_t> colours_;
   std::vector<std::uint32_t> keep_;
-  std::vector<std::uint8_t> pixels_;
+  static constexpr size_t kKeptPixelBytes = size_t(1) << 26;
+  std::unique_ptr<std::uint8_t[]> pixels_;  // the read-back frame, 4 bytes a pixel
+  size_t pixelBytes_ = 0;
   WallGeometry walls_;
   std::vector<FaceVertex> meshFaces_;  // the grains drawn as meshes (fillMeshes)
   std::vector<LineInstance> chains_;   // the force chains (fillChains)

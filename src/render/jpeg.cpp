@@ -43,9 +43,13 @@ jpeg_error_mgr* errorManager(JpegErrorState& state) {
 }
 
 // Returns true when the JPEG was written to f; on false, state.message holds libjpeg's reason.
-// rgb is the image as packed RGB rows, made by the caller.
-bool encode(std::FILE* f, const std::vector<JSAMPLE>& rgb, int width, int height, int quality,
+// Each row is packed to RGB into `row` (the caller's, so that nothing of it leaks when libjpeg
+// jumps out) just before it is written: a whole packed copy of a large frame took longer than
+// Ctrl-C may wait.
+bool encode(std::FILE* f, const Image& image, std::vector<JSAMPLE>& row, int quality,
             JpegErrorState& state) {
+  const int width = image.width, height = image.height;
+  row.resize(size_t(width) * 3);
   jpeg_compress_struct c;
   c.err = errorManager(state);
   if (setjmp(state.jump)) {
@@ -73,8 +77,11 @@ bool encode(std::FILE* f, const std::vector<JSAMPLE>& rgb, int width, int height
       jpeg_destroy_compress(&c);
       pollInterrupt("snapshot");
     }
-    JSAMPROW row = const_cast<JSAMPROW>(&rgb[size_t(c.next_scanline) * size_t(width) * 3]);
-    jpeg_write_scanlines(&c, &row, 1);
+    const std::uint8_t* p = image.at(0, int(c.next_scanline));
+    for (size_t x = 0; x < size_t(width); ++x)
+      for (size_t k = 0; k < 3; ++k) row[3 * x + k] = p[4 * x + k];
+    JSAMPROW r = row.data();
+    jpeg_write_scanlines(&c, &r, 1);
   }
   jpeg_finish_compress(&c);
   jpeg_destroy_compress(&c);
@@ -122,12 +129,10 @@ void writeJpeg(const Image& image, const std::string& path, int quality) {
       image.rgba.size() != size_t(4) * image.width * image.height)
     throw Error("bad image for \"" + path + "\": pixel buffer does not match its size",
                 {"VALUE", "IMAGE"});
-  std::vector<JSAMPLE> rgb(size_t(image.width) * size_t(image.height) * 3);
-  for (size_t i = 0, n = size_t(image.width) * size_t(image.height); i < n; ++i)
-    for (size_t k = 0; k < 3; ++k) rgb[3 * i + k] = image.rgba[4 * i + k];
+  std::vector<JSAMPLE> row;
   const FileEncoder encodeInto = [&](std::FILE* f) {
     JpegErrorState state;
-    return encode(f, rgb, image.width, image.height, quality, state) ? std::string()
+    return encode(f, image, row, quality, state) ? std::string()
                                                                       : std::string(state.message);
   };
   writeFileAtomically(path, encodeInto, "JPEG");

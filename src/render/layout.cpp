@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/interrupt.hpp"
 #include "render/colour_map.hpp"
 #include "render/legend.hpp"
 
@@ -37,10 +38,16 @@ Image composeFrame(Image scene, const FrameLayout& layout, const RenderOptions& 
   Image img(o.width, o.height);
   const std::uint8_t bg[4] = {toByte(o.background[0]), toByte(o.background[1]),
                               toByte(o.background[2]), 255};
-  for (size_t i = 0; i < img.rgba.size(); i += 4) std::copy(bg, bg + 4, &img.rgba[i]);
-  for (int y = 0; y < scene.height; ++y)
-    std::copy(scene.at(0, y), scene.at(0, y) + 4 * size_t(scene.width),
-              img.at(layout.scene.x0, layout.scene.y0 + y));
+  // Row by row, Ctrl-C polled every 64 rows: a frame of tens of megapixels takes a while.
+  for (int y = 0; y < img.height; ++y) {
+    if ((y & 63) == 0) pollInterrupt("snapshot");
+    std::uint8_t* row = img.at(0, y);
+    for (size_t i = 0; i < 4 * size_t(img.width); i += 4) std::copy(bg, bg + 4, row + i);
+    const int sy = y - layout.scene.y0;
+    if (sy >= 0 && sy < scene.height)
+      std::copy(scene.at(0, sy), scene.at(0, sy) + 4 * size_t(scene.width),
+                img.at(layout.scene.x0, y));
+  }
   return img;
 }
 

@@ -96,6 +96,7 @@ void cullHiddenGrains(const RenderScene& scene, const View& view, std::vector<st
 
   keep.reserve(n);
   for (size_t i = 0; i < n; ++i) {
+    poll();
     const Screen& s = scr[i];
     if (std::isnan(s.d)) {
       keep.push_back(std::uint32_t(i));

@@ -124,6 +124,10 @@ struct RenderOptions {
   double wallWidth = 1.5;   // wall lines, pixels of the final image
   double wallAlpha = 0.15;  // opacity of 3D wall surfaces (planes, rectangles, drums)
   bool cullHidden = true;   // 3D: skip grains certainly hidden (occlusion.hpp); same image
+  // The frame is drawn in strips of rows of at most this many pixels (at antialias x the size),
+  // one framebuffer's worth each, with Ctrl-C polled between them; the image is the same for
+  // any value (the tests compare strips against one piece).
+  long stripPixels = 1L << 21;
 };
 
 inline constexpr int kMaxImageSize = 16384;

@@ -303,7 +303,9 @@ void registerPackCommands(Registry& r) {
     std::vector<sim::ElementDef> defs;
     if (fmtName == "lammps") {
       io::SphereData data = io::readLammpsData(path);
+      InterruptPoll poll("pack");
       for (std::size_t a = 0; a < data.size(); ++a) {
+        poll();
         base.radius = k * data.diameters[a] / 2;
         for (int j = 0; j < 3; ++j) base.position[std::size_t(j)] = k * data.positions[a][j];
         if (!data.velocities.empty()) {

@@ -393,5 +393,51 @@ TEST(RenderFrame, CullingKeepsTheImage) {
   }
 }
 
+// Drawn in strips of a few rows (the framebuffer one strip tall, the viewport shifted), a frame
+// must be pixel for pixel the frame drawn in one piece: grains in perspective and from above,
+// a mesh, translucent walls and force chains, with strips that do not divide the height.
+TEST(RenderFrame, StripsGiveTheImageOfOnePiece) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-3, 3), rad(0.2, 0.6);
+  for (int dim : {2, 3}) {
+    Grains g;
+    for (int i = 0; i < 300; ++i)
+      g.add(Vec3(u(rng), u(rng), dim == 3 ? u(rng) : 0), rad(rng),
+            {float(u(rng) / 6 + 0.5), 0.4f, 0.7f}, dim);
+    RenderScene s = g.scene(dim);
+    s.walls.push_back(RenderWall::drum(Vec3::Zero(), Vec3::UnitZ(), 4, dim == 3 ? 3 : 0));
+    s.walls.back().colour = {0, 0, 1};
+    s.chains.push_back({0, 1, 1.0});
+    s.chains.push_back({2, 3, 0.5});
+    std::vector<int32_t> meshOf(g.radii.size(), -1);
+    std::vector<double> orientations;
+    for (size_t i = 0; i < g.radii.size(); ++i) orientations.insert(orientations.end(), {1, 0, 0, 0});
+    if (dim == 3) {
+      meshOf[0] = 0;
+      s.meshOf = meshOf;
+      s.orientations = orientations;
+      s.meshes = {cubeMesh(0.3)};
+    }
+    for (bool ortho : {false, true}) {
+      RenderOptions o;
+      o.width = 203;
+      o.height = 157;
+      o.antialias = 2;
+      o.camera.orthographic = ortho;
+      const Image whole = sharedRenderer().render(s, o);
+      for (long strip : {1L, 406L * 37, 406L * 100}) {
+        o.stripPixels = strip;
+        const Image strips = sharedRenderer().render(s, o);
+        EXPECT_TRUE(strips.rgba == whole.rgba) << dim << " " << ortho << " " << strip;
+      }
+      // Grains cover much of the frame: the comparison has something to compare.
+      int drawn = 0;
+      for (int y = 0; y < whole.height; ++y)
+        for (int x = 0; x < whole.width; ++x) drawn += isWhite(whole, x, y) ? 0 : 1;
+      EXPECT_GT(drawn, whole.width * whole.height / 8) << dim << " " << ortho;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace demlab::render
