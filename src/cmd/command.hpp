@@ -94,7 +94,8 @@ struct Command {
   bool needsIdle = false;
   // Its work grows with the scene or its arguments: Ctrl-C stops it, with {INTERRUPTED}, at a
   // point where it has changed nothing (a run: at a step boundary). Its loops poll
-  // demlab::pollInterrupt (core/interrupt.hpp).
+  // demlab::pollInterrupt (core/interrupt.hpp). Pure queries (changesScene false) are always
+  // interruptible, and so is the conversion of their result to Tcl.
   bool interruptible = false;
   std::function<void(Call&)> check;     // optional: cross-argument checks, read-only
   std::function<Value(Call&)> execute;  // phase 3

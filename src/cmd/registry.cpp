@@ -126,6 +126,13 @@ std::pair<std::string, const Registry::Node*> Registry::child(const Node& n, std
 }
 
 Value Registry::invoke(const std::vector<std::string>& words, Context& ctx) const {
+  Value result;
+  invoke(words, ctx, [&](Value&& v, bool) { result = std::move(v); });
+  return result;
+}
+
+void Registry::invoke(const std::vector<std::string>& words, Context& ctx,
+                      const Deliver& deliver) const {
   const Node* n = &root_;
   std::string where;
   std::size_t i = 0;
@@ -134,7 +141,7 @@ Value Registry::invoke(const std::vector<std::string>& words, Context& ctx) cons
       if (where.empty()) throw Error("wrong # args: should be \"command ?arg ...?\"", {"ARGS"});
       throw Error("wrong # args: should be \"" + where + " subcommand ?arg ...?\"", {"ARGS"});
     }
-    if (!where.empty() && words[i] == "-help") return groupHelp(*n, where);
+    if (!where.empty() && words[i] == "-help") return deliver(groupHelp(*n, where), false);
     if (takesShorthand(*n, words[i])) {
       // The word is the shorthand's first argument: it stays in words.
       where += " " + n->shorthandWord;
@@ -150,7 +157,7 @@ Value Registry::invoke(const std::vector<std::string>& words, Context& ctx) cons
   std::vector<std::string> rest(words.begin() + long(i), words.end());
   ArgStack stack(c);
   // Phase 1: parse.
-  if (!CommandLine(c, std::move(rest)).parse(stack)) return c.helpText();
+  if (!CommandLine(c, std::move(rest)).parse(stack)) return deliver(c.helpText(), false);
   if (c.needsScene) ctx.requireScene();
   const bool exclusive = c.changesScene || c.needsIdle;
   if (exclusive && !ctx.busyWith.empty()) {
@@ -173,15 +180,15 @@ Value Registry::invoke(const std::vector<std::string>& words, Context& ctx) cons
     ~Interruptible() {
       if (on) ctx.endInterruptible();
     }
-  } interruptible{ctx, c.interruptible};
-  if (c.interruptible) ctx.beginInterruptible();
+  } interruptible{ctx, c.interruptible || !c.changesScene};
+  // A pure query is interruptible wherever its loops poll: stopped anywhere, it changed nothing.
+  if (interruptible.on) ctx.beginInterruptible();
   // Phase 2: check.
   PipeLine::check(c, stack, ctx);
   Call call(c, stack, ctx);
   if (c.check) c.check(call);
   // Phase 3: execute.
-  if (!c.execute) return Value();
-  return c.execute(call);
+  deliver(c.execute ? c.execute(call) : Value(), !c.changesScene);
 }
 
 std::string Registry::groupHelp(const Node& n, const std::string& where) const {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -33,6 +34,14 @@ class Registry {
   // text for `-help`. Throws demlab::Error; the three phases guarantee that a call that throws
   // in parse or check changed nothing.
   Value invoke(const std::vector<std::string>& words, Context& ctx) const;
+
+  // Runs a call as invoke does and gives its result to deliver(result, interruptible) before
+  // returning, while Ctrl-C can still interrupt the command: interruptible is true for pure
+  // queries (Command::changesScene false), whose result may be abandoned half converted (a
+  // list of a million contacts takes seconds to become Tcl objects). Throws as invoke does,
+  // and whatever deliver throws.
+  using Deliver = std::function<void(Value&&, bool interruptible)>;
+  void invoke(const std::vector<std::string>& words, Context& ctx, const Deliver& deliver) const;
 
   // Returns the help for a topic: {} for the overview, {"element"} for a group, {"element",
   // "add"} for a command (unique prefixes accepted). Throws demlab::Error {LOOKUP COMMAND}.

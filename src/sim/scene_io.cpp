@@ -141,7 +141,9 @@ void readNamesTags(Reader& r, const HandlePool<Kind>& pool, NameLookup<Handle<Ki
       }
     }
   } catch (const Error& e) {
-    if (e.code().size() > 1 && e.code()[1] == "LOAD") throw;
+    // The reader's own errors and Ctrl-C (its poll) pass; a name or tag the tables refuse is
+    // a bad checkpoint.
+    if (e.code().size() > 1 && (e.code()[1] == "LOAD" || e.code()[1] == "INTERRUPTED")) throw;
     Reader::bad(e.what());
   }
 }
@@ -734,9 +736,9 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   }
   if (Writer body; writeOptionSection(body, s)) writeSection(w, kOptionTag, body);
   if (!s.bonds.empty()) {
-    Writer body;
-    writeBonds(body, s);
-    writeSection(w, kBondTag, body);
+    const size_t at = w.beginSection(kBondTag);
+    writeBonds(w, s);
+    w.endSection(at);
   }
   if (!s.placedElements.empty() || !s.placedWalls.empty()) {
     Writer body;
@@ -970,7 +972,7 @@ void readScene(Reader& r, Scene<D>& s) {
   s.hertzDamping = calibrated ? physics::HertzDamping::Calibrated : physics::HertzDamping::Liggghts;
   if (calibrated) tagged = readTag();
   while (tagged) {
-    const std::string body = r.bytesOf(r.count(1));
+    const std::string_view body = r.bytesOf(r.count(1));
     Reader b(body);
     if (std::memcmp(tag, kBlockedTag, 4) == 0) {
       readBlocked(b, s);

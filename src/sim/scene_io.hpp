@@ -18,9 +18,15 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 #include "sim/scene.hpp"
 
 namespace demlab::sim {
+
+// Ctrl-C is polled every kPollBytes written or read (core/interrupt.hpp): a checkpoint, a clone
+// or a digest of a scene of millions of grains and bonds takes a second. The commands that
+// serialize build a new copy or read into a new scene, so stopping part way changes nothing.
+inline constexpr size_t kPollBytes = size_t(1) << 22;
 
 class Writer {
  public:
@@ -29,6 +35,10 @@ class Writer {
   void raw(const T& x) {
     static_assert(std::is_trivially_copyable_v<T>);
     bytes.append(reinterpret_cast<const char*>(&x), sizeof(T));
+    if (bytes.size() >= nextPoll_) {
+      nextPoll_ = bytes.size() + kPollBytes;
+      pollInterrupt("serializing the scene");
+    }
   }
   void u8(uint8_t x) { raw(x); }
   void u32(uint32_t x) { raw(x); }
@@ -56,11 +66,29 @@ class Writer {
     u64(v.size());
     for (const T& x : v) each(x);
   }
+  // Starts a section that says its length (tag, u64 byte count, body) written in place: returns
+  // where its count goes, for endSection. A large body written into a Writer of its own and
+  // then appended was copied once more, in one call Ctrl-C could not stop.
+  size_t beginSection(const char* tag) {
+    bytes.append(tag, 4);
+    const size_t at = bytes.size();
+    u64(0);
+    return at;
+  }
+  // Ends the section begun at `at`: writes its body's length there.
+  void endSection(size_t at) {
+    const uint64_t n = bytes.size() - at - sizeof(uint64_t);
+    std::memcpy(bytes.data() + at, &n, sizeof n);
+  }
+
+ private:
+  size_t nextPoll_ = kPollBytes;
 };
 
 class Reader {
  public:
-  explicit Reader(const std::string& b) : bytes_(b) {}
+  // Reads b, which must outlive the Reader.
+  explicit Reader(std::string_view b) : bytes_(b) {}
   template <class T>
   T raw() {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -68,6 +96,10 @@ class Reader {
     T x;
     std::memcpy(&x, bytes_.data() + pos_, sizeof(T));
     pos_ += sizeof(T);
+    if (pos_ >= nextPoll_) {
+      nextPoll_ = pos_ + kPollBytes;
+      pollInterrupt("reading the scene");
+    }
     return x;
   }
   uint8_t u8() { return raw<uint8_t>(); }
@@ -82,7 +114,7 @@ class Reader {
   }
   std::string str() {
     const size_t n = count(1);
-    std::string s = bytes_.substr(pos_, n);
+    std::string s(bytes_.substr(pos_, n));
     pos_ += n;
     return s;
   }
@@ -111,9 +143,11 @@ class Reader {
   }
   bool atEnd() const { return pos_ == bytes_.size(); }
   // Returns the next n bytes (n from count(1), so they are there) and moves past them.
-  std::string bytesOf(size_t n) {
+  // Returns the next n bytes, in place: a section read by a Reader of its own, not a copy of
+  // it (a bond section of hundreds of megabytes took a tenth of a second to copy).
+  std::string_view bytesOf(size_t n) {
     if (n > bytes_.size() - pos_) bad("truncated");
-    std::string out = bytes_.substr(pos_, n);
+    const std::string_view out = bytes_.substr(pos_, n);
     pos_ += n;
     return out;
   }
@@ -122,8 +156,9 @@ class Reader {
   }
 
  private:
-  const std::string& bytes_;
+  std::string_view bytes_;
   size_t pos_ = 0;
+  size_t nextPoll_ = kPollBytes;
 };
 
 // What the bytes are for: a checkpoint (TimeFunctions must be absent), the digest (a

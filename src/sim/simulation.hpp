@@ -449,6 +449,11 @@ struct BondInfo {
   double breakTime = 0;
 };
 
+// How many bonds there are, how many of them are intact, and how the others broke.
+struct BondCount {
+  uint64_t bonds = 0, intact = 0, tension = 0, shear = 0;
+};
+
 // One breakage: when, where (the bond's centre), how and which pair.
 struct BondBreakInfo {
   uint32_t bond = 0;
@@ -681,6 +686,8 @@ class Simulation {
   // Removes the bonds ids (intact or broken). LOOKUP BOND when one is not there (none removed).
   virtual void removeBonds(const std::vector<uint32_t>& ids) = 0;
   virtual std::vector<BondInfo> bonds() const = 0;            // creation order
+  virtual std::optional<BondInfo> bond(uint32_t id) const = 0;  // nullopt: no such bond
+  virtual BondCount bondCount() const = 0;
   virtual std::vector<BondBreakInfo> bondBreaks() const = 0;  // in the order they broke
 
   // -- running --

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
+#include <unordered_map>
 
 #include "core/interrupt.hpp"
 #include "core/name_lookup.hpp"
@@ -274,45 +276,76 @@ bool SimulationManager<D>::applyBondBreaks(const std::vector<PendingBreak>& brea
 }
 
 template <int D>
-std::vector<BondInfo> SimulationManager<D>::bonds() const {
-  std::vector<BondInfo> out;
+BondInfo SimulationManager<D>::bondInfo(const Bond<D>& b, const BondBreak<D>* broke) const {
   const ElementArrays<D>& a = s_.elements.a;
-  for (const Bond<D>& b : s_.bonds.bonds) {
-    BondInfo info;
-    info.id = b.id;
-    info.a = b.a;
-    info.b = b.b;
-    info.model = s_.bonds.models[b.model].name;
-    info.intact = b.intact;
-    info.restLength = b.restLength;
-    const BondFrame<D> f =
-        bondFrame(a, s_.elements.pool().findDense(b.a), s_.elements.pool().findDense(b.b));
-    info.length = f.length;
-    info.strain = (f.length - b.restLength) / b.restLength;
-    info.tensile = b.tensile;
-    info.shear = b.shear;
-    if (b.intact) {
-      const BondState<D>& st = b.state;
-      info.force = fromVec<D>(VecD<D>(st.shearForce - st.normalForce * f.n));
-      if constexpr (D == 3) {
-        info.moment = fromAngular(AngularD<D>(st.bendMoment + st.twistMoment * f.n));
-      } else {
-        info.moment = fromAngular(st.bendMoment);
-      }
-      info.normalForce = st.normalForce;
-      info.sigma = st.sigma;
-      info.tau = st.tau;
-      info.energy = st.energy;
+  BondInfo info;
+  info.id = b.id;
+  info.a = b.a;
+  info.b = b.b;
+  info.model = s_.bonds.models[b.model].name;
+  info.intact = b.intact;
+  info.restLength = b.restLength;
+  const BondFrame<D> f =
+      bondFrame(a, s_.elements.pool().findDense(b.a), s_.elements.pool().findDense(b.b));
+  info.length = f.length;
+  info.strain = (f.length - b.restLength) / b.restLength;
+  info.tensile = b.tensile;
+  info.shear = b.shear;
+  if (b.intact) {
+    const BondState<D>& st = b.state;
+    info.force = fromVec<D>(VecD<D>(st.shearForce - st.normalForce * f.n));
+    if constexpr (D == 3) {
+      info.moment = fromAngular(AngularD<D>(st.bendMoment + st.twistMoment * f.n));
     } else {
-      for (const BondBreak<D>& r : s_.bonds.breaks) {
-        if (r.bond != b.id) continue;
-        info.breakMode = modeName(r.mode);
-        info.breakTime = r.time;
-      }
+      info.moment = fromAngular(st.bendMoment);
     }
-    out.push_back(std::move(info));
+    info.normalForce = st.normalForce;
+    info.sigma = st.sigma;
+    info.tau = st.tau;
+    info.energy = st.energy;
+  } else if (broke) {
+    info.breakMode = modeName(broke->mode);
+    info.breakTime = broke->time;
+  }
+  return info;
+}
+
+template <int D>
+std::vector<BondInfo> SimulationManager<D>::bonds() const {
+  // The breaks by bond, found once: a scan of them per broken bond was quadratic.
+  std::unordered_map<uint32_t, const BondBreak<D>*> broke;
+  for (const BondBreak<D>& r : s_.bonds.breaks) broke[r.bond] = &r;
+  std::vector<BondInfo> out;
+  out.reserve(s_.bonds.bonds.size());
+  InterruptPoll poll("bond");  // a query's: a run's outputs read them with nothing to poll
+  for (const Bond<D>& b : s_.bonds.bonds) {
+    poll();
+    const auto at = b.intact ? broke.end() : broke.find(b.id);
+    out.push_back(bondInfo(b, at == broke.end() ? nullptr : at->second));
   }
   return out;
+}
+
+template <int D>
+std::optional<BondInfo> SimulationManager<D>::bond(uint32_t id) const {
+  for (const Bond<D>& b : s_.bonds.bonds) {
+    if (b.id != id) continue;
+    const BondBreak<D>* broke = nullptr;
+    if (!b.intact)
+      for (const BondBreak<D>& r : s_.bonds.breaks)
+        if (r.bond == id) broke = &r;
+    return bondInfo(b, broke);
+  }
+  return std::nullopt;
+}
+
+template <int D>
+BondCount SimulationManager<D>::bondCount() const {
+  BondCount n;
+  n.bonds = s_.bonds.bonds.size();
+  for (const Bond<D>& b : s_.bonds.bonds) n.intact += b.intact ? 1 : 0;
+  for (const BondBreak<D>& r : s_.bonds.breaks) (r.mode == BondBreakMode::Tension ? n.tension : n.shear)++;
+  return n;
 }
 
 template <int D>

@@ -120,6 +120,8 @@ class SimulationManager final : public Simulation {
                                        const std::string& model) override;
   void removeBonds(const std::vector<uint32_t>& ids) override;
   std::vector<BondInfo> bonds() const override;
+  std::optional<BondInfo> bond(uint32_t id) const override;
+  BondCount bondCount() const override;
   std::vector<BondBreakInfo> bondBreaks() const override;
 
   RunReport run(const RunOptions& options) override;
@@ -151,6 +153,8 @@ class SimulationManager final : public Simulation {
   const Scene<D>& scene() const { return s_; }
 
  private:
+  // Returns what queries see of bond b; broke is its break record (nullptr: none).
+  BondInfo bondInfo(const Bond<D>& b, const BondBreak<D>* broke) const;
   // Returns the index of the material named name. Throws {LOOKUP MATERIAL}.
   uint32_t materialIndex(const std::string& name) const;
   // Checks a ElementDef; returns the converted values. Throws as addElement documents.

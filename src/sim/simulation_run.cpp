@@ -549,7 +549,9 @@ std::vector<ContactInfo> SimulationManager<D>::contacts() const {
   ContactPoint<D> pts[kMaxContactPoints];
   int nPts = 0, next = 0;
   const ContactRecord<D>* pairOf = nullptr;
+  InterruptPoll poll("contacts");  // a query's: a run's outputs read them with nothing to poll
   for (const ContactRecord<D>& c : s_.contacts) {
+    poll();
     ContactInfo ci;
     ci.a = s_.elements.pool().handleAt(c.a);
     const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
@@ -751,6 +753,11 @@ ElementTable SimulationManager<D>::elementTable() const {
 template <int D>
 std::string SimulationManager<D>::serialize(IoMode mode) const {
   Writer w;
+  // Room for about all of it at once (more than it needs costs only address space): grown by
+  // doubling, a scene of hundreds of megabytes was copied whole in one call, twice.
+  w.bytes.reserve(4096 + s_.elements.size() * 320 + s_.candidates.size() * 48 +
+                  s_.contacts.size() * 48 + s_.xAtBuild.size() * 24 + s_.histories.size() * 40 +
+                  s_.bonds.bonds.size() * 192 + s_.bonds.breaks.size() * 96);
   writeScene(w, s_, mode);
   return std::move(w.bytes);
 }

@@ -199,7 +199,7 @@ void registerBehaviorCommands(Registry& r) {
                           {"description", b.description},
                           {"saveable", b.serializable}});
     }
-    return Value(l);
+    return Value(std::move(l));
   });
 
   Command& info = r.add("behavior info",

@@ -1,11 +1,14 @@
 // The "bond" group: bond models (one `bond model TYPE` per row of the bond model table,
 // sim/bond_model.hpp), making bonds (by gap within a region or tag group, by named pairs, from
 // a file), listing, querying, removing them and the list of breaks.
+#include <limits>
+#include <optional>
 #include <sstream>
 
 #include "analysis/region_geometry.hpp"
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/interrupt.hpp"
 #include "io/line_reader.hpp"
 #include "sim/bond_model.hpp"
 #include "sim/packing.hpp"
@@ -73,7 +76,7 @@ void declareModel(Registry& r, const sim::BondModelType& t) {
 Value idList(const std::vector<std::uint32_t>& ids) {
   List l;
   for (std::uint32_t id : ids) l.emplace_back(static_cast<std::int64_t>(id));
-  return Value(l);
+  return Value(std::move(l));
 }
 
 // Returns the dict `bond query` gives for b.
@@ -120,7 +123,7 @@ void registerBondCommands(Registry& r) {
       for (const auto& [k, x] : m.values) values.emplace_back(k, x);
       l.emplace_back(Dict{{"name", m.name}, {"type", m.type}, {"values", values}});
     }
-    return Value(l);
+    return Value(std::move(l));
   });
 
   Command& add = r.add("bond add", "Bonds pairs of elements; returns the new bonds' ids.");
@@ -193,14 +196,16 @@ void registerBondCommands(Registry& r) {
   list.changesScene = false;
   list.run([](Call& c) {
     List l;
+    InterruptPoll poll("bond list");
     for (const sim::BondInfo& b : session(c).scene().bonds()) {
+      poll();
       l.emplace_back(Dict{{"id", static_cast<std::int64_t>(b.id)},
                           {"a", scriptId(b.a)},
                           {"b", scriptId(b.b)},
                           {"model", b.model},
                           {"intact", b.intact}});
     }
-    return Value(l);
+    return Value(std::move(l));
   });
 
   Command& query = r.add("bond query", "Returns one bond's state as a dict.");
@@ -213,28 +218,25 @@ void registerBondCommands(Registry& r) {
   query.arg("bond", integer().nonNegative(), "a bond id");
   query.run([](Call& c) {
     auto& s = session(c).scene();
-    for (const sim::BondInfo& b : s.bonds()) {
-      if (b.id == c.integer("bond")) return bondValue(b, s.dim());
-    }
-    throw Error("no bond " + std::to_string(c.integer("bond")), {"LOOKUP", "BOND"});
+    const std::int64_t id = c.integer("bond");
+    const auto b = id <= std::numeric_limits<std::uint32_t>::max()
+                       ? s.bond(static_cast<std::uint32_t>(id))
+                       : std::nullopt;
+    if (!b) throw Error("no bond " + std::to_string(id), {"LOOKUP", "BOND"});
+    return bondValue(*b, s.dim());
   });
 
   Command& count =
       r.add("bond count", "Returns a dict {bonds intact broken tension shear} of counts.");
   count.changesScene = false;
   count.run([](Call& c) {
-    auto& s = session(c).scene();
-    std::int64_t n = 0, intact = 0, tension = 0, shear = 0;
-    for (const sim::BondInfo& b : s.bonds()) {
-      ++n;
-      intact += b.intact;
-    }
-    for (const sim::BondBreakInfo& k : s.bondBreaks()) (k.mode == "tension" ? tension : shear)++;
-    return Value(Dict{{"bonds", n},
-                      {"intact", intact},
-                      {"broken", n - intact},
-                      {"tension", tension},
-                      {"shear", shear}});
+    const sim::BondCount n = session(c).scene().bondCount();
+    auto i = [](std::uint64_t k) { return static_cast<std::int64_t>(k); };
+    return Value(Dict{{"bonds", i(n.bonds)},
+                      {"intact", i(n.intact)},
+                      {"broken", i(n.bonds - n.intact)},
+                      {"tension", i(n.tension)},
+                      {"shear", i(n.shear)}});
   });
 
   Command& breaks = r.add("bond breaks",
@@ -259,7 +261,7 @@ void registerBondCommands(Registry& r) {
                           {"energy", k.energy},
                           {"measure", k.measure}});
     }
-    return Value(l);
+    return Value(std::move(l));
   });
 
   Command& rm = r.add("bond remove", "Removes bonds (intact or broken).");

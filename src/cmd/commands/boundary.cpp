@@ -42,7 +42,7 @@ void declareCounters(Registry& r, const std::string& group,
   list.run([infos](Call& c) {
     List l;
     for (const sim::BoundaryInfo& x : (session(c).scene().*infos)()) l.emplace_back(x.name);
-    return Value(l);
+    return Value(std::move(l));
   });
   Command& get =
       r.add(group + " get", "Returns a " + group +

@@ -241,7 +241,7 @@ void registerDumpCommands(Registry& r) {
     List l;
     for (const std::string& f : writeVtk(session(c).scene(), readVtkOptions(c), c.str("prefix")))
       l.emplace_back(f);
-    return Value(l);
+    return Value(std::move(l));
   });
 
   Command& every = r.add("dump every",
@@ -292,7 +292,7 @@ void registerDumpCommands(Registry& r) {
       d.emplace_back("frames", job->frames);
       l.emplace_back(d);
     }
-    return Value(l);
+    return Value(std::move(l));
   });
 
   jobs().declareOff(r);

@@ -174,7 +174,7 @@ void registerMaterialCommands(Registry& r) {
   list.run([](Call& c) {
     List l;
     for (auto& n : session(c).scene().materialNames()) l.emplace_back(n);
-    return Value(l);
+    return Value(std::move(l));
   });
 
   r.describe("law",

@@ -108,7 +108,7 @@ void registerModuleCommands(Registry& r) {
   list.run([](Call& c) {
     List l;
     for (auto& m : session(c).scene().listModules()) l.emplace_back(m);
-    return Value(l);
+    return Value(std::move(l));
   });
 
   for (const sim::OptionGroup& g : sim::optionGroups()) {

@@ -1,5 +1,6 @@
 // Queries of the whole scene: the energy ledger, contacts, bounds, counts.
 #include "cmd/commands/commands.hpp"
+#include "core/interrupt.hpp"
 
 namespace demlab::cmd {
 
@@ -47,7 +48,9 @@ void registerQueryCommands(Registry& r) {
     if (c.flag("count")) return Value(s.contactCount());
     int d = s.dim();
     List l;
+    InterruptPoll poll("query contacts");
     for (const auto& k : s.contacts()) {
+      poll();
       l.emplace_back(Dict{{"a", scriptId(k.a)},
                           {"b", k.b.isNull() ? Value("") : Value(scriptId(k.b))},
                           {"wall", k.wall.isNull() ? Value("") : Value(scriptId(k.wall))},
@@ -56,7 +59,7 @@ void registerQueryCommands(Registry& r) {
                           {"overlap", k.overlap},
                           {"force", vecValue(k.force, d)}});
     }
-    return Value(l);
+    return Value(std::move(l));
   });
 
   Command& bb =

@@ -363,7 +363,7 @@ void registerSeriesCommands(Registry& r) {
       d.emplace_back("file", job->file);
       l.emplace_back(d);
     }
-    return Value(l);
+    return Value(std::move(l));
   });
 
   jobs().declareOff(r);

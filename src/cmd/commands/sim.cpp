@@ -194,7 +194,7 @@ void registerSimCommands(Registry& r) {
     writeFileAtomically(c.str("file"), out.str());
     List l;
     for (auto& d : skipped) l.emplace_back(d);
-    return Value(l);
+    return Value(std::move(l));
   });
 
   Command& load = r.add("sim load", "Replaces the scene by the one in a checkpoint file.");
@@ -260,7 +260,7 @@ void registerSimCommands(Registry& r) {
   kl.run([](Call& c) {
     List l;
     for (auto& [k, v] : session(c).kept) l.emplace_back(k);
-    return Value(l);
+    return Value(std::move(l));
   });
 
   Command& drop = r.add("sim forget", "Drops a kept scene.");

@@ -167,7 +167,7 @@ void registerSnapshotCommands(Registry& r) {
       if (job->lock.range) d.emplace_back("range", List{(*job->lock.range)[0], (*job->lock.range)[1]});
       l.emplace_back(d);
     }
-    return Value(l);
+    return Value(std::move(l));
   });
 
   jobs().declareOff(r);

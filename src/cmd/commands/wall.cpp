@@ -286,7 +286,7 @@ void registerWallCommands(Registry& r) {
     List l;
     for (WallId w : c.given("tag") ? s.wallsTagged(c.str("tag")) : s.wallIds())
       l.emplace_back(scriptId(w));
-    return Value(l);
+    return Value(std::move(l));
   });
 
   Command& count = r.add("wall count", "Returns the number of walls.");
