@@ -6,6 +6,7 @@
 #include <optional>
 #include <set>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/interrupt.hpp"
 #include "core/name_lookup.hpp"
@@ -31,6 +32,49 @@ double normalDeviate(uint64_t seed, uint64_t k) {
   const double u1 = (static_cast<double>(h1 >> 11) + 0.5) / 9007199254740992.0;
   const double u2 = static_cast<double>(h2 >> 11) / 9007199254740992.0;
   return std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2);
+}
+
+// Calls pair(i, j) once for every pair of overlapping boxes (in no set order), searching with
+// CGrid in slabs along the first axis of about kSlabBoxes boxes each, Ctrl-C polled between
+// them: one search over a million boxes takes half a second. A pair is reported by the slab
+// where its boxes' overlap begins along the axis, which holds both boxes. Throws
+// demlab::Error {INTERRUPTED} between slabs.
+template <int D, class Pair>
+void searchInSlabs(const std::vector<search::Box<D, double>>& boxes, const Pair& pair) {
+  constexpr size_t kSlabBoxes = size_t(1) << 17;
+  const size_t n = boxes.size();
+  const size_t slabs = std::max<size_t>(1, n / kSlabBoxes);
+  std::vector<double> cut(slabs + 1);
+  {
+    std::vector<double> lo(n);
+    for (size_t k = 0; k < n; ++k) lo[k] = boxes[k].lo[0];
+    std::sort(lo.begin(), lo.end());
+    for (size_t s = 1; s < slabs; ++s) cut[s] = lo[s * n / slabs];
+  }
+  cut[0] = -std::numeric_limits<double>::infinity();
+  cut[slabs] = std::numeric_limits<double>::infinity();
+  std::vector<search::Box<D, double>> sub;
+  std::vector<uint32_t> which;
+  std::vector<search::IndexPair> found;
+  search::CGrid<D, double> grid;
+  for (size_t s = 0; s < slabs; ++s) {
+    pollInterrupt("bond add");
+    if (!(cut[s] < cut[s + 1])) continue;  // between two equal cuts: no overlap begins here
+    sub.clear();
+    which.clear();
+    for (size_t k = 0; k < n; ++k) {
+      if (boxes[k].hi[0] >= cut[s] && boxes[k].lo[0] < cut[s + 1]) {
+        sub.push_back(boxes[k]);
+        which.push_back(uint32_t(k));
+      }
+    }
+    grid.findPairs(sub, found);
+    for (const search::IndexPair& p : found) {
+      const uint32_t i = which[p.first], j = which[p.second];
+      const double begins = std::max(boxes[i].lo[0], boxes[j].lo[0]);
+      if (begins >= cut[s] && begins < cut[s + 1]) pair(i, j);
+    }
+  }
 }
 
 const char* modeName(BondBreakMode m) {
@@ -193,8 +237,19 @@ std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<Ele
              "must be at most the largest diameter of the elements bonded (" +
                  physics::formatReal(2 * rmax) + " m): a bond joins near neighbours");
   }
-  std::set<std::pair<uint32_t, uint32_t>> bonded;
-  for (const Bond<D>& b : s_.bonds.bonds) bonded.insert(std::minmax(b.a.index, b.b.index));
+  // The pairs bonded already, as sorted keys (a std::set of a million pairs took half a
+  // second to build).
+  InterruptPoll poll("bond add");  // before any bond is made
+  const auto key = [](uint32_t p, uint32_t q) {
+    return uint64_t(std::min(p, q)) << 32 | std::max(p, q);
+  };
+  std::vector<uint64_t> bonded;
+  bonded.reserve(s_.bonds.bonds.size());
+  for (const Bond<D>& b : s_.bonds.bonds) {
+    poll();
+    bonded.push_back(key(b.a.index, b.b.index));
+  }
+  std::sort(bonded.begin(), bonded.end());
   // Candidates from CGrid over each element's box grown by half the gap: a pair within the
   // gap has overlapping boxes. (A sweep along x alone met n^(2/3) elements per element in a
   // dense block: minutes for 10^6.)
@@ -207,19 +262,15 @@ std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<Ele
       boxes[k].hi[c] = a.x[i][c] + reach;
     }
   }
-  pollInterrupt("bond add");
-  std::vector<search::IndexPair> found;
-  search::CGrid<D, double>().findPairs(boxes, found);
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
-  InterruptPoll poll("bond add");  // before any bond is made
-  for (const search::IndexPair& f : found) {
+  searchInSlabs<D>(boxes, [&](uint32_t fi, uint32_t fj) {
     poll();
-    const uint32_t i = idx[f.first], j = idx[f.second];
+    const uint32_t i = idx[fi], j = idx[fj];
     const Real surface = (a.x[j] - a.x[i]).norm() - a.r[i] - a.r[j];
-    if (surface > gap) continue;
-    if (bonded.contains(std::minmax(a.slot[i], a.slot[j]))) continue;
+    if (surface > gap) return;
+    if (std::binary_search(bonded.begin(), bonded.end(), key(a.slot[i], a.slot[j]))) return;
     pairs.emplace_back(std::min(i, j), std::max(i, j));
-  }
+  });
   std::sort(pairs.begin(), pairs.end());
   return makeBonds(pairs, m);
 }
@@ -227,10 +278,13 @@ std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<Ele
 template <int D>
 void SimulationManager<D>::removeBonds(const std::vector<uint32_t>& ids) {
   std::set<uint32_t> drop(ids.begin(), ids.end());
+  // Every id checked against the ids there in one pass (a scan of the bonds per id was
+  // quadratic).
+  std::unordered_set<uint32_t> there;
+  there.reserve(s_.bonds.bonds.size());
+  for (const Bond<D>& b : s_.bonds.bonds) there.insert(b.id);
   for (uint32_t id : drop) {
-    const bool there = std::any_of(s_.bonds.bonds.begin(), s_.bonds.bonds.end(),
-                                   [&](const Bond<D>& b) { return b.id == id; });
-    if (!there) throw Error("no bond " + std::to_string(id), {"LOOKUP", "BOND"});
+    if (!there.contains(id)) throw Error("no bond " + std::to_string(id), {"LOOKUP", "BOND"});
   }
   std::erase_if(s_.bonds.bonds, [&](const Bond<D>& b) { return drop.contains(b.id); });
   touchConfig();
