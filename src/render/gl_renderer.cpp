@@ -99,13 +99,21 @@ class GlRenderer : public Renderer {
       pixelBytes_ = bytes;
     }
     gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
-    for (int y = 0; y < h; y += strip) {
-      drawStrip(scene, options, view, w, h, y);
-      pollInterrupt("snapshot");
-      gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
-      gl_.ReadPixels(0, 0, w, std::min(strip, h - y), GL_RGBA, GL_UNSIGNED_BYTE,
-                     &pixels_[size_t(4) * w * y]);
+    try {
+      for (int y = 0; y < h; y += strip) {
+        drawStrip(scene, options, view, w, h, y);
+        pollInterrupt("snapshot");
+        gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+        gl_.ReadPixels(0, 0, w, std::min(strip, h - y), GL_RGBA, GL_UNSIGNED_BYTE,
+                       &pixels_[size_t(4) * w * y]);
+        gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+      }
+    } catch (...) {
+      // Interrupted between draw calls: the work queued is finished before the error goes
+      // up, so that no GL work is left pending in the context.
       gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+      gl_.Finish();
+      throw;
     }
     if (const GLenum err = gl_.GetError(); err != GL_NO_ERROR)
       throw Error("OpenGL error " + std::to_string(err) + " while rendering", {"RENDER", "GL"});

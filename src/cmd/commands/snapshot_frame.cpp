@@ -35,10 +35,12 @@ void compactRows(std::vector<T>& v, size_t width, const std::vector<char>& keep)
 }
 
 // The process's one renderer (an OSMesa context), made on first use and kept: a context costs
-// tens of milliseconds, a frame of a small scene less.
+// tens of milliseconds, a frame of a small scene less. It is never destroyed: from an exit
+// handler, destroying the context can wait for ever on software GL's threads, which the exit
+// may already have stopped (the process's memory goes back to the system anyway).
 render::Renderer& theRenderer() {
-  static std::unique_ptr<render::Renderer> r;
-  if (!r) r = render::makeRenderer();
+  static render::Renderer* r = nullptr;
+  if (!r) r = render::makeRenderer().release();
   return *r;
 }
 
