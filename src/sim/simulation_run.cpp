@@ -152,7 +152,21 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
                                     [](const auto& b) { return b->hasCallbacks(); });
   std::optional<Scene<D>> before;
   if ((s_.watchdog.enabled && (!s_.forcesReady || configDirty_)) || scripted) {
-    before = copyScene();
+    // The copy polls the run's stop flag as it serializes (a scene of hundreds of megabytes
+    // takes a second to copy): stopped there, the run has done nothing.
+    struct Polled {
+      const std::atomic<bool>* outer;
+      ~Polled() { setInterruptFlag(outer); }
+    } polled{setInterruptFlag(options.stop)};
+    try {
+      before = copyScene();
+    } catch (const Error& e) {
+      if (std::find(e.code().begin(), e.code().end(), "INTERRUPTED") == e.code().end()) throw;
+      RunReport rep;
+      rep.interrupted = true;
+      rep.time = s_.time;
+      return rep;
+    }
   }
   prepare();
   RunReport rep;

@@ -13,6 +13,9 @@ namespace {
 std::atomic<std::atomic<bool>*> g_stop{nullptr};  // the running Session's stop flag
 std::atomic<bool> g_evaluating{false};
 std::atomic<bool> g_promptInterrupt{false};
+// A SIGINT that came while a script was evaluating but no interruptible command had started:
+// the next one to start takes it (beginRun), else Tcl's async handler raises it.
+std::atomic<bool> g_pendingAsync{false};
 Tcl_AsyncHandler g_async = nullptr;
 bool g_permanent = false;
 struct sigaction g_saved;
@@ -26,6 +29,7 @@ extern "C" void onSigint(int) {
   if (std::atomic<bool>* f = g_stop.load()) {
     f->store(true);
   } else if (g_evaluating.load() && g_async) {
+    g_pendingAsync.store(true);
     Tcl_AsyncMark(g_async);
   } else {
     g_promptInterrupt.store(true);
@@ -45,6 +49,8 @@ void install(struct sigaction* old) {
 }
 
 extern "C" int asyncProc(ClientData, Tcl_Interp* interp, int code) {
+  // Taken already by a command that started just after the signal (and was interrupted).
+  if (!g_pendingAsync.exchange(false)) return code;
   if (!interp) return code;
   Tcl_SetObjResult(interp, Tcl_NewStringObj("interrupted", -1));
   Tcl_SetErrorCode(interp, "DEMLAB", "INTERRUPTED", nullptr);
@@ -83,6 +89,9 @@ void beginRun(std::atomic<bool>* stop) {
   if (g_runDepth++ == 0) {
     if (!g_permanent) install(&g_saved);
     g_stop.store(stop);
+    // A Ctrl-C that came just before the command started is its: it stops at its first poll
+    // (otherwise Tcl would raise it only after the command, which may run for hours).
+    if (g_pendingAsync.exchange(false)) stop->store(true);
   }
 }
 

@@ -138,7 +138,8 @@ Error watchdogError(const sim::RunStopped& e) {
 sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool quiet) {
   sim::Simulation& sim = s.scene();
   warnStep(s);
-  s.stop = false;
+  // s.stop is not cleared here: the outermost command's bracket cleared it, and a Ctrl-C that
+  // came since (before this run, or between the runs of a study) must stop this run too.
   s.callbackError.clear();
   ProgressBar bar(s);
   sim::RunOptions o;

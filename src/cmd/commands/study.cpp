@@ -533,7 +533,7 @@ void checkPlan(Call& c) {
 
 // Runs the scene s holds for n steps with the stop flag and SIGINT hook; returns the report.
 sim::RunReport runOnce(Session& s, std::uint64_t n, const std::string& where) {
-  s.stop = false;
+  // s.stop is not cleared: a Ctrl-C between two of the study's runs must stop the next one.
   s.callbackError.clear();
   sim::RunOptions o;
   o.steps = n;
