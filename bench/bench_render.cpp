@@ -1,8 +1,11 @@
 // bench_render: seconds per frame of the OSMesa renderer, as CSV on stdout.
 //
 // Usage: bench_render [-n N,...] [-size WxH] [-aa A,...] [-dim 2|3] [-frames F] [-png file]
-//                     [-cull 0|1]
-// Columns: grains, dimension, image size, supersampling factor, wall-clock and CPU (all threads)
+//                     [-cull 0|1] [-strip P,...]
+// -strip: the frame's strips of at most P pixels (RenderOptions::stripPixels; default the
+// renderer's), each value a row of its own, so one run compares strip sizes side by side.
+// Columns: grains, dimension, image size, supersampling factor, strip pixels, wall-clock and CPU
+// (all threads)
 // seconds per frame, the first frame's seconds, frames averaged, the fraction of grains drawn
 // after occlusion culling, seconds to write the PNG.
 // The scene is a dense random packing filling a box (3D) or rectangle (2D), seen by the
@@ -53,7 +56,7 @@ double seconds(auto t0) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<long> ns = {1000, 10000, 100000}, aas = {1, 2};
+  std::vector<long> ns = {1000, 10000, 100000}, aas = {1, 2}, strips = {RenderOptions{}.stripPixels};
   int width = 1280, height = 720, dim = 3, frames = 5;
   std::string png;
   bool cull = true;
@@ -73,9 +76,11 @@ int main(int argc, char** argv) {
       cull = std::stoi(v) != 0;
     else if (a == "-png")
       png = v;
+    else if (a == "-strip")
+      strips = parseList(v);
     else {
       std::fprintf(stderr,
-                   "bad option \"%s\": must be -n, -size, -aa, -dim, -frames, -png or -cull\n",
+                   "bad option \"%s\": must be -n, -size, -aa, -dim, -frames, -png, -cull or -strip\n",
                    a.c_str());
       return 1;
     }
@@ -83,7 +88,8 @@ int main(int argc, char** argv) {
   std::unique_ptr<Renderer> renderer = makeRenderer();
   std::fprintf(stderr, "renderer: %s\n", renderer->name().c_str());
   std::printf(
-      "n,dim,width,height,antialias,seconds_per_frame,cpu_seconds_per_frame,first_frame_seconds,"
+      "n,dim,width,height,antialias,strip_pixels,seconds_per_frame,cpu_seconds_per_frame,"
+      "first_frame_seconds,"
       "frames,drawn_fraction,png_seconds\n");
   for (long n : ns) {
     // Grains of radius r in a box of aspect 2:1(:1) at a volume (area) fraction of about 0.5.
@@ -110,31 +116,34 @@ int main(int argc, char** argv) {
     scene.angles = angles;
     scene.time = 1.25;
     for (long aa : aas) {
-      RenderOptions opt;
-      opt.width = width;
-      opt.height = height;
-      opt.antialias = int(aa);
-      opt.cullHidden = cull;
-      auto t0 = std::chrono::steady_clock::now();
-      Image img = renderer->render(scene, opt);
-      const double first = seconds(t0);
-      t0 = std::chrono::steady_clock::now();
-      const double c0 = cpuSeconds();
-      for (int f = 0; f < frames; ++f) img = renderer->render(scene, opt);
-      const double each = seconds(t0) / frames, cpu = (cpuSeconds() - c0) / frames;
-      // The fraction of grains left after occlusion culling (1 in 2D, where none is done).
-      std::vector<std::uint32_t> keep;
-      if (dim == 3 && cull) cullHiddenGrains(scene, makeView(scene, opt), keep);
-      const double drawn = dim == 3 && cull ? double(keep.size()) / n : 1.0;
-      // Writing the frame (libpng, then rename) to png, or to /tmp when no file was asked for.
-      const std::string out = png.empty() ? "/tmp/bench_render_frame.png" : png;
-      t0 = std::chrono::steady_clock::now();
-      writePng(img, out);
-      const double pngSeconds = seconds(t0);
-      if (png.empty()) std::remove(out.c_str());
-      std::printf("%ld,%d,%d,%d,%ld,%.4f,%.4f,%.4f,%d,%.3f,%.4f\n", n, dim, width, height, aa, each,
-                  cpu, first, frames, drawn, pngSeconds);
-      std::fflush(stdout);
+      for (long strip : strips) {
+        RenderOptions opt;
+        opt.stripPixels = strip;
+        opt.width = width;
+        opt.height = height;
+        opt.antialias = int(aa);
+        opt.cullHidden = cull;
+        auto t0 = std::chrono::steady_clock::now();
+        Image img = renderer->render(scene, opt);
+        const double first = seconds(t0);
+        t0 = std::chrono::steady_clock::now();
+        const double c0 = cpuSeconds();
+        for (int f = 0; f < frames; ++f) img = renderer->render(scene, opt);
+        const double each = seconds(t0) / frames, cpu = (cpuSeconds() - c0) / frames;
+        // The fraction of grains left after occlusion culling (1 in 2D, where none is done).
+        std::vector<std::uint32_t> keep;
+        if (dim == 3 && cull) cullHiddenGrains(scene, makeView(scene, opt), keep);
+        const double drawn = dim == 3 && cull ? double(keep.size()) / n : 1.0;
+        // Writing the frame (libpng, then rename) to png, or to /tmp when no file was asked for.
+        const std::string out = png.empty() ? "/tmp/bench_render_frame.png" : png;
+        t0 = std::chrono::steady_clock::now();
+        writePng(img, out);
+        const double pngSeconds = seconds(t0);
+        if (png.empty()) std::remove(out.c_str());
+        std::printf("%ld,%d,%d,%d,%ld,%ld,%.4f,%.4f,%.4f,%d,%.3f,%.4f\n", n, dim, width, height, aa,
+                    strip, each, cpu, first, frames, drawn, pngSeconds);
+        std::fflush(stdout);
+      }
     }
   }
   return 0;
