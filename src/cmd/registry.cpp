@@ -1,6 +1,8 @@
 #include "cmd/registry.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <sstream>
 
 #include "cmd/words.hpp"
 
@@ -125,6 +127,58 @@ std::pair<std::string, const Registry::Node*> Registry::child(const Node& n, std
               {"LOOKUP", "SUBCOMMAND"});
 }
 
+namespace {
+
+// Returns whether the words a and b hold the same numbers (one, or a vector of them).
+bool sameNumbers(const std::string& a, const std::string& b) {
+  std::istringstream sa(a), sb(b);
+  std::string x, y;
+  int n = 0;
+  while (sa >> x) {
+    double u = 0, v = 0;
+    if (!(sb >> y) || !readReal(x, u) || !readReal(y, v) || !(u == v)) return false;
+    ++n;
+  }
+  return n > 0 && !(sb >> y);
+}
+
+// Returns e, or e reworded by the option it is about. The simulation's validity checks word
+// their errors by the quantity and print numbers in their shortest form (`bad Young's modulus
+// "1e+300": ...`). When the value shown is the value of an option given in this call (the one
+// the code names, VALUE YOUNG for -young, or else the only one given with that value), the
+// message becomes what the option's own check would say, `bad young "1e300": ...`, the rest
+// and the code unchanged.
+Error inOptionWords(const Error& e, const ArgStack& stack) {
+  const std::vector<std::string>& code = e.code();
+  if (code.size() < 3 || code[1] != "VALUE") return e;
+  std::string named = code[2];
+  std::transform(named.begin(), named.end(), named.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  const std::string msg = e.what();
+  const std::size_t open = msg.find('"');
+  const std::size_t close = open == std::string::npos ? open : msg.find("\": ", open + 1);
+  if (msg.rfind("bad ", 0) != 0 || close == std::string::npos) return e;
+  const std::string shown = msg.substr(open + 1, close - open - 1);
+  const Slot* hit = nullptr;
+  int hits = 0;
+  for (const Slot& s : stack.slots()) {
+    if (s.param->positional || !s.given || s.words.size() != 1) continue;
+    if (!sameNumbers(shown, s.words[0])) continue;
+    if (s.param->name == named) {
+      hit = &s;
+      hits = 1;
+      break;
+    }
+    hit = &s;
+    ++hits;
+  }
+  if (hits != 1) return e;
+  return Error("bad " + hit->param->name + " \"" + hit->words[0] + "\": " + msg.substr(close + 3),
+               std::vector<std::string>(code.begin() + 1, code.end()));
+}
+
+}  // namespace
+
 Value Registry::invoke(const std::vector<std::string>& words, Context& ctx) const {
   Value result;
   invoke(words, ctx, [&](Value&& v, bool) { result = std::move(v); });
@@ -183,12 +237,16 @@ void Registry::invoke(const std::vector<std::string>& words, Context& ctx,
   } interruptible{ctx, c.interruptible || !c.changesScene};
   // A pure query is interruptible wherever its loops poll: stopped anywhere, it changed nothing.
   if (interruptible.on) ctx.beginInterruptible();
-  // Phase 2: check.
-  PipeLine::check(c, stack, ctx);
-  Call call(c, stack, ctx);
-  if (c.check) c.check(call);
-  // Phase 3: execute.
-  deliver(c.execute ? c.execute(call) : Value(), !c.changesScene);
+  try {
+    // Phase 2: check.
+    PipeLine::check(c, stack, ctx);
+    Call call(c, stack, ctx);
+    if (c.check) c.check(call);
+    // Phase 3: execute.
+    deliver(c.execute ? c.execute(call) : Value(), !c.changesScene);
+  } catch (const Error& e) {
+    throw inOptionWords(e, stack);
+  }
 }
 
 std::string Registry::groupHelp(const Node& n, const std::string& where) const {
