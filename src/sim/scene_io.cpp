@@ -582,9 +582,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   // Grains.
   const ElementArrays<D>& a = s.elements.a;
   writePool(w, s.elements.pool());
-  InterruptPoll poll("save");
   for (size_t i = 0; i < a.size(); ++i) {
-    poll();
     w.vec<D>(a.x[i]);
     w.vec<D>(a.v[i]);
     w.vec<D>(a.f[i]);
@@ -831,9 +829,7 @@ void readScene(Reader& r, Scene<D>& s) {
   readPool(r, s.elements.pool());
   ElementArrays<D>& a = s.elements.a;
   const uint32_t n = s.elements.pool().size();
-  InterruptPoll poll("load");
   for (uint32_t i = 0; i < n; ++i) {
-    poll();
     const VecD<D> x = r.vec<D>(), v = r.vec<D>(), f = r.vec<D>(), fp = r.vec<D>();
     const RotationD<D> q = r.rot<RotationD<D>>();
     const AngularD<D> w = r.ang<AngularD<D>>(), t = r.ang<AngularD<D>>(), tp = r.ang<AngularD<D>>();

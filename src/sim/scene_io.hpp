@@ -142,9 +142,9 @@ class Reader {
     }
   }
   bool atEnd() const { return pos_ == bytes_.size(); }
-  // Returns the next n bytes (n from count(1), so they are there) and moves past them.
-  // Returns the next n bytes, in place: a section read by a Reader of its own, not a copy of
-  // it (a bond section of hundreds of megabytes took a tenth of a second to copy).
+  // Returns the next n bytes (n from count(1), so they are there) and moves past them. A view
+  // in place, not a copy: a section is read by a Reader of its own (a bond section of hundreds
+  // of megabytes took a tenth of a second to copy).
   std::string_view bytesOf(size_t n) {
     if (n > bytes_.size() - pos_) bad("truncated");
     const std::string_view out = bytes_.substr(pos_, n);

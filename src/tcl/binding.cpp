@@ -7,7 +7,6 @@
 #include <cstring>
 #include <memory>
 #include <new>
-#include <thread>
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
@@ -211,15 +210,7 @@ extern "C" int dispatch(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* co
         return;
       }
       InterruptPoll poll("query");
-      cmd::Value held = std::move(v);
-      try {
-        result = toObj(held, &poll);
-      } catch (const Error&) {
-        // Interrupted: a result of millions of values takes a good part of a second to free,
-        // done on a thread of its own so that Ctrl-C returns at once.
-        std::thread([doomed = std::move(held)] {}).detach();
-        throw;
-      }
+      result = toObj(v, &poll);
     });
     Tcl_SetObjResult(interp, result);
     return TCL_OK;
