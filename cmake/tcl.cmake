@@ -121,12 +121,16 @@ file(GLOB DEMLAB_TCL_TEST_FILES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/te
 # every other file already runs through the package, and each takes over 40 s in the sanitizer
 # build, time the test command spends on fuzzing instead (doc/reliability.md, "The test command").
 set(DEMLAB_TCL_EXECUTABLE_ONLY lab threads wallmotion)
+# Files about the package itself in a plain tclsh and in wish, run through the package only.
+set(DEMLAB_TCL_PACKAGE_ONLY package)
 set(DEMLAB_TCL_TESTS "")
 foreach(test_file ${DEMLAB_TCL_TEST_FILES})
   get_filename_component(test_name ${test_file} NAME_WE)
-  add_test(NAME tcl.${test_name}
-    COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -file ${test_name}.test)
-  list(APPEND DEMLAB_TCL_TESTS tcl.${test_name})
+  if(NOT test_name IN_LIST DEMLAB_TCL_PACKAGE_ONLY)
+    add_test(NAME tcl.${test_name}
+      COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -file ${test_name}.test)
+    list(APPEND DEMLAB_TCL_TESTS tcl.${test_name})
+  endif()
   if(test_name IN_LIST DEMLAB_TCL_EXECUTABLE_ONLY)
     continue()
   endif()

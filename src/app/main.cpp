@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   using namespace demlab;
   if (argc > 1 && std::strcmp(argv[1], "--markdown") == 0) {
     std::fputs(cmd::commandRegistry().markdown().c_str(), stdout);
+    std::fputs(tcl::helpersMarkdown().c_str(), stdout);
     return 0;
   }
   if (argc > 1 && std::strcmp(argv[1], "--declarations") == 0) {
@@ -67,7 +68,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "demlab: Tcl library not found: %s\n", Tcl_GetStringResult(interp));
   }
   Tcl_StaticPackage(nullptr, "Demlab", Demlab_Init, nullptr);
-  if (Demlab_Init(interp) != TCL_OK) {
+  if (Demlab_Init(interp) != TCL_OK || Demlab_ImportCommands(interp) != TCL_OK) {
     std::fprintf(stderr, "demlab: %s\n", Tcl_GetStringResult(interp));
     return 2;
   }

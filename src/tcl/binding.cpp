@@ -7,6 +7,8 @@
 #include <cstring>
 #include <memory>
 #include <new>
+#include <string>
+#include <vector>
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
@@ -399,15 +401,82 @@ extern "C" int Demlab_Init(Tcl_Interp* interp) {
   st->interp = interp;
   Tcl_SetAssocData(interp, tcl::kAssocKey, tcl::deleteState, st);
   tcl::setupSession(interp, st);
+  // The commands live in ::demlab and are exported, so loading the package replaces no
+  // command of the interpreter's (Tk's pack, a user's proc); `namespace import demlab::*`
+  // brings them in, and the ensemble ::demlab (when no command of that name exists) reaches
+  // them as `demlab sim new`.
+  std::string exports;
   try {
     for (const std::string& w : cmd::commandRegistry().topWords()) {
-      std::string name = "::" + w;
+      std::string name = "::demlab::" + w;
       Tcl_CreateObjCommand(interp, name.c_str(), tcl::dispatch, new tcl::Bound{&st->session, w},
                            tcl::deleteBound);
+      exports += " " + w;
     }
   } catch (const std::exception& e) {
     return tcl::fail(interp, std::string("demlab: ") + e.what(), {"DEMLAB", "INTERNAL"});
   }
   if (Tcl_EvalEx(interp, demlabTclLibrary, -1, TCL_EVAL_GLOBAL) != TCL_OK) return TCL_ERROR;
+  const std::string setup = "namespace eval ::demlab {namespace export" + exports +
+                            "}\n"
+                            "if {[info commands ::demlab] eq {}} {"
+                            "namespace eval ::demlab {namespace ensemble create}}";
+  if (Tcl_EvalEx(interp, setup.c_str(), -1, TCL_EVAL_GLOBAL) != TCL_OK) return TCL_ERROR;
   return Tcl_PkgProvide(interp, "demlab", DEMLAB_PKG_VERSION);
+}
+
+std::string demlab::tcl::helpersMarkdown() {
+  // The exported helpers' names come from the library's `namespace export` line; each one's
+  // text is the comment block above its proc: a usage line, then the description.
+  const std::string lib = demlabTclLibrary;
+  std::vector<std::string> names;
+  {
+    const size_t at = lib.find("namespace export ");
+    const size_t end = lib.find('\n', at);
+    std::string list = lib.substr(at + 17, end - at - 17);
+    size_t k = 0;
+    while (k < list.size()) {
+      const size_t sp = list.find(' ', k);
+      const std::string w = list.substr(k, sp == std::string::npos ? std::string::npos : sp - k);
+      if (!w.empty()) names.push_back(w);
+      if (sp == std::string::npos) break;
+      k = sp + 1;
+    }
+  }
+  std::string out =
+      "\n## Tcl helpers (`tcl/demlab.tcl`)\n\nProcedures written in Tcl over the commands, in "
+      "the namespace `demlab` (exported: `namespace import demlab::*` brings them in with the "
+      "commands). Their text is the comment above each procedure.\n";
+  for (const std::string& name : names) {
+    const std::string head = "\n# demlab::" + name;
+    const size_t at = lib.find(head);
+    const size_t proc = lib.find("\nproc ::demlab::" + name + " ", at);
+    if (at == std::string::npos || proc == std::string::npos) continue;
+    std::string usage, text;
+    size_t line = at + 1;
+    while (line < proc) {
+      const size_t end = lib.find('\n', line);
+      std::string l = lib.substr(line, end - line);
+      l = l.size() > 2 ? l.substr(2) : "";
+      if (usage.empty()) {
+        usage = l;
+      } else if (text.empty() && !l.empty() && l[0] == ' ') {  // the usage line continued
+        usage += " " + l.substr(l.find_first_not_of(' '));
+      } else {
+        text += (text.empty() ? "" : " ") + l;
+      }
+      line = end + 1;
+    }
+    out += "\n### `" + usage + "`\n\n" + text + "\n";
+  }
+  return out;
+}
+
+extern "C" int Demlab_ImportCommands(Tcl_Interp* interp) {
+  // Only the commands, not the helper procedures (demlab::settle, ...), which keep their
+  // namespace in the console as in a script that loads the package.
+  std::string script = "namespace eval :: {namespace import";
+  for (const std::string& w : cmd::commandRegistry().topWords()) script += " ::demlab::" + w;
+  script += "}";
+  return Tcl_EvalEx(interp, script.c_str(), -1, TCL_EVAL_GLOBAL);
 }

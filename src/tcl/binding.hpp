@@ -15,13 +15,22 @@
 #include "core/interrupt.hpp"
 
 extern "C" {
-// The package's entry point (`load libdemlab.so Demlab`): defines the commands, provides the
+// The package's entry point (`load libdemlab.so Demlab`): defines the commands in ::demlab
+// (exported; the ensemble ::demlab too unless a command of that name exists), provides the
 // package, evaluates the Tcl-level library. Returns TCL_OK or TCL_ERROR with a message. There
 // is no Demlab_SafeInit: the commands read and write files, so safe interpreters can't load it.
 int Demlab_Init(Tcl_Interp* interp);
+// Imports the package's commands (not its helper procedures) into the global namespace, as the
+// demlab executable does for its console and scripts. Returns TCL_ERROR with Tcl's message
+// when a global command of one of their names exists (none is replaced).
+int Demlab_ImportCommands(Tcl_Interp* interp);
 }
 
 namespace demlab::tcl {
+
+// Returns the Markdown reference of the Tcl library's exported helpers (demlab::settle, ...),
+// from the comment above each procedure, for `demlab --markdown`. Changes nothing.
+std::string helpersMarkdown();
 
 // Returns the Session of an interpreter where Demlab_Init ran, or nullptr.
 cmd::Session* sessionOf(Tcl_Interp* interp);

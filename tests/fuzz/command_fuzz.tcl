@@ -59,6 +59,7 @@ proc partialOutcome {code message} {
 proc runSequence {steps} {
     set fz [interp create]
     load {} Demlab $fz
+    $fz eval {namespace import ::demlab::*}
     # The reports of runs go nowhere, unless a sequence redirects puts itself.
     $fz eval {rename ::puts ::fuzz_puts; proc ::puts args {}}
     cd $::runnerDir

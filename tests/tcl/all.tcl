@@ -7,6 +7,8 @@ if {[lsearch -exact $argv -package] >= 0} {
     set argv [lsearch -all -inline -not -exact $argv -package]
 }
 package require demlab
+# The executable has the commands in the global namespace; a plain tclsh imports them.
+if {[info commands ::sim] eq ""} {namespace import ::demlab::*}
 set ::demlab_failed 0
 proc tcltest::cleanupTestsHook {} {
     incr ::demlab_failed $tcltest::numTests(Failed)
