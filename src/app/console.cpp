@@ -213,10 +213,11 @@ int runConsole(Tcl_Interp* interp, const char* argv0) {
     while (!entry.empty() && entry.back() == '\n') entry.pop_back();
     if (entry.empty()) continue;
     history(hist, &ev, H_ENTER, entry.c_str());
+    // Saved before it runs: `exit`, a kill or a crash ends the session without the loop's end.
+    if (!histFile.empty()) history(hist, &ev, H_SAVE, histFile.c_str());
     int code = evaluate(interp, command.c_str());
     printResult(interp, code);
   }
-  if (!histFile.empty()) history(hist, &ev, H_SAVE, histFile.c_str());
   history_end(hist);
   el_end(el);
   g_console = nullptr;

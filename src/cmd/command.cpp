@@ -119,8 +119,9 @@ std::vector<std::string> Command::optionNames() const {
 }
 
 std::string Command::helpText() const {
-  std::string s = usage() + "\n    " + summary + "\n";
-  if (!details.empty()) s += "\n    " + details + "\n";
+  const std::size_t width = helpWidth();
+  std::string s = usage() + "\n" + wrapText(summary, width, 4, 4);
+  if (!details.empty()) s += "\n" + wrapText(details, width, 4, 4);
   std::vector<std::pair<std::string, std::string>> rows;
   for (const Param& p : params) {
     std::string left = p.positional ? p.name : "-" + p.name;
@@ -144,7 +145,7 @@ std::string Command::helpText() const {
     std::size_t w = 0;
     for (auto& r : rows) w = std::max(w, r.first.size());
     s += "\n";
-    for (auto& [l, r] : rows) s += "    " + l + std::string(w - l.size() + 2, ' ') + r + "\n";
+    for (auto& [l, r] : rows) s += helpRow(l, w, r, width);
   }
   return s;
 }

@@ -49,22 +49,27 @@ std::string rangeFault(const PipeType& t, double x, bool integral) {
 
 double toReal(std::string_view word, const Param& p) {
   double x;
-  if (!readReal(word, x)) {
-    throw Error("expected floating-point number but got \"" + std::string(word) + "\"",
-                {"VALUE", codeWord(p.name)});
-  }
+  if (!readReal(word, x)) badValue(p, word, "expected floating-point number");
   if (!std::isfinite(x)) badValue(p, word, "must be a finite number");
   std::string fault = rangeFault(p.type, x, false);
   if (!fault.empty()) badValue(p, word, fault);
   return x;
 }
 
+// Returns the real of item, one of the numbers of p's list or vector word; a word that is not
+// a number is named with the whole list (`bad position "0 abc 0": expected floating-point
+// number but got "abc"`), range faults as a scalar's.
+double itemReal(std::string_view item, std::string_view word, const Param& p) {
+  double x;
+  if (!readReal(item, x)) {
+    badValue(p, word, "expected floating-point number but got \"" + std::string(item) + "\"");
+  }
+  return toReal(item, p);
+}
+
 std::int64_t toInt(std::string_view word, const Param& p) {
   std::int64_t i;
-  if (!readInt(word, i)) {
-    throw Error("expected integer but got \"" + std::string(word) + "\"",
-                {"VALUE", codeWord(p.name)});
-  }
+  if (!readInt(word, i)) badValue(p, word, "expected integer");
   std::string fault = rangeFault(p.type, double(i), true);
   if (!fault.empty()) badValue(p, word, fault);
   return i;
@@ -165,10 +170,7 @@ std::any convertChecked(std::string_view word, const Param& p, const Context& ct
       return toInt(word, p);
     case PipeType::Kind::Bool: {
       bool b;
-      if (!readBool(word, b)) {
-        throw Error("expected boolean value but got \"" + std::string(word) + "\"",
-                    {"VALUE", codeWord(p.name)});
-      }
+      if (!readBool(word, b)) badValue(p, word, "expected boolean value");
       return b;
     }
     case PipeType::Kind::Text:
@@ -196,7 +198,7 @@ std::any convertChecked(std::string_view word, const Param& p, const Context& ct
                      std::to_string(items.size()));
       }
       std::vector<double> out;
-      for (const std::string& s : items) out.push_back(toReal(s, p));
+      for (const std::string& s : items) out.push_back(itemReal(s, word, p));
       return out;
     }
     case PipeType::Kind::Reals:
@@ -204,11 +206,17 @@ std::any convertChecked(std::string_view word, const Param& p, const Context& ct
       std::vector<std::string> items = splitList(word);
       if (t.kind == PipeType::Kind::Ints) {
         std::vector<std::int64_t> out;
-        for (const std::string& s : items) out.push_back(toInt(s, p));
+        for (const std::string& s : items) {
+          std::int64_t i;
+          if (!readInt(s, i)) {
+            badValue(p, word, "expected integer but got \"" + s + "\"");
+          }
+          out.push_back(toInt(s, p));
+        }
         return out;
       }
       std::vector<double> out;
-      for (const std::string& s : items) out.push_back(toReal(s, p));
+      for (const std::string& s : items) out.push_back(itemReal(s, word, p));
       return out;
     }
     case PipeType::Kind::Custom:

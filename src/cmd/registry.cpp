@@ -251,7 +251,8 @@ void Registry::invoke(const std::vector<std::string>& words, Context& ctx,
 
 std::string Registry::groupHelp(const Node& n, const std::string& where) const {
   std::string s;
-  if (!n.summary.empty()) s += where + ": " + n.summary + "\n\n";
+  const std::size_t width = helpWidth();
+  if (!n.summary.empty()) s += wrapText(where + ": " + n.summary, width, 0, 0) + "\n";
   std::size_t w = 0;
   std::vector<std::pair<std::string, std::string>> rows;
   for (const auto& [word, c] : n.children) {
@@ -260,17 +261,18 @@ std::string Registry::groupHelp(const Node& n, const std::string& where) const {
     rows.emplace_back(left, right);
     w = std::max(w, left.size());
   }
-  for (auto& [l, r] : rows) s += "    " + l + std::string(w - l.size() + 2, ' ') + r + "\n";
+  for (auto& [l, r] : rows) s += helpRow(l, w, r, width);
   if (!n.shorthandWord.empty()) {
     s += '\n';
     s += shorthandLine(n, where);
     s += '\n';
   }
   if (where.empty()) {
-    s += "\n`help <command>` or `<command> -help` describes a command; unique prefixes of\n"
-         "subcommands and options are accepted.\n";
+    s += "\n" + wrapText("`help <command>` or `<command> -help` describes a command; unique "
+                         "prefixes of subcommands and options are accepted.",
+                         width, 0, 0);
   } else {
-    s += "\n`help " + where + " <subcommand>` describes a subcommand.\n";
+    s += "\n" + wrapText("`help " + where + " <subcommand>` describes a subcommand.", width, 0, 0);
   }
   return s;
 }

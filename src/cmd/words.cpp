@@ -1,5 +1,9 @@
 #include "cmd/words.hpp"
 
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -387,6 +391,56 @@ std::string formatReal(double x) {
     }
   }
   return neg ? "-" + out : out;
+}
+
+std::size_t helpWidth() {
+  std::size_t w = 0;
+  if (const char* c = std::getenv("COLUMNS")) {
+    std::int64_t n;
+    if (readInt(c, n) && n > 0 && n < 100000) w = static_cast<std::size_t>(n);
+  }
+  winsize ws{};
+  if (w == 0 && isatty(1) && ioctl(1, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0) w = ws.ws_col;
+  if (w == 0) w = 80;
+  return std::max<std::size_t>(w, 40);
+}
+
+std::string wrapText(std::string_view text, std::size_t width, std::size_t indent,
+                     std::size_t first) {
+  // A newline in the text ends a line (a paragraph or a list item of the declaration).
+  if (const std::size_t nl = text.find('\n'); nl != std::string_view::npos) {
+    return wrapText(text.substr(0, nl), width, indent, first) +
+           wrapText(text.substr(nl + 1), width, indent, indent);
+  }
+  std::string out, line(first, ' ');
+  std::size_t words = 0;
+  std::size_t k = 0;
+  while (k < text.size()) {
+    const std::size_t start = text.find_first_not_of(' ', k);
+    if (start == std::string_view::npos) break;
+    std::size_t end = text.find(' ', start);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view word = text.substr(start, end - start);
+    if (words > 0 && line.size() + 1 + word.size() > width) {
+      out += line + "\n";
+      line.assign(indent, ' ');
+      words = 0;
+    }
+    if (words > 0) line += ' ';
+    line += word;
+    ++words;
+    k = end;
+  }
+  return out + line + "\n";
+}
+
+std::string helpRow(std::string_view left, std::size_t leftWidth, std::string_view right,
+                    std::size_t width) {
+  const std::size_t column = 4 + leftWidth + 2;
+  if (column + 30 > width) return "    " + std::string(left) + "\n" + wrapText(right, width, 8, 8);
+  std::string text = wrapText(right, width, column, column);
+  return text.replace(0, column,
+                      "    " + std::string(left) + std::string(leftWidth - left.size() + 2, ' '));
 }
 
 std::string alternatives(const std::vector<std::string>& items, std::string_view conj) {

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -48,6 +49,22 @@ std::string formatReal(double x);
 
 // Returns "a", "a or b", "a, b, or c": Tcl's way of listing alternatives in error messages.
 std::string alternatives(const std::vector<std::string>& items, std::string_view conj = "or");
+
+// Returns the width help text is wrapped to: $COLUMNS when it is a number, else the terminal's
+// width when standard output is one, else 80; at least 40. Changes nothing.
+std::size_t helpWidth();
+
+// Returns text filled into lines of at most width characters (a word longer than a line stands
+// alone), each starting with indent spaces, the first with first spaces instead (a row's
+// left column is already there); every line ends in "\n". Changes nothing.
+std::string wrapText(std::string_view text, std::size_t width, std::size_t indent,
+                     std::size_t first);
+
+// Returns one row of a help table: left padded to leftWidth after four spaces, then right
+// wrapped in its own column; when that column would be narrower than 30 characters, right
+// starts on the next line, indented eight. Changes nothing.
+std::string helpRow(std::string_view left, std::size_t leftWidth, std::string_view right,
+                    std::size_t width);
 
 // Returns the word in upper case, with "-" removed: the error-code word for a parameter name
 // ("radius" -> "RADIUS", "-time-step" -> "TIMESTEP").

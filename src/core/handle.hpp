@@ -51,9 +51,12 @@ struct Handle {
   friend constexpr auto operator<=>(Handle, Handle) = default;
 };
 
-// Returns the text form of h used in error messages: "index:generation".
+// Returns the text form of h used in error messages: the id scripts see (scriptId) for a
+// handle of a live or removed object (odd generation, every handle a script can name), else
+// "index:generation" (the null handle, a free slot's).
 template <class Kind>
 std::string toString(Handle<Kind> h) {
+  if (h.generation & 1u) return std::to_string(h.scriptId());
   return std::to_string(h.index) + ":" + std::to_string(h.generation);
 }
 
@@ -241,7 +244,7 @@ class HandlePool {
     const bool issued =
         (h.generation & 1u) && h.index < slots_.size() &&
         (slots_[h.index].generation == 0 || h.generation < slots_[h.index].generation);
-    throw Error("invalid " + kind_ + " handle \"" + toString(h) +
+    throw Error("invalid " + kind_ + " id \"" + toString(h) +
                     "\": " + (issued ? "the " + kind_ + " was removed" : "no such " + kind_),
                 {"LOOKUP", "HANDLE"});
   }

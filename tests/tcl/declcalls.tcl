@@ -146,7 +146,7 @@ proc badWords {p} {
     switch -- [dict get $p kind] {
         real {
             foreach w {abc {} 1.5x {1 2} 0x} {
-                lappend out [list $w 1 "expected floating-point number but got \"[globQuote $w]\""]
+                lappend out [list $w 1 [{*}$bad $n $w "expected floating-point number"]]
             }
             foreach w {NaN Inf -Inf} {
                 lappend out [list $w 1 [{*}$bad $n $w "must be a finite number"]]
@@ -158,7 +158,7 @@ proc badWords {p} {
         }
         integer {
             foreach w {abc {} 1.5 NaN 1e300 99999999999999999999 0x} {
-                lappend out [list $w 1 "expected integer but got \"[globQuote $w]\""]
+                lappend out [list $w 1 [{*}$bad $n $w "expected integer"]]
             }
             set candidates {-1 0}
             if {$lo ne ""} {
@@ -173,7 +173,7 @@ proc badWords {p} {
         }
         boolean {
             foreach w {maybe {} 2.5 NaN} {
-                lappend out [list $w 1 "expected boolean value but got \"[globQuote $w]\""]
+                lappend out [list $w 1 [{*}$bad $n $w "expected boolean value"]]
             }
         }
         choice {
@@ -196,7 +196,7 @@ proc badWords {p} {
                 lappend out [list $w 1 [{*}$bad $n $w "expected a vector of $k numbers but got *"]]
             }
             set rest [lrepeat [expr {$k - 1}] 0]
-            lappend out [list [list abc {*}$rest] 1 "expected floating-point number but got \"abc\""]
+            lappend out [list [list abc {*}$rest] 1 [{*}$bad $n [list abc {*}$rest] "expected floating-point number but got \"abc\""]]
             foreach c {NaN Inf -Inf} {
                 lappend out [list [list $c {*}$rest] 1 [{*}$bad $n $c "must be a finite number"]]
             }
@@ -206,13 +206,13 @@ proc badWords {p} {
             }
         }
         reals {
-            lappend out [list {1 abc} 1 "expected floating-point number but got \"abc\""]
+            lappend out [list {1 abc} 1 [{*}$bad $n {1 abc} "expected floating-point number but got \"abc\""]]
             lappend out [list {1 NaN} 1 [{*}$bad $n NaN "must be a finite number"]]
             lappend out [list \{ 1 [{*}$bad $n \{ "unmatched open brace in list"]]
             foreach w {{} 1e300 -1 0 1e-300} {lappend out [list $w 0 ""]}
         }
         integers {
-            lappend out [list {1 1.5} 1 "expected integer but got \"1.5\""]
+            lappend out [list {1 1.5} 1 [{*}$bad $n {1 1.5} "expected integer but got \"1.5\""]]
             lappend out [list \{ 1 [{*}$bad $n \{ "unmatched open brace in list"]]
             foreach w {{} -1 0 99999} {lappend out [list $w 0 ""]}
         }

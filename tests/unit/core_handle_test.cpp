@@ -38,7 +38,8 @@ TEST(Handle, NullHandleAndBits) {
   EXPECT_FALSE(g.isNull());
   EXPECT_EQ(g.bits(), (uint64_t{3} << 32) | 17);
   EXPECT_EQ(Grain::fromBits(g.bits()), g);
-  EXPECT_EQ(toString(g), "17:3");
+  EXPECT_EQ(toString(g), std::to_string((uint64_t{1} << 32) | 17));  // its script id
+  EXPECT_EQ(toString(Grain{}), "0:0");
   EXPECT_LT((Grain{4, 3}), (Grain{5, 1}));  // slot order, then generation
 }
 
@@ -69,21 +70,21 @@ TEST(HandlePool, FreedHandleIsStaleAndItsSlotIsReusedWithANewGeneration) {
   EXPECT_NE(c.generation, a.generation);  // ...under a new generation
   EXPECT_FALSE(pool.valid(a));
   EXPECT_TRUE(pool.valid(c));
-  expectError([&] { pool.denseIndex(a); }, "invalid grain handle \"0:1\": the grain was removed",
+  expectError([&] { pool.denseIndex(a); }, "invalid grain id \"0\": the grain was removed",
               {"LOOKUP", "HANDLE"});
-  expectError([&] { pool.free(a); }, "invalid grain handle \"0:1\": the grain was removed",
+  expectError([&] { pool.free(a); }, "invalid grain id \"0\": the grain was removed",
               {"LOOKUP", "HANDLE"});
   expectError(
       [&] {
         pool.denseIndex(Grain{9, 1});
       },
-      "invalid grain handle \"9:1\": no such grain", {"LOOKUP", "HANDLE"});
+      "invalid grain id \"9\": no such grain", {"LOOKUP", "HANDLE"});
   expectError(
       [&] {
         pool.denseIndex(Grain{0, 7});
       },
-      "invalid grain handle \"0:7\": no such grain", {"LOOKUP", "HANDLE"});
-  expectError([&] { pool.free(Grain{}); }, "invalid grain handle \"0:0\": no such grain",
+      "invalid grain id \"12884901888\": no such grain", {"LOOKUP", "HANDLE"});
+  expectError([&] { pool.free(Grain{}); }, "invalid grain id \"0:0\": no such grain",
               {"LOOKUP", "HANDLE"});
   EXPECT_EQ(pool.size(), 2u);  // the failed calls changed nothing
   EXPECT_EQ(pool.findDense(a), Pool::kNpos);

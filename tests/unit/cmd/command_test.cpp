@@ -123,7 +123,7 @@ TEST_F(RegistryTest, ErrorsUseTclWordingAndCodesAndChangeNothing) {
             "ambiguous option \"-r\": must be -radius, -density, -restitution, -count, -velocity, "
             "-law, or -fixed");
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "abc"}, &m), "DEMLAB VALUE RADIUS");
-  EXPECT_EQ(m, "expected floating-point number but got \"abc\"");
+  EXPECT_EQ(m, "bad radius \"abc\": expected floating-point number");
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "-1"}, &m), "DEMLAB VALUE RADIUS");
   EXPECT_EQ(m, "bad radius \"-1\": must be a positive number");
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-restitution", "1.5"}, &m),
@@ -132,7 +132,7 @@ TEST_F(RegistryTest, ErrorsUseTclWordingAndCodesAndChangeNothing) {
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-count", "0"}, &m), "DEMLAB VALUE COUNT");
   EXPECT_EQ(m, "bad count \"0\": must be >= 1");
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-count", "1.5"}, &m), "DEMLAB VALUE COUNT");
-  EXPECT_EQ(m, "expected integer but got \"1.5\"");
+  EXPECT_EQ(m, "bad count \"1.5\": expected integer");
   EXPECT_EQ(code({"ball", "add", "g", "-radius", "1", "-velocity", "1 2"}, &m),
             "DEMLAB VALUE VELOCITY");
   EXPECT_EQ(m, "bad velocity \"1 2\": expected a vector of 3 numbers but got 2");
