@@ -214,7 +214,15 @@ int runConsole(Tcl_Interp* interp, const char* argv0) {
     if (entry.empty()) continue;
     history(hist, &ev, H_ENTER, entry.c_str());
     // Saved before it runs: `exit`, a kill or a crash ends the session without the loop's end.
-    if (!histFile.empty()) history(hist, &ev, H_SAVE, histFile.c_str());
+    // Written beside the file and renamed over it, so the file is never seen half written.
+    if (!histFile.empty()) {
+      const std::string tmp = histFile + ".tmp" + std::to_string(getpid());
+      if (history(hist, &ev, H_SAVE, tmp.c_str()) >= 0) {
+        std::rename(tmp.c_str(), histFile.c_str());
+      } else {
+        std::remove(tmp.c_str());
+      }
+    }
     int code = evaluate(interp, command.c_str());
     printResult(interp, code);
   }
