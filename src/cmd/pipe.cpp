@@ -47,16 +47,34 @@ std::string rangeFault(const PipeType& t, double x, bool integral) {
   return std::string("must be ") + (t.hiOpen ? "< " : "<= ") + num(*t.hi);
 }
 
-double toReal(std::string_view word, const Param& p) {
-  double x;
-  if (!readReal(word, x)) badValue(p, word, "expected floating-point number");
+// Returns x, read from word, once it is finite and in p's range (the error names word).
+double checkedReal(double x, std::string_view word, const Param& p) {
   if (!std::isfinite(x)) badValue(p, word, "must be a finite number");
   std::string fault = rangeFault(p.type, x, false);
   if (!fault.empty()) badValue(p, word, fault);
   return x;
 }
 
-// Returns the real of item, one of the numbers of p's list or vector word; a word that is not
+// Returns i, read from word, once it is in p's range (the error names word).
+std::int64_t checkedInt(std::int64_t i, std::string_view word, const Param& p) {
+  std::string fault = rangeFault(p.type, double(i), true);
+  if (!fault.empty()) badValue(p, word, fault);
+  return i;
+}
+
+double toReal(std::string_view word, const Param& p) {
+  double x;
+  if (!readReal(word, x)) badValue(p, word, "expected floating-point number");
+  return checkedReal(x, word, p);
+}
+
+std::int64_t toInt(std::string_view word, const Param& p) {
+  std::int64_t i;
+  if (!readInt(word, i)) badValue(p, word, "expected integer");
+  return checkedInt(i, word, p);
+}
+
+// Returns the number of item, one of the numbers of p's list or vector word; a word that is not
 // a number is named with the whole list (`bad position "0 abc 0": expected floating-point
 // number but got "abc"`), range faults as a scalar's.
 double itemReal(std::string_view item, std::string_view word, const Param& p) {
@@ -64,15 +82,13 @@ double itemReal(std::string_view item, std::string_view word, const Param& p) {
   if (!readReal(item, x)) {
     badValue(p, word, "expected floating-point number but got \"" + std::string(item) + "\"");
   }
-  return toReal(item, p);
+  return checkedReal(x, item, p);
 }
 
-std::int64_t toInt(std::string_view word, const Param& p) {
+std::int64_t itemInt(std::string_view item, std::string_view word, const Param& p) {
   std::int64_t i;
-  if (!readInt(word, i)) badValue(p, word, "expected integer");
-  std::string fault = rangeFault(p.type, double(i), true);
-  if (!fault.empty()) badValue(p, word, fault);
-  return i;
+  if (!readInt(item, i)) badValue(p, word, "expected integer but got \"" + std::string(item) + "\"");
+  return checkedInt(i, item, p);
 }
 
 }  // namespace
@@ -206,13 +222,7 @@ std::any convertChecked(std::string_view word, const Param& p, const Context& ct
       std::vector<std::string> items = splitList(word);
       if (t.kind == PipeType::Kind::Ints) {
         std::vector<std::int64_t> out;
-        for (const std::string& s : items) {
-          std::int64_t i;
-          if (!readInt(s, i)) {
-            badValue(p, word, "expected integer but got \"" + s + "\"");
-          }
-          out.push_back(toInt(s, p));
-        }
+        for (const std::string& s : items) out.push_back(itemInt(s, word, p));
         return out;
       }
       std::vector<double> out;

@@ -152,20 +152,31 @@ class BondModule final : public SimModule<D> {
     AngularD<D> torqueI, torqueJ;
   };
 
-  // Fills hot_ from the elements' arrays. Changes hot_.
+  // Fills hot_ from the elements' arrays: every element's when the bonds (as last laid out)
+  // are at least half as many as the elements, else only the bonded elements', so a large
+  // scene with a few bonds pays for those. Changes hot_.
   void packElements(const Scene<D>& s) {
     const ElementArrays<D>& a = s.elements.a;
     hot_.resize(s.elements.size());
     const bool moving = s.stepDt > 0, rotating = s.rotating;
-    forEachElementChunk(hot_.size(), [&](size_t begin, size_t end, size_t) {
-      for (size_t e = begin; e < end; ++e) {
-        Hot& h = hot_[e];
-        h.x = a.x[e];
-        h.r = a.r[e];
-        h.v = moving ? halfStepVelocity(s, e) : VecD<D>::Zero();
-        h.w = moving && rotating ? halfStepAngularVelocity(s, e) : ElementArrays<D>::zeroAngular();
-      }
-    });
+    auto pack = [&](size_t e) {
+      Hot& h = hot_[e];
+      h.x = a.x[e];
+      h.r = a.r[e];
+      h.v = moving ? halfStepVelocity(s, e) : VecD<D>::Zero();
+      h.w = moving && rotating ? halfStepAngularVelocity(s, e) : ElementArrays<D>::zeroAngular();
+    };
+    if (entries_.empty() || entries_.size() >= hot_.size()) {
+      forEachElementChunk(hot_.size(), [&](size_t begin, size_t end, size_t) {
+        for (size_t e = begin; e < end; ++e) pack(e);
+      });
+      return;
+    }
+    for (const Bond<D>& b : s.bonds.bonds) {
+      if (!b.intact) continue;
+      pack(s.elements.pool().findDense(b.a));
+      pack(s.elements.pool().findDense(b.b));
+    }
   }
 
   // Measures bond k's kinematics over the step, runs its model, stores the model's state in
