@@ -37,9 +37,20 @@ if(NOT TARGET demlab_sim)
   return()
 endif()
 
+# The viewer's Tcl (tcl/viewer.tcl), compiled in as a string that `viewer open` evaluates.
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/tcl/viewer.tcl)
+file(READ ${CMAKE_CURRENT_SOURCE_DIR}/tcl/viewer.tcl DEMLAB_VIEWER_TCL_TEXT)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/generated/viewer_library.cpp.tmp
+  "// Generated from tcl/viewer.tcl by cmake/tcl.cmake; do not edit.\n"
+  "extern const char* const demlabViewerTcl;\n"
+  "const char* const demlabViewerTcl = R\"DEMLAB_TCL(${DEMLAB_VIEWER_TCL_TEXT})DEMLAB_TCL\";\n")
+configure_file(${CMAKE_CURRENT_BINARY_DIR}/generated/viewer_library.cpp.tmp
+  ${CMAKE_CURRENT_BINARY_DIR}/generated/viewer_library.cpp COPYONLY)
+
 # The command groups over the Simulation API.
 file(GLOB DEMLAB_COMMAND_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/cmd/commands/*.cpp)
-add_library(demlab_commands STATIC src/cmd/session.cpp ${DEMLAB_COMMAND_SOURCES})
+add_library(demlab_commands STATIC src/cmd/session.cpp ${DEMLAB_COMMAND_SOURCES}
+  ${CMAKE_CURRENT_BINARY_DIR}/generated/viewer_library.cpp)
 demlab_precompile(demlab_commands)
 target_link_libraries(demlab_commands PUBLIC demlab_cmd demlab_sim demlab_io demlab_output
   demlab_analysis)
@@ -123,21 +134,41 @@ file(GLOB DEMLAB_TCL_TEST_FILES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/te
 set(DEMLAB_TCL_EXECUTABLE_ONLY lab threads wallmotion)
 # Files about the package itself in a plain tclsh and in wish, run through the package only.
 set(DEMLAB_TCL_PACKAGE_ONLY package)
+# Files that open windows: run on a virtual X display of their own (xvfb-run), one such file at
+# a time (two xvfb-run -a starting together can pick the same display number).
+set(DEMLAB_TCL_DISPLAY viewer package)
+find_program(DEMLAB_XVFB_RUN xvfb-run)
 set(DEMLAB_TCL_TESTS "")
+set(DEMLAB_TCL_DISPLAY_TESTS "")
 foreach(test_file ${DEMLAB_TCL_TEST_FILES})
   get_filename_component(test_name ${test_file} NAME_WE)
+  set(display "")
+  if(test_name IN_LIST DEMLAB_TCL_DISPLAY AND DEMLAB_XVFB_RUN)
+    set(display ${DEMLAB_XVFB_RUN} -a)
+  endif()
   if(NOT test_name IN_LIST DEMLAB_TCL_PACKAGE_ONLY)
     add_test(NAME tcl.${test_name}
-      COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -file ${test_name}.test)
+      COMMAND ${display} $<TARGET_FILE:demlab> ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl
+              -file ${test_name}.test)
     list(APPEND DEMLAB_TCL_TESTS tcl.${test_name})
+    if(test_name IN_LIST DEMLAB_TCL_DISPLAY)
+      list(APPEND DEMLAB_TCL_DISPLAY_TESTS tcl.${test_name})
+    endif()
   endif()
   if(test_name IN_LIST DEMLAB_TCL_EXECUTABLE_ONLY)
     continue()
   endif()
-  add_test(NAME tcl_package.${test_name} COMMAND ${CMAKE_COMMAND} -E env ${DEMLAB_TCLSH_ENV}
-    ${DEMLAB_TCLSH} ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -package -file ${test_name}.test)
+  add_test(NAME tcl_package.${test_name} COMMAND ${display} ${CMAKE_COMMAND} -E env
+    ${DEMLAB_TCLSH_ENV} ${DEMLAB_TCLSH} ${CMAKE_CURRENT_SOURCE_DIR}/tests/tcl/all.tcl -package
+    -file ${test_name}.test)
   list(APPEND DEMLAB_TCL_TESTS tcl_package.${test_name})
+  if(test_name IN_LIST DEMLAB_TCL_DISPLAY)
+    list(APPEND DEMLAB_TCL_DISPLAY_TESTS tcl_package.${test_name})
+  endif()
 endforeach()
+if(DEMLAB_TCL_DISPLAY_TESTS)
+  set_tests_properties(${DEMLAB_TCL_DISPLAY_TESTS} PROPERTIES RESOURCE_LOCK xvfb)
+endif()
 # Time limits in the tests (Ctrl-C's latency) are scaled by DEMLAB_TIME_FACTOR: the sanitizer
 # build runs several times slower than Release.
 set(DEMLAB_TIME_FACTOR 1)

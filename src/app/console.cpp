@@ -46,11 +46,12 @@ unsigned char complete(EditLine* el, int) {
   }
   if (common.size() > partial.size()) {
     std::string add = common.substr(partial.size());
-    if (c.size() == 1) add += ' ';
+    // A folder is completed to its "/", ready for what is inside it.
+    if (c.size() == 1 && c[0].back() != '/') add += ' ';
     el_insertstr(el, add.c_str());
     return CC_REFRESH;
   }
-  if (c.size() == 1) {
+  if (c.size() == 1 && c[0].back() != '/') {
     el_insertstr(el, " ");
     return CC_REFRESH;
   }
@@ -78,12 +79,21 @@ unsigned char cancelLine(EditLine*, int) {
 // terminal in raw mode (so ^C is still a signal, not a key) and before read() starts would
 // leave the console waiting with no new prompt. Waiting on the interrupt's wake-up pipe as
 // well closes that gap; the signal becomes the key, so both take the same path (cancelLine).
+//
+// While it waits, Tcl's events are served every 20 ms, as tclsh serves them at its prompt: a
+// viewer window (Tk) stays live, and `after` scripts run.
 int readByte(unsigned char* b) {
   while (true) {
     pollfd fds[2] = {{STDIN_FILENO, POLLIN, 0}, {tcl::promptWakeFd(), POLLIN, 0}};
-    if (poll(fds, fds[1].fd >= 0 ? 2 : 1, -1) < 0) {
+    const int ready = poll(fds, fds[1].fd >= 0 ? 2 : 1, 20);
+    if (ready < 0) {
       if (errno == EINTR) continue;  // the handler wrote the pipe if it was for the prompt
       return -1;
+    }
+    if (ready == 0) {
+      while (Tcl_DoOneEvent(TCL_ALL_EVENTS | TCL_DONT_WAIT)) {
+      }
+      continue;
     }
     if (fds[1].fd >= 0 && (fds[1].revents & POLLIN)) {
       tcl::takePromptInterrupt();  // clears the flag and drains the pipe

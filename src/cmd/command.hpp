@@ -37,6 +37,9 @@ struct Context {
   // runs (a callback, a load's expression, a redirected puts) may read the scene but not
   // change or replace it: the running command holds the scene and its parts.
   std::string busyWith;
+  // Counts the commands that changed or may have changed the scene (those declared so, when
+  // they reached their execute phase): a watcher (the viewer) redraws when it moves.
+  std::uint64_t changes = 0;
   // Bracket the check and execute phases of a command declared interruptible: in between,
   // Ctrl-C sets the flag demlab::interruptRequested() reads. By default nothing can interrupt.
   virtual void beginInterruptible() {}

@@ -35,7 +35,8 @@ struct PipeType {
   // Custom: converts and checks the word; may read the context (names of existing objects).
   std::function<std::any(std::string_view word, const Param& p, const Context& ctx)> custom;
   // Completion candidates that depend on the scene (names of materials, tags...).
-  std::function<std::vector<std::string>(const Context& ctx)> candidates;
+  using Candidates = std::function<std::vector<std::string>(const Context& ctx)>;
+  Candidates candidates;
 
   // Builders. Each returns a copy with the property set.
   PipeType withUnit(std::string u) const {

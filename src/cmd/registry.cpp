@@ -1,5 +1,7 @@
 #include "cmd/registry.hpp"
 
+#include <filesystem>
+
 #include <algorithm>
 #include <cctype>
 #include <sstream>
@@ -243,6 +245,7 @@ void Registry::invoke(const std::vector<std::string>& words, Context& ctx,
     Call call(c, stack, ctx);
     if (c.check) c.check(call);
     // Phase 3: execute.
+    if (c.changesScene) ++ctx.changes;
     deliver(c.execute ? c.execute(call) : Value(), !c.changesScene);
   } catch (const Error& e) {
     throw inOptionWords(e, stack);
@@ -267,12 +270,13 @@ std::string Registry::groupHelp(const Node& n, const std::string& where) const {
     s += shorthandLine(n, where);
     s += '\n';
   }
+  s += '\n';
   if (where.empty()) {
-    s += "\n" + wrapText("`help <command>` or `<command> -help` describes a command; unique "
-                         "prefixes of subcommands and options are accepted.",
-                         width, 0, 0);
+    s += wrapText("`help <command>` or `<command> -help` describes a command; unique "
+                  "prefixes of subcommands and options are accepted.",
+                  width, 0, 0);
   } else {
-    s += "\n" + wrapText("`help " + where + " <subcommand>` describes a subcommand.", width, 0, 0);
+    s += wrapText("`help " + where + " <subcommand>` describes a subcommand.", width, 0, 0);
   }
   return s;
 }
@@ -292,6 +296,38 @@ std::string Registry::help(const std::vector<std::string>& topic) const {
   if (n->command) return n->command->helpText();
   return groupHelp(*n, where);
 }
+
+namespace {
+
+// Returns the paths that complete partial as a file (folders too, with a trailing "/", since a
+// file may be inside one) or, with foldersOnly, as a folder. Hidden entries only when partial's
+// last part starts with a dot. Reads the file system only.
+std::vector<std::string> pathCompletions(std::string_view partial, bool foldersOnly) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  const std::string text(partial);
+  const std::size_t slash = text.rfind('/');
+  const std::string dir = slash == std::string::npos ? "" : text.substr(0, slash + 1);
+  const std::string base = slash == std::string::npos ? text : text.substr(slash + 1);
+  std::error_code ec;
+  fs::directory_iterator it(dir.empty() ? fs::path(".") : fs::path(dir), ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!startsWith(name, base) || (name[0] == '.' && (base.empty() || base[0] != '.'))) continue;
+    std::error_code e2;
+    const bool folder = it->is_directory(e2);
+    if (folder) {
+      out.push_back(dir + name + "/");
+    } else if (!foldersOnly) {
+      out.push_back(dir + name);
+    }
+    if (out.size() > 1000) break;  // a huge folder: the first thousand are plenty to list
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
 
 std::vector<std::string> Registry::complete(const std::vector<std::string>& before,
                                             std::string_view partial, const Context& ctx) const {
@@ -323,6 +359,11 @@ std::vector<std::string> Registry::complete(const std::vector<std::string>& befo
   const Command& c = *n->command;
   auto values = [&](const Param& p) {
     std::vector<std::string> v = p.type.choices;
+    const std::string& label = p.type.label;
+    if (startsWith(label, "file") || label == "folder") {
+      auto paths = pathCompletions(partial, label == "folder");
+      v.insert(v.end(), paths.begin(), paths.end());
+    }
     if (p.type.candidates) {
       try {
         auto more = p.type.candidates(ctx);

@@ -72,13 +72,21 @@ H lookup(std::string_view word, std::string_view kind, Find find, Probe probe) {
 
 }  // namespace
 
+// Returns a completion source: the names `of` lists from the session's scene, none without one.
+PipeType::Candidates sceneWords(std::vector<std::string> (sim::Simulation::*of)() const) {
+  return [of](const Context& c) {
+    const Session& s = session(c);
+    return s.sim ? ((*s.sim).*of)() : std::vector<std::string>{};
+  };
+}
+
 PipeType elementRef() {
   return custom("element", [](std::string_view w, const Param&, const Context& c) -> std::any {
     const sim::Simulation& s = session(c).scene();
     return lookup<sim::ElementId>(
         w, "element", [&](const std::string& n) { return s.findElement(n); },
         [&](sim::ElementId h) { s.element(h); });
-  });
+  }).complete(sceneWords(&sim::Simulation::elementNames));
 }
 
 PipeType wallRef() {
@@ -87,7 +95,7 @@ PipeType wallRef() {
     return lookup<sim::WallId>(
         w, "wall", [&](const std::string& n) { return s.findWall(n); },
         [&](sim::WallId h) { s.wall(h); });
-  });
+  }).complete(sceneWords(&sim::Simulation::wallNames));
 }
 
 PipeType materialRef() {
@@ -99,10 +107,7 @@ PipeType materialRef() {
         }
         return std::string(w);
       });
-  return t.complete([](const Context& c) {
-    const Session& s = session(c);
-    return s.sim ? s.sim->materialNames() : std::vector<std::string>{};
-  });
+  return t.complete(sceneWords(&sim::Simulation::materialNames));
 }
 
 PipeType behaviorRef() {
@@ -153,14 +158,14 @@ PipeType tagList() {
   return custom("list of tags", [](std::string_view w, const Param&, const Context&) -> std::any {
     for (const std::string& t : splitList(w)) checkTagName(t);
     return std::string(w);
-  });
+  }).complete(sceneWords(&sim::Simulation::tagNames));
 }
 
 PipeType tagName() {
   return custom("tag", [](std::string_view w, const Param&, const Context&) -> std::any {
     checkTagName(w);
     return std::string(w);
-  });
+  }).complete(sceneWords(&sim::Simulation::tagNames));
 }
 
 PipeType spin() {

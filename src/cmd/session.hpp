@@ -30,6 +30,11 @@ struct Session : Context {
   // Install and remove only the SIGINT hook (an interruptible command that is not a run: the
   // scripts it evaluates may still change the scene it works on, as a study's do).
   std::function<void()> catchSigint = [] {}, releaseSigint = [] {};
+  // Whether a run is stepping the scene (set by runSteps), and what watches it: called after
+  // every step of a run, from the run's thread, with the scene consistent (the viewer's redraw,
+  // which limits itself to its frame rate). It may read the scene, not change it.
+  bool running = false;
+  std::function<void()> runWatch;
   // Returns a function of time evaluating a Tcl expression in `t`; throws demlab::Error
   // {VALUE <what>} if the expression does not evaluate to a number at time t0.
   std::function<sim::TimeFunction(const std::string& expr, const std::string& what, double t0)>

@@ -1,5 +1,6 @@
 // cmd::Value: what a command returns, as a small tree (empty, boolean, integer, real, string,
-// list, dict, and a flat array of reals that reads as a list or as a list of fixed-size tuples).
+// list, dict, a flat array of reals that reads as a list or as a list of fixed-size tuples, and
+// binary bytes).
 // The command layer knows nothing of Tcl; the binding (src/tcl) turns a Value into Tcl_Obj
 // without going through strings, so reals keep every bit and bulk queries stay cheap.
 #pragma once
@@ -23,8 +24,14 @@ struct Reals {
   int stride = 0;
 };
 
+// Binary data (an image's bytes): a Tcl byte array, no text conversion.
+struct Bytes {
+  std::vector<std::uint8_t> data;
+};
+
 struct Value {
-  std::variant<std::monostate, bool, std::int64_t, double, std::string, List, Dict, Reals> v;
+  std::variant<std::monostate, bool, std::int64_t, double, std::string, List, Dict, Reals, Bytes>
+      v;
 
   Value() = default;
   Value(bool b) : v(b) {}
@@ -40,6 +47,7 @@ struct Value {
   Value(List l) : v(std::move(l)) {}
   Value(Dict d) : v(std::move(d)) {}
   Value(Reals r) : v(std::move(r)) {}
+  Value(Bytes b) : v(std::move(b)) {}
 
   bool empty() const { return std::holds_alternative<std::monostate>(v); }
 };

@@ -486,6 +486,19 @@ std::string toString(const Value& v) {
       }
       return joinList(w);
     }
+    // Each byte as the character of that code, as Tcl shows a byte array.
+    std::string operator()(const Bytes& b) const {
+      std::string out;
+      for (std::uint8_t c : b.data) {
+        if (c < 0x80) {
+          out += char(c);
+        } else {
+          out += char(0xc0 | (c >> 6));
+          out += char(0x80 | (c & 0x3f));
+        }
+      }
+      return out;
+    }
     std::string operator()(const Reals& r) const {
       std::string out;
       if (r.stride <= 0) {

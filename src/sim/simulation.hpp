@@ -615,6 +615,11 @@ class Simulation {
   virtual void tagElement(ElementId id, const std::string& tag) = 0;    // LOOKUP HANDLE, VALUE TAG
   virtual void untagElement(ElementId id, const std::string& tag) = 0;  // LOOKUP HANDLE
   virtual std::vector<ElementId> elementsTagged(const std::string& tag) const = 0;
+  // Every name of the kind given (elements, walls) and every tag an element or wall carries,
+  // sorted: what the console completes.
+  virtual std::vector<std::string> elementNames() const = 0;
+  virtual std::vector<std::string> wallNames() const = 0;
+  virtual std::vector<std::string> tagNames() const = 0;
   virtual void tagWall(WallId id, const std::string& tag) = 0;
   virtual void untagWall(WallId id, const std::string& tag) = 0;
   virtual std::vector<WallId> wallsTagged(const std::string& tag) const = 0;

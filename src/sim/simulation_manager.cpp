@@ -696,6 +696,28 @@ std::vector<ElementId> SimulationManager<D>::elementsTagged(const std::string& t
 }
 
 template <int D>
+std::vector<std::string> SimulationManager<D>::elementNames() const {
+  const auto names = s_.elements.names().names();
+  return {names.begin(), names.end()};
+}
+
+template <int D>
+std::vector<std::string> SimulationManager<D>::wallNames() const {
+  const auto names = s_.walls.names().names();
+  return {names.begin(), names.end()};
+}
+
+template <int D>
+std::vector<std::string> SimulationManager<D>::tagNames() const {
+  std::vector<std::string> out;
+  for (auto t : s_.elements.tags().tags()) out.emplace_back(t);
+  for (auto t : s_.walls.tags().tags()) out.emplace_back(t);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+template <int D>
 void SimulationManager<D>::tagWall(WallId id, const std::string& tag) {
   s_.walls.pool().denseIndex(id);
   s_.walls.tags().add(id, tag);

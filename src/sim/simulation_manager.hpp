@@ -92,6 +92,9 @@ class SimulationManager final : public Simulation {
   void tagElement(ElementId id, const std::string& tag) override;
   void untagElement(ElementId id, const std::string& tag) override;
   std::vector<ElementId> elementsTagged(const std::string& tag) const override;
+  std::vector<std::string> elementNames() const override;
+  std::vector<std::string> wallNames() const override;
+  std::vector<std::string> tagNames() const override;
   void tagWall(WallId id, const std::string& tag) override;
   void untagWall(WallId id, const std::string& tag) override;
   std::vector<WallId> wallsTagged(const std::string& tag) const override;

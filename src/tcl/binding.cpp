@@ -201,7 +201,8 @@ extern "C" int dispatch(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* co
     words.emplace_back(s, std::size_t(len));
   }
   try {
-    if (st->running && b->word != "help" && b->word != "query") {
+    // The viewer's commands only read the scene and draw: its window redraws during runs.
+    if (st->running && b->word != "help" && b->word != "query" && b->word != "viewer") {
       // A load expression calling back into demlab while the scene is stepping.
       throw Error("can't use \"" + b->word + "\" while the scene is running", {"STATE", "RUNNING"});
     }
@@ -329,6 +330,9 @@ Tcl_Obj* toObj(const cmd::Value& v, InterruptPoll* poll) {
       return listOf(2 * d.size(), nullptr, [&](std::size_t k) {
         return k % 2 == 0 ? keys.get(d[k / 2].first) : of(d[k / 2].second);
       });
+    }
+    Tcl_Obj* operator()(const cmd::Bytes& b) const {
+      return Tcl_NewByteArrayObj(b.data.data(), int(b.data.size()));
     }
     Tcl_Obj* operator()(const cmd::Reals& r) const {
       const std::size_t n = r.data.size();

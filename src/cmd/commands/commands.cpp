@@ -13,7 +13,7 @@ Registry& registerAllCommands(Registry& r) {
       registerBehaviorCommands, registerBondCommands,     registerModuleCommands,
       registerQueryCommands,    registerHelpCommands,     registerSnapshotCommands,
       registerDumpCommands,     registerSeriesCommands,   registerStudyCommands,
-      registerAnalysisCommands, registerBoundaryCommands,
+      registerAnalysisCommands, registerBoundaryCommands, registerViewerCommands,
   };
   for (Group g : groups) g(r);
   return r;

@@ -26,6 +26,7 @@ void registerSeriesCommands(Registry& r);    // series: every, get, list, off, p
 void registerStudyCommands(Registry& r);     // study: convergence
 void registerAnalysisCommands(Registry& r);  // query stress, coordination, fabric, packing...
 void registerBoundaryCommands(Registry& r);  // inlet (sources), sink
+void registerViewerCommands(Registry& r);    // viewer: open, close, selection, frame, pick...
 
 // Returns the pipe of a region argument, `{box {lo} {hi}}`, `{sphere {centre} radius}` (a
 // disc in 2D) or `{cylinder {centre} {axis} radius halflength}` (3D), giving a sim::Region; a bad

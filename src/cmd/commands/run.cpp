@@ -146,12 +146,22 @@ sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool qui
   o.steps = steps;
   o.stop = &s.stop;
   o.failed = [&s] { return !s.callbackError.empty(); };
-  if (progress && s.terminal) {
-    o.progress = [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); };
-    o.progressEvery = 16;  // the bar itself redraws at most every 0.1 s
+  const bool drawBar = progress && s.terminal;
+  if (drawBar || s.runWatch) {
+    o.progress = [&s, &bar, drawBar](std::uint64_t done, std::uint64_t total) {
+      if (drawBar) bar.update(done, total);
+      if (s.runWatch) s.runWatch();
+    };
+    // The bar redraws at most every 0.1 s, the watcher at its own rate; both check the clock.
+    o.progressEvery = s.runWatch ? 1 : 16;
   }
   sim::RunReport rep;
   s.beginRun();
+  struct Running {
+    bool& flag;
+    ~Running() { flag = false; }
+  } running{s.running};
+  s.running = true;
   // The run stops at step boundaries through o.stop: outputs written during it (a dump, a
   // snapshot) must finish, not throw from their own polls.
   struct Unpolled {

@@ -12,6 +12,7 @@
 #include "render/colour_map.hpp"
 #include "render/image_file.hpp"
 #include "render/layout.hpp"
+#include "render/pick.hpp"
 #include "render/renderer.hpp"
 #include "render/view.hpp"
 
@@ -99,6 +100,7 @@ struct FrameData {
   std::vector<float> colours;
   std::vector<int32_t> meshOf;
   std::vector<render::ChainLink> chains;
+  std::vector<std::int64_t> ids;  // script ids, filled only for picking
   render::RenderScene scene;
 };
 
@@ -142,6 +144,7 @@ void keepDrawn(const sim::Simulation& s, const SnapOptions& o, const DenseIndex&
   compactRows(f.angles, 1, keep);
   compactRows(f.orientations, 4, keep);
   compactRows(f.meshOf, 1, keep);
+  compactRows(f.ids, 1, keep);
 }
 
 // Returns nothing; sets the series' fixed framing, legend width and colour range in sc and r,
@@ -177,10 +180,14 @@ void applySeriesLock(const SnapOptions& o, render::RenderScene& sc, render::Rend
   }
 }
 
-// Returns the frame of s as o asks (the scene part). Reads the scene only.
-void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f) {
+// Returns the frame of s as o asks (the scene part), with the drawn elements' script ids when
+// withIds. Reads the scene only.
+void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
+                bool withIds = false) {
   const int d = s.dim();
   f.centres = s.positions();
+  if (withIds)
+    for (sim::ElementId id : s.elementIds()) f.ids.push_back(scriptId(id));
   f.radii = s.radii();
   const std::size_t n = f.radii.size();
   render::RenderScene& sc = f.scene;
@@ -297,6 +304,38 @@ void writeFrame(const sim::Simulation& s, const SnapOptions& o, const std::strin
   const render::Image img = theRenderer().render(f.scene, r);
   render::writeImage(img, path, o.jpeg ? render::ImageFormat::jpeg : render::ImageFormat::png,
                      o.quality);
+}
+
+render::Image renderFrame(const sim::Simulation& s, const SnapOptions& o) {
+  FrameData f;
+  buildFrame(s, o, f);
+  return theRenderer().render(f.scene, renderOptions(o));
+}
+
+std::int64_t pickFrame(const sim::Simulation& s, const SnapOptions& o, int x, int y) {
+  FrameData f;
+  buildFrame(s, o, f, true);
+  const long i = render::pickGrain(f.scene, renderOptions(o), x, y);
+  return i < 0 ? -1 : f.ids[size_t(i)];
+}
+
+FrameCamera frameCamera(const sim::Simulation& s, const SnapOptions& o) {
+  FrameData f;
+  buildFrame(s, o, f);
+  const render::RenderOptions r = renderOptions(o);
+  render::checkScene(f.scene);
+  render::checkOptions(r);
+  const render::View v = render::frameView(f.scene, r).view;
+  FrameCamera c;
+  for (int k = 0; k < 3; ++k) {
+    c.position[size_t(k)] = v.eye[k];
+    c.lookAt[size_t(k)] = v.anchor[k];
+    c.up[size_t(k)] = v.view(1, k);  // the view's second row: the camera's up in the world
+  }
+  c.orthographic = v.orthographic;
+  c.fov = o.fov;
+  c.viewHeight = 2 / v.proj(1, 1);
+  return c;
 }
 
 }  // namespace demlab::cmd
