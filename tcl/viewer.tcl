@@ -80,7 +80,7 @@ proc ::demlab::viewer::Open {size fps colour legend timestamp} {
 
     ttk::frame $w.side
     ttk::label $w.side.title -text "Selected element"
-    text $w.side.info -width 44 -height 17 -wrap none -font TkFixedFont -state disabled
+    text $w.side.info -width 52 -height 17 -wrap none -font TkFixedFont -state disabled
     ttk::label $w.side.pt -text "Series"
     ttk::combobox $w.side.series -state readonly -width 30 \
         -textvariable ::demlab::viewer::plotted -postcommand ::demlab::viewer::SeriesChoices
@@ -122,6 +122,9 @@ proc ::demlab::viewer::Options {} {
     variable camera
     set o [list -size ${::demlab::viewer::width}x$::demlab::viewer::height \
                -color $::demlab::viewer::colour -antialias 1 {*}$::demlab::viewer::overlay]
+    if {[llength $::demlab::viewer::selection]} {
+        lappend o -highlight $::demlab::viewer::selection
+    }
     if {[dict size $camera] == 0} {return $o}
     lassign [dict get $camera lookat] x y z
     if {[Dim] == 2} {
@@ -146,7 +149,13 @@ proc ::demlab::viewer::Draw {} {
     variable w
     variable picture
     if {![Shown]} return
-    if {[catch {::demlab::viewer frame {*}[Options]} data]} {
+    set failed [catch {::demlab::viewer frame {*}[Options]} data opts]
+    if {$failed && [lrange [dict get $opts -errorcode] 0 2] eq {DEMLAB LOOKUP ELEMENT}} {
+        # A selected element is gone (removed, or a new scene): keep those that remain.
+        set ::demlab::viewer::selection [::demlab::viewer selection]
+        set failed [catch {::demlab::viewer frame {*}[Options]} data]
+    }
+    if {$failed} {
         set ::demlab::viewer::status $data
         $picture blank
         return
@@ -313,6 +322,7 @@ proc ::demlab::viewer::Select {ids {add 0}} {
         set selection $ids
     }
     Info
+    Draw
 }
 
 # Turns the camera about the point looked at: a drag of dx pixels turns it by -dx * pi / height
@@ -404,7 +414,7 @@ proc ::demlab::viewer::Info {} {
                         : [dict get $c a]}]
                 }
             }
-            $t insert end [format "%-16s %d  %s\n" contacts $k [lrange $with 0 7]]
+            $t insert end [format "%-16s %d: %s\n" contacts $k [lrange $with 0 7]]
         }
         if {[llength $selection] > 1} {
             $t insert end "\n[llength $selection] selected: [lrange $selection 0 11]\n"

@@ -159,6 +159,11 @@ void checkScene(const RenderScene& s) {
                       ": its grains must be below the grain count and its force finite, >= 0",
                   {"VALUE", "CHAIN"});
   }
+  for (uint32_t i : s.highlighted)
+    if (i >= n)
+      throw Error("bad highlighted grain \"" + std::to_string(i) +
+                      "\": must be below the grain count " + std::to_string(n),
+                  {"VALUE", "HIGHLIGHT"});
   if (!s.meshOf.empty()) {
     checkLength("mesh indices", s.meshOf.size(), n);
     if (s.dim == 3) checkLength("orientations", s.orientations.size(), 4 * n);

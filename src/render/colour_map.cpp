@@ -111,6 +111,7 @@ void grainColours(const RenderScene& scene, const RenderOptions& options,
   } else {
     for (size_t i = 0; i < n; ++i) put(i, options.defaultColour);
   }
+  for (uint32_t i : scene.highlighted) put(i, options.highlightColour);
 }
 
 }  // namespace demlab::render

@@ -85,6 +85,7 @@ struct RenderScene {
   std::vector<std::vector<Vec3>> meshes;
   std::vector<RenderWall> walls;
   std::vector<ChainLink> chains;  // drawn over the grains
+  std::vector<uint32_t> highlighted;  // grains drawn in options.highlightColour (a selection)
   std::string title;              // drawn above the scene; "" for none
   double time = std::numeric_limits<double>::quiet_NaN();  // NaN: no time stamp
   Bounds bounds;  // empty: computed from the grains and the finite walls
@@ -111,6 +112,7 @@ struct RenderOptions {
   int height = 600;
   Rgb background = {1, 1, 1};
   Rgb defaultColour = {0.8f, 0.5f, 0.2f};
+  Rgb highlightColour = {1.0f, 0.0f, 1.0f};  // magenta: in none of the colour maps
   CameraDef camera;
   ColourMap colourMap = ColourMap::viridis;
   double fieldMin = std::numeric_limits<double>::quiet_NaN();  // NaN: the field's minimum

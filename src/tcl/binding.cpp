@@ -482,5 +482,26 @@ extern "C" int Demlab_ImportCommands(Tcl_Interp* interp) {
   std::string script = "namespace eval :: {namespace import";
   for (const std::string& w : cmd::commandRegistry().topWords()) script += " ::demlab::" + w;
   script += "}";
-  return Tcl_EvalEx(interp, script.c_str(), -1, TCL_EVAL_GLOBAL);
+  if (Tcl_EvalEx(interp, script.c_str(), -1, TCL_EVAL_GLOBAL) != TCL_OK) return TCL_ERROR;
+  // Tk (loaded by `viewer open`, or by the user) replaces the imported `pack` with its own
+  // geometry manager. The two share no subcommand, and Tk's takes a window path or one of its
+  // own words first: after any `load`, a Tk pack found at ::pack is moved aside and ::pack
+  // sends each call to the one it is for, so `pack lattice` and Tk's `pack .b` both work.
+  static const char* const mergePack = R"TCL(
+proc ::demlab::MergePack {args} {
+    if {[info commands ::pack] eq "" || [namespace origin ::pack] eq "::demlab::pack"
+        || [info commands ::demlab::TkPack] ne ""} return
+    rename ::pack ::demlab::TkPack
+    proc ::pack {args} {
+        set first [lindex $args 0]
+        if {[string index $first 0] eq "." ||
+            $first in {configure content forget info propagate slaves}} {
+            tailcall ::demlab::TkPack {*}$args
+        }
+        tailcall ::demlab::pack {*}$args
+    }
+}
+trace add execution ::load leave ::demlab::MergePack
+)TCL";
+  return Tcl_EvalEx(interp, mergePack, -1, TCL_EVAL_GLOBAL);
 }

@@ -170,6 +170,8 @@ void drawingOptions(Command& c, bool series) {
            "leave out the grains whose centre lies on the normal's side of this plane (whole "
            "grains: none is cut; in 2D the x and y parts count)");
   c.option("walls", boolean(), "draw the walls").byDefault("1");
+  c.option("highlight", text("elements").asList(),
+           "elements (ids or names) drawn in magenta over the colouring: a selection");
 }
 
 SnapOptions readOptions(const Call& c, bool now) {
@@ -247,6 +249,14 @@ SnapOptions readOptions(const Call& c, bool now) {
   o.chainMin = c.real("chainmin");
   if (c.given("clip")) readClip(c, o);
   o.walls = c.get<bool>("walls");
+  if (c.given("highlight")) {
+    Param ref;
+    ref.name = "highlight";
+    ref.type = elementRef();
+    for (const std::string& w : splitList(c.str("highlight")))
+      o.highlight.push_back(
+          scriptId(std::any_cast<sim::ElementId>(convertWord(w, ref, c.context()))));
+  }
   return o;
 }
 

@@ -39,6 +39,7 @@ struct SnapOptions {
   double chainMin = 1;                         // chains drawn above this fraction of the mean
   std::optional<std::array<double, 6>> clip;   // {px py pz nx ny nz}, the normal unit length
   bool walls = true;
+  std::vector<std::int64_t> highlight;  // script ids of elements drawn in the highlight colour
 };
 
 // Returns nothing; declares the drawing options every drawing subcommand takes. series: the
