@@ -97,7 +97,8 @@ CgField coarseGrain(const Sample& s, const Selection& sel, const CgSpec& spec) {
     f.dims[k] = k < d ? size_t(std::floor((spec.hi[k] - spec.lo[k]) / spec.spacing + 1e-9)) + 1 : 1;
   }
   const size_t n = f.points();
-  std::vector<double> rho(n, 0), mom(3 * n, 0), vv(9 * n, 0), sc(9 * n, 0);
+  const auto zeros = [](size_t count) { return polledFill(count, 0.0, "coarse-graining"); };
+  std::vector<double> rho = zeros(n), mom = zeros(3 * n), vv = zeros(9 * n), sc = zeros(9 * n);
   const Kernel W(spec, d);
   const Grid g{f, W, d};
   for (size_t i = 0; i < s.size(); ++i) {
@@ -128,7 +129,7 @@ CgField coarseGrain(const Sample& s, const Selection& sel, const CgSpec& spec) {
       }
     }
   }
-  std::vector<double> vel(3 * n, 0), sk(9 * n, 0);
+  std::vector<double> vel = zeros(3 * n), sk = zeros(9 * n);
   for (size_t p = 0; p < n; ++p) {
     g.poll();
     Vec3d V{};

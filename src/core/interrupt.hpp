@@ -4,9 +4,12 @@
 // changed nothing yet (or, for a run, at a step boundary).
 #pragma once
 
+#include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
+#include <vector>
 
 namespace demlab {
 
@@ -19,6 +22,22 @@ bool interruptRequested() noexcept;
 
 // Throws demlab::Error {INTERRUPTED} "<what> interrupted" when interruptRequested().
 void pollInterrupt(std::string_view what);
+
+// Returns n copies of value, the vector's memory first touched in slices of 4 MiB with Ctrl-C
+// polled between them (as `what`): on some machines (virtualised page faults) the first touch
+// of a few hundred megabytes alone takes tenths of a second, which one fill would spend deaf.
+// Throws demlab::Error {INTERRUPTED}, having freed what it made.
+template <class T>
+std::vector<T> polledFill(std::size_t n, const T& value, std::string_view what) {
+  constexpr std::size_t kSlice = (std::size_t(4) << 20) / sizeof(T) + 1;
+  std::vector<T> v;
+  v.reserve(n);
+  while (v.size() < n) {
+    pollInterrupt(what);
+    v.resize(std::min(n, v.size() + kSlice), value);
+  }
+  return v;
+}
 
 // Counts the iterations of a loop and polls once every 4096 of them, so a tight loop pays an
 // increment and a test. Not for use from pool threads: it throws.

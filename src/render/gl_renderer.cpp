@@ -406,7 +406,7 @@ class GlRenderer : public Renderer {
   // Returns the final image: the mean of each ss x ss block of the read-back pixels, flipped so
   // row 0 is the top (GL's row 0 is the bottom).
   Image downsample(int width, int height, int ss) const {
-    Image img(width, height);
+    Image img = blankImage(width, height);
     const int w = width * ss, h = height * ss;
     const unsigned n = unsigned(ss * ss), round = n / 2;
     for (int y = 0; y < height; ++y) {

@@ -28,4 +28,9 @@ struct Image {
   }
 };
 
+// Returns a w x h image of zero bytes, its memory first touched in slices of a few megabytes
+// with Ctrl-C polled between them: on some machines (virtualised page faults) the first touch
+// of a large frame's pages alone takes tenths of a second. Throws demlab::Error {INTERRUPTED}.
+Image blankImage(int w, int h);
+
 }  // namespace demlab::render

@@ -35,7 +35,7 @@ FrameLayout frameLayout(const RenderScene& scene, const RenderOptions& o, const 
 
 Image composeFrame(Image scene, const FrameLayout& layout, const RenderOptions& o) {
   if (scene.width == o.width && scene.height == o.height) return scene;
-  Image img(o.width, o.height);
+  Image img = blankImage(o.width, o.height);
   const std::uint8_t bg[4] = {toByte(o.background[0]), toByte(o.background[1]),
                               toByte(o.background[2]), 255};
   // Row by row, Ctrl-C polled every 64 rows: a frame of tens of megapixels takes a while.

@@ -24,7 +24,8 @@ void cullHiddenGrains(const RenderScene& scene, const View& view, std::vector<st
                       int cellSize) {
   const size_t n = scene.size();
   keep.clear();
-  const double W = view.width, H = view.height, cs = cellSize;
+  const double W = view.width, H = view.height;
+  const double cs = std::max(double(cellSize), std::ceil(std::sqrt(W * H / 4e6)));
   const int gw = int(std::ceil(W / cs)), gh = int(std::ceil(H / cs));
   std::vector<float> occ(size_t(gw) * gh, std::numeric_limits<float>::infinity());
   const Eigen::Matrix3d R = view.view.topLeftCorner<3, 3>();
@@ -82,6 +83,7 @@ void cullHiddenGrains(const RenderScene& scene, const View& view, std::vector<st
     const int j1 = cellIndex(std::floor((s.cy + rho) / cs) - 1, -1, gh - 1);
     const float fd = float(d);
     for (int j = j0; j <= j1; ++j) {
+      if (((j - j0) & 63) == 63) pollInterrupt("snapshot");
       const double dy = std::max(std::abs(j * cs - s.cy), std::abs((j + 1) * cs - s.cy));
       if (dy >= rho) continue;
       const double hw = std::sqrt(rho * rho - dy * dy);
@@ -109,12 +111,14 @@ void cullHiddenGrains(const RenderScene& scene, const View& view, std::vector<st
     // grain that is level with its occluder.
     const double front = (s.d - scene.radii[i]) * (1 - 1e-5);
     bool hidden = true;
-    for (int j = j0; j <= j1 && hidden; ++j)
+    for (int j = j0; j <= j1 && hidden; ++j) {
+      if (((j - j0) & 63) == 63) pollInterrupt("snapshot");
       for (int k = i0; k <= i1; ++k)
         if (!(occ[size_t(j) * gw + k] < front)) {
           hidden = false;
           break;
         }
+    }
     if (!hidden) keep.push_back(std::uint32_t(i));
   }
 }

@@ -23,7 +23,10 @@
 namespace demlab::render {
 
 // Returns nothing; replaces keep with the indices, increasing, of the grains of a 3D scene that
-// may be visible in view. cellSize is the occlusion grid's cell in final-image pixels.
+// may be visible in view. cellSize is the occlusion grid's cell in final-image pixels, made
+// larger for a huge frame so that the grid has at most 4 million cells (the test stays
+// conservative with any cell size). Throws demlab::Error {INTERRUPTED}: Ctrl-C is polled per
+// grain and per 64 grid rows.
 void cullHiddenGrains(const RenderScene& scene, const View& view, std::vector<std::uint32_t>& keep,
                       int cellSize = 1);
 

@@ -36,12 +36,13 @@ double normalDeviate(uint64_t seed, uint64_t k) {
 
 // Calls pair(i, j) once for every pair of overlapping boxes (in no set order), searching with
 // CGrid in slabs along the first axis of about kSlabBoxes boxes each, Ctrl-C polled between
-// them: one search over a million boxes takes half a second. A pair is reported by the slab
+// them: one search over a million boxes takes half a second, and a slab of 2^15 boxes a few
+// hundredths (page faults included) on a slow machine. A pair is reported by the slab
 // where its boxes' overlap begins along the axis, which holds both boxes. Throws
 // demlab::Error {INTERRUPTED} between slabs.
 template <int D, class Pair>
 void searchInSlabs(const std::vector<search::Box<D, double>>& boxes, const Pair& pair) {
-  constexpr size_t kSlabBoxes = size_t(1) << 17;
+  constexpr size_t kSlabBoxes = size_t(1) << 15;
   const size_t n = boxes.size();
   const size_t slabs = std::max<size_t>(1, n / kSlabBoxes);
   std::vector<double> cut(slabs + 1);
