@@ -60,9 +60,11 @@ std::unique_ptr<GlContext> makeGlContext() {
 
 // OSMesa keeps the framebuffer it allocates in OSMesaMakeCurrent on a global list that
 // OSMesaDestroyContext does not free (Mesa 22), which LeakSanitizer reports at exit in every
-// program that renders. This hook tells LeakSanitizer to ignore leaks inside libOSMesa only. It
-// lives here because this file is linked into every program that makes a context; in builds
-// without sanitizers it is an unused function.
+// program that renders. Likewise Tk's fonts (the viewer's window, through Xft) leave
+// fontconfig's configuration, which only FcFini frees and Tk never calls. This hook tells
+// LeakSanitizer to ignore leaks inside those two libraries only. It lives here because this
+// file is linked into every program that makes a context; in builds without sanitizers it is an
+// unused function.
 extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libOSMesa.so\n";
+  return "leak:libOSMesa.so\nleak:libfontconfig.so\n";
 }
