@@ -6,6 +6,7 @@
 // only by `viewer open`: a scene without a viewer runs no viewer code. These commands only read
 // the scene, so the window may redraw from inside a run (the binding lets the viewer group
 // through while a run steps), at most -fps times a second of wall-clock time.
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <string>
@@ -74,7 +75,8 @@ void registerViewerCommands(Registry& r) {
       "Shift-button 1 to pan, the wheel to zoom; in 2D, drag to pan and the wheel to zoom. A "
       "click selects the element under the pointer (Control-click adds to the selection) and "
       "shows its state. Play runs the scene in chunks from Tk's event loop; during any run the "
-      "window is redrawn at most -fps times a second (wall-clock). Needs an X display: without "
+      "window is redrawn at most -fps times a second (wall-clock), and never for more than a "
+      "twentieth of the run's time. Needs an X display: without "
       "one it fails with DEMLAB UNSUPPORTED DISPLAY and nothing else is affected. From the "
       "console the window stays live while the prompt waits; in a script, `vwait` keeps it.";
   open.option("size", text("WxH"), "the picture's size in pixels").byDefault("640x480");
@@ -116,14 +118,21 @@ void registerViewerCommands(Registry& r) {
                     c.str("color") + " " + (c.get<bool>("legend") ? "1" : "0") + " " +
                     (c.get<bool>("timestamp") ? "1" : "0"),
                 {"TK"});
-    // During runs: a redraw when 1/fps seconds of wall-clock time have passed since the last.
+    // During runs: a redraw when 1/fps seconds of wall-clock time have passed since the last,
+    // and at least 19 times the last redraw's own time: the window takes at most a twentieth
+    // of a run however large the scene (a frame of a million grains takes a good part of a
+    // second to draw).
     const double period = 1 / c.real("fps");
-    auto last = std::make_shared<std::chrono::steady_clock::time_point>();
-    s.runWatch = [&s, period, last] {
-      const auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - *last).count() < period) return;
+    using Clock = std::chrono::steady_clock;
+    auto next = std::make_shared<Clock::time_point>();
+    s.runWatch = [&s, period, next] {
+      const auto start = Clock::now();
+      if (start < *next) return;
       s.evalScript("::demlab::viewer::Tick");
-      *last = std::chrono::steady_clock::now();
+      const auto end = Clock::now();
+      const double took = std::chrono::duration<double>(end - start).count();
+      *next = end + std::chrono::duration_cast<Clock::duration>(
+                        std::chrono::duration<double>(std::max(period - took, 19 * took)));
     };
     return Value(".demlab_viewer");
   });
