@@ -382,7 +382,7 @@ proc ::demlab::viewer::Zoom {n} {
     SetCamera $c
 }
 
-# Shows the state of the first selected element (and its contacts, in scenes of up to 100000).
+# Shows the state of the first selected element and its contacts.
 proc ::demlab::viewer::Info {} {
     variable w
     variable selection
@@ -403,18 +403,13 @@ proc ::demlab::viewer::Info {} {
             }
             $t insert end [format "%-16s %s\n" $key $v]
         }
-        if {[catch {::demlab::query contacts -count} n] == 0 && $n <= 100000} {
-            set k 0
+        if {![catch {::demlab::query contacts -element $id} cs]} {
             set with {}
-            foreach c [::demlab::query contacts] {
-                if {[dict get $c a] == $id || [dict get $c b] eq $id} {
-                    incr k
-                    lappend with [expr {[dict get $c a] == $id ?
-                        ([dict get $c b] ne "" ? [dict get $c b] : "wall [dict get $c wall]")
-                        : [dict get $c a]}]
-                }
+            foreach c $cs {
+                lappend with [expr {[dict get $c a] != $id ? [dict get $c a] :
+                    [dict get $c b] ne "" ? [dict get $c b] : "wall [dict get $c wall]"}]
             }
-            $t insert end [format "%-16s %d: %s\n" contacts $k [lrange $with 0 7]]
+            $t insert end [format "%-16s %d: %s\n" contacts [llength $cs] [lrange $with 0 7]]
         }
         if {[llength $selection] > 1} {
             $t insert end "\n[llength $selection] selected: [lrange $selection 0 11]\n"

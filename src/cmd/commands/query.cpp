@@ -42,15 +42,22 @@ void registerQueryCommands(Registry& r) {
       "Each dict: a (element id), b (element id or empty), wall (wall id or empty), point, normal, "
       "overlap, force (on b).";
   ct.flag("count", "return the number of contacts only");
+  ct.option("element", elementRef(), "only the contacts of this element (as a or b)");
   ct.changesScene = false;
   ct.run([](Call& c) {
     auto& s = session(c).scene();
-    if (c.flag("count")) return Value(s.contactCount());
+    const bool one = c.given("element");
+    if (c.flag("count") && !one) return Value(s.contactCount());
+    const sim::ElementId e = one ? c.get<sim::ElementId>("element") : sim::ElementId{};
     int d = s.dim();
     List l;
+    std::size_t n = 0;
     InterruptPoll poll("query contacts");
     for (const auto& k : s.contacts()) {
       poll();
+      if (one && !(k.a == e || k.b == e)) continue;
+      ++n;
+      if (c.flag("count")) continue;
       l.emplace_back(Dict{{"a", scriptId(k.a)},
                           {"b", k.b.isNull() ? Value("") : Value(scriptId(k.b))},
                           {"wall", k.wall.isNull() ? Value("") : Value(scriptId(k.wall))},
@@ -59,6 +66,7 @@ void registerQueryCommands(Registry& r) {
                           {"overlap", k.overlap},
                           {"force", vecValue(k.force, d)}});
     }
+    if (c.flag("count")) return Value(n);
     return Value(std::move(l));
   });
 
