@@ -80,6 +80,7 @@ void ThreadPool::setThreads(unsigned n) {
   if (n == threads_ && workers_.size() + 1 == n) return;
   stopWorkers();
   threads_ = n;
+  shares_ = std::vector<Share>(n);
   // More threads than cores: a spinning waiter would take the core a working thread needs.
   spin_ = n <= cores();
   const uint32_t start = generation_.load(std::memory_order_relaxed);
@@ -107,18 +108,22 @@ void ThreadPool::setThreads(unsigned n) {
 
 void ThreadPool::drain(unsigned thread) {
   insideRegion_ = true;
-  // Thread t runs the t-th share of the tasks, in order: the same thread then takes the same
-  // part of the scene at every step and in every stage (the groups of element blocks, the
-  // element chunks), and finds its data in its own core's cache.
-  const size_t begin = n_ * thread / threads_, end = n_ * (thread + 1) / threads_;
-  for (size_t k = begin; k < end; ++k) {
-    try {
-      fn_(context_, k, thread);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(errorMutex_);
-      if (!error_ || k < errorTask_) {
-        error_ = std::current_exception();
-        errorTask_ = k;
+  // Thread t runs the t-th share of the tasks first, in order: with cores of one speed the
+  // same thread then takes the same part of the scene at every step and in every stage (the
+  // groups of element blocks, the element chunks), and finds its data in its own core's
+  // cache. Then it takes what the other shares have not yet started, the next one first.
+  for (unsigned i = 0; i < threads_; ++i) {
+    Share& share = shares_[(thread + i) % threads_];
+    for (size_t k = share.next.fetch_add(1, std::memory_order_relaxed); k < share.end;
+         k = share.next.fetch_add(1, std::memory_order_relaxed)) {
+      try {
+        fn_(context_, k, thread);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(errorMutex_);
+        if (!error_ || k < errorTask_) {
+          error_ = std::current_exception();
+          errorTask_ = k;
+        }
       }
     }
   }
@@ -135,6 +140,10 @@ void ThreadPool::run(size_t n, TaskFn fn, void* context) {
   context_ = context;
   n_ = n;
   error_ = nullptr;
+  for (unsigned t = 0; t < threads_; ++t) {
+    shares_[t].next.store(n * t / threads_, std::memory_order_relaxed);
+    shares_[t].end = n * (t + 1) / threads_;
+  }
   busy_.store(static_cast<unsigned>(workers_.size()), std::memory_order_relaxed);
   generation_.fetch_add(1, std::memory_order_release);
   generation_.notify_all();

@@ -1,8 +1,11 @@
 // ThreadPool: the threads of the parallel step, one process-wide pool (like a runtime).
 //
-// A parallel region hands the pool n tasks (forEach); thread t of T runs tasks n t / T .. n (t+1)
-// / T - 1 (a static share, so a thread keeps the same part of the scene, and its cache, from
-// step to step) and the call returns when all are done. Nothing a task computes may depend
+// A parallel region hands the pool n tasks (forEach); thread t of T starts on tasks n t / T ..
+// n (t+1) / T - 1, in order (its share, so a thread keeps the same part of the scene, and its
+// cache, from step to step), and a thread that finishes its share takes the tasks not yet
+// started of the others' (cores are not always equally fast: on a shared virtual machine one
+// core ran the same step 1.4 times slower than the other, and a fixed share left the fast
+// one waiting). The call returns when all are done. Nothing a task computes may depend
 // on which thread runs it or in what order the tasks run: the step's results are the same bits
 // for any number of threads because every task writes its own part (a range of elements, a
 // group of contacts that shares no element with the others running at once) and every sum over
@@ -77,6 +80,13 @@ class ThreadPool {
   TaskFn fn_ = nullptr;
   void* context_ = nullptr;
   size_t n_ = 0;
+  // Per thread, its share's next task to hand out and its end: the owner and thieves take
+  // tasks from `next` alike, so each is taken once.
+  struct alignas(64) Share {
+    std::atomic<size_t> next{0};
+    size_t end = 0;
+  };
+  std::vector<Share> shares_;
   // Each counter on a cache line of its own: the threads spin on them.
   alignas(64) std::atomic<unsigned> busy_{0};  // workers still in the current region
   alignas(64) std::atomic<uint32_t> generation_{0};  // a futex word: wraps harmlessly

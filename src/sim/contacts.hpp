@@ -133,19 +133,21 @@ void forEachContactGroup(const Scene<D>& s, Body&& body) {
     return;
   }
   ThreadPool& pool = ThreadPool::global();
-  const size_t threads = pool.threads();
-  std::vector<uint32_t> cut(threads + 1);
+  // Four parts a thread: the pool gives thread t parts 4t .. 4t+3 first, and a thread done
+  // early takes parts of a slower one.
+  const size_t parts = pool.threads() == 1 ? 1 : 4 * pool.threads();
+  std::vector<uint32_t> cut(parts + 1);
   for (const ContactGroups::Range& phase : g.phases) {
-    // Thread t takes the t-th share of the phase's candidates, whole groups in order: groups
+    // Part t is the t-th share of the phase's candidates, whole groups in order: groups
     // differ tenfold in size, so equal counts of groups would leave a thread idle.
     const size_t first = g.groups[phase.begin].begin, all = g.groups[phase.end - 1].end - first;
     uint32_t k = phase.begin;
-    for (size_t t = 0; t <= threads; ++t) {
-      const size_t want = first + all * t / threads;
+    for (size_t t = 0; t <= parts; ++t) {
+      const size_t want = first + all * t / parts;
       while (k < phase.end && g.groups[k].begin < want) ++k;
-      cut[t] = t == threads ? phase.end : k;
+      cut[t] = t == parts ? phase.end : k;
     }
-    pool.forEach(threads, [&](size_t t, unsigned) {
+    pool.forEach(parts, [&](size_t t, unsigned) {
       for (uint32_t j = cut[t]; j < cut[t + 1]; ++j) {
         body(size_t{g.groups[j].begin}, size_t{g.groups[j].end}, size_t{j});
       }
