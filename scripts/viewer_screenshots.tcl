@@ -55,6 +55,16 @@ proc click {x y} {
     event generate $v <ButtonRelease-1> -x $x -y $y -button 1
     update
 }
+# Clicks the first of the points {x y ...} where the picture shows an element, plots the first
+# series' kinetic energy, and writes the window to file.
+proc selectPlotShoot {points file} {
+    foreach {x y} $points {
+        if {[viewer pick $x $y {*}[::demlab::viewer::Options]] ne ""} {click $x $y; break}
+    }
+    set ::demlab::viewer::plotted "[dict get [lindex [series list] 0] id] kinetic"
+    ::demlab::viewer::Plot
+    shoot $file
+}
 
 # 3D: the drum turning, played for 0.3 s of simulated time from the window.
 set argv0 ""
@@ -64,13 +74,8 @@ while {[dict get [sim info] time] < 0.66} {update; after 20}
 .demlab_viewer.bar.pause invoke
 update
 drag 320 240 -60 -25
-# Click the bead nearest the picture's centre that the pick finds.
-foreach {x y} {300 330 320 320 280 340 340 300} {
-    if {[viewer pick $x $y {*}[::demlab::viewer::Options]] ne ""} {click $x $y; break}
-}
-set ::demlab::viewer::plotted "[dict get [lindex [series list] 0] id] kinetic"
-::demlab::viewer::Plot
-shoot [file join $out viewer-3d.png]
+# A bead near the picture's centre.
+selectPlotShoot {300 330 320 320 280 340 340 300} [file join $out viewer-3d.png]
 viewer close
 
 # 2D: discs settling in a box, coloured by the force on each.
@@ -87,11 +92,6 @@ series every -quantities {time kinetic contacts} -time 0.002
 sim run -time 0.5 -quiet -progress 0
 viewer open -size 480x480 -color contactforce
 update
-foreach {x y} {200 300 210 300 190 310 220 290} {
-    if {[viewer pick $x $y {*}[::demlab::viewer::Options]] ne ""} {click $x $y; break}
-}
-set ::demlab::viewer::plotted "[dict get [lindex [series list] 0] id] kinetic"
-::demlab::viewer::Plot
-shoot [file join $out viewer-2d.png]
+selectPlotShoot {200 300 210 300 190 310 220 290} [file join $out viewer-2d.png]
 viewer close
 exit

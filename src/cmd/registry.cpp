@@ -1,9 +1,8 @@
 #include "cmd/registry.hpp"
 
-#include <filesystem>
-
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <sstream>
 
 #include "cmd/words.hpp"

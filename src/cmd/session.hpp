@@ -30,9 +30,10 @@ struct Session : Context {
   // Install and remove only the SIGINT hook (an interruptible command that is not a run: the
   // scripts it evaluates may still change the scene it works on, as a study's do).
   std::function<void()> catchSigint = [] {}, releaseSigint = [] {};
-  // Whether a run is stepping the scene (set by runSteps), and what watches it: called after
-  // every step of a run, from the run's thread, with the scene consistent (the viewer's redraw,
-  // which limits itself to its frame rate). It may read the scene, not change it.
+  // Whether a run is stepping the scene (set between beginRun and endRun by the binding), and
+  // what watches a `sim run`: called after every step, from the run's thread, with the scene
+  // consistent (the viewer's redraw, which limits itself to its frame rate). It may read the
+  // scene, not change it.
   bool running = false;
   std::function<void()> runWatch;
   // Returns a function of time evaluating a Tcl expression in `t`; throws demlab::Error

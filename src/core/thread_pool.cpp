@@ -138,7 +138,6 @@ void ThreadPool::work(unsigned thread) {
 void ThreadPool::run(size_t n, TaskFn fn, void* context) {
   fn_ = fn;
   context_ = context;
-  n_ = n;
   error_ = nullptr;
   for (unsigned t = 0; t < threads_; ++t) {
     shares_[t].next.store(n * t / threads_, std::memory_order_relaxed);

@@ -79,7 +79,6 @@ class ThreadPool {
   // The region in hand; published by the release increment of generation_.
   TaskFn fn_ = nullptr;
   void* context_ = nullptr;
-  size_t n_ = 0;
   // Per thread, its share's next task to hand out and its end: the owner and thieves take
   // tasks from `next` alike, so each is taken once.
   struct alignas(64) Share {

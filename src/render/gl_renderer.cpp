@@ -61,10 +61,7 @@ class GlRenderer : public Renderer {
     checkOptions(options);
     const Typeface& face = defaultTypeface();
     const FrameLayout layout = frameLayout(scene, options, face);
-    RenderOptions inner = options;
-    inner.width = layout.scene.width();
-    inner.height = layout.scene.height();
-    Image image = composeFrame(renderScene(scene, inner), layout, options);
+    Image image = composeFrame(renderScene(scene, sceneOptions(options, layout)), layout, options);
     drawOverlay(image, scene, options, layout, face);
     return image;
   }

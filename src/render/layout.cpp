@@ -33,6 +33,13 @@ FrameLayout frameLayout(const RenderScene& scene, const RenderOptions& o, const 
   return l;
 }
 
+RenderOptions sceneOptions(const RenderOptions& options, const FrameLayout& layout) {
+  RenderOptions inner = options;
+  inner.width = layout.scene.width();
+  inner.height = layout.scene.height();
+  return inner;
+}
+
 Image composeFrame(Image scene, const FrameLayout& layout, const RenderOptions& o) {
   if (scene.width == o.width && scene.height == o.height) return scene;
   Image img = blankImage(o.width, o.height);

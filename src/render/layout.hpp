@@ -32,6 +32,10 @@ int textSize(int imageHeight);
 FrameLayout frameLayout(const RenderScene& scene, const RenderOptions& options,
                         const Typeface& face);
 
+// Returns options for the scene part alone: options with layout.scene's size (what the scene
+// is drawn, and picked, with).
+RenderOptions sceneOptions(const RenderOptions& options, const FrameLayout& layout);
+
 // Returns the frame: the scene image (layout.scene's size) placed at layout.scene in an image
 // of options' size filled with the background colour; the scene image itself when it fills it.
 Image composeFrame(Image scene, const FrameLayout& layout, const RenderOptions& options);

@@ -6,8 +6,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
-#include "render/text.hpp"
 #include "render/layout.hpp"
+#include "render/text.hpp"
 
 namespace demlab::render {
 namespace {
@@ -70,8 +70,8 @@ double hitGrain(const RenderScene& s, size_t i, const Ray& r) {
       if (inTriangle2d(bx, by, tri[k], tri[k + 1], tri[k + 2])) return t;
     return kNone;
   }
-  if (hitSphere(r, c, s.radii[i]) == kNone) return kNone;  // the bounding sphere first
-  if (mesh < 0) return hitSphere(r, c, s.radii[i]);
+  const double ball = hitSphere(r, c, s.radii[i]);  // a mesh's bounding sphere first
+  if (ball == kNone || mesh < 0) return ball;
   const double* q = &s.orientations[4 * i];
   const Eigen::Quaterniond turn(q[0], q[1], q[2], q[3]);
   const Eigen::Matrix3d back = turn.normalized().toRotationMatrix().transpose();
@@ -87,10 +87,7 @@ double hitGrain(const RenderScene& s, size_t i, const Ray& r) {
 
 FrameView frameView(const RenderScene& scene, const RenderOptions& options) {
   const FrameLayout layout = frameLayout(scene, options, defaultTypeface());
-  RenderOptions inner = options;
-  inner.width = layout.scene.width();
-  inner.height = layout.scene.height();
-  return {makeView(scene, inner), layout.scene.x0, layout.scene.y0};
+  return {makeView(scene, sceneOptions(options, layout)), layout.scene.x0, layout.scene.y0};
 }
 
 Ray pixelRay(const View& v, double x, double y) {

@@ -39,7 +39,6 @@ struct Bound {
 struct InterpState {
   cmd::Session session;
   Tcl_Interp* interp = nullptr;
-  bool running = false;
 };
 
 InterpState* stateOf(Tcl_Interp* interp) {
@@ -119,12 +118,12 @@ void setupSession(Tcl_Interp* interp, InterpState* st) {
     for (Tcl_Obj* o : flush) Tcl_DecrRefCount(o);
   };
   s.beginRun = [st] {
-    st->running = true;
+    st->session.running = true;
     beginRun(&st->session.stop);
   };
   s.endRun = [st] {
     endRun();
-    st->running = false;
+    st->session.running = false;
   };
   s.catchSigint = [st] { beginRun(&st->session.stop); };
   s.releaseSigint = [] { endRun(); };
@@ -202,7 +201,7 @@ extern "C" int dispatch(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* co
   }
   try {
     // The viewer's commands only read the scene and draw: its window redraws during runs.
-    if (st->running && b->word != "help" && b->word != "query" && b->word != "viewer") {
+    if (st->session.running && b->word != "help" && b->word != "query" && b->word != "viewer") {
       // A load expression calling back into demlab while the scene is stepping.
       throw Error("can't use \"" + b->word + "\" while the scene is running", {"STATE", "RUNNING"});
     }

@@ -157,11 +157,6 @@ sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool qui
   }
   sim::RunReport rep;
   s.beginRun();
-  struct Running {
-    bool& flag;
-    ~Running() { flag = false; }
-  } running{s.running};
-  s.running = true;
   // The run stops at step boundaries through o.stop: outputs written during it (a dump, a
   // snapshot) must finish, not throw from their own polls.
   struct Unpolled {

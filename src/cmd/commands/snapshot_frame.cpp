@@ -102,7 +102,6 @@ struct FrameData {
   std::vector<int32_t> meshOf;
   std::vector<render::ChainLink> chains;
   std::vector<std::int64_t> ids;  // script ids, filled only for picking and highlighting
-  std::vector<char> highlight;    // per grain: drawn in the highlight colour
   render::RenderScene scene;
 };
 
@@ -147,7 +146,6 @@ void keepDrawn(const sim::Simulation& s, const SnapOptions& o, const DenseIndex&
   compactRows(f.orientations, 4, keep);
   compactRows(f.meshOf, 1, keep);
   compactRows(f.ids, 1, keep);
-  compactRows(f.highlight, 1, keep);
 }
 
 // Returns nothing; sets the series' fixed framing, legend width and colour range in sc and r,
@@ -191,10 +189,6 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
   f.centres = s.positions();
   if (withIds || !o.highlight.empty())
     for (sim::ElementId id : s.elementIds()) f.ids.push_back(scriptId(id));
-  if (!o.highlight.empty()) {
-    const std::unordered_set<std::int64_t> marked(o.highlight.begin(), o.highlight.end());
-    for (std::int64_t id : f.ids) f.highlight.push_back(char(marked.count(id)));
-  }
   f.radii = s.radii();
   const std::size_t n = f.radii.size();
   render::RenderScene& sc = f.scene;
@@ -269,8 +263,11 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
   sc.title = o.title;
   sc.chains = f.chains;
   sc.highlighted.clear();
-  for (size_t i = 0; i < f.highlight.size(); ++i)
-    if (f.highlight[i]) sc.highlighted.push_back(std::uint32_t(i));
+  if (!o.highlight.empty()) {
+    const std::unordered_set<std::int64_t> marked(o.highlight.begin(), o.highlight.end());
+    for (size_t i = 0; i < f.ids.size(); ++i)
+      if (marked.count(f.ids[i])) sc.highlighted.push_back(std::uint32_t(i));
+  }
   sc.angles = d == 2 ? std::span<const double>(f.angles) : std::span<const double>();
   if (o.walls) sc.walls = renderWalls(s);
   sc.meshOf = f.meshOf;

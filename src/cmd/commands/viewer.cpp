@@ -45,6 +45,16 @@ std::string evalText(Session& s, const std::string& script) {
   return r.ok ? r.result : "";
 }
 
+// Returns whether the viewer's Tcl (tcl/viewer.tcl) is in the interpreter.
+bool viewerLoaded(Session& s) {
+  return evalText(s, "namespace exists ::demlab::viewer") == "1";
+}
+
+// Returns nothing; evaluates the viewer's Tcl unless it is there already. Throws its error.
+void loadViewer(Session& s) {
+  if (!viewerLoaded(s)) evalOrThrow(s, demlabViewerTcl, {"INTERNAL", "VIEWER"});
+}
+
 // Returns nothing; gives c the drawing options of `snapshot write`, read and checked in its
 // check phase (where a build without the renderer fails), and an execute phase that passes the
 // checked options to draw. The command only reads the scene. Changes c.
@@ -111,8 +121,7 @@ void registerViewerCommands(Registry& r) {
   });
   open.run([](Call& c) -> Value {
     Session& s = session(c);
-    if (evalText(s, "namespace exists ::demlab::viewer") != "1")
-      evalOrThrow(s, demlabViewerTcl, {"INTERNAL", "VIEWER"});
+    loadViewer(s);
     evalOrThrow(s,
                 "::demlab::viewer::Open " + c.str("size") + " " + formatReal(c.real("fps")) + " " +
                     c.str("color") + " " + (c.get<bool>("legend") ? "1" : "0") + " " +
@@ -143,7 +152,7 @@ void registerViewerCommands(Registry& r) {
   close.run([](Call& c) -> Value {
     Session& s = session(c);
     s.runWatch = nullptr;
-    if (evalText(s, "namespace exists ::demlab::viewer") != "1") return Value(false);
+    if (!viewerLoaded(s)) return Value(false);
     return Value(evalText(s, "::demlab::viewer::Close") == "1");
   });
 
@@ -158,8 +167,7 @@ void registerViewerCommands(Registry& r) {
   sel.changesScene = false;
   sel.run([](Call& c) -> Value {
     Session& s = session(c);
-    if (evalText(s, "namespace exists ::demlab::viewer") != "1")
-      evalOrThrow(s, demlabViewerTcl, {"INTERNAL", "VIEWER"});
+    loadViewer(s);
     if (c.flag("clear")) evalOrThrow(s, "::demlab::viewer::Select {}", {"TK"});
     if (c.given("element")) {
       std::string ids;
