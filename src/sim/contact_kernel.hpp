@@ -48,6 +48,16 @@ struct SpringSlots {
   void (*release)(void* owner, size_t k) = nullptr;
 };
 
+// A periodic cell (sim/periodic.hpp, PeriodicBox::nearest): the lengths of the periodic axes
+// (0 for the others) and the Lees-Edwards shear (speed 0: none). The pass reduces each pair's
+// vector to the nearest image and, through the sliding boundary, shifts the other's velocity
+// by -n speed along the flow axis, with PeriodicBox's arithmetic.
+struct PeriodicCell {
+  double length[3] = {0, 0, 0};
+  double speed = 0, offset = 0;
+  int flow = 0, gradient = 1;
+};
+
 // One grain-grain contact pass: what BallContactModule<3, HertzMindlin, ...>::pass reads and
 // writes, as plain arrays (3-vectors as 3 consecutive doubles).
 struct HertzPassArgs {
@@ -81,6 +91,8 @@ struct HertzPassArgs {
   // time: cand[c] the candidate index of contact c, force[3 c ...] the force on B.
   void (*record)(void* context, const uint32_t* cand, const double* force, size_t n) = nullptr;
   void* recordContext = nullptr;
+  // A periodic scene's cell, else null.
+  const PeriodicCell* periodic = nullptr;
   // Out: the number of contacts; in and out: the energy sums, added contact by contact.
   size_t contacts = 0;
   double elastic = 0, damping = 0, friction = 0, springWork = 0;

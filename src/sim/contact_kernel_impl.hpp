@@ -214,6 +214,7 @@ struct Consts {
   double dt, lagDt;
   bool lag, total;
   HertzPair one;
+  const PeriodicCell* periodic;  // null: not periodic
 };
 
 struct Sums {
@@ -289,6 +290,45 @@ struct alignas(64) Stage {
   }
 };
 
+// Returns component k of v.
+template <int W>
+DEMLAB_KI vd<W>& component(V3<W>& v, int k) {
+  return k == 0 ? v.x : (k == 1 ? v.y : v.z);
+}
+
+// Returns 1 where x > half, -1 where x < -half, else 0.
+template <int W>
+DEMLAB_KI vd<W> crossings(vd<W> x, vd<W> half) {
+  const vd<W> zero = splat<W>(0.0), one = splat<W>(1.0);
+  return ((x > half) ? one : zero) - ((x < -half) ? one : zero);
+}
+// Returns x less L where above L/2, plus L where below -L/2 (PeriodicBox::wrapOnce).
+template <int W>
+DEMLAB_KI vd<W> wrapOnce(vd<W> x, double L) {
+  const vd<W> half = splat<W>(0.5 * L);
+  return x - L * crossings<W>(x, half);
+}
+
+// Reduces the lanes' pair vectors d to the nearest image (PeriodicBox::nearest, operation by
+// operation); returns the cells crossed along the gradient axis (0 without shear).
+template <int W>
+DEMLAB_KI vd<W> nearestImage(const PeriodicCell& p, V3<W>& d) {
+  vd<W> n = splat<W>(0.0);
+  if (p.speed != 0) {
+    vd<W>& g = component<W>(d, p.gradient);
+    vd<W>& f = component<W>(d, p.flow);
+    const double L = p.length[p.gradient];
+    n = crossings<W>(g, splat<W>(0.5 * L));
+    g -= n * L;
+    f -= n * p.offset;
+    f = wrapOnce<W>(f, p.length[p.flow]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (p.length[k] > 0) component<W>(d, k) = wrapOnce<W>(component<W>(d, k), p.length[k]);
+  }
+  return n;
+}
+
 // The lanes' candidates: k[l] for l < valid, then the last one repeated.
 template <int W>
 DEMLAB_KI void laneCandidates(const uint32_t* k, size_t valid, size_t* kc) {
@@ -310,7 +350,9 @@ DEMLAB_KI void geometry(const Consts C, const uint32_t* k, size_t valid, Stage<W
   // The module's inline narrow phase.
   const V3<W> xi = gather3<W>(C.x, oi), xj = gather3<W>(C.x, oj);
   const vd<W> ri = gather1<W>(C.r, si), rj = gather1<W>(C.r, sj);
-  const V3<W> d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
+  V3<W> d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
+  vd<W> crossed = zero;
+  if (C.periodic != nullptr) [[unlikely]] crossed = nearestImage<W>(*C.periodic, d);
   const vd<W> rs = ri + rj;
   const vd<W> d2 = dot<W>(d, d);
   const vd<W> sumInvMass = gather1<W>(C.invMass, si) + gather1<W>(C.invMass, sj);
@@ -343,6 +385,11 @@ DEMLAB_KI void geometry(const Consts C, const uint32_t* k, size_t valid, Stage<W
   // The relative velocity at the contact.
   const V3<W> vi = gather3<W>(C.v, oi), vj = gather3<W>(C.v, oj);
   V3<W> vrel{vj.x - vi.x, vj.y - vi.y, vj.z - vi.z};
+  if (C.periodic != nullptr && C.periodic->speed != 0) [[unlikely]] {
+    // Through the sliding boundary the other's image moves with -n U along the flow axis.
+    vd<W>& vf = component<W>(vrel, C.periodic->flow);
+    vf = crossed != zero ? vf - crossed * C.periodic->speed : vf;
+  }
   if constexpr (Rotation) {
     const vd<W> armA = ri - 0.5 * overlap, armB = rj - 0.5 * overlap;
     const V3<W> wi = gather3<W>(C.w, oi), wj = gather3<W>(C.w, oj);
@@ -626,7 +673,8 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
   }
   const V3<W> xi = gather3<W>(C.x, oi), xj = gather3<W>(C.x, oj);
   const vd<W> rs = gather1<W>(C.r, si) + gather1<W>(C.r, sj);
-  const V3<W> d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
+  V3<W> d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
+  if (C.periodic != nullptr) [[unlikely]] nearestImage<W>(*C.periodic, d);
   unsigned hit = bitsOf<W>(dot<W>(d, d) < rs * rs);
   if (valid < W) hit &= (1u << valid) - 1;
   if constexpr (Prefetch > 0) {
@@ -694,7 +742,7 @@ void hertzRun(HertzPassArgs& A) {
   const Consts C{
       A.x,       A.v,       A.w,     A.f,    A.t,  A.r,          A.invMass,  A.material,
       A.cand,    A.springs, A.pairs, A.nMat, A.dt, A.lag * A.dt, A.lag != 0, !A.springCriterion,
-      A.pairs[0]};
+      A.pairs[0], A.periodic};
   const size_t nc = A.nCand;
   Sums e = sumsOf(A);
   Records records;

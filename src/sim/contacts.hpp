@@ -291,12 +291,9 @@ class BallContactModule final : public SimModule<D> {
       if (threaded) s.pairSprings.prepareConcurrent();
     }
     bool ran = false;
-    // Periodic scenes measure each pair through the boundaries (sim/periodic.hpp), which the
-    // SIMD kernel does not: they take pass().
+    // Periodic scenes measure each pair to the nearest image (sim/periodic.hpp), in both.
     const bool periodic = s.periodic.any();
-    if constexpr (kKernel) {
-      if (!periodic) ran = kernelPass(s, record, deep, threaded);
-    }
+    if constexpr (kKernel) ran = kernelPass(s, record, deep, threaded);
     if (!ran) {
       forEachContactGroup(s, [&](size_t begin, size_t end, size_t g) {
         const ContactSink<D> sink = sinkOf(s, g, record, deep, threaded);
@@ -369,18 +366,34 @@ class BallContactModule final : public SimModule<D> {
   static constexpr size_t kPrefetchGrains = 65536;
   size_t lastContacts_ = 0;
 
-  // Where a group's kernel contacts go: the group's first candidate and its sink.
+  // Where a group's kernel contacts go: the group's first candidate and its sink; in a
+  // Lees-Edwards scene, the images' work of its contacts through the sliding boundary.
   struct RecordSink {
     const Scene<D>* s;
     size_t base;
     ContactSink<D> sink;
+    double imageWork = 0;
   };
   // Hands the kernel's contacts to the sink (kernel::HertzPassArgs::record).
   static void appendRecords(void* sink, const uint32_t* cand, const double* force, size_t n) {
-    const RecordSink& k = *static_cast<const RecordSink*>(sink);
+    RecordSink& k = *static_cast<RecordSink*>(sink);
+    if (k.s->periodic.sheared()) addImageWork(k, cand, force, n);
+    if (!k.sink.any()) return;
     for (size_t c = 0; c < n; ++c) {
       const CandidatePair p = k.s->candidates[k.base + cand[c]];
       k.sink.put({p.i, p.j, false, VecD<D>(force + 3 * c)});
+    }
+  }
+  // Adds the images' work of the contacts through the sliding boundary (as pass() books it,
+  // contact by contact in candidate order). Changes k.imageWork.
+  static void addImageWork(RecordSink& k, const uint32_t* cand, const double* force, size_t n) {
+    const PeriodicBox<D>& box = k.s->periodic;
+    const VecD<D>* x = k.s->elements.a.x.data();
+    for (size_t c = 0; c < n; ++c) {
+      const CandidatePair p = k.s->candidates[k.base + cand[c]];
+      int crossed;
+      box.nearest(x[p.j] - x[p.i], &crossed);
+      if (crossed != 0) k.imageWork += box.imageWork(crossed, force[3 * c + box.flow], k.s->stepDt);
     }
   }
 
@@ -423,6 +436,18 @@ class BallContactModule final : public SimModule<D> {
     }();
     if (forced >= 0) base.prefetch = forced;
     const uint32_t* cand = reinterpret_cast<const uint32_t*>(s.candidates.data());
+    kernel::PeriodicCell cell;
+    if (s.periodic.any()) {
+      const PeriodicBox<D>& box = s.periodic;
+      for (int k = 0; k < D; ++k) cell.length[k] = box.periodic(k) ? box.length(k) : 0.0;
+      if (box.sheared()) {
+        cell.speed = box.shearSpeed();
+        cell.offset = box.offset;
+        cell.flow = box.flow;
+        cell.gradient = box.gradient;
+      }
+      base.periodic = &cell;
+    }
     forEachContactGroup(s, [&](size_t begin, size_t end, size_t g) {
       if (end == begin) return;
       kernel::HertzPassArgs k = base;
@@ -434,13 +459,13 @@ class BallContactModule final : public SimModule<D> {
         k.springs = &slots;
       }
       RecordSink sink{&s, begin, sinkOf(s, g, record, deep, threaded)};
-      if (sink.sink.any()) {
+      if (sink.sink.any() || s.periodic.sheared()) {
         k.record = &appendRecords;
         k.recordContext = &sink;
       }
       kernelFn_(k);
       out_[g].contacts = k.contacts;
-      out_[g].energy = {k.elastic, k.damping, k.friction, k.springWork, 0};
+      out_[g].energy = {k.elastic, k.damping, k.friction, k.springWork, sink.imageWork};
     });
     lastContacts_ = 0;
     for (size_t g = 0; g < contactGroupCount(s); ++g) lastContacts_ += out_[g].contacts;
@@ -556,7 +581,8 @@ class BallContactModule final : public SimModule<D> {
         const Real armA = r[i] - 0.5 * g.overlap, armB = r[j] - 0.5 * g.overlap;
         VecD<D> vrel = v[j] - v[i];
         if constexpr (Periodic) {
-          if (bn[c] != 0) vrel += box.velocityShift(bn[c]);
+          // Through the sliding boundary the other's image moves with -n U along the flow.
+          if (bn[c] != 0) vrel[box.flow] -= bn[c] * box.shearSpeed();
         }
         if constexpr (Rotation) vrel -= cross(armA * w[i] + armB * w[j], g.normal);
         const physics::ContactKinematics<D> k{vrel, bm[c], br[c], lag};
@@ -577,8 +603,7 @@ class BallContactModule final : public SimModule<D> {
         }
         e.add(f);
         if constexpr (Periodic) {
-          // The image moves with -n U along the flow axis: its work on the pair.
-          if (bn[c] != 0) e.wallWork -= box.velocityShift(bn[c]).dot(f.force) * dt;
+          if (bn[c] != 0) e.wallWork += box.imageWork(bn[c], f.force[box.flow], dt);
         }
         if (sink.any()) sink.put({i, j, false, f.force});
       }

@@ -50,36 +50,38 @@ struct PeriodicBox {
 
   // Returns d (the raw vector from one element to another) reduced to the nearest image;
   // *crossings: the cells crossed along the gradient axis (0 without shear). Changes nothing.
+  // Elements are within the cell at each search and move less than the skin between, so a raw
+  // component is within 1.5 lengths and one comparison each way reduces it (no division or
+  // rounding call in the contact pass); the flow axis, shifted by up to one more length by the
+  // offset, takes two.
   VecD<D> nearest(VecD<D> d, int* crossings) const {
     int n = 0;
     if (shearRate != 0) {
       const int g = gradient;
-      n = static_cast<int>(std::nearbyint(d[g] / length(g)));
-      if (n != 0) {
-        d[g] -= n * length(g);
-        d[flow] -= n * offset;
-      }
+      const Real L = length(g);
+      n = (d[g] > 0.5 * L) - (d[g] < -0.5 * L);
+      d[g] -= n * L;
+      d[flow] -= n * offset;
+      d[flow] = wrapOnce(d[flow], length(flow));
     }
     for (int k = 0; k < D; ++k) {
-      if (!periodic(k)) continue;
-      const Real L = length(k);
-      const Real m = std::nearbyint(d[k] / L);
-      if (m != 0) d[k] -= m * L;
+      if (periodic(k)) d[k] = wrapOnce(d[k], length(k));
     }
     *crossings = n;
     return d;
+  }
+  // Returns x less L if above L/2, plus L if below -L/2.
+  static Real wrapOnce(Real x, Real L) {
+    return x - L * static_cast<Real>((x > 0.5 * L) - (x < -0.5 * L));
   }
   VecD<D> nearest(const VecD<D>& d) const {
     int n;
     return nearest(d, &n);
   }
-  // Returns what a pair that crossed n cells along the gradient axis adds to the other's
-  // velocity: -n U along the flow axis.
-  VecD<D> velocityShift(int n) const {
-    VecD<D> dv = VecD<D>::Zero();
-    dv[flow] = -n * shearSpeed();
-    return dv;
-  }
+  // Returns the work (J) the images do in one step dt on a pair through n cells of the
+  // sliding boundary with force f (on the image's element) along the flow axis: its image
+  // moves with -n U relative to it, so n U f dt.
+  double imageWork(int n, Real f, double dt) const { return n * shearSpeed() * f * dt; }
 
   // Advances the Lees-Edwards offset by one step dt. Changes offset, offsetTravel.
   void advance(double dt) {
