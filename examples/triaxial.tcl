@@ -13,7 +13,7 @@
 #                                      ?-count n? ?-rate 1/s? ?-strain e?
 #
 # -sample dense: consolidated with the grains' friction off, so they pack densely (then set to
-# -friction 0.5 for the shear); loose: consolidated with friction 1, which leaves a loose
+# -friction 0.5 for the shear); loose: consolidated with friction 5, which leaves a loose
 # packing. -short: 343 grains to 8 % axial strain (the test suite's form, seconds); the full form
 # 3000 grains to 20 %. -count, -rate (the axial strain rate), -strain (where the shear stops)
 # override either.
@@ -32,16 +32,32 @@ while {[llength $args]} {
         -short {set opt(-short) 1}
         -verbose {set opt(-verbose) 1}
         -sample - -seed - -count - -rate - -strain {
-            if {![llength $args]} {error "triaxial.tcl: $a needs a value"}
+            if {![llength $args]} {error "triaxial.tcl: $a needs a value" {} {DEMLAB ARGS}}
             set args [lassign $args opt($a)]
         }
         default {
-            if {[string match -* $a]} {error "triaxial.tcl: unknown option \"$a\""}
+            if {[string match -* $a]} {
+                error "triaxial.tcl: unknown option \"$a\"" {} {DEMLAB OPTION}
+            }
             set opt(-csv) $a
         }
     }
 }
-if {$opt(-sample) ni {dense loose}} {error "triaxial.tcl: -sample must be dense or loose"}
+if {$opt(-sample) ni {dense loose}} {
+    error "triaxial.tcl: bad sample \"$opt(-sample)\": must be dense or loose" {} {DEMLAB VALUE SAMPLE}
+}
+foreach o {-count -seed} {
+    if {$opt($o) ne {} && !([string is wideinteger -strict $opt($o)] && $opt($o) > 0)} {
+        error "triaxial.tcl: bad [string range $o 1 end] \"$opt($o)\": must be a positive integer" {} \
+            [list DEMLAB VALUE [string toupper [string range $o 1 end]]]
+    }
+}
+foreach o {-rate -strain} {
+    if {$opt($o) ne {} && !([string is double -strict $opt($o)] && $opt($o) > 0 && $opt($o) < Inf)} {
+        error "triaxial.tcl: bad [string range $o 1 end] \"$opt($o)\": must be a positive number" {} \
+            [list DEMLAB VALUE [string toupper [string range $o 1 end]]]
+    }
+}
 
 set N [expr {$opt(-count) ne {} ? $opt(-count) : ($opt(-short) ? 343 : 3000)}]
 set strainEnd [expr {$opt(-strain) ne {} ? $opt(-strain) : ($opt(-short) ? 0.08 : 0.2)}]
@@ -52,9 +68,8 @@ set young 1e9           ;# their Young's modulus: the mean overlap at sigma3 is 
 set mu 0.5              ;# their friction in the shear
 
 sim new -dim 3
-sim threads [expr {[info exists env(DEMLAB_THREADS)] ? $env(DEMLAB_THREADS) : 1}]
 material add grain -density $rho -young $young -poisson 0.3 -restitution 0.3 \
-    -friction [expr {$opt(-sample) eq "dense" ? 0.0 : 1.0}]
+    -friction [expr {$opt(-sample) eq "dense" ? 0.0 : 5.0}]
 material add plate -density $rho -young $young -poisson 0.3 -restitution 0.3 -friction 0
 law default hertz
 
@@ -72,6 +87,7 @@ foreach {name normal point} [list \
     dict set normals $name $normal
 }
 set lateral {xlo xhi ylo yhi}
+namespace eval triaxial {}
 # Half the automatic step: Hertz-Mindlin's critical estimate is the Rayleigh step, which leaves
 # out the tangential-rotational mode; in this packing at sigma3 (overlaps about 0.5 % of r) with
 # friction, 0.2 of it (the default) and 0.13 pump energy into that mode (the ledger's balance
@@ -80,13 +96,13 @@ sim timestep auto -fraction 0.1
 set dt [sim timestep]
 
 # Returns the walls' positions as a dict: x0 x1 y0 y1 z0 z1.
-proc box {} {
+proc triaxial::box {} {
     dict create x0 [lindex [wall get xlo -point] 0] x1 [lindex [wall get xhi -point] 0] \
         y0 [lindex [wall get ylo -point] 1] y1 [lindex [wall get yhi -point] 1] \
         z0 [lindex [wall get bottom -point] 2] z1 [lindex [wall get top -point] 2]
 }
 # Returns the loaded area of wall w (m^2) in the box b: the product of the other two spans.
-proc area {w b} {
+proc triaxial::area {w b} {
     dict with b {}
     switch -- $w {
         xlo - xhi {expr {($y1 - $y0) * ($z1 - $z0)}}
@@ -95,13 +111,13 @@ proc area {w b} {
     }
 }
 # Returns the normal stress the grains put on wall w (Pa, compression positive) in the box b.
-proc wallStress {w b} {
+proc triaxial::wallStress {w b} {
     global normals
     set f [wall get $w -force]
     set n [dict get $normals $w]
     set along 0.0
     foreach fk $f nk $n {set along [expr {$along - $fk * $nk}]}
-    expr {$along / [area $w $b]}
+    expr {$along / [triaxial::area $w $b]}
 }
 
 # The servo gain, bounded twice. The force a wall reads answers its own step: through its
@@ -117,23 +133,23 @@ set f [expr {$sigma3 * 4 * $r * $r}]
 set delta [expr {(3 * $f / (4 * $eStar * sqrt($r))) ** (2.0 / 3)}]
 set a [expr {sqrt($r * $delta)}]
 set mass [expr {4.0 / 3 * acos(-1) * $rho * $r ** 3}]
-set eWall 0.9
+set eWall 1.0
 law coefficients grain plate -restitution $eWall
 set beta [expr {log($eWall) / sqrt(log($eWall) ** 2 + acos(-1) ** 2)}]
 # Returns the gain for walls of side L: half of either bound.
-proc gainFor {L} {
+proc triaxial::gainFor {L} {
     global r eStar a beta mass dt
     set contactsOnWall [expr {$L * $L / (4 * $r * $r)}]
     set kWall [expr {$contactsOnWall * 2 * $eStar * $a}]
     set cWall [expr {$contactsOnWall * 2 * sqrt(5.0 / 6) * abs($beta) * sqrt(2 * $eStar * $a * $mass)}]
-    expr {min(1.0 / ($kWall * $dt), 0.5 / $cWall)}
+    expr {$cWall > 0 ? min(1.0 / ($kWall * $dt), 0.5 / $cWall) : 1.0 / ($kWall * $dt)}
 }
-set gain [gainFor $L0]
+set gain [triaxial::gainFor $L0]
 # Holds each of the walls at sigma3 over its current area (see the comment at the top).
-proc servoAll {walls speed} {
+proc triaxial::servoAll {walls speed} {
     global sigma3 gain
-    set b [box]
-    foreach w $walls {wall servo $w -stress $sigma3 -area [area $w $b] -gain $gain -maxspeed $speed}
+    set b [triaxial::box]
+    foreach w $walls {wall servo $w -stress $sigma3 -area [triaxial::area $w $b] -gain $gain -maxspeed $speed}
 }
 
 # Isotropic consolidation: five walls under servo (the bottom stays), in chunks, the targets
@@ -142,33 +158,33 @@ set consolSpeed [expr {0.02 * $L0 / (1000 * $dt)}]   ;# 2 % of the box per 1000 
 set chunk 500
 set consolSteps 0
 for {set k 0} {$k < 400} {incr k} {
-    servoAll [list {*}$lateral top] $consolSpeed
+    triaxial::servoAll [list {*}$lateral top] $consolSpeed
     sim run -steps $chunk -quiet -progress 0
     incr consolSteps $chunk
-    set b [box]
+    set b [triaxial::box]
     set worst 0
     foreach w [list {*}$lateral top bottom] {
-        set worst [expr {max($worst, abs([wallStress $w $b] / $sigma3 - 1))}]
+        set worst [expr {max($worst, abs([triaxial::wallStress $w $b] / $sigma3 - 1))}]
     }
     set e [query energy]
     set ek [expr {[dict get $e kinetic] + [dict get $e rotational]}]
     if {$opt(-verbose)} {
         puts [format "consolidation %d: stresses %s kPa, kinetic %.3g J" $k \
-            [lmap w [list {*}$lateral top bottom] {format %.1f [expr {[wallStress $w $b] / 1e3}]}] $ek]
+            [lmap w [list {*}$lateral top bottom] {format %.1f [expr {[triaxial::wallStress $w $b] / 1e3}]}] $ek]
     }
     # At rest: the kinetic energy below 1e-5 of the work sigma3 does over a grain diameter on a face.
-    if {$worst < 0.01 && $ek < 1e-5 * $sigma3 * 2 * $r * [area top $b]} break
+    if {$worst < 0.01 && $ek < 1e-5 * $sigma3 * 2 * $r * [triaxial::area top $b]} break
 }
 material set grain -friction $mu
 # A few chunks with the shear's friction before the platen moves.
 for {set k 0} {$k < 4} {incr k} {
-    servoAll [list {*}$lateral top] $consolSpeed
+    triaxial::servoAll [list {*}$lateral top] $consolSpeed
     sim run -steps $chunk -quiet -progress 0
     incr consolSteps $chunk
 }
-set b0 [box]
+set b0 [triaxial::box]
 dict with b0 {}
-set gain [gainFor [expr {sqrt(($x1 - $x0) * ($z1 - $z0))}]]
+set gain [triaxial::gainFor [expr {sqrt(($x1 - $x0) * ($z1 - $z0))}]]
 set H0 [expr {$z1 - $z0}]
 set V0 [expr {($x1 - $x0) * ($y1 - $y0) * $H0}]
 set fraction0 [expr {[tcl::mathop::+ {*}[lmap rr [element array radius] {expr {4.0 / 3 * acos(-1) * $rr ** 3}}]] / $V0}]
@@ -193,16 +209,16 @@ set peakPhi 0
 set start [clock milliseconds]
 set shearSteps 0
 while {1} {
-    servoAll $lateral $lateralSpeed
+    triaxial::servoAll $lateral $lateralSpeed
     sim run -steps $rowSteps -quiet -progress 0
     incr shearSteps $rowSteps
-    set b [box]
+    set b [triaxial::box]
     dict with b {}
     set H [expr {$z1 - $z0}]
     set axial [expr {1 - $H / $H0}]
     set volumetric [expr {1 - ($x1 - $x0) * ($y1 - $y0) * $H / $V0}]
-    set s1 [wallStress top $b]
-    set s3s [lmap w $lateral {wallStress $w $b}]
+    set s1 [triaxial::wallStress top $b]
+    set s3s [lmap w $lateral {triaxial::wallStress $w $b}]
     set s3 [expr {[tcl::mathop::+ {*}$s3s] / 4}]
     set q [expr {$s1 - $s3}]
     puts $fh [join [list $axial $volumetric $s1 {*}$s3s $q] ,]
@@ -228,10 +244,14 @@ foreach row $curve {
         set contractionStrain $e
     }
 }
-puts [format "triaxial (%s): %d grains, solid fraction %.4f after consolidation (%d steps); shear at %.3g/s (inertial number %.1e), %d steps of %.3g s in %.1f s: peak q %.4g kPa at axial strain %.4f, phi %.2f deg; at the end q %.4g kPa, volumetric strain %.4f (largest contraction %.4f at %.4f); confinement within %.2f %% of sigma3 on every lateral wall; table in %s" \
+# The residual strength: the mean q over the last quarter of the rows (one reading of a few
+# hundred grains fluctuates by several percent).
+set tail [lrange $curve [expr {3 * [llength $curve] / 4}] end]
+set residualQ [expr {[tcl::mathop::+ {*}[lmap row $tail {lindex $row 2}]] / [llength $tail]}]
+puts [format "triaxial (%s): %d grains, solid fraction %.4f after consolidation (%d steps); shear at %.3g/s (inertial number %.1e), %d steps of %.3g s in %.1f s: peak q %.4g kPa at axial strain %.4f, phi %.2f deg; at the end q %.4g kPa (%.4g kPa over the last quarter), volumetric strain %.4f (largest contraction %.4f at %.4f); confinement within %.2f %% of sigma3 on every lateral wall; table in %s" \
     $opt(-sample) $N $fraction0 $consolSteps $rate $inertial $shearSteps $dt $seconds \
-    [expr {$peakQ / 1e3}] $peakStrain $peakPhi [expr {$endQ / 1e3}] $endVol $maxContraction \
+    [expr {$peakQ / 1e3}] $peakStrain $peakPhi [expr {$endQ / 1e3}] [expr {$residualQ / 1e3}] $endVol $maxContraction \
     $contractionStrain [expr {100 * $worstConf}] $opt(-csv)]
 dict create sample $opt(-sample) elements $N fraction $fraction0 rate $rate inertial $inertial \
-    peakq $peakQ peakstrain $peakStrain phi $peakPhi endq $endQ endvol $endVol \
+    peakq $peakQ peakstrain $peakStrain phi $peakPhi endq $endQ residualq $residualQ endvol $endVol \
     maxcontraction $maxContraction confinement $worstConf curve $curve sigma3 $sigma3
