@@ -14,7 +14,7 @@
 #
 # -sample dense: consolidated with the grains' friction off, so they pack densely (then set to
 # -friction 0.5 for the shear); loose: consolidated with friction 5, which leaves a loose
-# packing. -short: 343 grains to 8 % axial strain (the test suite's form, seconds); the full form
+# packing. -short: 343 grains to 15 % axial strain (the test suite's form, seconds); the full form
 # 3000 grains to 20 %. -count, -rate (the axial strain rate), -strain (where the shear stops)
 # override either.
 #
@@ -60,7 +60,7 @@ foreach o {-rate -strain} {
 }
 
 set N [expr {$opt(-count) ne {} ? $opt(-count) : ($opt(-short) ? 343 : 3000)}]
-set strainEnd [expr {$opt(-strain) ne {} ? $opt(-strain) : ($opt(-short) ? 0.08 : 0.2)}]
+set strainEnd [expr {$opt(-strain) ne {} ? $opt(-strain) : ($opt(-short) ? 0.15 : 0.2)}]
 set sigma3 1e5          ;# the confining stress, Pa
 set r 0.001             ;# the mean radius, m (radii uniform in 0.8 r .. 1.2 r)
 set rho 2650.0          ;# the grains' density, kg/m^3
@@ -73,9 +73,9 @@ material add grain -density $rho -young $young -poisson 0.3 -restitution 0.3 \
 material add plate -density $rho -young $young -poisson 0.3 -restitution 0.3 -friction 0
 law default hertz
 
-# A cube holding the N grains as a gas at solid fraction 0.25.
+# A cube holding the N grains as a gas at solid fraction 0.3.
 set vGrain [expr {4.0 / 3 * acos(-1) * $r ** 3 * 1.04}]   ;# <r^3> for uniform 0.8..1.2 is 1.04 r^3
-set L0 [expr {($N * $vGrain / 0.25) ** (1.0 / 3)}]
+set L0 [expr {($N * $vGrain / 0.3) ** (1.0 / 3)}]
 pack random -region [list box {0 0 0} [list $L0 $L0 $L0]] -radius [list uniform [expr {0.8 * $r}] [expr {1.2 * $r}]] \
     -count $N -seed $opt(-seed) -material grain -tags sample
 set normals {}
