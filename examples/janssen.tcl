@@ -82,9 +82,10 @@ pack random -region [list cylinder [list 0 0 [expr {$Hpack / 2}]] {0 0 1} $R [ex
     -radius [list uniform [expr {0.8 * $r}] [expr {1.2 * $r}]] -count $N -seed $opt(-seed) \
     -material grain -tags bed -tries 10000
 
-# Settles until the kinetic energy is a millionth of the bed's weight times a grain radius.
+# Settles until the kinetic energy is 1e-5 of the bed's weight times a grain radius (the grains'
+# mean speed a few 1e-4 m/s), or for at most 200000 steps.
 set mass [tcl::mathop::+ {*}[lmap rr [element array radius] {expr {4.0 / 3 * acos(-1) * $rho * $rr ** 3}}]]
-set settled [demlab::settle -energy [expr {1e-6 * $mass * $g * $r}] -chunk 2000 -maxsteps 400000]
+set settled [demlab::settle -energy [expr {1e-5 * $mass * $g * $r}] -chunk 2000 -maxsteps 200000]
 # Janssen's wall friction is fully mobilised: the bed slides down along the wall. A poured bed
 # is not there yet (its grains came to rest against the wall at any friction below the limit);
 # lowering the floor slowly by a fifth of a grain diameter makes the whole bed slide (as Vanel
@@ -94,7 +95,7 @@ set speed 0.005
 wall set floor -velocity [list 0 0 [expr {-$speed}]]
 sim run -time [expr {$drop / $speed}] -quiet -progress 0
 wall set floor
-set settled2 [demlab::settle -energy [expr {1e-6 * $mass * $g * $r}] -chunk 2000 -maxsteps 400000]
+set settled2 [demlab::settle -energy [expr {1e-5 * $mass * $g * $r}] -chunk 2000 -maxsteps 200000]
 dict set settled steps [expr {[dict get $settled steps] + [dict get $settled2 steps] + int($drop / $speed / [sim timestep])}]
 dict set settled settled [dict get $settled2 settled]
 set base [lindex [wall get floor -point] 2]
@@ -145,60 +146,95 @@ set wallShare [expr {$sumUp / ($mass * $g)}]
 set floorStress [expr {-[lindex [wall get $floor -force] 2] / $area}]
 set floorShare [expr {$floorStress * $area / ($mass * $g)}]
 
-# The profile, depth below the surface at each bin's middle; the fit leaves out the bin at the
-# floor (its grains also lean on the floor) and the bins within a grain diameter of the surface.
+# The profile, depth below the surface at each bin's middle: the wall's normal stress, and the
+# mean vertical and horizontal stresses over the silo's cross-section (Love-Weber averages of
+# the slab, query stress over a box holding it, divided by the slab's volume in the cylinder).
+# The fits leave out the bin at the floor (its grains also lean on the floor) and the bins
+# within a grain diameter of the surface.
 set fh [open $opt(-csv) w]
-puts $fh "depth_m,height_m,wall_stress_Pa,hydrostatic_Pa"
+puts $fh "depth_m,height_m,wall_stress_Pa,vertical_stress_Pa,horizontal_stress_Pa,hydrostatic_Pa"
 set profile {}
 for {set k 0} {$k < $nBins} {incr k} {
     set zmid [expr {($k + 0.5) * $binH}]
     set depth [expr {$surface - $zmid}]
     set s [expr {[lindex $fn $k] / (acos(-1) * $D * $binH)}]
-    puts $fh [join [list $depth $zmid $s [expr {$rhoB * $g * $depth}]] ,]
-    lappend profile $depth $s
+    set slab [list box [list [expr {-2 * $R}] [expr {-2 * $R}] [expr {$base + $k * $binH}]] \
+        [list [expr {2 * $R}] [expr {2 * $R}] [expr {$base + ($k + 1) * $binH}]]]
+    set tensor [dict get [query stress -region $slab -volume [expr {$area * $binH}] -part static] tensor]
+    set sv [lindex $tensor 8]
+    set sh [expr {([lindex $tensor 0] + [lindex $tensor 4]) / 2}]
+    puts $fh [join [list $depth $zmid $s $sv $sh [expr {$rhoB * $g * $depth}]] ,]
+    lappend profile [list $depth $s $sv $sh]
 }
 close $fh
-set fitPts {}
-foreach {depth s} [lrange $profile 2 end] {
-    if {$depth > 2 * $r} {lappend fitPts $depth $s}
+set wallPts {}
+set verticalPts {}
+foreach row [lrange $profile 1 end] {
+    lassign $row depth s sv
+    if {$depth > 2 * $r} {
+        lappend wallPts $depth $s
+        lappend verticalPts $depth $sv
+    }
 }
 
-# Least squares of s = A (1 - exp(-z / lambda)): A in closed form for each lambda, lambda by a
-# golden-section search of the residual on a logarithmic scale.
-proc janssenResidual {pts lambda} {
-    set su 0.0
-    set uu 0.0
-    foreach {z s} $pts {
-        set u [expr {1 - exp(-$z / $lambda)}]
-        set su [expr {$su + $s * $u}]
-        set uu [expr {$uu + $u * $u}]
+# Least squares of s = A (1 - exp(-z / lambda)) over the pairs {z s} of pts: with slope given,
+# A = slope lambda (the curve starts at that slope), else A in closed form for each lambda;
+# lambda by a golden-section search of the residual over [D / 20, 20 D] on a logarithmic scale.
+# Returns {A lambda}.
+proc janssenFit {pts D {slope {}}} {
+    set best {}
+    set residual {{pts lambda slope} {
+        if {$slope ne {}} {
+            set A [expr {$slope * $lambda}]
+        } else {
+            set su 0.0
+            set uu 0.0
+            foreach {z s} $pts {
+                set u [expr {1 - exp(-$z / $lambda)}]
+                set su [expr {$su + $s * $u}]
+                set uu [expr {$uu + $u * $u}]
+            }
+            set A [expr {$su / $uu}]
+        }
+        set e 0.0
+        foreach {z s} $pts {set e [expr {$e + ($s - $A * (1 - exp(-$z / $lambda))) ** 2}]}
+        list $e $A
+    }}
+    set a [expr {log($D / 20)}]
+    set b [expr {log($D * 20)}]
+    set phi [expr {(sqrt(5) - 1) / 2}]
+    for {set it 0} {$it < 80} {incr it} {
+        set c [expr {$b - $phi * ($b - $a)}]
+        set d [expr {$a + $phi * ($b - $a)}]
+        set ec [lindex [apply $residual $pts [expr {exp($c)}] $slope] 0]
+        set ed [lindex [apply $residual $pts [expr {exp($d)}] $slope] 0]
+        if {$ec < $ed} {set b $d} else {set a $c}
     }
-    set A [expr {$su / $uu}]
-    set e 0.0
-    foreach {z s} $pts {set e [expr {$e + ($s - $A * (1 - exp(-$z / $lambda))) ** 2}]}
-    list $e $A
+    set lambda [expr {exp(($a + $b) / 2)}]
+    list [lindex [apply $residual $pts $lambda $slope] 1] $lambda
 }
-set a [expr {log($D / 20)}]
-set b [expr {log($D * 20)}]
-set phi [expr {(sqrt(5) - 1) / 2}]
-for {set it 0} {$it < 80} {incr it} {
-    set c [expr {$b - $phi * ($b - $a)}]
-    set d [expr {$a + $phi * ($b - $a)}]
-    if {[lindex [janssenResidual $fitPts [expr {exp($c)}]] 0] < [lindex [janssenResidual $fitPts [expr {exp($d)}]] 0]} {
-        set b $d
-    } else {
-        set a $c
-    }
-}
-set lambda [expr {exp(($a + $b) / 2)}]
-lassign [janssenResidual $fitPts $lambda] sse A
+# The vertical stress: Janssen's curve starts hydrostatic (slope rho_b g), so lambda alone
+# fits it, and gives the product mu_w K = D / (4 lambda).
+lassign [janssenFit $verticalPts $D [expr {$rhoB * $g}]] B lambda
+set muK [expr {$D / (4 * $lambda)}]
+# The wall stress: its asymptote A = rho_b g D / (4 mu_w) gives mu_w by itself.
+lassign [janssenFit $wallPts $D] A lambdaWall
 set muFit [expr {$rhoB * $g * $D / (4 * $A)}]
-set K [expr {$A / ($rhoB * $g * $lambda)}]
+# K from the product and the wall friction the wall measured (vertical friction over normal
+# force), and directly: the wall stress over the vertical stress, summed over the fitted bins.
+set K [expr {$muK / $muVertical}]
+set sumW 0.0
+set sumV 0.0
+foreach {z s} $wallPts {z2 sv} $verticalPts {
+    set sumW [expr {$sumW + $s}]
+    set sumV [expr {$sumV + $sv}]
+}
+set Kdirect [expr {$sumW / $sumV}]
 # Janssen's vertical stress at the floor, from the fit, against the floor's own.
-set floorJanssen [expr {$A / $K * (1 - exp(-$surface / $lambda))}]
-# The deepest bins of the fit (its lowest quarter, the first of the list) against the asymptote and the hydrostatic
-# rho_b g z.
-set deep [lrange $fitPts 0 [expr {2 * max(1, [llength $fitPts] / 8) - 1}]]
+set floorJanssen [expr {$B * (1 - exp(-$surface / $lambda))}]
+# The deepest bins of the fit (the lowest quarter; the first of the list) against the
+# asymptote and the hydrostatic rho_b g z.
+set deep [lrange $wallPts 0 [expr {2 * max(1, [llength $wallPts] / 8) - 1}]]
 set deepStress 0.0
 set deepDepth 0.0
 foreach {z s} $deep {
@@ -208,13 +244,15 @@ foreach {z s} $deep {
 set deepStress [expr {$deepStress / ([llength $deep] / 2)}]
 set deepDepth [expr {$deepDepth / ([llength $deep] / 2)}]
 
-puts [format "janssen: %d grains in a silo %g grains wide (D = %.3g m), bed %.3g m deep (%.2f D), bulk density %.4g kg/m^3 (fraction %.3f), settled in %d steps; wall stress fit sigma_w = %.4g Pa (1 - exp(-z / %.4g m)): K = %.3f, mu_w = %.3f (set %.3g; on the wall: vertical friction / normal force %.3f, |tangential| / normal %.3f, %.0f %% of %d contacts at the limit; the wall carries %.3f of the weight, the floor %.3f); deepest bins %.4g Pa at %.3g m (asymptote %.4g Pa, hydrostatic %.4g Pa); floor %.4g Pa (Janssen %.4g Pa, hydrostatic %.4g Pa); table in %s" \
+puts [format "janssen: %d grains in a silo %g grains wide (D = %.3g m), bed %.3g m deep (%.2f D), bulk density %.4g kg/m^3 (fraction %.3f), %d steps; vertical stress fit lambda = %.4g m (%.2f D): mu_w K = %.4f; wall stress fit %.4g Pa (1 - exp(-z / %.4g m)): mu_w from its asymptote %.3f; on the wall: vertical friction / normal force %.3f (set %.3g; |tangential| / normal %.3f, %.0f %% of %d contacts at the limit); K = mu_w K / mu_w = %.3f, sigma_w / sigma_v directly %.3f; the wall carries %.3f of the weight, the floor %.3f; deepest bins %.4g Pa at %.3g m depth (asymptote %.4g Pa, hydrostatic %.4g Pa); floor %.4g Pa (Janssen %.4g Pa, hydrostatic %.4g Pa); table in %s" \
     $N $Dd $D $surface [expr {$surface / $D}] $rhoB [expr {$rhoB / $rho}] [dict get $settled steps] \
-    $A $lambda $K $muFit $muWall $muVertical $mobilised [expr {100.0 * $full / max(1, $wallContacts)}] $wallContacts $wallShare $floorShare \
+    $lambda [expr {$lambda / $D}] $muK $A $lambdaWall $muFit $muVertical $muWall $mobilised \
+    [expr {100.0 * $full / max(1, $wallContacts)}] $wallContacts $K $Kdirect $wallShare $floorShare \
     $deepStress $deepDepth $A [expr {$rhoB * $g * $deepDepth}] $floorStress $floorJanssen \
     [expr {$rhoB * $g * $surface}] $opt(-csv)]
-dict create elements $N diameter $D depth $surface rhob $rhoB asymptote $A lambda $lambda K $K \
-    muwall $muFit muset $muWall mobilised $mobilised muvertical $muVertical wallshare $wallShare \
-    floorshare $floorShare fullshare [expr {double($full) / max(1, $wallContacts)}] \
-    deepstress $deepStress deepdepth $deepDepth floor $floorStress floorjanssen $floorJanssen \
-    profile $profile steps [dict get $settled steps] settled [dict get $settled settled]
+dict create elements $N diameter $D depth $surface rhob $rhoB lambda $lambda muK $muK \
+    asymptote $A lambdawall $lambdaWall muasymptote $muFit muvertical $muVertical muset $muWall \
+    mobilised $mobilised fullshare [expr {double($full) / max(1, $wallContacts)}] K $K \
+    Kdirect $Kdirect wallshare $wallShare floorshare $floorShare deepstress $deepStress \
+    deepdepth $deepDepth floor $floorStress floorjanssen $floorJanssen profile $profile \
+    steps [dict get $settled steps] settled [dict get $settled settled]
