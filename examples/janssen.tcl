@@ -88,8 +88,8 @@ set mass [tcl::mathop::+ {*}[lmap rr [element array radius] {expr {4.0 / 3 * aco
 set settled [demlab::settle -energy [expr {1e-5 * $mass * $g * $r}] -chunk 2000 -maxsteps 200000]
 # Janssen's wall friction is fully mobilised: the bed slides down along the wall. A poured bed
 # is not there yet (its grains came to rest against the wall at any friction below the limit);
-# lowering the floor slowly by a fifth of a grain diameter makes the whole bed slide (as Vanel
-# and Clement's piston did, Eur. Phys. J. B 11, 1999), then it settles again.
+# lowering the floor slowly by a fifth of a grain diameter makes the bed slide (as the piston
+# under the silo of Vanel et al., Phys. Rev. Lett. 84, 1439, 2000), then it settles again.
 set drop [expr {0.4 * $r}]
 set speed 0.005
 wall set floor -velocity [list 0 0 [expr {-$speed}]]
