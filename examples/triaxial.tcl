@@ -64,7 +64,7 @@ set strainEnd [expr {$opt(-strain) ne {} ? $opt(-strain) : ($opt(-short) ? 0.15 
 set sigma3 1e5          ;# the confining stress, Pa
 set r 0.001             ;# the mean radius, m (radii uniform in 0.8 r .. 1.2 r)
 set rho 2650.0          ;# the grains' density, kg/m^3
-set young 1e9           ;# their Young's modulus: the mean overlap at sigma3 is about 0.5 % of r
+set young 1e9           ;# their Young's modulus: the mean overlap at sigma3 is about 0.7 % of r
 set mu 0.5              ;# their friction in the shear
 
 sim new -dim 3
@@ -89,7 +89,7 @@ foreach {name normal point} [list \
 set lateral {xlo xhi ylo yhi}
 namespace eval triaxial {}
 # Half the automatic step: Hertz-Mindlin's critical estimate is the Rayleigh step, which leaves
-# out the tangential-rotational mode; in this packing at sigma3 (overlaps about 0.5 % of r) with
+# out the tangential-rotational mode; in this packing at sigma3 (overlaps about 0.7 % of r) with
 # friction, 0.2 of it (the default) and 0.13 pump energy into that mode (the ledger's balance
 # grows by the energy scale within a few hundred steps, the watchdog stops the run), 0.1 does not.
 sim timestep auto -fraction 0.1
@@ -124,10 +124,13 @@ proc triaxial::wallStress {w b} {
 # contacts' springs (stable for gain K dt < 2, K their stiffnesses in parallel, at most about
 # one contact per (2r)^2 of wall, each Hertz's tangent stiffness 2 E* a at the mean force
 # f = sigma3 (2r)^2; doc/design.md) and at once through their dampers (stable for
-# gain x (their damping coefficients in parallel) < 1, whatever the step). The walls' contacts
-# are given a restitution of 0.9 (law coefficients) so that their dampers, not needed in a
-# quasi-static test, leave room for a gain high enough to follow the dilating sample: a wall
-# moving at v lags its target by v / gain of force.
+# gain x (their damping coefficients in parallel) < 1, whatever the step: with restitution 0.3
+# on the walls this bound is the tighter, about ten times). A wall moving at v lags its target
+# by v / gain of force, over 1 % of sigma3 at that gain while the dense sample dilates; so the
+# walls' contacts get a restitution of 1 (law coefficients: no damper, not needed in a
+# quasi-static test; the grains' own contacts keep theirs) and the gain is half the springs'
+# bound, K counted as if every wall contact were in parallel with no grain behind (the grains
+# behind are in series and soften it: the margin is larger).
 set eStar [expr {$young / (2 * (1 - 0.3 ** 2))}]
 set f [expr {$sigma3 * 4 * $r * $r}]
 set delta [expr {(3 * $f / (4 * $eStar * sqrt($r))) ** (2.0 / 3)}]
@@ -157,6 +160,7 @@ proc triaxial::servoAll {walls speed} {
 set consolSpeed [expr {0.02 * $L0 / (1000 * $dt)}]   ;# 2 % of the box per 1000 steps at most
 set chunk 500
 set consolSteps 0
+set consolidated 0
 for {set k 0} {$k < 400} {incr k} {
     triaxial::servoAll [list {*}$lateral top] $consolSpeed
     sim run -steps $chunk -quiet -progress 0
@@ -173,7 +177,10 @@ for {set k 0} {$k < 400} {incr k} {
             [lmap w [list {*}$lateral top bottom] {format %.1f [expr {[triaxial::wallStress $w $b] / 1e3}]}] $ek]
     }
     # At rest: the kinetic energy below 1e-5 of the work sigma3 does over a grain diameter on a face.
-    if {$worst < 0.01 && $ek < 1e-5 * $sigma3 * 2 * $r * [triaxial::area top $b]} break
+    if {$worst < 0.01 && $ek < 1e-5 * $sigma3 * 2 * $r * [triaxial::area top $b]} {
+        set consolidated 1
+        break
+    }
 }
 material set grain -friction $mu
 # A few chunks with the shear's friction before the platen moves.
@@ -248,10 +255,10 @@ foreach row $curve {
 # hundred grains fluctuates by several percent).
 set tail [lrange $curve [expr {3 * [llength $curve] / 4}] end]
 set residualQ [expr {[tcl::mathop::+ {*}[lmap row $tail {lindex $row 2}]] / [llength $tail]}]
-puts [format "triaxial (%s): %d grains, solid fraction %.4f after consolidation (%d steps); shear at %.3g/s (inertial number %.1e), %d steps of %.3g s in %.1f s: peak q %.4g kPa at axial strain %.4f, phi %.2f deg; at the end q %.4g kPa (%.4g kPa over the last quarter), volumetric strain %.4f (largest contraction %.4f at %.4f); confinement within %.2f %% of sigma3 on every lateral wall; table in %s" \
-    $opt(-sample) $N $fraction0 $consolSteps $rate $inertial $shearSteps $dt $seconds \
+puts [format "triaxial (%s): %d grains, solid fraction %.4f after consolidation (%d steps%s); shear at %.3g/s (inertial number %.1e), %d steps of %.3g s in %.1f s: peak q %.4g kPa at axial strain %.4f, phi %.2f deg; at the end q %.4g kPa (%.4g kPa over the last quarter), volumetric strain %.4f (largest contraction %.4f at %.4f); confinement within %.2f %% of sigma3 on every lateral wall; table in %s" \
+    $opt(-sample) $N $fraction0 $consolSteps [expr {$consolidated ? "" : ", NOT at rest"}] $rate $inertial $shearSteps $dt $seconds \
     [expr {$peakQ / 1e3}] $peakStrain $peakPhi [expr {$endQ / 1e3}] [expr {$residualQ / 1e3}] $endVol $maxContraction \
     $contractionStrain [expr {100 * $worstConf}] $opt(-csv)]
-dict create sample $opt(-sample) elements $N fraction $fraction0 rate $rate inertial $inertial \
+dict create sample $opt(-sample) elements $N consolidated $consolidated fraction $fraction0 rate $rate inertial $inertial \
     peakq $peakQ peakstrain $peakStrain phi $peakPhi endq $endQ residualq $residualQ endvol $endVol \
     maxcontraction $maxContraction confinement $worstConf curve $curve sigma3 $sigma3
