@@ -8,12 +8,15 @@
 #   sigma_w(z) = K sigma_v(z),  saturating at rho_b g D / (4 mu_w).
 #
 # The script bins the normal forces of the grains' contacts with the cylinder (query contacts)
-# by height, divides each bin by its wall area (pi D h) and fits sigma_w = A (1 - exp(-z/lambda)):
-# the asymptote A = rho_b g D / (4 mu_w) gives mu_w, the initial slope A / lambda = K rho_b g
-# gives K (the surface's own depth from the bulk density rho_b measured in the bed). It also
-# measures the mobilised wall friction directly, the ratio of the wall contacts' tangential to
-# normal forces, and the vertical stress on the floor, Janssen's sigma_v at the bed's depth. The
-# profile goes to a CSV table; the numbers are printed and returned as a dict.
+# by height, each bin over its wall area (pi D h), and takes each slab's mean vertical and
+# horizontal stresses over the cross-section (query stress). Depth is measured from the surface
+# of a bed of the bulk density rho_b measured in the bed holding all the mass. mu_w and K are
+# separated thus: the vertical stress, whose curve starts hydrostatic, fits lambda alone, so
+# mu_w K; the wall stress's asymptote A = rho_b g D / (4 mu_w) gives mu_w; the wall's contacts
+# give mu_w directly (their vertical friction over their normal force, summed), and K is mu_w K
+# over it, or directly the wall over the vertical stress. It also checks that the floor and the
+# wall carry the weight and compares the floor's stress with Janssen's sigma_v at the bed's
+# depth. The profile goes to a CSV table; the numbers are printed and returned as a dict.
 #
 #   build/demlab examples/janssen.tcl ?file.csv? ?-short? ?-seed n? ?-diameter D/d?
 #                                     ?-height H/D? ?-wallfriction mu_w?
@@ -86,10 +89,11 @@ pack random -region [list cylinder [list 0 0 [expr {$Hpack / 2}]] {0 0 1} $R [ex
 # mean speed a few 1e-4 m/s), or for at most 200000 steps.
 set mass [tcl::mathop::+ {*}[lmap rr [element array radius] {expr {4.0 / 3 * acos(-1) * $rho * $rr ** 3}}]]
 set settled [demlab::settle -energy [expr {1e-5 * $mass * $g * $r}] -chunk 2000 -maxsteps 200000]
-# Janssen's wall friction is fully mobilised: the bed slides down along the wall. A poured bed
-# is not there yet (its grains came to rest against the wall at any friction below the limit);
-# lowering the floor slowly by a fifth of a grain diameter makes the bed slide (as the piston
-# under the silo of Vanel et al., Phys. Rev. Lett. 84, 1439, 2000), then it settles again.
+# Janssen takes the wall friction fully mobilised, the bed sliding down along the wall. A poured
+# bed has not slid (its grains came to rest against the wall at any friction below the limit);
+# lowering the floor slowly by a fifth of a grain diameter makes it slide (as the piston under
+# the silo of Vanel et al., Phys. Rev. Lett. 84, 1439, 2000), mobilising the wall friction as
+# far as its contacts do (measured below), then it settles again.
 set drop [expr {0.4 * $r}]
 set speed 0.005
 wall set floor -velocity [list 0 0 [expr {-$speed}]]
@@ -110,7 +114,8 @@ foreach zz $zs rr [element array radius] {
     if {$zz >= $lo && $zz < $hi} {set slabMass [expr {$slabMass + 4.0 / 3 * acos(-1) * $rho * $rr ** 3}]}
 }
 set rhoB [expr {$slabMass / ($area * ($hi - $lo))}]
-# The free surface (its height above the floor): where a bed of that bulk density holding all the mass would end.
+# The free surface (its height above the floor): where a bed of that bulk density holding all
+# the mass would end.
 set surface [expr {$mass / ($rhoB * $area)}]
 
 # The wall's contacts, binned by height: normal force (the grain pushing outwards) and the
