@@ -11,6 +11,7 @@ namespace demlab::analysis {
 Sample gatherSample(const sim::Simulation& sim, bool withBonds) {
   Sample s;
   const int d = s.dim = sim.dim();
+  s.periodic = sim.periodic();
   // Every element's state in one call (no ElementState per element).
   const sim::ElementTable t = sim.elementTable();
   s.ids = t.ids;
@@ -69,6 +70,25 @@ Sample gatherSample(const sim::Simulation& sim, bool withBonds) {
   return s;
 }
 
+namespace {
+
+// Returns v reduced to its nearest periodic image (the minimum image of sim/periodic.hpp:
+// the Lees-Edwards gradient axis first, with its offset along the flow axis).
+Vec3d nearestImage(const sim::PeriodicDef& p, Vec3d v, int dim) {
+  const auto length = [&](int k) { return p.hi[k] - p.lo[k]; };
+  if (p.shearRate != 0) {
+    const double n = std::nearbyint(v[p.gradient] / length(p.gradient));
+    v[p.gradient] -= n * length(p.gradient);
+    v[p.flow] -= n * p.offset;
+  }
+  for (int k = 0; k < dim; ++k) {
+    if ((p.axes >> k) & 1u) v[k] -= length(k) * std::nearbyint(v[k] / length(k));
+  }
+  return v;
+}
+
+}  // namespace
+
 std::vector<Arm> armsOf(const Sample& s, const SampleContact& c) {
   std::vector<Arm> arms;
   auto arm = [&](uint32_t e, double sign) {
@@ -77,6 +97,7 @@ std::vector<Arm> armsOf(const Sample& s, const SampleContact& c) {
       a.force[k] = sign * c.force[k];
       a.branch[k] = c.point[k] - s.position[e][k];
     }
+    if (s.periodic.axes != 0) a.branch = nearestImage(s.periodic, a.branch, s.dim);
     arms.push_back(a);
   };
   arm(c.a, -1);

@@ -36,6 +36,8 @@ struct Sample {
   // The intact bonds, when gathered: the point midway between the surfaces on the line of
   // centres, the bond's force on b. Apart from the contacts: a bond is not a contact.
   std::vector<SampleContact> bonds;
+  // The scene's periodic cell: an arm's branch is measured to the nearest image.
+  sim::PeriodicDef periodic;
   size_t size() const { return ids.size(); }
 };
 

@@ -228,7 +228,7 @@ Real recordOverlapRatio(const Scene<D>& s, const ContactRecord<D>& c, Real f) {
     const Real ra = a.r[c.a], rb = a.r[c.b];
     const Real t = ra + rb - f * std::min(ra, rb);
     if (t <= 0) return -1;  // no distance is that small (equal radii at the default limit 2)
-    const Real d2 = (a.x[c.b] - a.x[c.a]).squaredNorm();
+    const Real d2 = (partnerPosition(s, c.a, c.b) - a.x[c.a]).squaredNorm();
     if (d2 >= t * t) return -1;
     return (ra + rb - std::sqrt(d2)) / std::min(ra, rb);
   }
@@ -291,19 +291,29 @@ class BallContactModule final : public SimModule<D> {
       if (threaded) s.pairSprings.prepareConcurrent();
     }
     bool ran = false;
-    if constexpr (kKernel) ran = kernelPass(s, record, deep, threaded);
+    // Periodic scenes measure each pair through the boundaries (sim/periodic.hpp), which the
+    // SIMD kernel does not: they take pass().
+    const bool periodic = s.periodic.any();
+    if constexpr (kKernel) {
+      if (!periodic) ran = kernelPass(s, record, deep, threaded);
+    }
     if (!ran) {
       forEachContactGroup(s, [&](size_t begin, size_t end, size_t g) {
         const ContactSink<D> sink = sinkOf(s, g, record, deep, threaded);
-        if (isOnePair(grainPair_, s)) {
-          pass<true>(s, begin, end, out_[g].energy, sink);
+        const bool one = isOnePair(grainPair_, s);
+        if (periodic) {
+          one ? pass<true, true>(s, begin, end, out_[g].energy, sink)
+              : pass<false, true>(s, begin, end, out_[g].energy, sink);
         } else {
-          pass<false>(s, begin, end, out_[g].energy, sink);
+          one ? pass<true, false>(s, begin, end, out_[g].energy, sink)
+              : pass<false, false>(s, begin, end, out_[g].energy, sink);
         }
       });
     }
     PassEnergy e;
     for (size_t g = 0; g < groups; ++g) e.merge(out_[g].energy);
+    // The work of Lees-Edwards images (zero otherwise).
+    if (periodic) s.ledger.wallWork += e.wallWork;
     if (record && threaded) {
       gatherRecords(s, groups, [&](size_t g) -> std::vector<ContactRecord<D>>& {
         return out_[g].records;
@@ -453,7 +463,7 @@ class BallContactModule final : public SimModule<D> {
 
   // Runs candidates begin .. end - 1, adding their energies to e and handing their contacts to
   // the sink.
-  template <bool OnePair>
+  template <bool OnePair, bool Periodic>
   void pass(Scene<D>& s, size_t begin, size_t end, PassEnergy& e, const ContactSink<D>& sink) {
     using Call = LawCall<D, Law>;
     ElementArrays<D>& a = s.elements.a;
@@ -479,6 +489,17 @@ class BallContactModule final : public SimModule<D> {
     physics::ContactGeometry<D> bg[kBatch];
     Real bm[kBatch], br[kBatch];
     typename Call::Roots broots[kBatch];
+    // Periodic: the vector to the nearest image, and the Lees-Edwards cells crossed.
+    const PeriodicBox<D>& box = s.periodic;
+    int bn[kBatch];
+    const auto between = [&](uint32_t i, uint32_t j, int* n) -> VecD<D> {
+      if constexpr (Periodic) {
+        return box.nearest(x[j] - x[i], n);
+      } else {
+        *n = 0;
+        return x[j] - x[i];
+      }
+    };
     for (size_t k0 = begin; k0 < nc; k0 += kBatch) {
       const size_t kEnd = std::min(nc, k0 + kBatch);
       // The touching candidates of the batch, without a branch on each (about half touch, in
@@ -488,7 +509,8 @@ class BallContactModule final : public SimModule<D> {
       for (size_t kc = k0; kc < kEnd; ++kc) {
         const uint32_t i = cand[kc].i, j = cand[kc].j;
         const Real rs = r[i] + r[j];
-        const bool touch = (x[j] - x[i]).squaredNorm() < rs * rs;
+        int crossed;
+        const bool touch = between(i, j, &crossed).squaredNorm() < rs * rs;
         bk[m] = static_cast<uint32_t>(kc);
         m += touch;
         if constexpr (History) {
@@ -497,7 +519,7 @@ class BallContactModule final : public SimModule<D> {
       }
       for (size_t c = 0; c < m; ++c) {
         const uint32_t i = cand[bk[c]].i, j = cand[bk[c]].j;
-        const VecD<D> d = x[j] - x[i];
+        const VecD<D> d = between(i, j, &bn[c]);
         const Real ri = r[i], rj = r[j];
         const Real rs = ri + rj;
         const Real d2 = d.squaredNorm();
@@ -533,6 +555,9 @@ class BallContactModule final : public SimModule<D> {
         const physics::ContactGeometry<D>& g = bg[c];
         const Real armA = r[i] - 0.5 * g.overlap, armB = r[j] - 0.5 * g.overlap;
         VecD<D> vrel = v[j] - v[i];
+        if constexpr (Periodic) {
+          if (bn[c] != 0) vrel += box.velocityShift(bn[c]);
+        }
         if constexpr (Rotation) vrel -= cross(armA * w[i] + armB * w[j], g.normal);
         const physics::ContactKinematics<D> k{vrel, bm[c], br[c], lag};
         physics::TangentialHistory<D>* h = nullptr;
@@ -551,6 +576,10 @@ class BallContactModule final : public SimModule<D> {
           torque[j] -= armB * cn;
         }
         e.add(f);
+        if constexpr (Periodic) {
+          // The image moves with -n U along the flow axis: its work on the pair.
+          if (bn[c] != 0) e.wallWork -= box.velocityShift(bn[c]).dot(f.force) * dt;
+        }
         if (sink.any()) sink.put({i, j, false, f.force});
       }
     }

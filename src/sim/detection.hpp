@@ -54,6 +54,7 @@ class DetectionModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Detection; }
 
   void run(Scene<D>& s) override {
+    s.periodic.advance(s.stepDt);
     if (!s.needRebuild && !stale(s)) return;
     rebuild(s);
   }
@@ -61,7 +62,8 @@ class DetectionModule final : public SimModule<D> {
   // Returns true if the candidates may miss a contact now.
   static bool stale(const Scene<D>& s) {
     const Real half = 0.5 * s.skin;
-    const Real g = std::sqrt(s.maxDisp2);
+    // A Lees-Edwards offset moves the images of a pair apart as a displacement of one side.
+    const Real g = std::sqrt(s.maxDisp2) + 0.5 * s.periodic.offsetTravel;
     if (g > half) return true;
     const double now = s.time + s.stepDt;
     Real wallMove = 0;
@@ -87,6 +89,7 @@ class DetectionModule final : public SimModule<D> {
     std::vector<VecD<D>>().swap(s.xAtBuild);
     const uint32_t every = s.elements.reorderEvery;
     if (every > 0 && s.rebuilds % every == 0) reorderGrains(s);
+    if (s.periodic.any()) wrapIntoCell(s);
     const ElementArrays<D>& a = s.elements.a;
     const size_t n = a.size();
     const Real half = 0.5 * s.skin;
@@ -106,6 +109,16 @@ class DetectionModule final : public SimModule<D> {
     for (int k = 0; k < D; ++k) {
       domain.lo[k] -= s.skin;
       domain.hi[k] += s.skin;
+    }
+    if (s.periodic.any() && n > 0) {
+      // The images reach up to two radii and the skin beyond the cell.
+      const Real rMax = *std::max_element(a.r.begin(), a.r.end());
+      const Real reach = 2 * rMax + 2 * s.skin;
+      for (int k = 0; k < D; ++k) {
+        if (!s.periodic.periodic(k)) continue;
+        domain.lo[k] = std::min(domain.lo[k], s.periodic.lo[k] - reach);
+        domain.hi[k] = std::max(domain.hi[k], s.periodic.hi[k] + reach);
+      }
     }
     // The grid's boxes are taken from the domain's corner, so their precision is a float's
     // over the domain's extent, wherever the scene sits (a bed 4 km from the origin would
@@ -148,6 +161,8 @@ class DetectionModule final : public SimModule<D> {
         wallOfBox_.push_back(static_cast<uint32_t>(w));
       }
     }
+    const size_t firstImage = boxes_.size();
+    if (s.periodic.any()) addImageBoxes(s, corner, half);
     pairs_.reserve(lastPairs_ + lastPairs_ / 8);
     grid_.findPairs(boxes_, pairs_);
     lastPairs_ = pairs_.size();
@@ -173,12 +188,21 @@ class DetectionModule final : public SimModule<D> {
     s.shapeWallCandidates.clear();
     const bool shapes = s.anyShapes;
     const auto isShape = [&](uint32_t i) { return a.geometry[i] != 0; };
-    for (const search::IndexPair& p : pairs_) {
+    for (search::IndexPair p : pairs_) {
+      if (p.second >= firstImage) {
+        // An element and another's image: the pair of the two elements, measured through
+        // the boundary (the nearest image) from here on. Walls and images do not meet.
+        if (p.first >= n && p.first < firstImage) continue;
+        if (p.first >= firstImage) continue;
+        p.second = imageOwner_[p.second - firstImage];
+        if (p.second == p.first) continue;
+      }
       if (p.second < n) {
         // Boxes overlap for pairs up to sqrt(D) times farther apart than spheres can come
         // within a skin: keep only the pairs whose gap is at most the skin.
         const Real rs = a.r[p.first] + a.r[p.second], reach = rs + s.skin;
-        const Real d2 = (a.x[p.first] - a.x[p.second]).squaredNorm();
+        const VecD<D> raw = a.x[p.second] - a.x[p.first];
+        const Real d2 = (s.periodic.any() ? s.periodic.nearest(raw) : raw).squaredNorm();
         if (d2 > reach * reach) continue;
         if (d2 < rs * rs) touching += 1;
         // The lower slot first: the contact loop keeps each spring in that orientation.
@@ -213,6 +237,8 @@ class DetectionModule final : public SimModule<D> {
     springs_.give(s, touching);
     s.xAtBuild = a.x;
     s.maxDisp2 = 0;
+    s.periodic.offsetTravel = 0;
+    std::vector<uint32_t>().swap(imageOwner_);
     const double now = s.time + s.stepDt;
     for (Wall<D>& w : s.walls.items) {
       w.pointAtBuild = w.point;
@@ -226,6 +252,7 @@ class DetectionModule final : public SimModule<D> {
   // frequent, else none).
   size_t workingBytes() const override {
     return grid_.workingBytes() + boxes_.capacity() * sizeof(search::Box<D, float>) +
+           imageOwner_.capacity() * sizeof(uint32_t) +
            wallOfBox_.capacity() * sizeof(uint32_t) +
            pairs_.capacity() * sizeof(search::IndexPair) + springs_.workingBytes();
   }
@@ -233,12 +260,48 @@ class DetectionModule final : public SimModule<D> {
  private:
   static constexpr uint64_t kKeepGridSteps = 1000;
 
+  // Wraps every element into the periodic cell (sim/periodic.hpp), booking the kinetic energy
+  // of Lees-Edwards velocity jumps as wall work. Changes positions, velocities, unwrap offsets
+  // and the ledger.
+  static void wrapIntoCell(Scene<D>& s) {
+    ElementArrays<D>& a = s.elements.a;
+    double work = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      work += s.periodic.wrap(a.x[i], a.v[i], a.invMass[i],
+                              s.elements.pool().handleAt(static_cast<uint32_t>(i)));
+    }
+    s.ledger.wallWork += work;
+  }
+
+  // Appends the grid boxes of the elements' images that come within reach of the cell (each
+  // pair through the boundary once: PeriodicBox::forEachImage), their owners in imageOwner_.
+  // Changes boxes_ and imageOwner_.
+  void addImageBoxes(const Scene<D>& s, const std::array<Real, D>& corner, Real half) {
+    const ElementArrays<D>& a = s.elements.a;
+    Real rMax = 0;
+    for (Real r : a.r) rMax = std::max(rMax, r);
+    imageOwner_.clear();
+    for (size_t i = 0; i < a.size(); ++i) {
+      const Real e = a.r[i] + half;
+      s.periodic.forEachImage(a.x[i], a.r[i] + rMax + s.skin, [&](const VecD<D>& p) {
+        search::Box<D, float> b;
+        for (int k = 0; k < D; ++k) {
+          b.lo[k] = floatBelow(p[k] - e - corner[k]);
+          b.hi[k] = floatAbove(p[k] + e - corner[k]);
+        }
+        boxes_.push_back(b);
+        imageOwner_.push_back(static_cast<uint32_t>(i));
+      });
+    }
+  }
+
   double cellFactor_;
   bool searchedBefore_ = false;
   uint64_t lastSearchStep_ = 0;  // s.steps at the last search
   search::CGrid<D, float> grid_;
   std::vector<search::Box<D, float>> boxes_;
   std::vector<uint32_t> wallOfBox_;
+  std::vector<uint32_t> imageOwner_;  // per image box (after the walls'): its element
   std::vector<search::IndexPair> pairs_;
   size_t lastPairs_ = 0;  // pairs found by the last search
   SpringTransfer<D> springs_;

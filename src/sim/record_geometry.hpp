@@ -40,7 +40,7 @@ std::optional<RecordGeometry<D>> recordGeometry(const Scene<D>& s, const Contact
     g = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
     out.materialB = w.material;
   } else {
-    g = physics::intersect<D>(sa, physics::SphereShape<D>{a.x[c.b], a.r[c.b]});
+    g = physics::intersect<D>(sa, physics::SphereShape<D>{partnerPosition(s, c.a, c.b), a.r[c.b]});
     out.radiusB = a.r[c.b];
     out.materialB = a.material[c.b];
   }

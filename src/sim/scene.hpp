@@ -24,6 +24,7 @@
 #include "sim/contact_groups.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/pair_springs.hpp"
+#include "sim/periodic.hpp"
 #include "sim/shape.hpp"
 #include "sim/wall.hpp"
 
@@ -179,6 +180,8 @@ struct Scene {
   // the first step every contact is held to it, so nothing is listed. Emptied by every run.
   std::vector<ElementId> placedElements;
   std::vector<WallId> placedWalls;
+  // Periodic and Lees-Edwards boundaries (sim/periodic.hpp); none by default.
+  PeriodicBox<D> periodic;
 
   // ---- element shapes (sim/shape.hpp) ----
   // The shared Geometry components; ElementArrays::geometry indexes them. [0] is the ball's.
@@ -283,6 +286,15 @@ struct Scene {
     return out;
   }
 };
+
+// Returns where element j (dense) is seen from element i: its position, or in a periodic
+// scene its nearest image's (sim/periodic.hpp). Changes nothing.
+template <int D>
+VecD<D> partnerPosition(const Scene<D>& s, uint32_t i, uint32_t j) {
+  const ElementArrays<D>& a = s.elements.a;
+  if (!s.periodic.any()) return a.x[j];
+  return a.x[i] + s.periodic.nearest(a.x[j] - a.x[i]);
+}
 
 // Returns the id used for a wall in pair-history keys: walls live in the top half of the id
 // space so they never collide with grain slot indices.

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/interrupt.hpp"
+#include "core/validity.hpp"
 #include "sim/behaviors/gravity.hpp"
 #include "sim/behaviors/load.hpp"
 #include "sim/convert.hpp"
@@ -436,6 +437,75 @@ void readSinks(Reader& r, Scene<D>& s) {
   }
 }
 
+// Writes the periodic section's body: axes, cell, Lees-Edwards state, and the unwrap offsets of
+// the live elements that have one (slot, generation, offset).
+template <int D>
+void writePeriodic(Writer& w, const Scene<D>& s) {
+  const PeriodicBox<D>& p = s.periodic;
+  w.u8(p.axes);
+  for (int k = 0; k < D; ++k) w.f64(p.lo[k]);
+  for (int k = 0; k < D; ++k) w.f64(p.hi[k]);
+  w.f64(p.shearRate);
+  w.u8(static_cast<uint8_t>(p.flow));
+  w.u8(static_cast<uint8_t>(p.gradient));
+  w.f64(p.offset);
+  w.f64(p.offsetTravel);
+  std::vector<uint32_t> slots;
+  for (uint32_t i = 0; i < p.unwrap.size(); ++i) {
+    if (s.elements.pool().valid(ElementId{i, p.unwrapGeneration[i]})) slots.push_back(i);
+  }
+  w.list(slots, [&](uint32_t i) {
+    w.u32(i);
+    w.u32(p.unwrapGeneration[i]);
+    for (int k = 0; k < D; ++k) w.f64(p.unwrap[i][k]);
+  });
+}
+
+// Reads the periodic section's body (after the elements), checking it as setPeriodic would.
+// Throws {LOAD FORMAT}.
+template <int D>
+void readPeriodic(Reader& r, Scene<D>& s) {
+  PeriodicBox<D>& p = s.periodic;
+  p.axes = r.u8();
+  if (p.axes == 0 || (p.axes >> D) != 0) Reader::bad("periodic axes");
+  for (int k = 0; k < D; ++k) p.lo[k] = r.f64();
+  for (int k = 0; k < D; ++k) p.hi[k] = r.f64();
+  for (int k = 0; k < D; ++k) {
+    if (!p.periodic(k)) continue;
+    if (!(std::abs(p.lo[k]) <= validity::kMaxCoordinate && std::abs(p.hi[k]) <= validity::kMaxCoordinate &&
+          p.lo[k] < p.hi[k])) {
+      Reader::bad("periodic cell");
+    }
+  }
+  p.shearRate = r.f64();
+  p.flow = r.u8();
+  p.gradient = r.u8();
+  p.offset = r.f64();
+  p.offsetTravel = r.f64();
+  if (!std::isfinite(p.shearRate) || !(p.offsetTravel >= 0 && std::isfinite(p.offsetTravel)))
+    Reader::bad("periodic shear");
+  if (p.shearRate != 0) {
+    if (p.flow >= D || p.gradient >= D || p.flow == p.gradient || !p.periodic(p.flow) ||
+        !p.periodic(p.gradient) || !(p.offset >= 0 && p.offset < p.length(p.flow))) {
+      Reader::bad("periodic shear");
+    }
+  }
+  const size_t n = r.count(8 + 8 * D);
+  for (size_t j = 0; j < n; ++j) {
+    const uint32_t slot = r.u32(), generation = r.u32();
+    VecD<D> off;
+    for (int k = 0; k < D; ++k) off[k] = r.f64();
+    if (!s.elements.pool().valid(ElementId{slot, generation}) || !off.allFinite())
+      Reader::bad("periodic unwrap offset");
+    if (p.unwrap.size() <= slot) {
+      p.unwrap.resize(slot + 1, VecD<D>::Zero());
+      p.unwrapGeneration.resize(slot + 1, 0);
+    }
+    p.unwrap[slot] = off;
+    p.unwrapGeneration[slot] = generation;
+  }
+}
+
 // Returns true if some wall has state beyond the fixed wall record (the WALX section).
 template <int D>
 bool wallsHaveExtra(const Scene<D>& s) {
@@ -727,6 +797,11 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     writeSinks(body, s);
     writeSection(w, kSinkTag, body);
   }
+  if (s.periodic.any()) {
+    Writer body;
+    writePeriodic(body, s);
+    writeSection(w, kPeriodicTag, body);
+  }
   if (wallsHaveExtra(s)) {
     Writer body;
     writeWallExtra(body, s);
@@ -992,6 +1067,8 @@ void readScene(Reader& r, Scene<D>& s) {
       readSources(b, s);
     } else if (std::memcmp(tag, kSinkTag, 4) == 0) {
       readSinks(b, s);
+    } else if (std::memcmp(tag, kPeriodicTag, 4) == 0) {
+      readPeriodic(b, s);
     } else if (std::memcmp(tag, kWallExtraTag, 4) == 0) {
       readWallExtra(b, s);
     } else if (std::memcmp(tag, kOptionTag, 4) == 0) {

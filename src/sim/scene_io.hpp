@@ -202,6 +202,7 @@ inline constexpr char kBondTag[5] = "BOND";
 inline constexpr char kSourceTag[5] = "SRCE";
 // The sinks (sim/sink.hpp), when any: their Defs and counters.
 inline constexpr char kSinkTag[5] = "SINK";
+inline constexpr char kPeriodicTag[5] = "PERI";  // periodic cell (sim/periodic.hpp)
 // The walls' state beyond the fixed wall record, when a wall has any: per wall its work, the
 // rotation turned before its last change of motion, and its servo.
 inline constexpr char kWallExtraTag[5] = "WALX";

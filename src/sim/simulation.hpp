@@ -194,6 +194,19 @@ struct ElementState {
   std::string shape;                // its shape type's name
   std::vector<double> shapeParams;  // its parameters (none for the ball)
   unsigned blocked = 0;             // dof:: mask
+  Vec3d unwrapped{};                // position before periodic wraps (= position without)
+};
+
+// Periodic boundaries (sim/periodic.hpp): the periodic axes (bit k: axis k; none: no periodic
+// boundaries), the cell [lo, hi) on those axes, and Lees-Edwards shear: the rate (1/s; 0: none)
+// of the flow axis's velocity across the gradient axis (both periodic, distinct). offset: the
+// images' displacement now (reported; setPeriodic keeps it when only the rate changes).
+struct PeriodicDef {
+  unsigned axes = 0;
+  Vec3d lo{}, hi{};
+  double shearRate = 0;
+  int flow = 0, gradient = 1;
+  double offset = 0;
 };
 
 struct WallState {
@@ -598,6 +611,16 @@ class Simulation {
   // Puts a plane or finite wall under a servo (sim/boundaries.hpp), from now on. LOOKUP HANDLE,
   // VALUE SHAPE (another shape), VALUE TARGET / GAIN / MAXSPEED.
   virtual void setWallServo(WallId id, const WallServoDef& servo) = 0;
+
+  // -- periodic boundaries (sim/periodic.hpp) --
+  // Makes the axes of def periodic with its cell and shear, from the next step on (elements
+  // are wrapped into the cell at the next neighbour search); def.axes = 0 removes them. Throws
+  // VALUE AXES (an axis the scene lacks), VALUE CELL (lo < hi, finite, within the coordinate
+  // bound), VALUE RATE (finite; a shear needs flow and gradient periodic and distinct),
+  // UNSUPPORTED PERIODIC (bonds or shape elements in the scene). Each periodic length must
+  // exceed twice the largest pair reach: checked at every run start (VALUE CELL).
+  virtual void setPeriodic(const PeriodicDef& def) = 0;
+  virtual PeriodicDef periodic() const = 0;
 
   // -- sources and sinks (sim/boundaries.hpp) --
   // Adds a source; it inserts from the next step on. VALUE NAME, EXISTS NAME, LOOKUP MATERIAL,

@@ -538,6 +538,7 @@ ElementState SimulationManager<D>::element(ElementId id) const {
   g.inertia = moments.maxCoeff();
   g.principalInertia = {moments.x(), moments.y(), moments.z()};
   g.position = fromVec<D>(a.x[i]);
+  g.unwrapped = fromVec<D>(VecD<D>(a.x[i] + s_.periodic.unwrapOffset(id)));
   g.velocity = fromVec<D>(a.v[i]);
   g.angularVelocity = fromAngular(a.w[i]);
   g.force = fromVec<D>(a.f[i]);

@@ -88,6 +88,8 @@ class SimulationManager final : public Simulation {
   void addSink(const SinkDef& def) override;
   void removeSink(const std::string& name) override;
   std::vector<BoundaryInfo> sinks() const override;
+  void setPeriodic(const PeriodicDef& def) override;
+  PeriodicDef periodic() const override;
 
   void tagElement(ElementId id, const std::string& tag) override;
   void untagElement(ElementId id, const std::string& tag) override;
@@ -231,6 +233,12 @@ class SimulationManager final : public Simulation {
     if (s_.steps > 0) s_.placedWalls.push_back(id);
   }
   // Marks the configuration changed: the next run mixes, chooses and rebuilds again.
+  // Throws {VALUE CELL} when a periodic length is at most twice the largest pair reach (two
+  // bounding radii and the skin given), {UNSUPPORTED PERIODIC} for what periodic scenes lack (bonds,
+  // shape elements, the touch correction). Changes nothing.
+  void checkPeriodic(double skin) const;
+  // Returns the Verlet skin the next run uses: the option, or a fifth of the mean radius.
+  double skinInUse() const;
   void touchConfig() {
     configDirty_ = true;
     s_.forcesReady = false;

@@ -53,6 +53,8 @@ void SimulationManager<D>::prepare() {
   if (configDirty_) {
     const SceneUse f = sceneUse(s_);
     if (f.shapes) checkShapeRoutines(s_);
+    const double skin = skinInUse();
+    if (s_.periodic.any()) checkPeriodic(skin);
     const double dt = timeStep();
     const size_t nm = s_.nMat();
     s_.pairParams.resize(nm * nm);
@@ -87,17 +89,6 @@ void SimulationManager<D>::prepare() {
     }
     s_.rotating = f.rotating;
     s_.stepDt = dt;
-    double skin = s_.skinOption;
-    if (skin < 0) {
-      // Summed in sorted order: the value must not depend on the dense order, which spatial
-      // reordering changes; a one-ulp change here would force an extra search after a load
-      // and break bit-identical continuation from a checkpoint.
-      std::vector<Real> radii = s_.elements.a.r;
-      std::sort(radii.begin(), radii.end());
-      double sum = 0;
-      for (Real r : radii) sum += r;
-      skin = radii.empty() ? 0 : 0.2 * sum / static_cast<double>(radii.size());
-    }
     if (skin != s_.skin) {
       s_.skin = skin;
       s_.needRebuild = true;
@@ -127,6 +118,19 @@ void SimulationManager<D>::prepare() {
     s_.ledger.gravityReference = potential();
     s_.ledger.started = true;
   }
+}
+
+template <int D>
+double SimulationManager<D>::skinInUse() const {
+  if (s_.skinOption >= 0) return s_.skinOption;
+  // Summed in sorted order: the value must not depend on the dense order, which spatial
+  // reordering changes; a one-ulp change here would force an extra search after a load and
+  // break bit-identical continuation from a checkpoint.
+  std::vector<Real> radii = s_.elements.a.r;
+  std::sort(radii.begin(), radii.end());
+  double sum = 0;
+  for (Real r : radii) sum += r;
+  return radii.empty() ? 0 : 0.2 * sum / static_cast<double>(radii.size());
 }
 
 template <int D>
@@ -419,7 +423,7 @@ double SimulationManager<D>::worstOverlap(double fraction, bool push, std::vecto
       g = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
     } else {
       rmin = std::min(rmin, a.r[c.b]);
-      g = physics::intersect<D>(sa, physics::SphereShape<D>{a.x[c.b], a.r[c.b]});
+      g = physics::intersect<D>(sa, physics::SphereShape<D>{partnerPosition(s_, c.a, c.b), a.r[c.b]});
     }
     if (!g) continue;
     worst = std::max(worst, g->overlap / rmin);
@@ -591,7 +595,7 @@ std::vector<ContactInfo> SimulationManager<D>::contacts() const {
       g = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
     } else {
       ci.b = s_.elements.pool().handleAt(c.b);
-      g = physics::intersect<D>(sa, physics::SphereShape<D>{a.x[c.b], a.r[c.b]});
+      g = physics::intersect<D>(sa, physics::SphereShape<D>{partnerPosition(s_, c.a, c.b), a.r[c.b]});
     }
     if (g) {
       ci.point = fromVec<D>(g->point);

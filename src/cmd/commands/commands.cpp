@@ -14,6 +14,7 @@ Registry& registerAllCommands(Registry& r) {
       registerQueryCommands,    registerHelpCommands,     registerSnapshotCommands,
       registerDumpCommands,     registerSeriesCommands,   registerStudyCommands,
       registerAnalysisCommands, registerBoundaryCommands, registerViewerCommands,
+      registerPeriodicCommands,
   };
   for (Group g : groups) g(r);
   return r;

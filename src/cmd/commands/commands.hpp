@@ -27,6 +27,7 @@ void registerStudyCommands(Registry& r);     // study: convergence
 void registerAnalysisCommands(Registry& r);  // query stress, coordination, fabric, packing...
 void registerBoundaryCommands(Registry& r);  // inlet (sources), sink
 void registerViewerCommands(Registry& r);    // viewer: open, close, selection, frame, pick...
+void registerPeriodicCommands(Registry& r);  // periodic: set, get, clear
 
 // Returns the pipe of a region argument, `{box {lo} {hi}}`, `{sphere {centre} radius}` (a
 // disc in 2D) or `{cylinder {centre} {axis} radius halflength}` (3D), giving a sim::Region; a bad

@@ -46,14 +46,16 @@ Dict stateDict(const sim::ElementState& g, int d) {
            {"principalinertia",
             Value(Reals{{g.principalInertia.begin(), g.principalInertia.end()}, 0})},
            {"fixed", static_cast<int64_t>(g.blocked == sim::dof::all(d))},
-           {"blocked", wordList(sim::dofNames(g.blocked))}};
+           {"blocked", wordList(sim::dofNames(g.blocked))},
+           {"unwrapped", vecValue(g.unwrapped, d)}};
   return out;
 }
 
 const char* const kStateFields[] = {
     "id",       "name",     "material",        "radius",      "mass",  "inertia",
     "position", "velocity", "angularvelocity", "orientation", "force", "torque",
-    "tags",     "shape",    "params",          "principalinertia", "fixed", "blocked"};
+    "tags",     "shape",    "params",          "principalinertia", "fixed", "blocked",
+    "unwrapped"};
 
 // Returns the dof:: mask of the -block list (names x y z rx ry rz), or every degree of
 // freedom of the dimension with -fixed 1, or nothing when neither is given. Throws {VALUE DOF}

@@ -1,0 +1,192 @@
+// Periodic boundaries and Lees-Edwards (sliding periodic) boundaries.
+//
+// A periodic axis k makes the scene an infinite lattice of copies of the cell [lo_k, hi_k):
+// every pair is measured between an element and the nearest image of the other (the minimum
+// image convention), which is unique while each periodic length exceeds twice the largest
+// reach of a pair (two bounding radii and the skin; checked at every run start). Elements are
+// wrapped back into the cell at each neighbour search, never between, so the positions the
+// skin bookkeeping compares stay continuous; each element's wraps are kept per slot as the
+// offset from its wrapped to its unwrapped position.
+//
+// Lees-Edwards: with a shear rate g on a flow axis f and a gradient axis y (both periodic),
+// the images one cell up along y are displaced along f by the offset delta(t) (advanced by
+// U dt each step, U = g L_y, kept within [0, L_f)) and move with +U along f. A pair reaching
+// through n cells along y sees the other's image displaced by -n (L_y e_y + delta e_f) and its
+// velocity by -n U e_f; an element leaving through the top re-enters at the bottom with
+// x_f -= delta and v_f -= U (Lees and Edwards, J. Phys. C 5 (1972) 1921). The work the moving
+// images do through the contacts, and the kinetic energy of the velocity jumps, are booked to
+// the ledger's wall work, so the energy balance still closes.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/math.hpp"
+
+namespace demlab::sim {
+
+template <int D>
+struct PeriodicBox {
+  uint8_t axes = 0;  // bit k: axis k is periodic
+  VecD<D> lo = VecD<D>::Zero(), hi = VecD<D>::Zero();
+  // Lees-Edwards: the shear rate (1/s), its flow and gradient axes, the images' offset now
+  // (m, in [0, L_flow)) and how far it has moved since the last search (m, for the skin).
+  double shearRate = 0;
+  int flow = 0, gradient = 1;
+  double offset = 0;
+  double offsetTravel = 0;
+  // Per element slot: the offset from the wrapped position to the unwrapped one, valid while
+  // the slot's generation is unwrapGeneration[slot] (a reused slot starts from zero).
+  std::vector<VecD<D>> unwrap;
+  std::vector<uint32_t> unwrapGeneration;
+
+  bool any() const { return axes != 0; }
+  bool periodic(int k) const { return (axes >> k) & 1u; }
+  bool sheared() const { return any() && shearRate != 0; }
+  Real length(int k) const { return hi[k] - lo[k]; }
+  // The images' speed along the flow axis one cell up (m/s).
+  Real shearSpeed() const { return shearRate * length(gradient); }
+
+  // Returns d (the raw vector from one element to another) reduced to the nearest image;
+  // *crossings: the cells crossed along the gradient axis (0 without shear). Changes nothing.
+  VecD<D> nearest(VecD<D> d, int* crossings) const {
+    int n = 0;
+    if (shearRate != 0) {
+      const int g = gradient;
+      n = static_cast<int>(std::nearbyint(d[g] / length(g)));
+      if (n != 0) {
+        d[g] -= n * length(g);
+        d[flow] -= n * offset;
+      }
+    }
+    for (int k = 0; k < D; ++k) {
+      if (!periodic(k)) continue;
+      const Real L = length(k);
+      const Real m = std::nearbyint(d[k] / L);
+      if (m != 0) d[k] -= m * L;
+    }
+    *crossings = n;
+    return d;
+  }
+  VecD<D> nearest(const VecD<D>& d) const {
+    int n;
+    return nearest(d, &n);
+  }
+  // Returns what a pair that crossed n cells along the gradient axis adds to the other's
+  // velocity: -n U along the flow axis.
+  VecD<D> velocityShift(int n) const {
+    VecD<D> dv = VecD<D>::Zero();
+    dv[flow] = -n * shearSpeed();
+    return dv;
+  }
+
+  // Advances the Lees-Edwards offset by one step dt. Changes offset, offsetTravel.
+  void advance(double dt) {
+    if (shearRate == 0 || !(dt > 0)) return;
+    const double move = shearSpeed() * dt;
+    offsetTravel += std::abs(move);
+    const double L = length(flow);
+    offset = std::fmod(offset + move, L);
+    if (offset < 0) offset += L;
+  }
+
+  // Wraps one element (position x, velocity v, inverse mass invMass, handle h: its slot
+  // index and generation) into the cell. Returns the kinetic energy its velocity jump changed (0 without shear). Changes x,
+  // v and the slot's unwrap offset.
+  template <class H>
+  double wrap(VecD<D>& x, VecD<D>& v, Real invMass, H h) {
+    VecD<D> moved = VecD<D>::Zero();
+    double energy = 0;
+    if (shearRate != 0) {
+      const int g = gradient;
+      const Real m = std::floor((x[g] - lo[g]) / length(g));
+      if (m != 0) {
+        x[g] -= m * length(g);
+        x[flow] -= m * offset;
+        moved[g] += m * length(g);
+        moved[flow] += m * offset;
+        const Real du = m * shearSpeed();
+        if (invMass > 0) energy = 0.5 / invMass * ((v[flow] - du) * (v[flow] - du) - v[flow] * v[flow]);
+        v[flow] -= du;
+      }
+    }
+    for (int k = 0; k < D; ++k) {
+      if (!periodic(k)) continue;
+      const Real L = length(k);
+      const Real m = std::floor((x[k] - lo[k]) / L);
+      if (m == 0) continue;
+      x[k] -= m * L;
+      if (x[k] >= hi[k]) x[k] = lo[k];  // rounding of a position just below lo
+      moved[k] += m * L;
+    }
+    if (moved != VecD<D>::Zero()) {
+      if (unwrap.size() <= h.index) {
+        unwrap.resize(h.index + 1, VecD<D>::Zero());
+        unwrapGeneration.resize(h.index + 1, 0);
+      }
+      if (unwrapGeneration[h.index] != h.generation) {
+        unwrap[h.index].setZero();
+        unwrapGeneration[h.index] = h.generation;
+      }
+      unwrap[h.index] += moved;
+    }
+    return energy;
+  }
+
+  // Returns the offset from element h's wrapped position to its unwrapped one.
+  template <class H>
+  VecD<D> unwrapOffset(H h) const {
+    if (h.index < unwrap.size() && unwrapGeneration[h.index] == h.generation) return unwrap[h.index];
+    return VecD<D>::Zero();
+  }
+
+  // Calls fn(image) for every image of a point at x (inside the cell) that comes within reach
+  // of the cell, over half the shifts (the first non-zero shift, the gradient axis's first, is
+  // positive): each pair of elements within reach through the boundaries is then found once,
+  // between one element and the other's image. Changes nothing.
+  template <class Fn>
+  void forEachImage(const VecD<D>& x, Real reach, Fn&& fn) const {
+    int order[D], np = 0;
+    if (shearRate != 0) order[np++] = gradient;
+    for (int k = 0; k < D; ++k)
+      if (periodic(k) && !(shearRate != 0 && k == gradient)) order[np++] = k;
+    int total = 1;
+    for (int q = 0; q < np; ++q) total *= 3;
+    for (int code = 1; code < total; ++code) {
+      int s[D] = {}, c = code, first = 0;
+      for (int q = 0; q < np; ++q) {
+        s[q] = c % 3 - 1;
+        c /= 3;
+      }
+      for (int q = 0; q < np; ++q) {
+        if (s[q] != 0) {
+          first = s[q];
+          break;
+        }
+      }
+      if (first <= 0) continue;
+      VecD<D> p = x;
+      for (int q = 0; q < np; ++q) {
+        const int k = order[q];
+        if (shearRate != 0 && k == gradient && s[q] != 0) {
+          p[k] += s[q] * length(k);
+          p[flow] += s[q] * offset;
+          const Real L = length(flow);
+          p[flow] -= std::floor((p[flow] - lo[flow]) / L) * L;
+        }
+      }
+      for (int q = 0; q < np; ++q) {
+        const int k = order[q];
+        if (!(shearRate != 0 && k == gradient)) p[k] += s[q] * length(k);
+      }
+      bool near = true;
+      for (int k = 0; k < D && near; ++k) {
+        if (periodic(k)) near = p[k] > lo[k] - reach && p[k] < hi[k] + reach;
+      }
+      if (near) fn(p);
+    }
+  }
+};
+
+}  // namespace demlab::sim
