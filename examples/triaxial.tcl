@@ -21,8 +21,9 @@
 # The servos hold a force; the stress is that force over the wall's loaded area, which the
 # other four walls bound and which changes as the sample deforms. The script recomputes each
 # lateral wall's force target from its current area between chunks (wall servo again, which
-# keeps the wall where it is): within a chunk the area changes by at most the lateral strain of
-# one chunk (1e-4 here), a hundredth of the 1 % the confinement is held to.
+# keeps the wall where it is). A chunk is 1e-3 of axial strain: the height shrinks by 1e-3 and
+# the lateral span grows by less, so the area changes by less than 1e-3 of itself, a tenth of
+# the 1 % the confinement is held to.
 
 array set opt {-verbose 0 -short 0 -sample dense -seed 1 -count {} -rate {} -strain {} -csv triaxial.csv}
 set args $argv
