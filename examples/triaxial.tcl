@@ -10,13 +10,13 @@
 # the curve as a dict.
 #
 #   build/demlab examples/triaxial.tcl ?file.csv? ?-short? ?-sample dense|loose? ?-seed n?
-#                                      ?-count n? ?-rate 1/s? ?-strain e?
+#                                      ?-count n? ?-rate 1/s? ?-strain e? ?-verbose?
 #
 # -sample dense: consolidated with the grains' friction off, so they pack densely (then set to
 # -friction 0.5 for the shear); loose: consolidated with friction 5, which leaves a loose
 # packing. -short: 343 grains to 15 % axial strain (the test suite's form, seconds); the full form
 # 3000 grains to 20 %. -count, -rate (the axial strain rate), -strain (where the shear stops)
-# override either.
+# override either. -verbose prints each wall's stress every chunk of the consolidation.
 #
 # The servos hold a force; the stress is that force over the wall's loaded area, which the
 # other four walls bound and which changes as the sample deforms. The script recomputes each
