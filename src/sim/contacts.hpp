@@ -391,8 +391,7 @@ class BallContactModule final : public SimModule<D> {
     const VecD<D>* x = k.s->elements.a.x.data();
     for (size_t c = 0; c < n; ++c) {
       const CandidatePair p = k.s->candidates[k.base + cand[c]];
-      int crossed;
-      box.nearest(x[p.j] - x[p.i], &crossed);
+      const int crossed = box.gradientCrossings(x[p.j] - x[p.i]);
       if (crossed != 0) k.imageWork += box.imageWork(crossed, force[3 * c + box.flow], k.s->stepDt);
     }
   }

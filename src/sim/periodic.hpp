@@ -54,13 +54,12 @@ struct PeriodicBox {
   // component is within 1.5 lengths and one comparison each way reduces it (no division or
   // rounding call in the contact pass); the flow axis, shifted by up to one more length by the
   // offset, takes two.
-  VecD<D> nearest(VecD<D> d, int* crossings) const {
+  [[gnu::always_inline]] VecD<D> nearest(VecD<D> d, int* crossings) const {
     int n = 0;
     if (shearRate != 0) {
-      const int g = gradient;
-      const Real L = length(g);
-      n = (d[g] > 0.5 * L) - (d[g] < -0.5 * L);
-      d[g] -= n * L;
+      n = gradientCrossings(d);
+      const Real L = length(gradient);
+      d[gradient] -= n * L;
       d[flow] -= n * offset;
       d[flow] = wrapOnce(d[flow], length(flow));
     }
@@ -70,11 +69,16 @@ struct PeriodicBox {
     *crossings = n;
     return d;
   }
+  // Returns the cells of the gradient axis a raw pair vector d crosses (nearest's n).
+  [[gnu::always_inline]] int gradientCrossings(const VecD<D>& d) const {
+    const Real L = length(gradient);
+    return (d[gradient] > 0.5 * L) - (d[gradient] < -0.5 * L);
+  }
   // Returns x less L if above L/2, plus L if below -L/2.
   static Real wrapOnce(Real x, Real L) {
     return x - L * static_cast<Real>((x > 0.5 * L) - (x < -0.5 * L));
   }
-  VecD<D> nearest(const VecD<D>& d) const {
+  [[gnu::always_inline]] VecD<D> nearest(const VecD<D>& d) const {
     int n;
     return nearest(d, &n);
   }

@@ -290,7 +290,7 @@ struct Scene {
 // Returns where element j (dense) is seen from element i: its position, or in a periodic
 // scene its nearest image's (sim/periodic.hpp). Changes nothing.
 template <int D>
-VecD<D> partnerPosition(const Scene<D>& s, uint32_t i, uint32_t j) {
+[[gnu::always_inline]] inline VecD<D> partnerPosition(const Scene<D>& s, uint32_t i, uint32_t j) {
   const ElementArrays<D>& a = s.elements.a;
   if (!s.periodic.any()) return a.x[j];
   return a.x[i] + s.periodic.nearest(a.x[j] - a.x[i]);
