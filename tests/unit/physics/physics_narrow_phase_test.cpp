@@ -278,6 +278,66 @@ TEST(PhysicsNarrowPhase, FlatWall) {
   flatWall<3>(6);
 }
 
+// A flat wall with a hole (an orifice plate in 3D, a slot in 2D): the surface as patches, and
+// the rim (3D) or the gap's ends (2D) once more as patches of their own, so that half the
+// grains are drawn near the rim, where the nearest point leaves the face for the rim.
+template <int D>
+void flatWallWithHole(uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  for (int i = 0; i < 6; ++i) {
+    FlatWallShape<D> w = randomFlatWall<D>(rng);
+    const Real smallest = *std::min_element(w.halfExtents.begin(), w.halfExtents.end());
+    w.hole = std::uniform_real_distribution<Real>(0.2, 0.9)(rng) * smallest;
+    Surface<D> s;
+    if constexpr (D == 2) {
+      for (int side : {-1, 1}) {
+        s.patches.push_back([w, side](Real u, Real) {
+          return VecD<D>(w.centre + side * (w.hole + u * (w.halfExtents[0] - w.hole)) * w.axes[0]);
+        });
+        s.patches.push_back(
+            [w, side](Real, Real) { return VecD<D>(w.centre + side * w.hole * w.axes[0]); });
+      }
+    } else {
+      // Rays from the rim at angle 2 pi u out to the rectangle's edge, v along the ray.
+      s.patches.push_back([w](Real u, Real v) {
+        const Real c = std::cos(2 * kPi * u), sn = std::sin(2 * kPi * u);
+        const Real reach = std::min(c != 0 ? w.halfExtents[0] / std::abs(c) : 1e300,
+                                    sn != 0 ? w.halfExtents[1] / std::abs(sn) : 1e300);
+        const Real rho = w.hole + v * (reach - w.hole);
+        return VecD<D>(w.centre + rho * (c * w.axes[0] + sn * w.axes[1]));
+      });
+      s.patches.push_back([w](Real u, Real) {
+        return VecD<D>(w.centre + w.hole * (std::cos(2 * kPi * u) * w.axes[0] +
+                                            std::sin(2 * kPi * u) * w.axes[1]));
+      });
+      s.periodicU = true;
+    }
+    s.onGrainSide = [](const VecD<D>&) { return true; };  // two-sided, zero thickness
+    checkAgainstOracle<D>(w, s, rng, 60);
+    checkBounds<D>(bounds(w), s);
+  }
+}
+
+TEST(PhysicsNarrowPhase, FlatWallWithHole) {
+  flatWallWithHole<2>(15);
+  flatWallWithHole<3>(16);
+}
+
+// A grain over the hole's axis: every rim point is as near, and the rim pushes it along the
+// axis, away from the plate, with the overlap of a ring contact.
+TEST(PhysicsNarrowPhase, FlatWallHoleAxis) {
+  FlatWallShape<3> w{Vec3(0, 0, 0), {Vec3::UnitX(), Vec3::UnitY()}, {1, 1}, 0.3};
+  const auto above = intersect(SphereShape<3>{Vec3(0, 0, 0.4), 0.6}, w);
+  ASSERT_TRUE(above.has_value());
+  EXPECT_NEAR(above->overlap, 0.1, 1e-12);
+  EXPECT_NEAR((above->normal - Vec3(0, 0, -1)).norm(), 0, 1e-12);
+  const auto below = intersect(SphereShape<3>{Vec3(0, 0, -0.4), 0.6}, w);
+  ASSERT_TRUE(below.has_value());
+  EXPECT_NEAR((below->normal - Vec3(0, 0, 1)).norm(), 0, 1e-12);
+  // Smaller than the hole, in its plane: no contact (it passes through).
+  EXPECT_FALSE(intersect(SphereShape<3>{Vec3(0, 0, 0), 0.29}, w).has_value());
+}
+
 template <int D>
 Surface<D> boxSurface(const BoxShape<D>& b) {
   Surface<D> s;
