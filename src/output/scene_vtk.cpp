@@ -99,6 +99,11 @@ void meshWall(const sim::WallState& w, int dim, const std::array<Vec3d, 2>& boun
         break;
       }
       case WallShape::Finite:
+        if (w.hole > 0) {  // a slot: the two segments either side of the gap
+          m.polyline({add(c, w.axes[0], -w.halfExtents[0]), add(c, w.axes[0], -w.hole)}, false, k);
+          m.polyline({add(c, w.axes[0], w.hole), add(c, w.axes[0], w.halfExtents[0])}, false, k);
+          break;
+        }
         m.polyline({add(c, w.axes[0], -w.halfExtents[0]), add(c, w.axes[0], w.halfExtents[0])},
                    false, k);
         break;
@@ -129,6 +134,21 @@ void meshWall(const sim::WallState& w, int dim, const std::array<Vec3d, 2>& boun
       break;
     }
     case WallShape::Finite: {
+      if (w.hole > 0) {
+        // An orifice plate: quads between the hole's rim and the edges, along rays from the
+        // centre (a corner between two rays is cut off by less than their spacing).
+        const int n = kDrumSegments;
+        auto ray = [&](int j, bool rim) {
+          const double t = 2 * M_PI * j / n, cu = std::cos(t), sv = std::sin(t);
+          const double reach = std::min(cu != 0 ? w.halfExtents[0] / std::abs(cu) : 1e300,
+                                        sv != 0 ? w.halfExtents[1] / std::abs(sv) : 1e300);
+          return add(add(c, w.axes[0], (rim ? w.hole : reach) * cu), w.axes[1],
+                     (rim ? w.hole : reach) * sv);
+        };
+        for (int j = 0; j < n; ++j)
+          m.polygon({ray(j, true), ray(j, false), ray(j + 1, false), ray(j + 1, true)}, k);
+        break;
+      }
       m.polygon(rectangle(c, w.axes[0], w.halfExtents[0], w.axes[1], w.halfExtents[1]), k);
       break;
     }

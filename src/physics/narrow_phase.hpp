@@ -2,7 +2,8 @@
 // shape (shapes.hpp), in 2D and 3D. Each intersect() returns the contact (unit normal from the
 // grain A to B, overlap > 0, point in the middle of the overlap) or nothing when they do not
 // touch; exactly touching (overlap 0) is not a contact. All are inline, allocation free, and
-// take at most one sqrt; the grain-grain and grain-drum tests reject with no sqrt at all.
+// take at most one sqrt (two over a flat wall's hole); the grain-grain and grain-drum tests
+// reject with no sqrt at all.
 //
 // Dispatch by shape type: the table narrowPhaseRows<D>() holds one row per (grain, shape) pair
 // with its routines behind a type-erased signature; registerNarrowPhase() puts the rows into a

@@ -69,6 +69,25 @@ template <int D>
 inline std::optional<ContactGeometry<D>> intersect(const SphereShape<D>& a,
                                                    const FlatWallShape<D>& b) {
   const VecD<D> v = a.centre - b.centre;
+  if (b.hole > 0) {
+    // Over the hole the nearest point is on its rim, straight out from the axis: the grain is
+    // pushed away from that rim point, never by the face as well (one nearest point, one
+    // contact). Outside the hole the nearest point of the whole wall is also the holed wall's.
+    VecD<D> inPlane = VecD<D>::Zero();
+    for (int i = 0; i < D - 1; ++i) inPlane += v.dot(b.axes[i]) * b.axes[i];
+    const Real rho2 = inPlane.squaredNorm();
+    if (rho2 < b.hole * b.hole) {
+      if (rho2 > 0)
+        return detail::touchPoint<D>(a, b.centre + inPlane * (b.hole / std::sqrt(rho2)),
+                                     -detail::flatWallNormal(b));
+      // On the hole's axis every rim point is as near: the rim's net push is along the axis.
+      const VecD<D> n = detail::flatWallNormal(b);
+      const Real h = v.dot(n);
+      const Real dist = std::sqrt(b.hole * b.hole + h * h);
+      if (dist >= a.radius) return std::nullopt;
+      return detail::makeContact<D>(a, h >= 0 ? VecD<D>(-n) : n, a.radius - dist);
+    }
+  }
   VecD<D> q = b.centre;
   for (int i = 0; i < D - 1; ++i) {
     const Real s = std::clamp(v.dot(b.axes[i]), -b.halfExtents[i], b.halfExtents[i]);

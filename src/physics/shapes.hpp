@@ -2,7 +2,8 @@
 // the axis-aligned bounds each wall shape gives the broad phase (CGrid).
 //
 // Grains are spheres (3D) or discs (2D). Walls are few and large: an infinite plane (a line in
-// 2D), a finite flat wall (a segment in 2D, a rectangle in 3D), an oriented solid box, and a
+// 2D), a finite flat wall (a segment in 2D, a rectangle in 3D; either may have a hole in its
+// middle: a slot, an orifice), an oriented solid box, and a
 // drum (grains inside a circle in 2D, inside a cylinder in 3D). Every wall is rigid, has
 // infinite mass, and is B in a grain-wall contact (the normal points from the grain to it).
 //
@@ -40,11 +41,15 @@ struct PlaneShape {
 // A finite flat wall of zero thickness, touched from both sides: the points
 // centre + sum_i s_i axes[i] with |s_i| <= halfExtents[i]. axes are unit and orthogonal to
 // each other; D-1 of them (one in 2D: a segment; two in 3D: a rectangle).
+// It may have a hole centred at centre, hole > 0 (an orifice plate, a slot): 3D the points with
+// |sum_i s_i axes[i]| < hole are not part of it (a circular hole of radius hole), 2D those with
+// |s_0| < hole (a gap of width 2 hole). hole < every half extent, so the hole lies inside.
 template <int D>
 struct FlatWallShape {
   VecD<D> centre;
   std::array<VecD<D>, D - 1> axes;
   std::array<Real, D - 1> halfExtents;  // >= 0
+  Real hole = 0;                        // >= 0; 0: none
 };
 using SegmentShape = FlatWallShape<2>;
 using RectangleShape = FlatWallShape<3>;

@@ -95,6 +95,8 @@ void checkWall(const RenderWall& w, size_t i, int dim) {
       const Vec3 u = planar(w.p[1]), v = planar(w.p[2]);
       if (dim == 2 ? std::abs(u.x() * v.y() - u.y() * v.x()) == 0 : u.cross(v).squaredNorm() == 0)
         throw bad("edge vectors must be nonzero and not parallel");
+      if (!(std::isfinite(w.radius) && w.radius >= 0))
+        throw bad("hole radius \"" + num(w.radius) + "\" must be a non-negative number");
       break;
     }
     case WallKind::box:

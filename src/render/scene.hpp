@@ -27,7 +27,8 @@ enum class WallKind { plane, segment, rectangle, box, drum };
 //   plane:     p[0] a point on it, p[1] its normal. Drawn clipped to the scene bounds
 //              (in 2D: the line through p[0] perpendicular to p[1]).
 //   segment:   p[0], p[1] its ends (a line in 3D too).
-//   rectangle: p[0] a corner, p[1] and p[2] its two edge vectors (2D: a parallelogram outline).
+//   rectangle: p[0] a corner, p[1] and p[2] its two edge vectors (2D: a parallelogram outline);
+//              3D: radius > 0 is a circular hole of that radius at its centre (an orifice).
 //   box:       p[0] its minimum corner, p[1] its maximum corner (axis-aligned; edges only).
 //   drum:      p[0] the centre of its axis, p[1] the axis direction (3D only), radius; length
 //              is the cylinder's length along the axis (3D only). In 2D a circle.

@@ -96,6 +96,34 @@ std::vector<Vec3> clipPlane(const Vec3& x0, const Vec3& n, const Bounds& b, int 
   return pts;
 }
 
+// Returns nothing; draws the hole of a rectangle (corner p0, edges u, v) of radius hole at its
+// centre: the rim's circle and, with faces, the face between the rim and the edges as quads
+// cut along rays from the centre, each ray's outer end where it meets the edges (a corner
+// between two rays is cut off by less than the rays' spacing).
+void holedRectangle(Emitter& e, const Vec3& p0, const Vec3& u, const Vec3& v, double hole,
+                    bool faces) {
+  const Vec3 c = p0 + 0.5 * (u + v), n = u.cross(v).normalized();
+  const Vec3 eu = u.normalized(), ev = n.cross(eu);
+  const double hu = 0.5 * u.norm(), hv = 0.5 * std::abs(v.dot(ev));
+  std::vector<Vec3> rim(kCircleSegments), edge(kCircleSegments);
+  for (int i = 0; i < kCircleSegments; ++i) {
+    const double a = 2 * std::numbers::pi * i / kCircleSegments;
+    const double cu = std::cos(a), sv = std::sin(a);
+    const Vec3 dir = cu * eu + sv * ev;
+    const double reach = std::min(std::abs(cu) > 0 ? hu / std::abs(cu) : hu * 1e9,
+                                  std::abs(sv) > 0 ? hv / std::abs(sv) : hv * 1e9);
+    rim[i] = c + hole * dir;
+    edge[i] = c + reach * dir;
+  }
+  e.loop(rim);
+  if (!faces) return;
+  for (int i = 0; i < kCircleSegments; ++i) {
+    const int j = (i + 1) % kCircleSegments;
+    e.triangle(rim[i], edge[i], edge[j], n);
+    e.triangle(rim[i], edge[j], rim[j], n);
+  }
+}
+
 }  // namespace
 
 void wallGeometry(const RenderScene& scene, const Bounds& bounds, const Vec3& anchor,
@@ -144,6 +172,10 @@ void wallGeometry(const RenderScene& scene, const Bounds& bounds, const Vec3& an
       case WallKind::rectangle: {
         const std::vector<Vec3> q = {p0, p0 + p1, p0 + p1 + p2, p0 + p2};
         e.loop(q);
+        if (dim == 3 && w.radius > 0) {
+          holedRectangle(e, p0, p1, p2, w.radius, faces);
+          break;
+        }
         if (faces) {
           const Vec3 n = p1.cross(p2).normalized();
           e.triangle(q[0], q[1], q[2], n);

@@ -543,6 +543,47 @@ void readWallExtra(Reader& r, Scene<D>& s) {
   }
 }
 
+// Returns the hole of wall x (0 when it has none or is not a finite wall).
+template <int D>
+double wallHole(const Wall<D>& x) {
+  const auto* f = std::get_if<physics::FlatWallShape<D>>(&x.shape0);
+  return f ? f->hole : 0;
+}
+
+template <int D>
+bool wallsHaveHoles(const Scene<D>& s) {
+  return std::any_of(s.walls.items.begin(), s.walls.items.end(),
+                     [](const Wall<D>& x) { return wallHole(x) != 0; });
+}
+
+template <int D>
+void writeWallHoles(Writer& w, const Scene<D>& s) {
+  w.list(s.walls.items, [&](const Wall<D>& x) { w.f64(wallHole(x)); });
+}
+
+// Reads the holes into the walls' reference and current shapes, checked as `wall add finite
+// -hole` checks them.
+template <int D>
+void readWallHoles(Reader& r, Scene<D>& s) {
+  if (r.count(8) != s.walls.items.size()) Reader::bad("wall hole count");
+  for (Wall<D>& x : s.walls.items) {
+    const double hole = r.f64();
+    auto* f0 = std::get_if<physics::FlatWallShape<D>>(&x.shape0);
+    auto* f = std::get_if<physics::FlatWallShape<D>>(&x.shape);
+    if (f0 == nullptr || f == nullptr || x.kind != WallShape::Finite) {
+      if (hole != 0) Reader::bad("a hole in a wall that is not finite");
+      continue;
+    }
+    try {
+      checkWallHole<D>(*f0, hole);
+      checkWallHole<D>(*f, hole);
+    } catch (const Error& e) {
+      Reader::bad(e.what());
+    }
+    f0->hole = f->hole = hole;
+  }
+}
+
 // Writes the shape section's body: geometries, per-element indices, the shape candidates and
 // the shape springs.
 template <int D>
@@ -806,6 +847,11 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     Writer body;
     writeWallExtra(body, s);
     writeSection(w, kWallExtraTag, body);
+  }
+  if (wallsHaveHoles(s)) {
+    Writer body;
+    writeWallHoles(body, s);
+    writeSection(w, kWallHoleTag, body);
   }
   if (Writer body; writeOptionSection(body, s)) writeSection(w, kOptionTag, body);
   if (!s.bonds.empty()) {
@@ -1071,6 +1117,8 @@ void readScene(Reader& r, Scene<D>& s) {
       readPeriodic(b, s);
     } else if (std::memcmp(tag, kWallExtraTag, 4) == 0) {
       readWallExtra(b, s);
+    } else if (std::memcmp(tag, kWallHoleTag, 4) == 0) {
+      readWallHoles(b, s);
     } else if (std::memcmp(tag, kOptionTag, 4) == 0) {
       readOptionSection(b, s);
     } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {

@@ -206,6 +206,9 @@ inline constexpr char kPeriodicTag[5] = "PERI";  // periodic cell (sim/periodic.
 // The walls' state beyond the fixed wall record, when a wall has any: per wall its work, the
 // rotation turned before its last change of motion, and its servo.
 inline constexpr char kWallExtraTag[5] = "WALX";
+// The holes of finite walls (physics::FlatWallShape::hole), when a wall has one: u64 count (the
+// walls'), then per wall in dense order f64 its hole (0: none; only a finite wall has one).
+inline constexpr char kWallHoleTag[5] = "HOLE";
 // What edits placed since the last step (Scene::placedElements, placedWalls), when anything:
 // u64 count, per element its handle (u32 index, u32 generation); the same for the walls.
 inline constexpr char kPlacedTag[5] = "PLCD";

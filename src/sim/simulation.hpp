@@ -153,6 +153,8 @@ struct WallMotion {
 //   Box   : point (centre), halfExtents (2D: [0], [1]; 3D: all three), rotation: a rotation
 //           vector (axis times angle, 2D: z only) turning the box from axis-aligned
 //   Drum  : point (centre), radius; 3D also axis (the cylinder's axis) and halfLength
+// A finite wall may also have a hole centred at its point: 3D a circular hole of radius hole,
+// 2D a gap of half width hole; 0 < hole < every half extent (VALUE HOLE).
 struct WallDef {
   WallShape shape = WallShape::Plane;
   Vec3d point{};
@@ -162,6 +164,7 @@ struct WallDef {
   Vec3d rotation{};
   double radius = 0;
   double halfLength = 0;
+  double hole = 0;       // Finite only; 0: none
   std::string material;  // LOOKUP MATERIAL
   std::vector<std::string> tags;
   std::string name;
@@ -229,13 +232,14 @@ struct WallState {
   Vec3d boundsLo{}, boundsHi{};
   // The geometry now (after any prescribed motion), for renderers and writers. Unit vectors.
   //   Plane : centre (a point on it), normal.
-  //   Finite: centre, normal, axes[0] (and 3D axes[1]) along halfExtents[0] (and [1]).
+  //   Finite: centre, normal, axes[0] (and 3D axes[1]) along halfExtents[0] (and [1]); hole
+  //           the radius of its hole (2D: the gap's half width), 0 for none.
   //   Box   : centre, axes[0..dim-1] its axes, halfExtents along them.
   //   Drum  : centre, radius; 3D axes[0] its axis and halfLength.
   Vec3d centre{}, normal{};
   std::array<Vec3d, 3> axes{};
   Vec3d halfExtents{};
-  double radius = 0, halfLength = 0;
+  double radius = 0, halfLength = 0, hole = 0;
 };
 
 // The heap a scene holds, in bytes, by part (capacities, so room reserved counts): what grows

@@ -101,6 +101,7 @@ Wall<D> SimulationManager<D>::checkWall(const WallDef& def) const {
   switch (def.shape) {
     case WallShape::Plane: {
       const char* sh = "plane";
+      checkUnused(def.hole, "hole", sh);
       checkUnused(def.axis, "axis", sh);
       checkUnused(def.halfExtents, "half extents", sh);
       checkUnused(def.rotation, "rotation", sh);
@@ -142,11 +143,14 @@ Wall<D> SimulationManager<D>::checkWall(const WallDef& def) const {
         f.halfExtents[0] = def.halfExtents[0];
         f.halfExtents[1] = def.halfExtents[1];
       }
+      checkWallHole<D>(f, def.hole);
+      f.hole = def.hole;
       w.shape0 = f;
       break;
     }
     case WallShape::Box: {
       const char* sh = "box";
+      checkUnused(def.hole, "hole", sh);
       checkUnused(def.normal, "normal", sh);
       checkUnused(def.axis, "axis", sh);
       checkUnused(def.radius, "radius", sh);
@@ -169,6 +173,7 @@ Wall<D> SimulationManager<D>::checkWall(const WallDef& def) const {
     }
     case WallShape::Drum: {
       const char* sh = "drum";
+      checkUnused(def.hole, "hole", sh);
       checkUnused(def.normal, "normal", sh);
       checkUnused(def.halfExtents, "half extents", sh);
       checkUnused(def.rotation, "rotation", sh);
@@ -309,6 +314,7 @@ WallState SimulationManager<D>::wall(WallId id) const {
             st.axes[k] = fromVec<D>(sh.axes[k]);
             st.halfExtents[k] = sh.halfExtents[k];
           }
+          st.hole = sh.hole;
           if constexpr (D == 2) {
             st.normal = {sh.axes[0].y(), -sh.axes[0].x(), 0};  // axes[0] = perp(normal)
           } else {

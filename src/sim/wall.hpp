@@ -17,6 +17,7 @@
 #include "core/name_lookup.hpp"
 #include "core/tag_table.hpp"
 #include "physics/shapes.hpp"
+#include "sim/convert.hpp"
 #include "sim/simulation.hpp"
 
 namespace demlab::sim {
@@ -214,6 +215,24 @@ struct Wall {
         shape);
   }
 };
+
+// Returns nothing. Throws demlab::Error {VALUE HOLE} unless hole is 0 (no hole) or a positive
+// number below every half extent of f (the hole lies inside the wall and leaves a rim). The
+// command and the checkpoint reader both check a hole with it.
+template <int D>
+void checkWallHole(const physics::FlatWallShape<D>& f, double hole) {
+  if (hole == 0) return;
+  if (!(std::isfinite(hole) && hole > 0)) {
+    throwBad("hole", physics::formatReal(hole), "must be a positive number");
+  }
+  for (int k = 0; k < D - 1; ++k) {
+    if (!(hole < f.halfExtents[k])) {
+      throwBad(
+          "hole", physics::formatReal(hole),
+          "must be less than every half extent (" + physics::formatReal(f.halfExtents[k]) + " m)");
+    }
+  }
+}
 
 template <int D>
 class WallSet {

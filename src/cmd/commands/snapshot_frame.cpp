@@ -63,11 +63,16 @@ std::vector<RenderWall> renderWalls(const sim::Simulation& s) {
         out.push_back(RenderWall::plane(c, v3(w.normal)));
         break;
       case sim::WallShape::Finite:
-        if (d == 2) {
+        if (d == 2 && w.hole > 0) {
+          // A slot: the two segments either side of the gap.
+          out.push_back(RenderWall::segment(c - h[0] * a0, c - w.hole * a0));
+          out.push_back(RenderWall::segment(c + w.hole * a0, c + h[0] * a0));
+        } else if (d == 2) {
           out.push_back(RenderWall::segment(c - h[0] * a0, c + h[0] * a0));
         } else {
           out.push_back(
               RenderWall::rectangle(c - h[0] * a0 - h[1] * a1, 2 * h[0] * a0, 2 * h[1] * a1));
+          out.back().radius = w.hole;
         }
         break;
       case sim::WallShape::Box:

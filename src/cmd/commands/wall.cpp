@@ -107,6 +107,7 @@ Dict wallDict(const sim::WallState& w, int d) {
           {"torque", vecValue(w.torque, d, true)},
           {"work", w.work},
           {"servo", w.servo},
+          {"hole", w.hole},
           {"bounds", List{vecValue(w.boundsLo, d), vecValue(w.boundsHi, d)}},
           {"tags", tags}};
 }
@@ -131,12 +132,17 @@ void registerWallCommands(Registry& r) {
   plane.run(addWall);
 
   Command& fin = r.add("wall add finite",
-                       "Adds a finite flat wall: a segment in 2D, a rectangle in 3D (two-sided).");
+                       "Adds a finite flat wall: a segment in 2D, a rectangle in 3D (two-sided), "
+                       "with a hole in its middle or not.");
   fin.option("normal", vector(), "the wall's normal").require();
   fin.option("halfextents", reals().withUnit("m"),
              "half length (2D), or half sizes along -axis and normal x axis (3D)")
       .require();
   fin.option("axis", vector(), "3D: the in-plane direction of the first half size");
+  fin.option("hole", real().positive().withUnit("m"),
+             "a hole centred at -point: 3D a circle of this radius (an orifice), 2D a gap of "
+             "this half width (a slot); less than every half extent")
+      .to(&WallDef::hole);
   commonOptions(fin);
   fin.onCheck([](Call& c) {
     int d = session(c).scene().dim();
@@ -144,6 +150,7 @@ void registerWallCommands(Registry& r) {
     w.normal = vec3(c.vec("normal"));
     w.halfExtents = halfExtents(c, d == 2 ? 1 : 2);
     if (c.has("axis")) w.axis = vec3(c.vec("axis"));
+    c.fill(w);
     c.prepared = w;
   });
   fin.run(addWall);
@@ -182,8 +189,9 @@ void registerWallCommands(Registry& r) {
 
   Command& get = r.add("wall get", "Returns a wall's state as a dict, or the fields asked for.");
   get.arg("wall", wallRef(), "a wall id or name");
-  for (const char* f : {"id", "name", "shape", "material", "point", "velocity", "angularvelocity",
-                        "orientation", "force", "torque", "work", "servo", "bounds", "tags"})
+  for (const char* f :
+       {"id", "name", "shape", "material", "point", "velocity", "angularvelocity", "orientation",
+        "force", "torque", "work", "servo", "hole", "bounds", "tags"})
     get.flag(f, std::string("the ") + f);
   get.changesScene = false;
   get.run([](Call& c) {

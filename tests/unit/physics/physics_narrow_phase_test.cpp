@@ -278,6 +278,72 @@ TEST(PhysicsNarrowPhase, FlatWall) {
   flatWall<3>(6);
 }
 
+// A flat wall with a hole (an orifice plate in 3D, a slot in 2D): the surface as patches, and
+// the rim (3D) or the gap's ends (2D) once more as patches of their own, so that half the
+// grains are drawn near the rim, where the nearest point leaves the face for the rim.
+template <int D>
+void flatWallWithHole(uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  for (int i = 0; i < 6; ++i) {
+    FlatWallShape<D> w = randomFlatWall<D>(rng);
+    // Not too elongated: the patches' rays from the rim to a far edge would be too sparse for
+    // the oracle's grid.
+    for (Real& h : w.halfExtents) h = std::uniform_real_distribution<Real>(0.5, 1.5)(rng);
+    const Real smallest = *std::min_element(w.halfExtents.begin(), w.halfExtents.end());
+    w.hole = std::uniform_real_distribution<Real>(0.2, 0.9)(rng) * smallest;
+    Surface<D> s;
+    if constexpr (D == 2) {
+      for (int side : {-1, 1}) {
+        s.patches.push_back([w, side](Real u, Real) {
+          return VecD<D>(w.centre + side * (w.hole + u * (w.halfExtents[0] - w.hole)) * w.axes[0]);
+        });
+        s.patches.push_back(
+            [w, side](Real, Real) { return VecD<D>(w.centre + side * w.hole * w.axes[0]); });
+      }
+    } else {
+      // One patch per side of the rectangle: u runs along the side, v along the straight line
+      // from the rim point at the same angle out to it (the corners are patch corners).
+      for (int side = 0; side < 4; ++side) {
+        s.patches.push_back([w, side](Real u, Real v) {
+          const Real sx[4] = {1, -1, -1, 1}, sy[4] = {1, 1, -1, -1};
+          const int next = (side + 1) % 4;
+          const Real ex = (1 - u) * sx[side] + u * sx[next], ey = (1 - u) * sy[side] + u * sy[next];
+          const Vec3 edge = ex * w.halfExtents[0] * w.axes[0] + ey * w.halfExtents[1] * w.axes[1];
+          const Vec3 rim = w.hole * edge.normalized();
+          return VecD<D>(w.centre + rim + v * (edge - rim));
+        });
+      }
+      s.patches.push_back([w](Real u, Real) {
+        return VecD<D>(w.centre + w.hole * (std::cos(2 * kPi * u) * w.axes[0] +
+                                            std::sin(2 * kPi * u) * w.axes[1]));
+      });
+    }
+    s.onGrainSide = [](const VecD<D>&) { return true; };  // two-sided, zero thickness
+    checkAgainstOracle<D>(w, s, rng, 60);
+    checkBounds<D>(bounds(w), s);
+  }
+}
+
+TEST(PhysicsNarrowPhase, FlatWallWithHole) {
+  flatWallWithHole<2>(15);
+  flatWallWithHole<3>(16);
+}
+
+// A grain over the hole's axis: every rim point is as near, and the rim pushes it along the
+// axis, away from the plate, with the overlap of a ring contact.
+TEST(PhysicsNarrowPhase, FlatWallHoleAxis) {
+  FlatWallShape<3> w{Vec3(0, 0, 0), {Vec3::UnitX(), Vec3::UnitY()}, {1, 1}, 0.3};
+  const auto above = intersect(SphereShape<3>{Vec3(0, 0, 0.4), 0.6}, w);
+  ASSERT_TRUE(above.has_value());
+  EXPECT_NEAR(above->overlap, 0.1, 1e-12);
+  EXPECT_NEAR((above->normal - Vec3(0, 0, -1)).norm(), 0, 1e-12);
+  const auto below = intersect(SphereShape<3>{Vec3(0, 0, -0.4), 0.6}, w);
+  ASSERT_TRUE(below.has_value());
+  EXPECT_NEAR((below->normal - Vec3(0, 0, 1)).norm(), 0, 1e-12);
+  // Smaller than the hole, in its plane: no contact (it passes through).
+  EXPECT_FALSE(intersect(SphereShape<3>{Vec3(0, 0, 0), 0.29}, w).has_value());
+}
+
 template <int D>
 Surface<D> boxSurface(const BoxShape<D>& b) {
   Surface<D> s;
