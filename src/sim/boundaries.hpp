@@ -33,7 +33,19 @@ struct SourceDef {
   double tolerance = 0;  // allowed placed overlap, a fraction of the smaller radius, in [0, 1)
   uint64_t seed = 1;
   uint32_t tries = 200;  // placement attempts per element per step (>= 1)
+  // Places what it owes every `every` steps, in [1, kMaxEvery]: each step that inserts
+  // redoes the force pass, so large scenes insert in batches (the debt carries over).
+  uint32_t every = 1;
 };
+
+// The longest interval of steps between a source's or a sink's actions (VALUE EVERY).
+inline constexpr uint32_t kMaxBoundaryEvery = 1000000;
+
+// Returns true if a source or sink acting every `every` steps acts at the end of the step that
+// brings the scene to `steps` steps.
+inline bool boundaryActs(uint32_t every, uint64_t steps) {
+  return every <= 1 || steps % every == 0;
+}
 
 // A sink: removes at the end of each step every element whose centre lies in its region (or
 // outside it, with outside), or beyond its plane (on the side opposite the normal).
@@ -43,6 +55,8 @@ struct SinkDef {
   sim::Region region;
   bool outside = false;     // Region: remove what leaves the region instead of what enters it
   Vec3d point{}, normal{};  // Plane (normal non-zero: VALUE NORMAL)
+  // Removes what it takes every `every` steps, in [1, kMaxBoundaryEvery] (as SourceDef's).
+  uint32_t every = 1;
 };
 
 // A servo on a plane or finite wall: each step the wall moves along its normal (the side of the

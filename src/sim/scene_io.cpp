@@ -838,6 +838,13 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     writeSinks(body, s);
     writeSection(w, kSinkTag, body);
   }
+  if (std::any_of(s.sources.begin(), s.sources.end(), [](const auto& x) { return x.def.every != 1; }) ||
+      std::any_of(s.sinks.begin(), s.sinks.end(), [](const auto& x) { return x.def.every != 1; })) {
+    Writer body;
+    body.list(s.sources, [&](const SourceState& x) { body.u32(x.def.every); });
+    body.list(s.sinks, [&](const SinkState& x) { body.u32(x.def.every); });
+    writeSection(w, kEveryTag, body);
+  }
   if (s.periodic.any()) {
     Writer body;
     writePeriodic(body, s);
@@ -1113,6 +1120,17 @@ void readScene(Reader& r, Scene<D>& s) {
       readSources(b, s);
     } else if (std::memcmp(tag, kSinkTag, 4) == 0) {
       readSinks(b, s);
+    } else if (std::memcmp(tag, kEveryTag, 4) == 0) {
+      // After the sources' and sinks' sections: one interval for each, checked as addSource's.
+      const auto readEvery = [&](auto& list) {
+        if (b.count(4) != list.size()) Reader::bad("source or sink interval count");
+        for (auto& x : list) {
+          x.def.every = b.u32();
+          if (x.def.every < 1 || x.def.every > kMaxBoundaryEvery) Reader::bad("source or sink interval");
+        }
+      };
+      readEvery(s.sources);
+      readEvery(s.sinks);
     } else if (std::memcmp(tag, kPeriodicTag, 4) == 0) {
       readPeriodic(b, s);
     } else if (std::memcmp(tag, kWallExtraTag, 4) == 0) {

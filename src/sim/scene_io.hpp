@@ -200,6 +200,8 @@ inline constexpr char kShapeTag[5] = "SHAP";
 inline constexpr char kBondTag[5] = "BOND";
 // The sources (sim/source.hpp), when any: their Defs, counters and generators' states.
 inline constexpr char kSourceTag[5] = "SRCE";
+// The sources' and sinks' intervals (SourceDef::every, SinkDef::every), when one is not 1.
+inline constexpr char kEveryTag[5] = "EVRY";
 // The sinks (sim/sink.hpp), when any: their Defs and counters.
 inline constexpr char kSinkTag[5] = "SINK";
 inline constexpr char kPeriodicTag[5] = "PERI";  // periodic cell (sim/periodic.hpp)

@@ -67,6 +67,14 @@ void checkSizes(const SizeDistribution& dist) {
   }
 }
 
+// Throws {VALUE EVERY} unless 1 <= every <= kMaxBoundaryEvery.
+void checkEvery(uint32_t every) {
+  if (every < 1 || every > kMaxBoundaryEvery) {
+    throwBad("every", std::to_string(every),
+             "must be an integer in [1, " + std::to_string(kMaxBoundaryEvery) + "]");
+  }
+}
+
 // Throws {VALUE NAME} or {EXISTS NAME} unless name is a valid name none of list has.
 template <class List>
 void checkNewName(const char* kind, const std::string& name, const List& list) {
@@ -131,6 +139,7 @@ void SimulationManager<D>::addSource(const SourceDef& def) {
   if (!(def.tolerance >= 0 && def.tolerance < 1))
     throwBad("tolerance", physics::formatReal(def.tolerance), "must be in [0, 1)");
   if (def.tries < 1) throwBad("tries", std::to_string(def.tries), "must be at least 1");
+  checkEvery(def.every);
   for (const std::string& t : def.tags) checkTagName(t);
   SourceState src;
   src.def = def;
@@ -163,6 +172,7 @@ std::vector<BoundaryInfo> SimulationManager<D>::sources() const {
 template <int D>
 void SimulationManager<D>::addSink(const SinkDef& def) {
   checkNewName("sink", def.name, s_.sinks);
+  checkEvery(def.every);
   SinkDef d = def;
   if (d.kind == SinkDef::Plane) {
     toVec<D>(d.point, "point");

@@ -1,5 +1,5 @@
-// Sinks (SinkDef, sim/boundaries.hpp): the "sinks" module asks, at the end of each step, for the
-// removal of every element whose centre is in the sink's region (or outside it) or beyond its
+// Sinks (SinkDef, sim/boundaries.hpp): the "sinks" module asks, at the end of each step (of
+// every `every`-th step), for the removal of every element whose centre is in the sink's region (or outside it) or beyond its
 // plane, through the scene's deferred changes; the manager removes them after the step and the
 // ledger is rebased for the energy they take away (sim/simulation_run.cpp, applyDeferred). The
 // elements are visited in dense order and the sinks in creation order; an element two sinks
@@ -36,9 +36,12 @@ class SinkModule final : public SimModule<D> {
   // Changes the sinks' counters and s.deferred.destroy.
   void run(Scene<D>& s) override {
     const ElementArrays<D>& a = s.elements.a;
+    bool any = false;
+    for (const SinkState& k : s.sinks) any = any || boundaryActs(k.def.every, s.steps);
+    if (!any) return;
     for (size_t i = 0; i < a.size(); ++i) {
       for (SinkState& k : s.sinks) {
-        if (!sinkTakes<D>(k.def, a.x[i])) continue;
+        if (!boundaryActs(k.def.every, s.steps) || !sinkTakes<D>(k.def, a.x[i])) continue;
         k.count += 1;
         k.mass += 1 / a.invMass[i];
         s.deferred.destroy.push_back(s.elements.pool().handleAt(static_cast<uint32_t>(i)));

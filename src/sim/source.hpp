@@ -139,7 +139,9 @@ class SourceModule final : public SimModule<D> {
   std::string_view name() const override { return "sources"; }
   SimLevel level() const override { return SimLevel::Cleanup; }
   void run(Scene<D>& s) override {
-    for (SourceState& src : s.sources) runSource(s, src);
+    for (SourceState& src : s.sources) {
+      if (boundaryActs(src.def.every, s.steps)) runSource(s, src);
+    }
   }
 };
 

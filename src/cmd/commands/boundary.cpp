@@ -93,6 +93,9 @@ void registerBoundaryCommands(Registry& r) {
   src.option("seed", integer(), "the seed of its generator (default 1)");
   src.option("tries", integer(), "placement attempts per element per step (default 200)");
   src.option("tags", tagList(), "tags to give each element");
+  src.option("every", integer().range(1, sim::kMaxBoundaryEvery),
+             "insert what it owes every N steps (default 1); each step that inserts redoes the "
+             "force pass, so a large scene inserts in batches (50-200 steps)");
   src.onCheck([](Call& c) {
     const sim::Simulation& s = session(c).scene();
     sim::SourceDef d;
@@ -124,6 +127,7 @@ void registerBoundaryCommands(Registry& r) {
       d.tries = std::uint32_t(c.integer("tries"));
     }
     d.tags = tagsOption(c);
+    if (c.has("every")) d.every = std::uint32_t(c.integer("every"));
     c.prepared = d;
   });
   src.run([](Call& c) {
@@ -141,9 +145,13 @@ void registerBoundaryCommands(Registry& r) {
   sink.option("outside", boolean(), "remove what leaves the region instead of what enters it");
   sink.option("point", vector().withUnit("m"), "a point of the plane");
   sink.option("normal", vector(), "the plane's normal, towards the side that is kept");
+  sink.option("every", integer().range(1, sim::kMaxBoundaryEvery),
+              "remove what it takes every N steps (default 1); each step that removes redoes "
+              "the force pass, so a large scene removes in batches (50-200 steps)");
   sink.onCheck([](Call& c) {
     sim::SinkDef d;
     d.name = c.str("name");
+    if (c.has("every")) d.every = std::uint32_t(c.integer("every"));
     const bool region = c.given("region"), plane = c.given("point") || c.given("normal");
     if (region == plane)
       throw Error("bad sink: give either -region or -point and -normal", {"VALUE", "REGION"});
