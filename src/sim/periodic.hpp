@@ -106,7 +106,7 @@ struct PeriodicBox {
     double energy = 0;
     if (shearRate != 0) {
       const int g = gradient;
-      const Real m = std::floor((x[g] - lo[g]) / length(g));
+      const Real m = cellsFrom(x[g], g);
       if (m != 0) {
         x[g] -= m * length(g);
         x[flow] -= m * offset;
@@ -118,13 +118,11 @@ struct PeriodicBox {
       }
     }
     for (int k = 0; k < D; ++k) {
-      if (!periodic(k)) continue;
-      const Real L = length(k);
-      const Real m = std::floor((x[k] - lo[k]) / L);
+      if (!periodic(k) || (shearRate != 0 && k == gradient)) continue;
+      const Real m = cellsFrom(x[k], k);
       if (m == 0) continue;
-      x[k] -= m * L;
-      if (x[k] >= hi[k]) x[k] = lo[k];  // rounding of a position just below lo
-      moved[k] += m * L;
+      x[k] -= m * length(k);
+      moved[k] += m * length(k);
     }
     if (moved != VecD<D>::Zero()) {
       if (unwrap.size() <= h.index) {
@@ -138,6 +136,15 @@ struct PeriodicBox {
       unwrap[h.index] += moved;
     }
     return energy;
+  }
+
+  // Returns the whole cell lengths m such that c - m L lies in [lo, hi) along periodic axis k
+  // (a c a rounding below lo would come to hi exactly with floor's m alone).
+  Real cellsFrom(Real c, int k) const {
+    const Real L = length(k);
+    Real m = std::floor((c - lo[k]) / L);
+    if (c - m * L >= hi[k]) m += 1;
+    return m;
   }
 
   // Returns the offset from element h's wrapped position to its unwrapped one.
