@@ -49,7 +49,8 @@ configure_file(${CMAKE_CURRENT_BINARY_DIR}/generated/viewer_library.cpp.tmp
 
 # The command groups over the Simulation API.
 file(GLOB DEMLAB_COMMAND_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/cmd/commands/*.cpp)
-add_library(demlab_commands STATIC src/cmd/session.cpp ${DEMLAB_COMMAND_SOURCES}
+add_library(demlab_commands STATIC src/cmd/session.cpp src/cmd/time_vector.cpp
+  ${DEMLAB_COMMAND_SOURCES}
   ${CMAKE_CURRENT_BINARY_DIR}/generated/viewer_library.cpp)
 demlab_precompile(demlab_commands)
 target_link_libraries(demlab_commands PUBLIC demlab_cmd demlab_sim demlab_io demlab_output

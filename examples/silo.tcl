@@ -7,14 +7,15 @@
 # C and k over several D).
 #
 #   build/demlab examples/silo.tcl ?-D n? ?-height n? ?-time s? ?-csv file? ?-frames dir?
-#                                  ?-refill 0|1? ?-short?
+#                                  ?-refill 0|1? ?-friction mu? ?-short?
 #
 # -D: the orifice's diameter in grain diameters (default 6); -height: the fill's height in grain
 # diameters (default 20); the silo's diameter is 2.5 D + 5 d, so its wall does not matter.
 # -time: how long it discharges (s, default 1.5). -csv: where the series goes (default silo.csv:
 # time, the sink's mass and count, the grains left). -frames: a folder for frames (side view,
 # cut open; none by default). -refill 1: an inlet on top keeps the fill's height (the rate at
-# Beverloo's prediction). -short: a small silo for a fraction of a second (the test suite's form).
+# Beverloo's prediction). -friction: the grains' (and walls') friction coefficient (default 0.5).
+# -short: a small silo for a fraction of a second (the test suite's form).
 # Returns a dict: d D rhob height grains W (kg/s, from the steady slope) Wbev (Beverloo with
 # C = 0.58, k = 1.5) removed (sink mass, kg) lost (mass gone from the silo, kg) inflight (below
 # the plate, not yet removed, kg) and the series' columns time and mass.
@@ -26,6 +27,7 @@ set csv silo.csv
 set frames ""
 set refill 0
 set short 0
+set mu 0.5
 for {set i 0} {$i < [llength $argv]} {incr i} {
     set a [lindex $argv $i]
     switch -- $a {
@@ -36,6 +38,7 @@ for {set i 0} {$i < [llength $argv]} {incr i} {
         -csv {set csv [lindex $argv [incr i]]}
         -frames {set frames [lindex $argv [incr i]]}
         -refill {set refill [lindex $argv [incr i]]}
+        -friction {set mu [lindex $argv [incr i]]}
         default {error "silo.tcl: unknown argument \"$a\""}
     }
 }
@@ -54,7 +57,7 @@ set H [expr {$nH * $d}]             ;# fill height, m
 set top [expr {2.6 * $H + 4 * $d}]  ;# the silo's height: room for the loose pack
 
 sim new -dim 3
-material add grain -density $rho -young 5e6 -poisson 0.3 -restitution 0.5 -friction 0.5
+material add grain -density $rho -young 5e6 -poisson 0.3 -restitution 0.5 -friction $mu
 behavior add gravity -g [list 0 0 [expr {-$g}]]
 wall add drum -name silo -point [list 0 0 [expr {$top / 2}]] -axis {0 0 1} -radius $R \
     -halflength [expr {$top / 2}]

@@ -17,6 +17,13 @@
 
 namespace demlab::cmd {
 
+// What a time function's values may reach, and how its errors name it.
+struct TimeBound {
+  double limit;       // |value| at most this, else the run stops with the callback's error
+  std::string noun;   // "load", "wall velocity": "a <noun> expression gave ..."
+  std::string bound;  // "the loads' bound": "... beyond <bound> <limit>"
+};
+
 struct Session : Context {
   std::unique_ptr<sim::Simulation> sim;
   std::map<std::string, std::unique_ptr<sim::Simulation>> kept;  // `sim keep` / `sim restore`
@@ -36,9 +43,12 @@ struct Session : Context {
   // scene, not change it.
   bool running = false;
   std::function<void()> runWatch;
-  // Returns a function of time evaluating a Tcl expression in `t`; throws demlab::Error
-  // {VALUE <what>} if the expression does not evaluate to a number at time t0.
-  std::function<sim::TimeFunction(const std::string& expr, const std::string& what, double t0)>
+  // Returns a function of time evaluating a Tcl expression in `t`, and its value at t0 in
+  // *first when first is given; throws demlab::Error {VALUE <what>} if the expression does not
+  // evaluate to a number within bound.limit at time t0. During a run, a failure or a value
+  // beyond bound.limit stops the run with callbackError (the value 0).
+  std::function<sim::TimeFunction(const std::string& expr, const std::string& what, double t0,
+                                  const TimeBound& bound, double* first)>
       timeFunction;
   // The first error a time function met during a run (it then stops the run).
   std::string callbackError;

@@ -33,6 +33,8 @@ inline constexpr double kMinYoung = 1e-3, kMaxYoung = 1e15;
 inline constexpr double kMaxCoefficient = 1e30;
 // Times a scene's settings name (a ramp's start, s): within this of zero, as coordinates.
 inline constexpr double kMaxTime = 1e15;
+// A wall's rotation rate (rad/s).
+inline constexpr double kMaxWallSpin = 1e9;
 // Accelerations (gravity, m/s^2).
 inline constexpr double kMaxAcceleration = 1e9;
 

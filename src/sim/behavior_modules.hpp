@@ -90,6 +90,7 @@ class WallMotionModule final : public SimModule<D> {
     const double t = s.time + s.stepDt;
     for (Wall<D>& w : s.walls.items) {
       if (w.servo) w.servoStep(s.time);
+      if (w.scripted()) w.scriptStep(s.time, s.stepDt);
       if (w.moving) w.moveTo(t);
     }
   }

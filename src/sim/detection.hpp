@@ -243,6 +243,7 @@ class DetectionModule final : public SimModule<D> {
     for (Wall<D>& w : s.walls.items) {
       w.pointAtBuild = w.point;
       w.timeAtBuild = now;
+      w.scriptedAngle = 0;
     }
     s.needRebuild = false;
     s.rebuilds += 1;

@@ -768,7 +768,11 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   w.list(s.xAtBuild, [&](const VecD<D>& x) { w.vec<D>(x); });
   w.f64(s.skin);
   w.f64(s.maxDisp2);
-  w.u8(s.needRebuild);
+  // A scripted wall saved without its scripts moves on at constant rates: its skin test cannot
+  // count what it turned before, so the loaded scene searches anew.
+  const bool scriptedWalls = std::any_of(s.walls.items.begin(), s.walls.items.end(),
+                                         [](const Wall<D>& x) { return x.scripted(); });
+  w.u8(s.needRebuild || (mode == IoMode::Checkpoint && scriptedWalls));
   w.u8(s.forcesReady);
   w.u64(s.rebuilds);
   // Outputs of the last step and the ledger.
@@ -859,6 +863,16 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     Writer body;
     writeWallHoles(body, s);
     writeSection(w, kWallHoleTag, body);
+  }
+  if (mode == IoMode::Digest &&
+      std::any_of(s.walls.items.begin(), s.walls.items.end(),
+                  [](const Wall<D>& x) { return x.scripted(); })) {
+    Writer body;
+    body.list(s.walls.items, [&](const Wall<D>& x) {
+      for (int k = 0; k < 3; ++k) body.u8((x.velocityFn[k] ? 1 : 0) | (x.omegaFn[k] ? 2 : 0));
+      body.f64(x.scriptedAngle);
+    });
+    writeSection(w, kScriptedWallTag, body);
   }
   if (Writer body; writeOptionSection(body, s)) writeSection(w, kOptionTag, body);
   if (!s.bonds.empty()) {

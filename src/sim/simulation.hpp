@@ -140,6 +140,10 @@ enum class WallShape {
 struct WallMotion {
   Vec3d velocity{};
   Vec3d angularVelocity{};  // 2D: z only; rad/s
+  // A scripted motion: a component with a TimeFunction takes, each step, its value at the
+  // step's midpoint instead of the constant (then the value at creation, for reports). A wall
+  // with one cannot be saved in a checkpoint (as loads with TimeFunctions).
+  std::array<TimeFunction, 3> velocityFn{}, angularVelocityFn{};
   Vec3d amplitude{};        // vibration displacement amplitude (m), along its own direction
   double frequency = 0;     // Hz, >= 0 (0 with a non-zero amplitude: VALUE FREQUENCY)
   double phase = 0;         // rad
@@ -228,7 +232,8 @@ struct WallState {
   // work the wall has done on the grains since it was made (J).
   Vec3d torque{};
   double work = 0;
-  bool servo = false;  // under a servo (WallServoDef)
+  bool servo = false;     // under a servo (WallServoDef)
+  bool scripted = false;  // moved by TimeFunctions (WallMotion)
   Vec3d boundsLo{}, boundsHi{};
   // The geometry now (after any prescribed motion), for renderers and writers. Unit vectors.
   //   Plane : centre (a point on it), normal.

@@ -152,8 +152,10 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   // as it was, but after edits the force pass below changes it (forces, contacts, ledger); a
   // scene with script callbacks is undone when one fails. Other runs keep no copy.
   const bool scripted =
-      options.failed && std::any_of(s_.behaviors.items().begin(), s_.behaviors.items().end(),
-                                    [](const auto& b) { return b->hasCallbacks(); });
+      options.failed && (std::any_of(s_.behaviors.items().begin(), s_.behaviors.items().end(),
+                                     [](const auto& b) { return b->hasCallbacks(); }) ||
+                         std::any_of(s_.walls.items.begin(), s_.walls.items.end(),
+                                     [](const Wall<D>& w) { return w.scripted(); }));
   std::optional<Scene<D>> before;
   if ((s_.watchdog.enabled && (!s_.forcesReady || configDirty_)) || scripted) {
     // The copy polls the run's stop flag as it serializes (a scene of hundreds of megabytes
@@ -793,6 +795,13 @@ Scene<D> SimulationManager<D>::copyScene() const {
   Reader r(b);
   readScene(r, c);
   c.behaviors = s_.behaviors;  // deep copies, sharing the TimeFunctions
+  // The walls' TimeFunctions and the angle a scripted wall turned since the last search: not
+  // in the bytes (a checkpoint cannot hold them); the dense order is the same.
+  for (size_t k = 0; k < c.walls.items.size(); ++k) {
+    c.walls.items[k].velocityFn = s_.walls.items[k].velocityFn;
+    c.walls.items[k].omegaFn = s_.walls.items[k].omegaFn;
+    c.walls.items[k].scriptedAngle = s_.walls.items[k].scriptedAngle;
+  }
   return c;
 }
 
@@ -813,6 +822,12 @@ std::vector<std::string> SimulationManager<D>::save(std::ostream& out, bool skip
     const BehaviorId id = s_.behaviors.pool().handleAt(static_cast<uint32_t>(k));
     skipped.push_back("behavior " + toString(id) + " (" + items[k]->describe() + ")");
     drop.push_back(id);
+  }
+  // A scripted wall is saved moving on at its last step's rates (writeScene).
+  for (size_t k = 0; k < s_.walls.items.size(); ++k) {
+    if (!s_.walls.items[k].scripted()) continue;
+    const WallId id = s_.walls.pool().handleAt(static_cast<uint32_t>(k));
+    skipped.push_back("wall " + toString(id) + " (a scripted motion)");
   }
   if (!skipped.empty() && !skipCallbacks) {
     std::string list;

@@ -57,7 +57,7 @@ void setMotion(Wall<D>& w, const WallMotion& m) {
   checkMagnitude<D>(velocity, validity::kMaxSpeed, "velocity", "m/s");
   checkMagnitude<D>(amplitude, validity::kMaxCoordinate, "amplitude", "m");
   const Vec3d om = fromAngular(omega);
-  if (!(std::hypot(om[0], om[1], om[2]) <= 1e9)) {
+  if (!(std::hypot(om[0], om[1], om[2]) <= validity::kMaxWallSpin)) {
     throwBad("angular velocity", formatVec(m.angularVelocity, 3), "must be at most 1e9 rad/s");
   }
   if (!(m.frequency >= 0 && m.frequency <= 1e9)) {
@@ -72,8 +72,13 @@ void setMotion(Wall<D>& w, const WallMotion& m) {
   w.amplitude = amplitude;
   w.frequency = m.frequency;
   w.phase = m.phase;
-  w.moving =
-      w.velocity.squaredNorm() > 0 || w.amplitude.squaredNorm() > 0 || squaredNorm(w.omega) > 0;
+  w.velocityFn = m.velocityFn;
+  w.omegaFn = m.angularVelocityFn;
+  if constexpr (D == 2) w.omegaFn[0] = w.omegaFn[1] = nullptr;
+  for (int k = D; k < 3; ++k) w.velocityFn[k] = nullptr;
+  w.scriptedAngle = 0;
+  w.moving = w.velocity.squaredNorm() > 0 || w.amplitude.squaredNorm() > 0 ||
+             squaredNorm(w.omega) > 0 || w.scripted();
   // The velocity of the reference point at t0, as moveTo(t0) gives it.
   w.pointVelocity =
       w.velocity + w.amplitude * (2 * std::numbers::pi * m.frequency * std::cos(m.phase));
@@ -263,6 +268,8 @@ void SimulationManager<D>::setWallServo(WallId id, const WallServoDef& d) {
   checkPositive(d.gain, "gain");
   checkPositive(d.maxSpeed, "maxspeed");
   live.rebase(s_.time);
+  live.velocityFn = {};
+  live.omegaFn = {};
   live.servo = true;
   live.servoTarget = d.target;
   live.servoGain = d.gain;
@@ -287,6 +294,7 @@ WallState SimulationManager<D>::wall(WallId id) const {
   st.force = fromVec<D>(w.force);
   st.work = w.work;
   st.servo = w.servo;
+  st.scripted = w.scripted();
   // The torque about the reference point, from the records of the last step that kept them.
   const uint32_t dense = s_.walls.pool().denseIndex(id);
   AngularD<D> torque = Wall<D>::zeroAngular();

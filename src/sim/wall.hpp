@@ -57,6 +57,17 @@ struct Wall {
   // A servo (WallServoDef): its velocity along its normal is set each step from force.
   bool servo = false;
   double servoTarget = 0, servoGain = 0, servoMaxSpeed = 0;
+  // A scripted motion (WallMotion's TimeFunctions; 2D: the spin's is omegaFn[2]), and the
+  // angle it has turned since the last neighbor search (its rate changes, so the skin test
+  // sums it step by step).
+  std::array<TimeFunction, 3> velocityFn{}, omegaFn{};
+  Real scriptedAngle = 0;
+
+  bool scripted() const {
+    for (int k = 0; k < 3; ++k)
+      if (velocityFn[k] || omegaFn[k]) return true;
+    return false;
+  }
 
   // Eigen leaves its fixed-size types uninitialised: these give the zero and the identity.
   static AngularD<D> zeroAngular() {
@@ -161,13 +172,35 @@ struct Wall {
     moving = true;
   }
 
+  // Sets a scripted wall's motion for the step from t to t + dt: the scripted components of
+  // its velocity and rotation rate take their functions' values at the step's midpoint (the
+  // position is then their midpoint-rule integral: exact for rates linear in time), the motion
+  // rebased at t and a vibration's phase carried over. Changes velocity, omega, phase, the
+  // motion's reference and scriptedAngle.
+  void scriptStep(double t, double dt) {
+    const double mid = t + 0.5 * dt;
+    const Real advanced = phase + 2 * std::numbers::pi * frequency * (t - t0);
+    rebase(t);
+    phase = std::remainder(advanced, 2 * std::numbers::pi);
+    for (int k = 0; k < D; ++k)
+      if (velocityFn[k]) velocity[k] = velocityFn[k](mid);
+    if constexpr (D == 2) {
+      if (omegaFn[2]) omega = omegaFn[2](mid);
+    } else {
+      for (int k = 0; k < 3; ++k)
+        if (omegaFn[k]) omega[k] = omegaFn[k](mid);
+    }
+    moving = true;
+    scriptedAngle += angularNorm() * Real(dt);
+  }
+
   // Returns an upper bound of how far any point of the wall that can touch a grain has moved
   // since the last neighbor search (time now). Rotation of a drum about its own axis moves no
   // surface point off the surface, so it counts nothing; a turning infinite plane gives +inf.
   Real displacementSinceBuild(double now) const {
     if (!moving) return 0;
     Real d = (point - pointAtBuild).norm();
-    const Real angle = angularNorm() * (now - timeAtBuild);
+    const Real angle = scripted() ? scriptedAngle : angularNorm() * (now - timeAtBuild);
     if (angle == 0) return d;
     return d + angle * reach();
   }

@@ -156,8 +156,8 @@ void setupSession(Tcl_Interp* interp, InterpState* st) {
     Tcl_ResetResult(interp);
     return r;
   };
-  s.timeFunction = [interp, st](const std::string& expr, const std::string& what,
-                                double t0) -> sim::TimeFunction {
+  s.timeFunction = [interp, st](const std::string& expr, const std::string& what, double t0,
+                                const cmd::TimeBound& bound, double* first) -> sim::TimeFunction {
     auto fn = std::make_shared<ExprFn>(interp, st, expr);
     double v;
     std::string err;
@@ -165,18 +165,24 @@ void setupSession(Tcl_Interp* interp, InterpState* st) {
       throw Error("bad " + what + " expression \"" + expr + "\": " + err,
                   {"VALUE", cmd::codeWord(what)});
     }
-    return [fn](double t) {
+    if (!(std::abs(v) <= bound.limit)) {
+      throw Error("bad " + what + " expression \"" + expr + "\": it gives " +
+                      physics::formatReal(v) + " at t = " + physics::formatReal(t0) +
+                      ", beyond " + bound.bound + " " + physics::formatReal(bound.limit),
+                  {"VALUE", cmd::codeWord(what)});
+    }
+    if (first) *first = v;
+    return [fn, bound](double t) {
       double out = 0;
       std::string err;
-      // The loads' bound (core/validity.hpp) holds for values of scripts as for constants.
+      // The constants' bound (core/validity.hpp) holds for values of scripts too.
       const bool ok = fn->eval(t, out, err);
-      if (!ok || !(std::abs(out) <= validity::kMaxCoefficient)) {
+      if (!ok || !(std::abs(out) <= bound.limit)) {
         if (fn->state->session.callbackError.empty()) {
           fn->state->session.callbackError =
               !ok ? err
-                  : "a load expression gave " + physics::formatReal(out) +
-                        ", beyond the loads' bound " +
-                        physics::formatReal(validity::kMaxCoefficient);
+                  : "a " + bound.noun + " expression gave " + physics::formatReal(out) +
+                        ", beyond " + bound.bound + " " + physics::formatReal(bound.limit);
         }
         fn->state->session.stop = true;
         return 0.0;

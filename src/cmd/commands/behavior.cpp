@@ -3,49 +3,15 @@
 // declarations (a default g; components that are Tcl expressions in $t); every other type's
 // command is built from the options its registry row declares.
 #include "cmd/commands/commands.hpp"
+#include "cmd/time_vector.hpp"
 #include "cmd/words.hpp"
+#include "core/validity.hpp"
 
 namespace demlab::cmd {
 
 namespace {
 
-// A vector whose components are numbers or Tcl expressions in $t; value: the words. The
-// expressions are compiled and tried in the check phase (see Session::timeFunction).
-PipeType loadVector(bool isSpin) {
-  return custom(isSpin ? "spin of expressions" : "vector of expressions",
-                [isSpin](std::string_view w, const Param& p, const Context& c) -> std::any {
-                  std::vector<std::string> parts = splitList(w);
-                  std::size_t n =
-                      isSpin ? (c.dimension() == 2 ? 1 : 3) : std::size_t(c.dimension());
-                  if (parts.size() != n) {
-                    throw Error("bad " + p.name + " \"" + std::string(w) + "\": expected " +
-                                    std::to_string(n) + " numbers or expressions in $t but got " +
-                                    std::to_string(parts.size()),
-                                {"VALUE", codeWord(p.name)});
-                  }
-                  return parts;
-                });
-}
-
-// Fills the constants and time functions of one load vector into `constant` and `fns`.
-void loadComponents(Call& c, const std::string& opt, bool isSpin, sim::Vec3d& constant,
-                    std::array<sim::TimeFunction, 3>& fns) {
-  Session& s = session(c);
-  const auto& parts = c.get<std::vector<std::string>>(opt);
-  for (std::size_t k = 0; k < parts.size(); ++k) {
-    std::size_t axis = isSpin && parts.size() == 1 ? 2 : k;
-    double x;
-    if (readReal(parts[k], x)) {
-      if (!std::isfinite(x)) c.bad(opt, "must be finite");
-      constant[axis] = x;
-    } else {
-      if (!s.timeFunction)
-        throw Error("bad " + opt + ": expressions need a Tcl interpreter",
-                    {"VALUE", codeWord(opt)});
-      fns[axis] = s.timeFunction(parts[k], opt, s.scene().time());
-    }
-  }
-}
+const TimeBound kLoadBound{validity::kMaxCoefficient, "load", "the loads' bound"};
 
 // Returns the pipe reading a registry option of kind k.
 PipeType optionPipe(sim::BehaviorParamKind k) {
@@ -167,8 +133,8 @@ void registerBehaviorCommands(Registry& r) {
   load.option("element", elementRef(), "the element");
   load.option("tag", tagName(), "every element carrying this tag (evaluated at each step)");
   load.oneOf({"element", "tag"}, true);
-  load.option("force", loadVector(false).withUnit("N"), "force on each element");
-  load.option("torque", loadVector(true).withUnit("N m"),
+  load.option("force", timeVector(false).withUnit("N"), "force on each element");
+  load.option("torque", timeVector(true).withUnit("N m"),
               "torque on each element (a number in 2D)");
   load.onCheck([](Call& c) {
     sim::LoadDef d;
@@ -176,8 +142,9 @@ void registerBehaviorCommands(Registry& r) {
       d.grain = c.get<sim::ElementId>("element");
     else
       d.tag = c.str("tag");
-    if (c.has("force")) loadComponents(c, "force", false, d.force, d.forceFn);
-    if (c.has("torque")) loadComponents(c, "torque", true, d.torque, d.torqueFn);
+    if (c.has("force")) timeComponents(c, "force", false, kLoadBound, d.force, d.forceFn, false);
+    if (c.has("torque"))
+      timeComponents(c, "torque", true, kLoadBound, d.torque, d.torqueFn, false);
     c.prepared = d;
   });
   load.run([](Call& c) {

@@ -2,7 +2,9 @@
 #include <unordered_set>
 
 #include "cmd/commands/commands.hpp"
+#include "cmd/time_vector.hpp"
 #include "cmd/words.hpp"
+#include "core/validity.hpp"
 #include "core/tag_table.hpp"
 #include "sim/boundaries.hpp"
 
@@ -30,19 +32,30 @@ const char* shapeName(WallShape s) {
 
 // Declares the options of a prescribed motion (wall add, wall set).
 void motionOptions(Command& c) {
-  c.option("velocity", vector().withUnit("m/s"), "prescribed velocity of the reference point");
-  c.option("angularvelocity", spin().withUnit("rad/s"),
-           "prescribed rotation about the reference point");
+  c.option("velocity", timeVector(false).withUnit("m/s"),
+           "prescribed velocity of the reference point; a component may be a Tcl expression in "
+           "$t (a scripted motion)");
+  c.option("angularvelocity", timeVector(true).withUnit("rad/s"),
+           "prescribed rotation about the reference point; components may be expressions in $t");
   c.option("amplitude", vector().withUnit("m"), "vibration amplitude (displacement)");
   c.option("frequency", real().nonNegative().withUnit("Hz"), "vibration frequency");
   c.option("phase", real().withUnit("rad"), "vibration phase");
 }
 
-// Returns the motion the call's motion options give (zero where left out).
-sim::WallMotion motionOf(const Call& c) {
+const TimeBound kVelocityBound{validity::kMaxSpeed, "wall velocity", "the speeds' bound"};
+const TimeBound kSpinBound{validity::kMaxWallSpin, "wall angular velocity",
+                           "the wall rotations' bound"};
+
+// Returns the motion the call's motion options give (zero where left out). A scripted
+// component's constant is its value now: what the wall reports until its first step.
+sim::WallMotion motionOf(Call& c) {
   sim::WallMotion m;
-  if (c.has("velocity")) m.velocity = vec3(c.vec("velocity"));
-  if (c.has("angularvelocity")) m.angularVelocity = vec3(c.vec("angularvelocity"), true);
+  if (c.has("velocity"))
+    timeComponents(c, "velocity", false, kVelocityBound, m.velocity, m.velocityFn, true);
+  if (c.has("angularvelocity")) {
+    timeComponents(c, "angularvelocity", true, kSpinBound, m.angularVelocity, m.angularVelocityFn,
+                   true);
+  }
   if (c.has("amplitude")) m.amplitude = vec3(c.vec("amplitude"));
   if (c.has("frequency")) m.frequency = c.real("frequency");
   if (c.has("phase")) m.phase = c.real("phase");
@@ -60,8 +73,8 @@ void commonOptions(Command& c) {
 }
 
 // Builds the Def from the call's options (check phase); shape-specific fields by the caller.
-WallDef baseDef(const Call& c, WallShape shape) {
-  const sim::Simulation& s = session(c.context()).scene();
+WallDef baseDef(Call& c, WallShape shape) {
+  const sim::Simulation& s = session(c).scene();
   WallDef d;
   d.shape = shape;
   if (c.has("point")) d.point = vec3(c.vec("point"));
@@ -107,6 +120,7 @@ Dict wallDict(const sim::WallState& w, int d) {
           {"torque", vecValue(w.torque, d, true)},
           {"work", w.work},
           {"servo", w.servo},
+          {"scripted", w.scripted},
           {"hole", w.hole},
           {"bounds", List{vecValue(w.boundsLo, d), vecValue(w.boundsHi, d)}},
           {"tags", tags}};
@@ -191,7 +205,7 @@ void registerWallCommands(Registry& r) {
   get.arg("wall", wallRef(), "a wall id or name");
   for (const char* f :
        {"id", "name", "shape", "material", "point", "velocity", "angularvelocity", "orientation",
-        "force", "torque", "work", "servo", "hole", "bounds", "tags"})
+        "force", "torque", "work", "servo", "scripted", "hole", "bounds", "tags"})
     get.flag(f, std::string("the ") + f);
   get.changesScene = false;
   get.run([](Call& c) {
@@ -203,7 +217,9 @@ void registerWallCommands(Registry& r) {
   Command& set = r.add("wall set",
                        "Replaces a wall's motion from now on, keeping its id and its contacts' "
                        "history; the new motion starts where the wall is. Options left out are "
-                       "zero: no option stops the wall. Ends a servo.");
+                       "zero: no option stops the wall. Ends a servo. Velocity and angular velocity "
+                       "components may be Tcl expressions in $t: each step moves the wall at their "
+                       "values at the step's midpoint.");
   set.arg("wall", wallRef(), "a wall id or name");
   motionOptions(set);
   set.run([](Call& c) {
