@@ -160,7 +160,8 @@ using RotationPassFn = void (*)(RotationArgs&);
 
 // The translational drift of 3D grains (PredictModule, integrator.hpp): acc = f invMass,
 // vHalf = v + dt/2 acc, x += dt vHalf, v = vHalf (+ dt/2 acc when sync), fPrev = f, f = 0,
-// and maxDisp2 = max(maxDisp2, |x - x0|^2) when x0 is not null.
+// and maxDisp2 = max(maxDisp2, |x - x0|^2), times weight[i] when weight is not null, when x0
+// is not null.
 struct PredictArgs {
   double* x = nullptr;
   double* v = nullptr;
@@ -168,6 +169,7 @@ struct PredictArgs {
   double* fPrev = nullptr;
   const double* invMass = nullptr;
   const double* x0 = nullptr;
+  const double* weight = nullptr;
   size_t n = 0;
   double dt = 0;
   bool sync = true;

@@ -1157,11 +1157,12 @@ void predictPass(PredictArgs& A) {
   double* __restrict fPrev = A.fPrev;
   const double* __restrict invMass = A.invMass;
   const double* __restrict x0 = A.x0;
+  const double* __restrict weight = A.weight;
   const double dt = A.dt, h = 0.5 * dt;
   const size_t n = A.n - A.n % W;
   vd<W> maxD2 = splat<W>(A.maxDisp2);
   const Flat3<W> zero{splat<W>(0.0), splat<W>(0.0), splat<W>(0.0)};
-  auto run = [&](auto sync, auto track) {
+  auto run = [&](auto sync, auto track, auto weighted) {
     for (size_t i = 0; i < n; i += W) {
       vd<W> m;
       std::memcpy(&m, invMass + i, sizeof m);
@@ -1183,18 +1184,23 @@ void predictPass(PredictArgs& A) {
       if constexpr (decltype(track)::value) {
         const Flat3<W> X0 = loadFlat<W>(x0 + 3 * i);
         const V3<W> d = toSoA<W>(X.a - X0.a, X.b - X0.b, X.c - X0.c);
-        const vd<W> d2 = dot<W>(d, d);
+        vd<W> d2 = dot<W>(d, d);
+        if constexpr (decltype(weighted)::value) {
+          vd<W> wt;
+          std::memcpy(&wt, weight + i, sizeof wt);
+          d2 = d2 * wt;
+        }
         maxD2 = maxD2 < d2 ? d2 : maxD2;
       }
     }
   };
   using Yes = Flag<true>;
   using No = Flag<false>;
-  if (A.sync) {
-    x0 != nullptr ? run(Yes{}, Yes{}) : run(Yes{}, No{});
-  } else {
-    x0 != nullptr ? run(No{}, Yes{}) : run(No{}, No{});
-  }
+  const auto tracked = [&](auto sync) {
+    if (x0 == nullptr) return run(sync, No{}, No{});
+    weight != nullptr ? run(sync, Yes{}, Yes{}) : run(sync, Yes{}, No{});
+  };
+  A.sync ? tracked(Yes{}) : tracked(No{});
   double lanes[W];
   std::memcpy(lanes, &maxD2, sizeof lanes);
   double out = A.maxDisp2;

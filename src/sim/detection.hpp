@@ -5,6 +5,13 @@
 // before one of them has moved half a skin, and the check runs every step, fast movers
 // included (a grain crossing half a skin per step simply triggers a search every step).
 //
+// A grain's box is grown by its own margin: half the skin, or more for the few grains much
+// faster than the rest (chooseMargins), so that one fast grain (poured in, thrown out, falling
+// through an orifice) does not force a search of the whole scene every few steps. The test
+// stays exact: a pair not found had a gap over m_i + m_j, and is safe while every grain has
+// moved less than its margin; a weight (half skin / m_i)^2 per grain makes the largest weighted
+// squared displacement comparable with half the skin as before, walls included.
+//
 // Infinite planes are clipped to the domain (the grains' box grown by the skin) for the grid;
 // a drum's box is its whole box. Wall candidates are kept per wall, so the narrow phase runs
 // one batch per wall.
@@ -87,12 +94,15 @@ class DetectionModule final : public SimModule<D> {
     std::vector<CandidatePair>().swap(s.candidates);
     std::vector<ContactRecord<D>>().swap(s.contacts);
     std::vector<VecD<D>>().swap(s.xAtBuild);
+    std::vector<Real>().swap(s.marginWeight);
     const uint32_t every = s.elements.reorderEvery;
     if (every > 0 && s.rebuilds % every == 0) reorderGrains(s);
     if (s.periodic.any()) wrapIntoCell(s);
     const ElementArrays<D>& a = s.elements.a;
     const size_t n = a.size();
     const Real half = 0.5 * s.skin;
+    const bool wide = chooseMargins(s);
+    const auto margin = [&](size_t i) { return wide ? margin_[i] : half; };
     // Room for the walls too: growing past n would double the largest array of the search.
     boxes_.reserve(n + s.walls.size());
     boxes_.resize(n);
@@ -100,15 +110,16 @@ class DetectionModule final : public SimModule<D> {
     domain.lo.fill(std::numeric_limits<Real>::infinity());
     domain.hi.fill(-std::numeric_limits<Real>::infinity());
     for (size_t i = 0; i < n; ++i) {
-      const Real e = a.r[i] + half;
+      const Real e = a.r[i] + margin(i);
       for (int k = 0; k < D; ++k) {
         domain.lo[k] = std::min(domain.lo[k], a.x[i][k] - e);
         domain.hi[k] = std::max(domain.hi[k], a.x[i][k] + e);
       }
     }
+    const Real widest = wide ? *std::max_element(margin_.begin(), margin_.end()) : half;
     for (int k = 0; k < D; ++k) {
-      domain.lo[k] -= s.skin;
-      domain.hi[k] += s.skin;
+      domain.lo[k] -= half + widest;
+      domain.hi[k] += half + widest;
     }
     if (s.periodic.any() && n > 0) {
       // The images reach up to two radii and the skin beyond the cell.
@@ -125,7 +136,7 @@ class DetectionModule final : public SimModule<D> {
     // otherwise get boxes a quarter of a millimetre coarse).
     const auto corner = domain.lo;
     for (size_t i = 0; i < n; ++i) {
-      const Real e = a.r[i] + half;
+      const Real e = a.r[i] + margin(i);
       for (int k = 0; k < D; ++k) {
         boxes_[i].lo[k] = floatBelow(a.x[i][k] - e - corner[k]);
         boxes_[i].hi[k] = floatAbove(a.x[i][k] + e - corner[k]);
@@ -199,8 +210,9 @@ class DetectionModule final : public SimModule<D> {
       }
       if (p.second < n) {
         // Boxes overlap for pairs up to sqrt(D) times farther apart than spheres can come
-        // within a skin: keep only the pairs whose gap is at most the skin.
-        const Real rs = a.r[p.first] + a.r[p.second], reach = rs + s.skin;
+        // within their margins: keep only the pairs whose gap is at most the two margins.
+        const Real rs = a.r[p.first] + a.r[p.second],
+                   reach = rs + (wide ? margin_[p.first] + margin_[p.second] : s.skin);
         const VecD<D> raw = a.x[p.second] - a.x[p.first];
         const Real d2 = (s.periodic.any() ? s.periodic.nearest(raw) : raw).squaredNorm();
         if (d2 > reach * reach) continue;
@@ -236,6 +248,14 @@ class DetectionModule final : public SimModule<D> {
     s.contacts.reserve(expect + expect / 32 + 16);
     springs_.give(s, touching);
     s.xAtBuild = a.x;
+    if (wide) {
+      s.marginWeight.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        const Real q = half / margin_[i];
+        s.marginWeight[i] = q * q;
+      }
+    }
+    std::vector<Real>().swap(margin_);
     s.maxDisp2 = 0;
     s.periodic.offsetTravel = 0;
     std::vector<uint32_t>().swap(imageOwner_);
@@ -296,7 +316,48 @@ class DetectionModule final : public SimModule<D> {
     }
   }
 
+  // The margins' rule. A grain's margin is its speed times the time the bulk takes to move
+  // half a skin (half the skin over the kMarginQuantile-th quantile of the speeds), at least
+  // half the skin and at most kMaxMarginFactor times it: with the bulk at rest or slow, the
+  // fastest grains reach their margins about when the bulk reaches its own. A margin k times
+  // wider finds a few more candidates for that grain only.
+  static constexpr double kMarginQuantile = 0.99;
+  static constexpr Real kMaxMarginFactor = 8;
+
+  // Fills margin_ for the search (sizes as the elements) and returns true when some margin
+  // exceeds half the skin; returns false, margin_ empty, when every grain gets half the skin:
+  // when the detection's margins option is off, in periodic scenes (the cell's size check allows for half skins), scenes of fewer than 100
+  // grains (one search costs little) and when no grain is much faster than the quantile.
+  // The speeds are those of the state at the search, so the choice is deterministic.
+  bool chooseMargins(const Scene<D>& s) {
+    const ElementArrays<D>& a = s.elements.a;
+    const size_t n = a.size();
+    margin_.clear();
+    if (!s.wideMargins || s.periodic.any() || n < 100) return false;
+    const Real half = 0.5 * s.skin;
+    speed2_.resize(n);
+    for (size_t i = 0; i < n; ++i) speed2_[i] = a.v[i].squaredNorm();
+    Real top = 0;
+    for (Real v2 : speed2_) top = std::max(top, v2);
+    const size_t q = std::min(n - 1, static_cast<size_t>(kMarginQuantile * double(n)));
+    std::nth_element(speed2_.begin(), speed2_.begin() + q, speed2_.end());
+    const Real vRef = std::sqrt(speed2_[q]);
+    std::vector<Real>().swap(speed2_);
+    // Nothing much faster than the bulk: the uniform margins.
+    if (!(top > 4 * vRef * vRef) || !std::isfinite(top)) return false;
+    // The time the bulk takes to move half a skin (infinite for a bulk at rest).
+    const Real tau = vRef > 0 ? half / vRef : std::numeric_limits<Real>::infinity();
+    margin_.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      const Real v = std::sqrt(a.v[i].squaredNorm());
+      const Real m = v > 0 ? v * tau : 0;
+      margin_[i] = std::clamp(m, half, kMaxMarginFactor * half);
+    }
+    return true;
+  }
+
   double cellFactor_;
+  std::vector<Real> margin_, speed2_;
   bool searchedBefore_ = false;
   uint64_t lastSearchStep_ = 0;  // s.steps at the last search
   search::CGrid<D, float> grid_;

@@ -69,6 +69,9 @@ class PredictModule final : public SimModule<D> {
     const size_t n = e - b;
     Real maxD2 = 0;
     const bool track = a.x.size() == s.xAtBuild.size();
+    // Grains with wide margins (detection.hpp): their displacements weighted.
+    const bool weighted = track && s.marginWeight.size() == a.x.size();
+    const Real* __restrict weight = weighted ? s.marginWeight.data() + b : nullptr;
     // The arrays through restrict pointers: the loop then keeps them in registers instead of
     // reloading each from the scene after every store.
     VecD<D>* __restrict x = a.x.data() + b;
@@ -91,6 +94,7 @@ class PredictModule final : public SimModule<D> {
         k.fPrev = reinterpret_cast<double*>(fPrev);
         k.invMass = invMass;
         k.x0 = track ? reinterpret_cast<const double*>(x0) : nullptr;
+        k.weight = weight;
         k.n = n;
         k.dt = dt;
         k.sync = sync;
@@ -113,7 +117,8 @@ class PredictModule final : public SimModule<D> {
         fPrev[i] = f[i];
         f[i].setZero();
         if constexpr (decltype(trackTag)::value) {
-          maxD2 = std::max(maxD2, (x[i] - x0[i]).squaredNorm());
+          const Real d2 = (x[i] - x0[i]).squaredNorm();
+          maxD2 = std::max(maxD2, weight ? d2 * weight[i] : d2);
         }
       }
     };

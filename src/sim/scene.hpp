@@ -218,6 +218,7 @@ struct Scene {
   bool touchCorrection = false;
   double cellFactor = 0;
   double skinOption = -1;
+  bool wideMargins = true;  // DetectionModule::chooseMargins may widen fast grains' margins
   WatchdogOptions watchdog;  // sim/watchdog.hpp
 
   // ---- time ----
@@ -231,7 +232,12 @@ struct Scene {
   std::vector<std::vector<uint32_t>> wallCandidates;  // per wall (dense): grain dense indices
   std::vector<VecD<D>> xAtBuild;                      // grain positions at the last search
   double skin = 0;                                    // the skin in use
-  double maxDisp2 = 0;  // largest squared displacement since the build
+  // Per grain (dense, as xAtBuild) when some grain's margin at the last search exceeded half
+  // the skin (DetectionModule::chooseMargins): (half skin / its margin)^2, so that maxDisp2,
+  // the largest weighted squared displacement, compares with half the skin as before. Empty:
+  // every margin is half the skin.
+  std::vector<Real> marginWeight;
+  double maxDisp2 = 0;  // largest (weighted) squared displacement since the build
   bool needRebuild = true;
   // The forces in f and t are those of the current state (velocity Verlet's first half kick
   // needs them); edits of the scene clear it and the next run computes them first.

@@ -864,6 +864,11 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     writeWallHoles(body, s);
     writeSection(w, kWallHoleTag, body);
   }
+  if (!s.marginWeight.empty()) {
+    Writer body;
+    body.list(s.marginWeight, [&](Real x) { body.f64(x); });
+    writeSection(w, kMarginTag, body);
+  }
   if (mode == IoMode::Digest &&
       std::any_of(s.walls.items.begin(), s.walls.items.end(),
                   [](const Wall<D>& x) { return x.scripted(); })) {
@@ -1151,6 +1156,15 @@ void readScene(Reader& r, Scene<D>& s) {
       readWallExtra(b, s);
     } else if (std::memcmp(tag, kWallHoleTag, 4) == 0) {
       readWallHoles(b, s);
+    } else if (std::memcmp(tag, kMarginTag, 4) == 0) {
+      // One weight per position at the last search, each in (0, 1] (a margin at least half
+      // the skin).
+      s.marginWeight.resize(b.count(8));
+      if (s.marginWeight.size() != s.xAtBuild.size()) Reader::bad("margin count");
+      for (Real& x : s.marginWeight) {
+        x = b.f64();
+        if (!(x > 0 && x <= 1)) Reader::bad("margin weight");
+      }
     } else if (std::memcmp(tag, kOptionTag, 4) == 0) {
       readOptionSection(b, s);
     } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {

@@ -211,6 +211,9 @@ inline constexpr char kWallExtraTag[5] = "WALX";
 // The holes of finite walls (physics::FlatWallShape::hole), when a wall has one: u64 count (the
 // walls'), then per wall in dense order f64 its hole (0: none; only a finite wall has one).
 inline constexpr char kWallHoleTag[5] = "HOLE";
+// The grains' margin weights at the last search (Scene::marginWeight), when any: u64 count (the
+// positions at the search's), then one f64 each.
+inline constexpr char kMarginTag[5] = "MRGN";
 // The digest's only (never in a checkpoint or a clone's bytes): which walls' motion components
 // are scripted, and the angle each turned since the last search.
 inline constexpr char kScriptedWallTag[5] = "SCRW";

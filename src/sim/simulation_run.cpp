@@ -548,6 +548,7 @@ MemoryReport SimulationManager<D>::memory() const {
   MemoryReport m;
   m.grains = s_.elements.a.heapBytes() + s_.elements.pool().heapBytes();
   m.detection = bytes(s_.candidates) + bytes(s_.wallCandidates) + bytes(s_.xAtBuild) +
+                bytes(s_.marginWeight) +
                 s_.contactGroups.heapBytes();
   for (const auto& list : s_.wallCandidates) m.detection += bytes(list);
   m.search = loop_.workingBytes(SimLevel::Detection);
