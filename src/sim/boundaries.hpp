@@ -36,6 +36,9 @@ struct SourceDef {
   // Places what it owes every `every` steps, in [1, kMaxEvery]: each step that inserts
   // redoes the force pass, so large scenes insert in batches (the debt carries over).
   uint32_t every = 1;
+  // Each element turned at random, uniformly over the rotations (3D: a uniform unit
+  // quaternion, Shoemake's; 2D: an angle uniform in [-pi, pi)); else the identity.
+  bool randomOrientation = false;
 };
 
 // The longest interval of steps between a source's or a sink's actions (VALUE EVERY).

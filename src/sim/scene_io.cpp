@@ -849,6 +849,12 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     body.list(s.sinks, [&](const SinkState& x) { body.u32(x.def.every); });
     writeSection(w, kEveryTag, body);
   }
+  if (std::any_of(s.sources.begin(), s.sources.end(),
+                  [](const auto& x) { return x.def.randomOrientation; })) {
+    Writer body;
+    body.list(s.sources, [&](const SourceState& x) { body.u8(x.def.randomOrientation); });
+    writeSection(w, kSourceOrientationTag, body);
+  }
   if (s.periodic.any()) {
     Writer body;
     writePeriodic(body, s);
@@ -1150,6 +1156,13 @@ void readScene(Reader& r, Scene<D>& s) {
       };
       readEvery(s.sources);
       readEvery(s.sinks);
+    } else if (std::memcmp(tag, kSourceOrientationTag, 4) == 0) {
+      if (b.count(1) != s.sources.size()) Reader::bad("source orientation count");
+      for (SourceState& x : s.sources) {
+        const uint8_t v = b.u8();
+        if (v > 1) Reader::bad("source orientation");
+        x.def.randomOrientation = v != 0;
+      }
     } else if (std::memcmp(tag, kPeriodicTag, 4) == 0) {
       readPeriodic(b, s);
     } else if (std::memcmp(tag, kWallExtraTag, 4) == 0) {

@@ -202,6 +202,9 @@ inline constexpr char kBondTag[5] = "BOND";
 inline constexpr char kSourceTag[5] = "SRCE";
 // The sources' and sinks' intervals (SourceDef::every, SinkDef::every), when one is not 1.
 inline constexpr char kEveryTag[5] = "EVRY";
+// Which sources turn their elements at random (SourceDef::randomOrientation), when one does:
+// u64 count (the sources'), then a u8 each. Written after SRCE.
+inline constexpr char kSourceOrientationTag[5] = "SORI";
 // The sinks (sim/sink.hpp), when any: their Defs and counters.
 inline constexpr char kSinkTag[5] = "SINK";
 inline constexpr char kPeriodicTag[5] = "PERI";  // periodic cell (sim/periodic.hpp)

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "sim/contacts.hpp"
@@ -121,6 +122,7 @@ void runSource(Scene<D>& s, SourceState& src) {
       e.position[k] = p[k];
       e.velocity[k] = d.velocity[k] + d.jitter * (2 * rng.unit() - 1);
     }
+    if (d.randomOrientation) e.orientation = randomOrientation<D>(rng);
     e.radius = r;
     e.material = s.materialNames[src.material];
     e.tags = d.tags;
@@ -130,6 +132,22 @@ void runSource(Scene<D>& s, SourceState& src) {
     src.count += 1;
     src.mass += ballMass<D>(density, r);
     src.pendingRadius = 0;
+  }
+}
+
+// Returns an orientation uniform over the rotations, as ElementDef::orientation: 3D the unit
+// quaternion {w x y z} of Shoemake's method (three uniform draws), 2D {angle} uniform in
+// [-pi, pi). Changes rng.
+template <int D>
+std::vector<double> randomOrientation(SplitMix64& rng) {
+  const double twoPi = 2 * std::numbers::pi;
+  if constexpr (D == 2) {
+    return {twoPi * rng.unit() - std::numbers::pi};
+  } else {
+    const double u1 = rng.unit(), u2 = rng.unit(), u3 = rng.unit();
+    const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
+    return {b * std::cos(twoPi * u3), a * std::sin(twoPi * u2), a * std::cos(twoPi * u2),
+            b * std::sin(twoPi * u3)};
   }
 }
 

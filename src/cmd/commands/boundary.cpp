@@ -93,6 +93,8 @@ void registerBoundaryCommands(Registry& r) {
   src.option("seed", integer(), "the seed of its generator (default 1)");
   src.option("tries", integer(), "placement attempts per element per step (default 200)");
   src.option("tags", tagList(), "tags to give each element");
+  src.option("orientation", choice({"identity", "random"}),
+             "their orientation: identity (the default) or random (uniform over the rotations)");
   src.option("every", integer().range(1, sim::kMaxBoundaryEvery),
              "insert what it owes every N steps (default 1); each step that inserts redoes the "
              "force pass, so a large scene inserts in batches (50-200 steps)");
@@ -128,6 +130,7 @@ void registerBoundaryCommands(Registry& r) {
     }
     d.tags = tagsOption(c);
     if (c.has("every")) d.every = std::uint32_t(c.integer("every"));
+    d.randomOrientation = c.has("orientation") && c.str("orientation") == "random";
     c.prepared = d;
   });
   src.run([](Call& c) {
