@@ -335,14 +335,15 @@ class DetectionModule final : public SimModule<D> {
     margin_.clear();
     if (!s.wideMargins || s.periodic.any() || n < 100) return false;
     const Real half = 0.5 * s.skin;
-    speed2_.resize(n);
-    for (size_t i = 0; i < n; ++i) speed2_[i] = a.v[i].squaredNorm();
+    std::vector<Real> speed2(n);
     Real top = 0;
-    for (Real v2 : speed2_) top = std::max(top, v2);
+    for (size_t i = 0; i < n; ++i) {
+      speed2[i] = a.v[i].squaredNorm();
+      top = std::max(top, speed2[i]);
+    }
     const size_t q = std::min(n - 1, static_cast<size_t>(kMarginQuantile * double(n)));
-    std::nth_element(speed2_.begin(), speed2_.begin() + q, speed2_.end());
-    const Real vRef = std::sqrt(speed2_[q]);
-    std::vector<Real>().swap(speed2_);
+    std::nth_element(speed2.begin(), speed2.begin() + q, speed2.end());
+    const Real vRef = std::sqrt(speed2[q]);
     // Nothing much faster than the bulk: the uniform margins.
     if (!(top > 4 * vRef * vRef) || !std::isfinite(top)) return false;
     // The time the bulk takes to move half a skin (infinite for a bulk at rest).
@@ -357,7 +358,7 @@ class DetectionModule final : public SimModule<D> {
   }
 
   double cellFactor_;
-  std::vector<Real> margin_, speed2_;
+  std::vector<Real> margin_;  // per grain at a search (chooseMargins); empty between searches
   bool searchedBefore_ = false;
   uint64_t lastSearchStep_ = 0;  // s.steps at the last search
   search::CGrid<D, float> grid_;

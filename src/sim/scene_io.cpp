@@ -770,8 +770,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   w.f64(s.maxDisp2);
   // A scripted wall saved without its scripts moves on at constant rates: its skin test cannot
   // count what it turned before, so the loaded scene searches anew.
-  const bool scriptedWalls = std::any_of(s.walls.items.begin(), s.walls.items.end(),
-                                         [](const Wall<D>& x) { return x.scripted(); });
+  const bool scriptedWalls = anyScripted(s.walls.items);
   w.u8(s.needRebuild || (mode == IoMode::Checkpoint && scriptedWalls));
   w.u8(s.forcesReady);
   w.u64(s.rebuilds);
@@ -875,9 +874,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     body.list(s.marginWeight, [&](Real x) { body.f64(x); });
     writeSection(w, kMarginTag, body);
   }
-  if (mode == IoMode::Digest &&
-      std::any_of(s.walls.items.begin(), s.walls.items.end(),
-                  [](const Wall<D>& x) { return x.scripted(); })) {
+  if (mode == IoMode::Digest && scriptedWalls) {
     Writer body;
     body.list(s.walls.items, [&](const Wall<D>& x) {
       for (int k = 0; k < 3; ++k) body.u8((x.velocityFn[k] ? 1 : 0) | (x.omegaFn[k] ? 2 : 0));

@@ -154,8 +154,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   const bool scripted =
       options.failed && (std::any_of(s_.behaviors.items().begin(), s_.behaviors.items().end(),
                                      [](const auto& b) { return b->hasCallbacks(); }) ||
-                         std::any_of(s_.walls.items.begin(), s_.walls.items.end(),
-                                     [](const Wall<D>& w) { return w.scripted(); }));
+                         anyScripted(s_.walls.items));
   std::optional<Scene<D>> before;
   if ((s_.watchdog.enabled && (!s_.forcesReady || configDirty_)) || scripted) {
     // The copy polls the run's stop flag as it serializes (a scene of hundreds of megabytes

@@ -307,4 +307,10 @@ class WallSet {
   TagTable<WallKind> tags_;
 };
 
+// Returns true if some wall of walls has a scripted motion (a TimeFunction).
+template <int D>
+bool anyScripted(const std::vector<Wall<D>>& walls) {
+  return std::any_of(walls.begin(), walls.end(), [](const Wall<D>& w) { return w.scripted(); });
+}
+
 }  // namespace demlab::sim
