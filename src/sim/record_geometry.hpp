@@ -8,6 +8,7 @@
 
 #include "sim/contacts.hpp"
 #include "sim/scene.hpp"
+#include "sim/shape_contacts.hpp"
 
 namespace demlab::sim {
 
@@ -19,15 +20,46 @@ struct RecordGeometry {
   uint32_t materialB = 0;         // b's material, or the wall's
 };
 
-// Returns the geometry of record c of scene s, or nothing when the pair no longer overlaps
-// (it always does within the step that recorded it) or when an element is not a ball. Changes
-// nothing.
+// Numbers the records of a step's list in order: a pair of shapes touching at several points
+// has one record per point, consecutive and in its row's order (sim/shape_contacts.hpp), so
+// the k-th record of a run of the same pair is its row's point k.
 template <int D>
-std::optional<RecordGeometry<D>> recordGeometry(const Scene<D>& s, const ContactRecord<D>& c) {
+class RecordPointCounter {
+ public:
+  // Returns the point index of c, the record following the previous call's.
+  int next(const ContactRecord<D>& c) {
+    const bool same = c.a == a_ && c.b == b_ && c.wall == wall_;
+    a_ = c.a, b_ = c.b, wall_ = c.wall;
+    k_ = same ? k_ + 1 : 0;
+    return k_;
+  }
+
+ private:
+  uint32_t a_ = ~0u, b_ = ~0u, wall_ = 0;
+  int k_ = 0;
+};
+
+// Returns the geometry of record c of scene s, or nothing when the pair no longer overlaps
+// (it always does within the step that recorded it). A record of a shape (an element not a
+// ball) is served when point, its index from a RecordPointCounter, is given (its radii are
+// then those that give the row's effective radius), and skipped otherwise: cohesion is a
+// ball model. Changes nothing.
+template <int D>
+std::optional<RecordGeometry<D>> recordGeometry(const Scene<D>& s, const ContactRecord<D>& c,
+                                                int point = -1) {
   const ElementArrays<D>& a = s.elements.a;
-  // The modules that read records (rolling resistance, cohesion) are ball models.
   if (s.anyShapes && (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0))) {
-    return std::nullopt;
+    if (point < 0) return std::nullopt;
+    ContactPoint<D> pts[kMaxContactPoints];
+    const int n = c.wall ? elementWallPoints(s, c.a, s.walls.items[c.b], pts)
+                         : elementPairPoints(s, c.a, c.b, pts);
+    if (point >= n) return std::nullopt;
+    RecordGeometry<D> out;
+    out.g = pts[point].g;
+    out.radiusA = c.wall ? pts[point].effRadius : 2 * pts[point].effRadius;
+    out.radiusB = c.wall ? 0 : 2 * pts[point].effRadius;
+    out.materialB = c.wall ? s.walls.items[c.b].material : a.material[c.b];
+    return out;
   }
   const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
   RecordGeometry<D> out;

@@ -13,7 +13,9 @@
 // The dissipated |M| |w_r| dt goes to the ledger's friction loss.
 //
 // It reads the step's contact records (SimModule::readsContactRecords), so it runs after the
-// contact passes; a scene with no rolling friction runs no such module.
+// contact passes; a scene with no rolling friction runs no such module. A shape's contact point
+// comes from its row (sim/record_geometry.hpp), R* is the row's effective radius and the cap
+// uses the rigid body's inertia about the rolling axis.
 #pragma once
 
 #include <algorithm>
@@ -23,6 +25,7 @@
 #include "sim/pair_table.hpp"
 #include "sim/record_geometry.hpp"
 #include "sim/scene.hpp"
+#include "sim/shape_contacts.hpp"
 #include "sim/sim_loop.hpp"
 
 namespace demlab::sim {
@@ -48,15 +51,15 @@ class RollingResistanceModule final : public SimModule<D> {
     ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     double loss = 0;
+    RecordPointCounter<D> points;
     for (const ContactRecord<D>& c : s.contacts) {
-      const auto rg = recordGeometry(s, c);
+      const auto rg = recordGeometry(s, c, points.next(c));
       if (!rg) continue;
       const uint32_t i = c.a;
       const VecD<D>& n = rg->g.normal;
       const uint32_t matB = rg->materialB;
       const Real radius =
           c.wall ? rg->radiusA : rg->radiusA * rg->radiusB / (rg->radiusA + rg->radiusB);
-      const Real invI = a.invInertia[i] + (c.wall ? 0 : a.invInertia[c.b]);
       const AngularD<D> wOther = c.wall ? s.walls.items[c.b].omega : a.w[c.b];
       const Real mu = mu_.at(a.material[i], matB);
       const Real fn = c.force.dot(n);
@@ -65,6 +68,12 @@ class RollingResistanceModule final : public SimModule<D> {
       if constexpr (D == 3) wr -= wr.dot(n) * n;
       const Real speed = std::sqrt(squaredNorm(wr));
       if (!(speed > 0)) continue;
+      // The inverse inertia about the rolling axis (a rigid body's from its tensor).
+      const AngularD<D> axis = wr / speed;
+      const auto invAlong = [&](uint32_t e) {
+        return a.invInertia[e] != 0 ? a.invInertia[e] : inverseInertiaAlong(s, e, axis);
+      };
+      const Real invI = invAlong(i) + (c.wall ? 0 : invAlong(c.b));
       const Real torque = std::min(mu * radius * fn, speed / (dt * invI));
       const AngularD<D> m = (-torque / speed) * wr;
       a.t[i] += m;

@@ -18,7 +18,9 @@ ShapeTable<D>& ShapeTable<D>::get() {
 
 template <int D>
 ShapeTable<D>::ShapeTable() {
+  // The built-in shape types, the ball first (id 0): one line each.
   registerBall<D>(*this);
+  registerSuperquadric<D>(*this);
 }
 
 template <int D>

@@ -198,5 +198,8 @@ std::pair<Real, Real> inverseMassAndInertia(const Geometry<D>& g, Real rho, Real
 // ShapeTable's constructor.
 template <int D>
 void registerBall(ShapeTable<D>& t);
+// Registers the superquadric (3D) or superellipse (2D) and its rows (sim/shapes/superquadric.cpp).
+template <int D>
+void registerSuperquadric(ShapeTable<D>& t);
 
 }  // namespace demlab::sim

@@ -106,16 +106,21 @@ void checkShapeRoutines(const Scene<D>& s, const std::vector<TypeId>& extra = {}
   }
 }
 
+// Returns u . I^-1 u for element i and an angular vector u (in 2D a scalar: u^2 / I).
+template <int D>
+Real inverseInertiaAlong(const Scene<D>& s, uint32_t i, const AngularD<D>& u) {
+  if constexpr (D == 3) {
+    if (s.elements.a.invInertia[i] == 0) return u.dot(rigidInverseInertiaTimes(s, i, u));
+  }
+  return squaredNorm(u) * s.elements.a.invInertia[i];
+}
+
 // Returns (r x n) . I^-1 (r x n) for element i: the rotational part of its compliance along the
 // normal n at the lever arm r (0 when the scene does not rotate).
 template <int D>
 Real angularCompliance(const Scene<D>& s, uint32_t i, const VecD<D>& r, const VecD<D>& n) {
   if (!s.rotating) return 0;
-  const AngularD<D> rn = cross(r, n);
-  if constexpr (D == 3) {
-    if (s.elements.a.invInertia[i] == 0) return rn.dot(rigidInverseInertiaTimes(s, i, rn));
-  }
-  return squaredNorm(rn) * s.elements.a.invInertia[i];
+  return inverseInertiaAlong(s, i, AngularD<D>(cross(r, n)));
 }
 
 template <int D>

@@ -1,0 +1,292 @@
+// The superquadric shape type (3D, parameters a b c n1 n2) and the superellipse (2D, a b n):
+// sim/shapes/superquadric.hpp has the geometry, sim/shapes/convex_contact.hpp the contact.
+//
+// Rows: superquadric against superquadric and against the ball (a ball is the superquadric
+// (r, r, r, 2, 2)), and against plane and drum walls. Each contact is one point. The Hertz
+// radius of a superquadric is its volume-equivalent sphere's (the area-equivalent disc's in
+// 2D), so that an ellipsoid of equal half axes is the sphere in every respect; the pair's is
+// R_a R_b / (R_a + R_b).
+//
+// Finite flat walls and box walls have no row yet: a scene that would need one is refused when
+// it runs ({LOOKUP INTERACTION}, sim/shape_contacts.hpp's check).
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/validity.hpp"
+#include "physics/shapes.hpp"
+#include "sim/obj_manager.hpp"
+#include "sim/shape.hpp"
+#include "sim/shapes/convex_contact.hpp"
+#include "sim/shapes/superquadric.hpp"
+
+namespace demlab::sim {
+
+namespace {
+
+constexpr Real kMinExponent = 2, kMaxExponent = 20;
+
+template <int D>
+Superquadric<D> fromParams(std::span<const double> p) {
+  Superquadric<D> s;
+  s.a = p[0];
+  s.b = p[1];
+  if constexpr (D == 3) {
+    s.c = p[2];
+    s.n1 = p[3];
+    s.n2 = p[4];
+  } else {
+    s.n1 = s.n2 = p[2];
+  }
+  return s;
+}
+
+template <int D>
+class SuperquadricType final : public ShapeType<D> {
+ public:
+  std::string_view name() const override { return D == 3 ? "superquadric" : "superellipse"; }
+  std::string_view parameters() const override {
+    return D == 3 ? "a b c n1 n2: half axes along x, y, z (m); blockiness from the xy plane to "
+                    "z and within the xy plane (2: ellipsoid; up to 20: a rounded box)"
+                  : "a b n: half axes along x, y (m); blockiness (2: ellipse; up to 20: a "
+                    "rounded rectangle)";
+  }
+  void check(std::span<const double> p) const override {
+    const size_t want = D == 3 ? 5 : 3;
+    if (p.size() != want) {
+      throw Error("bad shape parameters: a " + std::string(name()) + " takes " +
+                      std::to_string(want) + " (" + std::string(parameters()) + "), got " +
+                      std::to_string(p.size()),
+                  {"VALUE", "SHAPE"});
+    }
+    for (int k = 0; k < D; ++k) {
+      if (!validity::inRange(p[k], validity::kMinRadius, validity::kMaxRadius)) {
+        throw Error("bad shape parameters: half axis " + std::to_string(k + 1) + " of the " +
+                        std::string(name()) + " must be between 1e-12 and 1e9 m",
+                    {"VALUE", "SHAPE"});
+      }
+    }
+    for (size_t k = D; k < p.size(); ++k) {
+      if (!validity::inRange(p[k], kMinExponent, kMaxExponent)) {
+        throw Error("bad shape parameters: the " + std::string(name()) +
+                        "'s exponents must be between 2 and 20 (convex and smooth)",
+                    {"VALUE", "SHAPE"});
+      }
+    }
+    const Real lo = *std::min_element(p.begin(), p.begin() + D);
+    const Real hi = *std::max_element(p.begin(), p.begin() + D);
+    if (hi > 1e6 * lo) {
+      throw Error("bad shape parameters: the " + std::string(name()) +
+                      "'s half axes differ by more than 1e6",
+                  {"VALUE", "SHAPE"});
+    }
+  }
+
+  // The largest distance 1/phi(u) over unit directions u: a grid over the first octant (the
+  // shape is symmetric in every axis) refined about its best point, widened by 1e-9 for what
+  // the refinement leaves.
+  Real boundingRadius(std::span<const double> p) const override {
+    const Superquadric<D> s = fromParams<D>(p);
+    const auto dirOf = [](Real t, Real u) {
+      VecD<D> d;
+      if constexpr (D == 3) {
+        d = Vec3(std::cos(t) * std::sin(u), std::sin(t) * std::sin(u), std::cos(u));
+      } else {
+        (void)u;
+        d = Vec2(std::cos(t), std::sin(t));
+      }
+      return d;
+    };
+    const Real q = std::numbers::pi / 2;
+    const int n = D == 3 ? 64 : 1024;
+    Real best = 0, bt = 0, bu = 0;
+    for (int i = 0; i <= n; ++i) {
+      for (int j = 0; j <= (D == 3 ? n : 0); ++j) {
+        const Real t = q * i / n, u = q * j / n;
+        const Real r = 1 / s.gauge(dirOf(t, u));
+        if (r > best) best = r, bt = t, bu = u;
+      }
+    }
+    for (Real h = q / n; h > 1e-12; h *= 0.5) {
+      bool moved = true;
+      while (moved) {
+        moved = false;
+        for (int k = 0; k < 4; ++k) {
+          const Real t = std::clamp(bt + (k == 0 ? h : k == 1 ? -h : 0), Real{0}, q);
+          const Real u = std::clamp(bu + (k == 2 ? h : k == 3 ? -h : 0), Real{0}, q);
+          const Real r = 1 / s.gauge(dirOf(t, u));
+          if (r > best) best = r, bt = t, bu = u, moved = true;
+        }
+      }
+    }
+    return best * (1 + 1e-9);
+  }
+
+  // Closed forms through Euler's beta function (Jaklic, Leonardis and Solina, Segmentation and
+  // Recovery of Superquadrics, 2000, for 3D; the Dirichlet integral for 2D).
+  MassProperties<D> massProperties(std::span<const double> p) const override {
+    MassProperties<D> m;
+    if constexpr (D == 3) {
+      const Real a = p[0], b = p[1], c = p[2], e1 = 2 / p[3], e2 = 2 / p[4];
+      const auto B = [](Real x, Real y) { return std::beta(x, y); };
+      m.volume = 2 * a * b * c * e1 * e2 * B(e1 / 2 + 1, e1) * B(e2 / 2, e2 / 2);
+      const Real k = 0.5 * a * b * c * e1 * e2;
+      const Real t1 = B(1.5 * e2, 0.5 * e2) * B(0.5 * e1, 2 * e1 + 1);
+      const Real t2 = 4 * B(0.5 * e2, 0.5 * e2 + 1) * B(1.5 * e1, e1 + 1);
+      m.inertia = Mat3::Zero();
+      m.inertia(0, 0) = k * (b * b * t1 + c * c * t2);
+      m.inertia(1, 1) = k * (a * a * t1 + c * c * t2);
+      m.inertia(2, 2) = k * (a * a + b * b) * t1;
+    } else {
+      const Real a = p[0], b = p[1], n = p[2];
+      // J(p, q) = integral of u^(p-1) v^(q-1) over u^n + v^n <= 1, u, v >= 0.
+      const auto J = [n](Real pp, Real qq) {
+        return std::exp(std::lgamma(pp / n) + std::lgamma(qq / n) - std::lgamma((pp + qq) / n + 1)) /
+               (n * n);
+      };
+      m.volume = 4 * a * b * J(1, 1);
+      m.inertia = Mat3::Zero();
+      m.inertia(2, 2) = 4 * a * b * (a * a * J(3, 1) + b * b * J(1, 3));
+    }
+    return m;
+  }
+
+  // The surface through the gauge: the direction u maps to u / phi(u).
+  std::vector<Vec3> renderTriangles(std::span<const double> p) const override {
+    const Superquadric<D> s = fromParams<D>(p);
+    std::vector<Vec3> out;
+    const Real pi = std::numbers::pi;
+    if constexpr (D == 2) {
+      const int n = 72;
+      for (int i = 0; i < n; ++i) {
+        const Vec2 d0(std::cos(2 * pi * i / n), std::sin(2 * pi * i / n));
+        const Vec2 d1(std::cos(2 * pi * (i + 1) / n), std::sin(2 * pi * (i + 1) / n));
+        const Vec2 p0 = d0 / s.gauge(d0), p1 = d1 / s.gauge(d1);
+        out.push_back(Vec3::Zero());
+        out.emplace_back(p0.x(), p0.y(), 0);
+        out.emplace_back(p1.x(), p1.y(), 0);
+      }
+    } else {
+      const int nu = 16, nt = 32;
+      const auto at = [&](int i, int j) {
+        const Real u = pi * i / nu, t = 2 * pi * j / nt;
+        const Vec3 d(std::cos(t) * std::sin(u), std::sin(t) * std::sin(u), std::cos(u));
+        return Vec3(d / s.gauge(d));
+      };
+      for (int i = 0; i < nu; ++i) {
+        for (int j = 0; j < nt; ++j) {
+          const Vec3 a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+          if (i > 0) out.insert(out.end(), {a, b, d});
+          if (i + 1 < nu) out.insert(out.end(), {b, c, d});
+        }
+      }
+    }
+    return out;
+  }
+};
+
+// Returns element e as a placed gauge body (a ball as the superquadric (r, r, r, 2, 2)).
+template <int D>
+PlacedGauge<D> placed(const ElementRef<D>& e) {
+  PlacedGauge<D> g;
+  if (e.g->params.empty()) {
+    g.shape.a = g.shape.b = g.shape.c = e.r;
+  } else {
+    g.shape = fromParams<D>(e.g->params);
+  }
+  g.centre = e.x;
+  g.rot = rotationMatrix(e.q);
+  return g;
+}
+
+// Returns the Hertz radius of element e: the ball's radius, or the equal-volume ball's.
+template <int D>
+Real hertzRadius(const ElementRef<D>& e) {
+  if (e.g->params.empty()) return e.r;
+  if constexpr (D == 3) return std::cbrt(3 * e.g->volume / (4 * std::numbers::pi));
+  return std::sqrt(e.g->volume / std::numbers::pi);
+}
+
+template <int D>
+int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
+  if (!((b.x - a.x).norm() < a.r + b.r)) return 0;  // bounding balls apart
+  ConvexContact<D> c;
+  if (!convexContact(placed(a), placed(b), a.r + b.r, c)) return 0;
+  const Real ra = hertzRadius(a), rb = hertzRadius(b);
+  out[0].g = {c.normal, c.overlap, c.point};
+  out[0].effRadius = ra * rb / (ra + rb);
+  out[0].feature = 0;
+  return 1;
+}
+
+// Writes the contact with a surface whose outward normal (towards the element) is n at the
+// deepest point p, depth = how far p lies behind it.
+template <int D>
+int wallPoint(const ElementRef<D>& a, const VecD<D>& p, const VecD<D>& n, Real depth,
+              ContactPoint<D>* out) {
+  if (!(depth > 0)) return 0;
+  out[0].g = {VecD<D>(-n), depth, VecD<D>(p + 0.5 * depth * n)};
+  out[0].effRadius = hertzRadius(a);
+  out[0].feature = 0;
+  return 1;
+}
+
+template <int D>
+int planeRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  const auto& pl = *static_cast<const physics::PlaneShape<D>*>(wall);
+  if ((a.x - pl.point).dot(pl.normal) >= a.r) return 0;
+  const VecD<D> p = placed(a).support(-pl.normal);
+  return wallPoint(a, p, pl.normal, -(p - pl.point).dot(pl.normal), out);
+}
+
+// Inside a drum, the deepest point is the one farthest from the axis: the support point along
+// the outward radial direction, found by fixed-point iteration on that direction (exact for a
+// ball; for an element small against the drum, the iteration contracts by about its size over
+// the drum's radius each time).
+template <int D>
+int drumRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  const auto& dr = *static_cast<const physics::DrumShape<D>*>(wall);
+  const auto radial = [&](const VecD<D>& x) {
+    VecD<D> r = x - dr.centre;
+    if constexpr (D == 3) r -= r.dot(dr.axis) * dr.axis;
+    return r;
+  };
+  if constexpr (D == 3) {
+    if (std::abs((a.x - dr.centre).dot(dr.axis)) > dr.halfLength) return 0;
+  }
+  VecD<D> r = radial(a.x);
+  if (r.norm() + a.r <= dr.radius) return 0;
+  if (!(r.norm() > 0)) return 0;
+  const PlacedGauge<D> g = placed(a);
+  VecD<D> u = r / r.norm(), p = g.support(u);
+  for (int it = 0; it < 50; ++it) {
+    r = radial(p);
+    if (!(r.norm() > 0)) return 0;
+    const VecD<D> u1 = r / r.norm();
+    const bool done = (u1 - u).norm() <= 1e-14;
+    u = u1;
+    p = g.support(u);
+    if (done) break;
+  }
+  return wallPoint(a, p, VecD<D>(-u), radial(p).norm() - dr.radius, out);
+}
+
+}  // namespace
+
+template <int D>
+void registerSuperquadric(ShapeTable<D>& t) {
+  t.add(std::make_unique<SuperquadricType<D>>());
+  const std::string_view n = D == 3 ? "superquadric" : "superellipse";
+  const std::string_view ball = D == 3 ? "sphere" : "disc";
+  t.addPair(n, n, {pairRow<D>, false});
+  t.addPair(n, ball, {pairRow<D>, false});
+  t.addWall(n, WallShape::Plane, {planeRow<D>, false});
+  t.addWall(n, WallShape::Drum, {drumRow<D>, false});
+}
+
+template void registerSuperquadric<2>(ShapeTable<2>&);
+template void registerSuperquadric<3>(ShapeTable<3>&);
+
+}  // namespace demlab::sim
