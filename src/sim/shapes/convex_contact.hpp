@@ -246,4 +246,78 @@ bool convexContact(const PlacedGauge<D>& A, const PlacedGauge<D>& B, Real length
   return out.overlap > 0;
 }
 
+// Returns the parameters s in [-half, half]^K minimising psi_B(origin + axes s): the point of a
+// box (K = D: a solid box wall), a rectangle or a segment (K = D - 1: a finite wall) deepest in
+// B in the gauge's sense, by projected Newton steps (psi is convex, so the minimum is unique
+// for a strictly convex B). Starts from the projection of B's centre.
+template <int D, int K>
+Eigen::Matrix<Real, K, 1> minimiseOverBox(const PlacedGauge<D>& B, const VecD<D>& origin,
+                                          const Eigen::Matrix<Real, D, K>& axes,
+                                          const Eigen::Matrix<Real, K, 1>& half, Real length) {
+  using VecK = Eigen::Matrix<Real, K, 1>;
+  using MatK = Eigen::Matrix<Real, K, K>;
+  const auto clampBox = [&](VecK v) {
+    for (int k = 0; k < K; ++k) v[k] = std::clamp(v[k], -half[k], half[k]);
+    return v;
+  };
+  VecK s = clampBox(axes.transpose() * (B.centre - origin));
+  VecD<D> gy;
+  MatD<D> hy;
+  Real f = B.squaredGauge(origin + axes * s, gy, hy);
+  for (int it = 0; it < 60; ++it) {
+    const VecK g = axes.transpose() * gy;
+    MatK h = axes.transpose() * hy * axes;
+    // Variables held at a bound the gradient pushes against stay there this step.
+    bool held[K];
+    for (int k = 0; k < K; ++k) {
+      held[k] = (s[k] <= -half[k] && g[k] > 0) || (s[k] >= half[k] && g[k] < 0);
+      if (held[k]) {
+        h.row(k).setZero();
+        h.col(k).setZero();
+        h(k, k) = 1;
+      }
+    }
+    VecK gf = g;
+    for (int k = 0; k < K; ++k) gf[k] = held[k] ? 0 : g[k];
+    if (gf.norm() * length <= 1e-15) break;
+    h += (1e-12 * h.trace() + 1e-300) * MatK::Identity();
+    VecK d = -h.ldlt().solve(gf);
+    if (!d.allFinite() || d.dot(gf) >= 0) d = -gf * (length * length);
+    Real t = 1;
+    bool accepted = false;
+    for (int k = 0; k < 50; ++k, t *= 0.5) {
+      const VecK s1 = clampBox(s + t * d);
+      VecD<D> g1;
+      MatD<D> h1;
+      const Real f1 = B.squaredGauge(origin + axes * s1, g1, h1);
+      if (f1 <= f + 1e-4 * g.dot(s1 - s)) {
+        const Real moved = (s1 - s).norm();
+        s = s1, f = f1, gy = g1, hy = h1, accepted = true;
+        if (moved <= 1e-15 * length) it = 1 << 20;  // converged
+        break;
+      }
+    }
+    if (!accepted) break;
+  }
+  return s;
+}
+
+// The contact of B with the wall point y, the deepest in B's gauge of a convex wall (found by
+// minimiseOverBox or on a hole's rim): the normal is the gauge's gradient there (from B to the
+// wall), the depth how far B's support along it passes y. For a ball it is the closest point's
+// contact. Returns false if y lies outside B or at its centre (no direction to push).
+template <int D>
+bool contactAtWallPoint(const PlacedGauge<D>& B, const VecD<D>& y, ConvexContact<D>& out) {
+  if (!(B.gauge(y) < 1)) return false;
+  VecD<D> n = B.gaugeGradient(y);
+  const Real nn = n.norm();
+  if (!(nn > 0)) return false;
+  n /= nn;
+  const VecD<D> p = B.support(n);
+  out.normal = n;
+  out.overlap = n.dot(p - y);
+  out.point = p - 0.5 * out.overlap * n;
+  return out.overlap > 0;
+}
+
 }  // namespace demlab::sim

@@ -2,13 +2,11 @@
 // sim/shapes/superquadric.hpp has the geometry, sim/shapes/convex_contact.hpp the contact.
 //
 // Rows: superquadric against superquadric and against the ball (a ball is the superquadric
-// (r, r, r, 2, 2)), and against plane and drum walls. Each contact is one point. The Hertz
+// (r, r, r, 2, 2)), and against every wall kind: planes and drums by the support point, finite
+// and box walls by the wall's point deepest in the superquadric. Each contact is one point. The Hertz
 // radius of a superquadric is its volume-equivalent sphere's (the area-equivalent disc's in
 // 2D), so that an ellipsoid of equal half axes is the sphere in every respect; the pair's is
 // R_a R_b / (R_a + R_b).
-//
-// Finite flat walls and box walls have no row yet: a scene that would need one is refused when
-// it runs ({LOOKUP INTERACTION}, sim/shape_contacts.hpp's check).
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -16,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "core/validity.hpp"
+#include "physics/narrow_phase.hpp"
 #include "physics/shapes.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
@@ -273,6 +272,92 @@ int drumRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   return wallPoint(a, p, VecD<D>(-u), radial(p).norm() - dr.radius, out);
 }
 
+// Writes c as the row's one contact point.
+template <int D>
+int convexPoint(const ElementRef<D>& a, const ConvexContact<D>& c, ContactPoint<D>* out) {
+  out[0].g = {c.normal, c.overlap, c.point};
+  out[0].effRadius = hertzRadius(a);
+  out[0].feature = 0;
+  return 1;
+}
+
+// A finite wall (a rectangle or a segment, touched from both sides, perhaps with a hole): its
+// point deepest in the element's gauge (convex_contact.hpp); over the hole, the rim's deepest
+// point instead (the holed wall is not convex, but a convex function's least value on it lies on
+// the rim when the whole wall's lies in the hole).
+template <int D>
+int finiteRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  const auto& w = *static_cast<const physics::FlatWallShape<D>*>(wall);
+  if (!physics::intersect<D>(physics::SphereShape<D>{a.x, a.r}, w)) return 0;
+  const PlacedGauge<D> g = placed(a);
+  Eigen::Matrix<Real, D, D - 1> axes;
+  Eigen::Matrix<Real, D - 1, 1> half;
+  for (int k = 0; k < D - 1; ++k) axes.col(k) = w.axes[k], half[k] = w.halfExtents[k];
+  const Eigen::Matrix<Real, D - 1, 1> s = minimiseOverBox<D, D - 1>(g, w.centre, axes, half, a.r);
+  VecD<D> y = w.centre + axes * s;
+  if (w.hole > 0 && s.norm() < w.hole) {
+    if constexpr (D == 2) {
+      const Vec2 lo = w.centre - w.hole * w.axes[0], hi = w.centre + w.hole * w.axes[0];
+      y = g.gauge(lo) <= g.gauge(hi) ? lo : hi;
+    } else {
+      const auto rim = [&](Real t) {
+        return Vec3(w.centre + w.hole * (std::cos(t) * w.axes[0] + std::sin(t) * w.axes[1]));
+      };
+      const int n = 64;
+      const Real step = 2 * std::numbers::pi / n;
+      Real best = 0, fbest = g.gauge(rim(0));
+      for (int k = 1; k < n; ++k) {
+        const Real f = g.gauge(rim(k * step));
+        if (f < fbest) fbest = f, best = k * step;
+      }
+      // Golden-section search about the best sample.
+      Real lo = best - step, hi = best + step;
+      const Real r = (std::sqrt(5.0) - 1) / 2;
+      for (int it = 0; it < 80 && hi - lo > 1e-13; ++it) {
+        const Real x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo);
+        if (g.gauge(rim(x1)) < g.gauge(rim(x2))) {
+          hi = x2;
+        } else {
+          lo = x1;
+        }
+      }
+      y = rim(0.5 * (lo + hi));
+    }
+  }
+  ConvexContact<D> c;
+  if (!contactAtWallPoint(g, y, c)) return 0;
+  return convexPoint(a, c, out);
+}
+
+// A solid box wall: its point deepest in the element's gauge. An element whose centre has
+// entered the box is pushed out through the nearest face, as a ball is.
+template <int D>
+int boxRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  const auto& w = *static_cast<const physics::BoxShape<D>*>(wall);
+  const auto ball = physics::intersect<D>(physics::SphereShape<D>{a.x, a.r}, w);
+  if (!ball) return 0;
+  const PlacedGauge<D> g = placed(a);
+  const VecD<D> local = w.axes.transpose() * (a.x - w.centre);
+  ConvexContact<D> c;
+  if ((local.cwiseAbs() - w.halfExtents).maxCoeff() > 0) {
+    const VecD<D> s = minimiseOverBox<D, D>(g, w.centre, w.axes, w.halfExtents, a.r);
+    if (!contactAtWallPoint(g, VecD<D>(w.centre + w.axes * s), c)) return 0;
+    return convexPoint(a, c, out);
+  }
+  // The centre inside: the ball's normal (into the nearest face) and that face's plane.
+  const VecD<D> n = ball->normal;
+  int face = 0;
+  for (int k = 1; k < D; ++k) {
+    if (w.halfExtents[k] - std::abs(local[k]) < w.halfExtents[face] - std::abs(local[face])) face = k;
+  }
+  const VecD<D> onFace = a.x + (w.halfExtents[face] - std::abs(local[face])) * VecD<D>(-n);
+  const VecD<D> p = g.support(n);
+  c.normal = n;
+  c.overlap = n.dot(p - onFace);
+  c.point = p - 0.5 * c.overlap * n;
+  return convexPoint(a, c, out);
+}
+
 }  // namespace
 
 template <int D>
@@ -284,6 +369,8 @@ void registerSuperquadric(ShapeTable<D>& t) {
   t.addPair(n, ball, {pairRow<D>, false});
   t.addWall(n, WallShape::Plane, {planeRow<D>, false});
   t.addWall(n, WallShape::Drum, {drumRow<D>, false});
+  t.addWall(n, WallShape::Finite, {finiteRow<D>, false});
+  t.addWall(n, WallShape::Box, {boxRow<D>, false});
 }
 
 template void registerSuperquadric<2>(ShapeTable<2>&);

@@ -378,6 +378,115 @@ TEST(SimSuperquadric, DrumContactIsTheFarthestPointFromTheAxis) {
   }
 }
 
+// Equal half axes and exponents 2: against a finite wall with a hole (over the face, its edges
+// and its rim), a solid box and a drum, the ball's own contact.
+TEST(SimSuperquadric, EqualAxesMeetEveryWallAsTheBall) {
+  const ShapeTable<3>& t = ShapeTable<3>::get();
+  const TypeId sq = *t.id("superquadric");
+  const Real r = 0.01;
+  const Geometry<3> g = t.makeGeometry("superquadric", std::vector<double>{r, r, r, 2, 2});
+  physics::FlatWallShape<3> plate{Vec3(0, 0, 0), {Vec3::UnitX(), Vec3::UnitY()}, {0.03, 0.02}, 0.012};
+  const Mat3 turn = AngleAxis(0.3, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  physics::BoxShape<3> box{Vec3(0, 0, 0), turn, Vec3(0.02, 0.01, 0.015)};
+  physics::DrumShape<3> drum{Vec3::Zero(), Vec3::UnitZ(), 0.05, 0.1};
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<Real> box3(-0.05, 0.05);
+  int hits[3] = {0, 0, 0};
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Vec3 x(box3(rng), box3(rng), box3(rng) * 0.4);
+    const ElementRef<3> e{x, randomQuat(rng), g.boundRadius, &g};
+    const physics::SphereShape<3> ball{x, r};
+    const auto check = [&](int kind, WallShape shape, const void* wall,
+                           const std::optional<physics::ContactGeometry<3>>& want) {
+      ContactPoint<3> p[kMaxContactPoints];
+      const int n = t.wall(sq, shape)->fn(e, wall, p);
+      if (!want || want->overlap < 1e-9) return;  // grazing: either answer
+      ASSERT_EQ(n, 1) << kind << " " << trial;
+      ++hits[kind];
+      EXPECT_NEAR(p[0].g.overlap, want->overlap, 1e-9) << kind << " " << trial;
+      EXPECT_LT((p[0].g.normal - want->normal).norm(), 1e-6) << kind << " " << trial;
+      EXPECT_LT((p[0].g.point - want->point).norm(), 1e-8) << kind << " " << trial;
+    };
+    check(0, WallShape::Finite, &plate, physics::intersect<3>(ball, plate));
+    check(1, WallShape::Box, &box, physics::intersect<3>(ball, box));
+    check(2, WallShape::Drum, &drum, physics::intersect<3>(ball, drum));
+  }
+  EXPECT_GT(hits[0], 100);
+  EXPECT_GT(hits[1], 100);
+  EXPECT_GT(hits[2], 20);
+}
+
+// Random superquadrics against a finite wall and a solid box: the overlap against the least
+// penetration by brute force over directions (the walls' support: their corners).
+TEST(SimSuperquadric, FiniteAndBoxWallsAgreeWithBruteForce) {
+  const ShapeTable<3>& t = ShapeTable<3>::get();
+  const TypeId sq = *t.id("superquadric");
+  const Mat3 turn = AngleAxis(0.5, Vec3(3, 1, 2).normalized()).toRotationMatrix();
+  physics::FlatWallShape<3> plate{Vec3::Zero(), {turn.col(0), turn.col(1)}, {0.04, 0.03}, 0};
+  physics::BoxShape<3> box{Vec3::Zero(), turn, Vec3(0.04, 0.03, 0.02)};
+  std::mt19937_64 rng(37);
+  int touching = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    const bool isBox = trial % 2 == 1;
+    std::vector<Vec3> corners;
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 h = isBox ? box.halfExtents : Vec3(0.04, 0.03, 0);
+      corners.push_back(turn * Vec3(c & 1 ? h.x() : -h.x(), c & 2 ? h.y() : -h.y(), c & 4 ? h.z() : -h.z()));
+    }
+    const Superquadric<3> shape = randomShape(rng);
+    const Quat q = randomQuat(rng);
+    PlacedGauge<3> B{shape, Vec3::Zero(), q.toRotationMatrix()};
+    // Touching the wall at a point of it farthest along a direction u (a corner, or for every
+    // third trial a face's normal and a point of that face), then pushed in a little.
+    Vec3 u = randomUnit(rng), at = Vec3::Zero();
+    if (trial % 3 == 0) {
+      const int k = isBox ? trial % 9 / 3 : 2;
+      u = (trial % 2 == 0 ? 1 : -1) * turn.col(k);
+      std::uniform_real_distribution<Real> in(-0.5, 0.5);
+      const Vec3 h = isBox ? box.halfExtents : Vec3(0.04, 0.03, 0);
+      Vec3 local(in(rng) * h.x(), in(rng) * h.y(), in(rng) * h.z());
+      local[k] = (turn.col(k).dot(u) > 0 ? 1 : -1) * h[k];
+      at = turn * local;
+    } else {
+      Real reach = -1e300;
+      for (const Vec3& c : corners) {
+        if (u.dot(c) > reach) reach = u.dot(c), at = c;
+      }
+    }
+    const Real size = std::min({shape.a, shape.b, shape.c});
+    B.centre = at - B.support(-u) - u * 0.01 * size;  // B.support with B still at the origin
+    // The least penetration: over directions n, B's extent along -n past the wall's along -n.
+    const auto extent = [&](const Vec3& n) {
+      Real wall = -1e300;
+      for (const Vec3& c : corners) wall = std::max(wall, n.dot(c));
+      return wall - n.dot(B.support(-n));
+    };
+    Real want = 1e300;
+    Vec3 best;
+    for (int k = 0; k < 4000; ++k) {
+      const Vec3 n = randomUnit(rng);
+      if (extent(n) < want) want = extent(n), best = n;
+    }
+    for (Real h = 0.05; h > 1e-10; h *= 0.8) {
+      for (int k = 0; k < 40; ++k) {
+        const Vec3 n = (best + h * randomUnit(rng)).normalized();
+        if (extent(n) < want) want = extent(n), best = n;
+      }
+    }
+    const Geometry<3> g = t.makeGeometry("superquadric", paramsOf(shape));
+    const ElementRef<3> e{B.centre, q, g.boundRadius, &g};
+    ContactPoint<3> p[kMaxContactPoints];
+    const int n = isBox ? t.wall(sq, WallShape::Box)->fn(e, &box, p)
+                        : t.wall(sq, WallShape::Finite)->fn(e, &plate, p);
+    if (want < 1e-3 * size) continue;  // grazing or sampled too coarsely to say
+    ASSERT_EQ(n, 1) << trial;
+    ++touching;
+    // The deepest point's normal is not the least penetration's: they agree to first order.
+    EXPECT_NEAR(p[0].g.overlap, want, 0.01 * want) << trial;
+  }
+  EXPECT_GT(touching, 40);
+}
+
 TEST(SimSuperquadric, SuperellipseMeetsDiscsAsADisc) {
   const ShapeTable<2>& t = ShapeTable<2>::get();
   const TypeId se = *t.id("superellipse");
