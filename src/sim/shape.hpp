@@ -78,6 +78,11 @@ class ShapeType {
   virtual Real boundingRadius(std::span<const double> params) const = 0;
   // Returns the volume, centroid and inertia tensor per unit density.
   virtual MassProperties<D> massProperties(std::span<const double> params) const = 0;
+  // Returns params describing the same shape scaled by factor about its centroid (packings of
+  // a shape in a size distribution), or nothing if the type cannot be scaled (the default).
+  virtual std::optional<std::vector<double>> scaled(std::span<const double>, Real) const {
+    return std::nullopt;
+  }
   // The renderer's row: the shape as triangles in its body frame (3 points each; 2D: z = 0),
   // which snapshots draw turned and placed. Empty (the default): drawn as its bounding ball.
   virtual std::vector<Vec3> renderTriangles(std::span<const double>) const { return {}; }

@@ -541,6 +541,12 @@ class Simulation {
   // Returns the dimension's shape types (sim/shape.hpp) as {name, parameters' description},
   // the ball first.
   virtual std::vector<std::pair<std::string, std::string>> shapeTypes() const = 0;
+  // Returns the parameters of the shape type named shape with params, scaled about its centroid
+  // so that its bounding radius is bound. Throws {VALUE SHAPE} as ElementDef's shape would, or
+  // when the type cannot be scaled (the ball: use its radius). Changes nothing.
+  virtual std::vector<double> shapeParamsForBound(const std::string& shape,
+                                                  const std::vector<double>& params,
+                                                  double bound) const = 0;
   // Returns the names of shapeTypes(), the ball first.
   std::vector<std::string> shapeNames() const {
     std::vector<std::string> out;

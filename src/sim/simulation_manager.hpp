@@ -45,6 +45,19 @@ class SimulationManager final : public Simulation {
     for (const std::string& n : t.names()) out.emplace_back(n, t.find(n)->parameters());
     return out;
   }
+  std::vector<double> shapeParamsForBound(const std::string& shape,
+                                          const std::vector<double>& params,
+                                          double bound) const override {
+    const ShapeTable<D>& t = ShapeTable<D>::get();
+    const Geometry<D> g = t.makeGeometry(shape, params);
+    const auto out = t.type(g.shape).scaled(params, bound / g.boundRadius);
+    if (!out || g.boundRadius == 0) {
+      throw Error("bad shape \"" + shape + "\": its size can't be drawn from a distribution",
+                  {"VALUE", "SHAPE"});
+    }
+    t.makeGeometry(shape, *out);  // still within the type's checks
+    return *out;
+  }
   void setContactLaw(LawKind law) override;
   LawKind contactLaw() const override { return s_.defaultLaw; }
   void setCoulombCriterion(physics::CoulombCriterion c) override;

@@ -15,6 +15,7 @@
 #include "io/lammps_data.hpp"
 #include "io/line_reader.hpp"
 #include "sim/packing.hpp"
+#include "sim/source.hpp"
 
 namespace demlab::cmd {
 
@@ -243,6 +244,12 @@ void registerPackCommands(Registry& r) {
   rnd.oneOf({"count", "fraction"}, true);
   rnd.option("seed", integer().nonNegative(), "random seed").byDefault("1");
   rnd.option("tries", integer().min(1), "attempts per element before giving up").byDefault("1000");
+  rnd.option("shape", text("shape type"),
+             "their shape type (default: the ball); -params gives its shape, scaled about its "
+             "centre so that each element's bounding radius is the radius drawn");
+  rnd.option("params", reals(), "the shape's parameters (as element add -params)");
+  rnd.option("orientation", choice({"identity", "random"}),
+             "their orientation: identity (the default) or random (uniform over the rotations)");
   commonOptions(rnd);
   rnd.onCheck([](Call& c) {
     auto& s = session(c).scene();
@@ -262,11 +269,30 @@ void registerPackCommands(Registry& r) {
     const std::vector<Vec3d> sites = sim::randomSites(reg, d, radii, s.positions(), s.radii(),
                                                       c.integer("tries"), rng, &session(c).stop);
     sim::ElementDef base = baseDef(c, s);
+    // A shape other than the ball: its parameters for each radius drawn (the placement keeps
+    // the bounding balls apart, a loose start that a settling run compacts).
+    const std::string shape = c.given("shape") ? c.str("shape") : s.shapeNames().front();
+    const std::vector<double> params =
+        c.given("params") ? c.get<std::vector<double>>("params") : std::vector<double>{};
+    const bool ball = shape == s.shapeNames().front();
+    if (ball && !params.empty()) c.bad("params", "a " + shape + " takes none (its size is -radius)");
+    if (!ball) s.shapeParamsForBound(shape, params, 1);  // {VALUE SHAPE} before any work
+    uint64_t turnState = rng();
+    sim::SplitMix64 turn{turnState};
+    const bool randomTurn = c.has("orientation") && c.str("orientation") == "random";
     std::vector<sim::ElementDef> defs;
     defs.reserve(radii.size());
     for (std::size_t k = 0; k < sites.size(); ++k) {
       base.position = sites[k];
-      base.radius = radii[k];
+      if (ball) {
+        base.radius = radii[k];
+      } else {
+        base.shape = shape;
+        base.shapeParams = s.shapeParamsForBound(shape, params, radii[k]);
+      }
+      if (randomTurn) {
+        base.orientation = d == 2 ? sim::randomOrientation<2>(turn) : sim::randomOrientation<3>(turn);
+      }
       defs.push_back(base);
     }
     c.prepared = std::move(defs);

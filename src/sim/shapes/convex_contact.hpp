@@ -45,6 +45,9 @@ struct PlacedGauge {
   VecD<D> gaugeGradient(const VecD<D>& x) const {
     return rot * shape.gaugeGradient(rot.transpose() * (x - centre));
   }
+  VecD<D> gaugeAndGradient(const VecD<D>& x, Real& phi) const {
+    return rot * shape.gaugeAndGradient(rot.transpose() * (x - centre), phi);
+  }
   Real squaredGauge(const VecD<D>& x, VecD<D>& g, MatD<D>& h) const {
     VecD<D> gb;
     MatD<D> hb;
@@ -190,8 +193,8 @@ template <int D>
 Real exitDistance(const PlacedGauge<D>& body, const VecD<D>& x, const VecD<D>& d, Real length) {
   Real t = 0;
   for (int it = 0; it < 100; ++it) {
-    const VecD<D> y = x + t * d;
-    const Real f = body.gauge(y) - 1, slope = body.gaugeGradient(y).dot(d);
+    Real phi;
+    const Real slope = body.gaugeAndGradient(x + t * d, phi).dot(d), f = phi - 1;
     if (!(slope > 0)) break;
     const Real step = f / slope;
     t = std::max(Real{0}, t - step);

@@ -83,6 +83,12 @@ class SuperquadricType final : public ShapeType<D> {
     }
   }
 
+  std::optional<std::vector<double>> scaled(std::span<const double> p, Real f) const override {
+    std::vector<double> out(p.begin(), p.end());
+    for (int k = 0; k < D; ++k) out[k] *= f;
+    return out;
+  }
+
   // The largest distance 1/phi(u) over unit directions u: a grid over the first octant (the
   // shape is symmetric in every axis) refined about its best point, widened by 1e-9 for what
   // the refinement leaves.

@@ -24,6 +24,8 @@ struct Superquadric {
   Real gauge(const VecD<D>& x) const;
   // Returns the gradient of phi at x (x != 0).
   VecD<D> gaugeGradient(const VecD<D>& x) const;
+  // Returns the gradient of phi at x and writes phi(x) to phi: both for the cost of one.
+  VecD<D> gaugeAndGradient(const VecD<D>& x, Real& phi) const;
   // Returns psi = phi^2 at x and writes its gradient and Hessian (psi is convex and smooth:
   // the midway-point solver's objective).
   Real squaredGauge(const VecD<D>& x, VecD<D>& grad, MatD<D>& hess) const;

@@ -12,10 +12,19 @@ struct PowTerm {
   Real v, d1, d2;
 };
 
+// Returns t^p for t > 0: by multiplication for the whole exponents most shapes use (pow is
+// most of a contact's cost otherwise).
+Real power(Real t, Real p) {
+  const int whole = static_cast<int>(p);
+  if (whole == p) return std::pow(t, whole);  // __builtin_powi
+  if (p == 0.5) return std::sqrt(t);
+  return std::pow(t, p);
+}
+
 PowTerm powTerm(Real x, Real a, Real p) {
   const Real t = std::abs(x) / a;
   if (t == 0) return {0, 0, p == 2 ? 2 / (a * a) : 0};
-  const Real tp2 = std::pow(t, p - 2);
+  const Real tp2 = power(t, p - 2);
   const Real sign = x < 0 ? -1 : 1;
   return {tp2 * t * t, sign * p * tp2 * t / a, p * (p - 1) * tp2 / (a * a)};
 }
@@ -37,7 +46,7 @@ Real insideOutside(const Superquadric<D>& s, const VecD<D>& x, VecD<D>& g, MatD<
     Real p = hsum, k1 = 1, k2 = 0;  // P = hsum^e; dP = k1 dh; d2P = k1 d2h + k2 dh dh^T
     if (e != 1) {
       if (hsum > 1e-250) {
-        p = std::pow(hsum, e);
+        p = power(hsum, e);
         k1 = e * p / hsum;
         k2 = e * (e - 1) * p / (hsum * hsum);
       } else {
@@ -56,14 +65,14 @@ Real insideOutside(const Superquadric<D>& s, const VecD<D>& x, VecD<D>& g, MatD<
 // Returns sign(p) |p / s|^(m - 1): the Hoelder point's coordinate.
 Real holder(Real p, Real s, Real m) {
   if (p == 0 || s == 0) return 0;
-  return std::copysign(std::pow(std::abs(p) / s, m - 1), p);
+  return std::copysign(power(std::abs(p) / s, m - 1), p);
 }
 
 // Returns (|p|^m + |q|^m)^(1/m), scaled against overflow.
 Real dualNorm(Real p, Real q, Real m) {
   const Real big = std::max(std::abs(p), std::abs(q));
   if (big == 0) return 0;
-  return big * std::pow(std::pow(std::abs(p) / big, m) + std::pow(std::abs(q) / big, m), 1 / m);
+  return big * power(power(std::abs(p) / big, m) + power(std::abs(q) / big, m), 1 / m);
 }
 
 }  // namespace
@@ -73,16 +82,26 @@ Real Superquadric<D>::gauge(const VecD<D>& x) const {
   VecD<D> g;
   MatD<D> h;
   const Real f = insideOutside(*this, x, g, h);
-  return f > 0 ? std::pow(f, 1 / n1) : 0;
+  return f > 0 ? power(f, 1 / n1) : 0;
 }
 
 template <int D>
 VecD<D> Superquadric<D>::gaugeGradient(const VecD<D>& x) const {
+  Real phi;
+  return gaugeAndGradient(x, phi);
+}
+
+template <int D>
+VecD<D> Superquadric<D>::gaugeAndGradient(const VecD<D>& x, Real& phi) const {
   VecD<D> g;
   MatD<D> h;
   const Real f = insideOutside(*this, x, g, h);
-  if (!(f > 0)) return VecD<D>::Zero();
-  return (std::pow(f, 1 / n1) / (n1 * f)) * g;
+  if (!(f > 0)) {
+    phi = 0;
+    return VecD<D>::Zero();
+  }
+  phi = power(f, 1 / n1);
+  return (phi / (n1 * f)) * g;
 }
 
 template <int D>
@@ -95,7 +114,7 @@ Real Superquadric<D>::squaredGauge(const VecD<D>& x, VecD<D>& grad, MatD<D>& hes
     hess = h;
     return 0;
   }
-  const Real m = 2 / n1, psi = std::pow(f, m);
+  const Real m = 2 / n1, psi = power(f, m);
   const Real c1 = m * psi / f, c2 = m * (m - 1) * psi / (f * f);
   grad = c1 * g;
   hess = c1 * h + c2 * g * g.transpose();
