@@ -149,6 +149,47 @@ PipeType sizeType() {
 
 namespace {
 
+// A shape parameter of a packing: a number, or {uniform min max} drawn for each element.
+struct ParamRange {
+  double lo = 0, hi = 0;
+};
+
+// The type of pack random -params: a list of numbers or {uniform min max}, {VALUE PARAMS}.
+PipeType shapeParamsType() {
+  return custom("shape parameters", [](std::string_view w, const Param&, const Context&) -> std::any {
+    auto bad = [&](const std::string& why) -> Error {
+      return Error("bad params \"" + std::string(w) + "\": " + why, {"VALUE", "PARAMS"});
+    };
+    std::vector<std::string> items;
+    try {
+      items = splitList(w);
+    } catch (const Error& e) {
+      throw bad(e.what());
+    }
+    std::vector<ParamRange> out;
+    for (const std::string& item : items) {
+      std::vector<std::string> parts;
+      try {
+        parts = splitList(item);
+      } catch (const Error& e) {
+        throw bad(e.what());
+      }
+      ParamRange r;
+      if (parts.size() == 1 && readReal(parts[0], r.lo) && std::isfinite(r.lo)) {
+        r.hi = r.lo;
+      } else if (parts.size() == 3 && parts[0] == "uniform" && readReal(parts[1], r.lo) &&
+                 readReal(parts[2], r.hi) && std::isfinite(r.lo) && std::isfinite(r.hi) &&
+                 r.lo <= r.hi) {
+      } else {
+        throw bad("each must be a finite number or {uniform min max} with min <= max, not \"" +
+                  item + "\"");
+      }
+      out.push_back(r);
+    }
+    return out;
+  });
+}
+
 // Declares the options every pack command shares.
 void commonOptions(Command& c) {
   c.option("material", materialRef(), "their material (default: the first material defined)");
@@ -247,7 +288,9 @@ void registerPackCommands(Registry& r) {
   rnd.option("shape", text("shape type"),
              "their shape type (default: the ball); -params gives its shape, scaled about its "
              "centre so that each element's bounding radius is the radius drawn");
-  rnd.option("params", reals(), "the shape's parameters (as element add -params)");
+  rnd.option("params", shapeParamsType(),
+             "the shape's parameters (as element add -params), each a number or {uniform min "
+             "max} drawn for each element (aspect ratios, blockiness)");
   rnd.option("orientation", choice({"identity", "random"}),
              "their orientation: identity (the default) or random (uniform over the rotations)");
   commonOptions(rnd);
@@ -272,11 +315,16 @@ void registerPackCommands(Registry& r) {
     // A shape other than the ball: its parameters for each radius drawn (the placement keeps
     // the bounding balls apart, a loose start that a settling run compacts).
     const std::string shape = c.given("shape") ? c.str("shape") : s.shapeNames().front();
-    const std::vector<double> params =
-        c.given("params") ? c.get<std::vector<double>>("params") : std::vector<double>{};
+    const std::vector<ParamRange> ranges =
+        c.given("params") ? c.get<std::vector<ParamRange>>("params") : std::vector<ParamRange>{};
     const bool ball = shape == s.shapeNames().front();
-    if (ball && !params.empty()) c.bad("params", "a " + shape + " takes none (its size is -radius)");
-    if (!ball) s.shapeParamsForBound(shape, params, 1);  // {VALUE SHAPE} before any work
+    if (ball && !ranges.empty()) c.bad("params", "a " + shape + " takes none (its size is -radius)");
+    std::vector<double> params(ranges.size()), hi(ranges.size());
+    for (std::size_t k = 0; k < ranges.size(); ++k) params[k] = ranges[k].lo, hi[k] = ranges[k].hi;
+    if (!ball) {  // {VALUE SHAPE} before any work, at both ends of every range
+      s.shapeParamsForBound(shape, params, 1);
+      s.shapeParamsForBound(shape, hi, 1);
+    }
     uint64_t turnState = rng();
     sim::SplitMix64 turn{turnState};
     const bool randomTurn = c.has("orientation") && c.str("orientation") == "random";
@@ -288,6 +336,11 @@ void registerPackCommands(Registry& r) {
         base.radius = radii[k];
       } else {
         base.shape = shape;
+        for (std::size_t j = 0; j < ranges.size(); ++j) {
+          params[j] = ranges[j].lo == ranges[j].hi
+                          ? ranges[j].lo
+                          : std::uniform_real_distribution<double>(ranges[j].lo, ranges[j].hi)(rng);
+        }
         base.shapeParams = s.shapeParamsForBound(shape, params, radii[k]);
       }
       if (randomTurn) {
