@@ -39,6 +39,10 @@ struct SourceDef {
   // Each element turned at random, uniformly over the rotations (3D: a uniform unit
   // quaternion, Shoemake's; 2D: an angle uniform in [-pi, pi)); else the identity.
   bool randomOrientation = false;
+  // A shape type other than the ball (empty: the ball) and its parameters, scaled about its
+  // centre for each element so that its bounding radius is the radius drawn (VALUE SHAPE).
+  std::string shape;
+  std::vector<double> shapeParams;
 };
 
 // The longest interval of steps between a source's or a sink's actions (VALUE EVERY).

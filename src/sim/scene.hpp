@@ -186,6 +186,17 @@ struct Scene {
   // ---- element shapes (sim/shape.hpp) ----
   // The shared Geometry components; ElementArrays::geometry indexes them. [0] is the ball's.
   std::vector<Shareable<Geometry<D>>> geometries = ballGeometryOnly<D>();
+  // Cold bookkeeping beside it: the index of each geometry past the ball's by its shape type and
+  // parameters, so that adding elements of many distinct shapes (a packing drawn from shape
+  // distributions) finds or adds each in O(log G). Rebuilt by indexGeometries after a load.
+  std::map<std::pair<uint32_t, std::vector<double>>, uint32_t> geometryLookup;
+  void indexGeometries() {
+    geometryLookup.clear();
+    for (size_t k = 1; k < geometries.size(); ++k) {
+      geometryLookup.emplace(std::make_pair(geometries[k]->shape.value, geometries[k]->params),
+                             static_cast<uint32_t>(k));
+    }
+  }
   // Some element is not a ball (set when the loop is built): the search then hands the pairs
   // with such an element to the shape contact pass instead of the ball passes.
   bool anyShapes = false;

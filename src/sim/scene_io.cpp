@@ -635,6 +635,8 @@ void readShapes(Reader& r, Scene<D>& s) {
     }
     if ((k == 0) != (s.geometries[k]->shape == ShapeTable<D>::ball())) Reader::bad("shape table");
   }
+  s.indexGeometries();
+  if (s.geometryLookup.size() + 1 != s.geometries.size()) Reader::bad("shape table");
   std::vector<uint32_t>& g = s.elements.a.geometry;
   if (r.count(4) != g.size()) Reader::bad("shape count");
   for (uint32_t& x : g) {
@@ -853,6 +855,15 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     Writer body;
     body.list(s.sources, [&](const SourceState& x) { body.u8(x.def.randomOrientation); });
     writeSection(w, kSourceOrientationTag, body);
+  }
+  if (std::any_of(s.sources.begin(), s.sources.end(),
+                  [](const auto& x) { return !x.def.shape.empty(); })) {
+    Writer body;
+    body.list(s.sources, [&](const SourceState& x) {
+      body.str(x.def.shape);
+      body.list(x.def.shapeParams, [&](double v) { body.f64(v); });
+    });
+    writeSection(w, kSourceShapeTag, body);
   }
   if (s.periodic.any()) {
     Writer body;
@@ -1159,6 +1170,23 @@ void readScene(Reader& r, Scene<D>& s) {
         const uint8_t v = b.u8();
         if (v > 1) Reader::bad("source orientation");
         x.def.randomOrientation = v != 0;
+      }
+    } else if (std::memcmp(tag, kSourceShapeTag, 4) == 0) {
+      if (b.count(1) != s.sources.size()) Reader::bad("source shape count");
+      for (SourceState& x : s.sources) {
+        x.def.shape = b.str();
+        x.def.shapeParams.resize(b.count(8));
+        for (double& v : x.def.shapeParams) v = b.f64();
+        if (x.def.shape.empty()) Reader::bad("source shape");
+        try {
+          const Geometry<D> g = ShapeTable<D>::get().makeGeometry(x.def.shape, x.def.shapeParams);
+          if (g.boundRadius == 0 || !ShapeTable<D>::get().type(g.shape).scaled(x.def.shapeParams, 1)) {
+            Reader::bad("source shape");
+          }
+        } catch (const Error& e) {
+          if (e.code().size() > 1 && e.code()[1] == "LOAD") throw;
+          Reader::bad("source shape");
+        }
       }
     } else if (std::memcmp(tag, kPeriodicTag, 4) == 0) {
       readPeriodic(b, s);

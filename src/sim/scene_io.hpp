@@ -205,6 +205,7 @@ inline constexpr char kEveryTag[5] = "EVRY";
 // Which sources turn their elements at random (SourceDef::randomOrientation), when one does:
 // u64 count (the sources'), then a u8 each. Written after SRCE.
 inline constexpr char kSourceOrientationTag[5] = "SORI";
+inline constexpr char kSourceShapeTag[5] = "SSHP";
 // The sinks (sim/sink.hpp), when any: their Defs and counters.
 inline constexpr char kSinkTag[5] = "SINK";
 inline constexpr char kPeriodicTag[5] = "PERI";  // periodic cell (sim/periodic.hpp)

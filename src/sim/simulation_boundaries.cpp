@@ -125,6 +125,14 @@ void SimulationManager<D>::addSource(const SourceDef& def) {
     throwBad("target", physics::formatReal(def.targetMass), "must be a non-negative number");
   checkSizes(def.size);
   checkRegion<D>(def.region, def.size.maxRadius());
+  if (def.shape.empty()) {
+    if (!def.shapeParams.empty()) {
+      throw Error("bad shape parameters: a ball takes none (its size is -radius)",
+                  {"VALUE", "SHAPE"});
+    }
+  } else {
+    shapeParamsForBound(def.shape, def.shapeParams, 1);  // the shape itself, and scalable
+  }
   const VecD<D> v = toVec<D>(def.velocity, "velocity");
   checkVelocityRange<D>(v);
   if (!(std::isfinite(def.jitter) && def.jitter >= 0))

@@ -350,12 +350,10 @@ typename Simulation::ElementMeshes SimulationManager<D>::elementMeshes() const {
 template <int D>
 uint32_t SimulationManager<D>::geometryIndex(const Geometry<D>& g) {
   if (g.shape == ShapeTable<D>::ball()) return 0;
-  for (size_t k = 1; k < s_.geometries.size(); ++k) {
-    const Geometry<D>& h = *s_.geometries[k];
-    if (h.shape == g.shape && h.params == g.params) return static_cast<uint32_t>(k);
-  }
-  s_.geometries.push_back(Shareable<Geometry<D>>::make(g));
-  return static_cast<uint32_t>(s_.geometries.size() - 1);
+  const auto [it, added] = s_.geometryLookup.emplace(std::make_pair(g.shape.value, g.params),
+                                                     static_cast<uint32_t>(s_.geometries.size()));
+  if (added) s_.geometries.push_back(Shareable<Geometry<D>>::make(g));
+  return it->second;
 }
 
 template <int D>

@@ -11,10 +11,12 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "sim/contacts.hpp"
 #include "sim/scene.hpp"
+#include "sim/shape.hpp"
 #include "sim/sim_loop.hpp"
 
 namespace demlab::sim {
@@ -104,6 +106,9 @@ void runSource(Scene<D>& s, SourceState& src) {
     near.r.push_back(a.r[i]);
   }
   const double density = s.materials[src.material].density;
+  // A shape other than the ball: its reference Geometry, scaled for each element.
+  std::optional<Geometry<D>> shape;
+  if (!d.shape.empty()) shape = ShapeTable<D>::get().makeGeometry(d.shape, d.shapeParams);
   while (sourceOwes(src, s.time)) {
     if (src.pendingRadius == 0) src.pendingRadius = d.size.draw(rng);
     const Real r = src.pendingRadius;
@@ -123,14 +128,22 @@ void runSource(Scene<D>& s, SourceState& src) {
       e.velocity[k] = d.velocity[k] + d.jitter * (2 * rng.unit() - 1);
     }
     if (d.randomOrientation) e.orientation = randomOrientation<D>(rng);
-    e.radius = r;
+    Real mass = ballMass<D>(density, r);
+    if (shape) {
+      const Real f = r / shape->boundRadius;
+      e.shape = d.shape;
+      e.shapeParams = *ShapeTable<D>::get().type(shape->shape).scaled(d.shapeParams, f);
+      mass = density * shape->volume * (D == 3 ? f * f * f : f * f);
+    } else {
+      e.radius = r;
+    }
     e.material = s.materialNames[src.material];
     e.tags = d.tags;
     s.deferred.create.push_back(std::move(e));
     near.x.push_back(p);
     near.r.push_back(r);
     src.count += 1;
-    src.mass += ballMass<D>(density, r);
+    src.mass += mass;
     src.pendingRadius = 0;
   }
 }

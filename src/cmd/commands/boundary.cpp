@@ -95,6 +95,10 @@ void registerBoundaryCommands(Registry& r) {
   src.option("tags", tagList(), "tags to give each element");
   src.option("orientation", choice({"identity", "random"}),
              "their orientation: identity (the default) or random (uniform over the rotations)");
+  src.option("shape", text("shape type"),
+             "their shape type (default: the ball); -params gives its shape, scaled about its "
+             "centre so that each element's bounding radius is the radius drawn");
+  src.option("params", reals(), "the shape's parameters (as element add -params)");
   src.option("every", integer().range(1, sim::kMaxBoundaryEvery),
              "insert what it owes every N steps (default 1); each step that inserts redoes the "
              "force pass, so a large scene inserts in batches (50-200 steps)");
@@ -131,6 +135,8 @@ void registerBoundaryCommands(Registry& r) {
     d.tags = tagsOption(c);
     if (c.has("every")) d.every = std::uint32_t(c.integer("every"));
     d.randomOrientation = c.has("orientation") && c.str("orientation") == "random";
+    if (c.given("shape") && c.str("shape") != s.shapeNames().front()) d.shape = c.str("shape");
+    if (c.given("params")) d.shapeParams = c.get<std::vector<double>>("params");
     c.prepared = d;
   });
   src.run([](Call& c) {
