@@ -34,31 +34,35 @@ inline Mat2 rotationMatrix(const Rotation2& r) {
   return m;
 }
 
-// A gauge body placed in the world: centre, rotation (body to world) and its shape.
+// A gauge body placed in the world: centre, rotation (body to world) and its shape. aligned:
+// the rotation is the identity and the centre the origin (a pair's first body, in whose frame
+// the pair is solved), so its evaluations skip the transforms.
 template <int D>
 struct PlacedGauge {
   Superquadric<D> shape;
   VecD<D> centre;
   MatD<D> rot;
+  bool aligned = false;
 
-  Real gauge(const VecD<D>& x) const { return shape.gauge(rot.transpose() * (x - centre)); }
-  VecD<D> gaugeGradient(const VecD<D>& x) const {
-    return rot * shape.gaugeGradient(rot.transpose() * (x - centre));
-  }
+  VecD<D> toBody(const VecD<D>& x) const { return aligned ? x : VecD<D>(rot.transpose() * (x - centre)); }
+  VecD<D> toWorld(const VecD<D>& v) const { return aligned ? v : VecD<D>(rot * v); }
+  Real gauge(const VecD<D>& x) const { return shape.gauge(toBody(x)); }
+  VecD<D> gaugeGradient(const VecD<D>& x) const { return toWorld(shape.gaugeGradient(toBody(x))); }
   VecD<D> gaugeAndGradient(const VecD<D>& x, Real& phi) const {
-    return rot * shape.gaugeAndGradient(rot.transpose() * (x - centre), phi);
+    return toWorld(shape.gaugeAndGradient(toBody(x), phi));
   }
   Real squaredGauge(const VecD<D>& x, VecD<D>& g, MatD<D>& h) const {
+    if (aligned) return shape.squaredGauge(x, g, h);
     VecD<D> gb;
     MatD<D> hb;
-    const Real v = shape.squaredGauge(rot.transpose() * (x - centre), gb, hb);
+    const Real v = shape.squaredGauge(toBody(x), gb, hb);
     g = rot * gb;
     h = rot * hb * rot.transpose();
     return v;
   }
   // The world point of the surface farthest along d.
   VecD<D> support(const VecD<D>& d) const {
-    return centre + rot * shape.support(rot.transpose() * d);
+    return aligned ? shape.support(d) : VecD<D>(centre + rot * shape.support(rot.transpose() * d));
   }
 };
 
@@ -96,7 +100,7 @@ MidwayPoint<D> newtonMidway(const PlacedGauge<D>& A, const PlacedGauge<D>& B, Ve
     J.template topRightCorner<D, 1>() = gb * length;
     J.template bottomLeftCorner<1, D>() = (ga - gb).transpose();
     J(D, D) = 0;
-    const Vec step = J.fullPivLu().solve(-r);
+    const Vec step = J.partialPivLu().solve(-r);
     if (!step.allFinite()) return {};
     // Backtracking on the residual's norm.
     Real t = 1;
@@ -224,11 +228,10 @@ struct ConvexContact {
   Real overlap = 0;
 };
 
-// Returns true and writes the contact if A and B overlap. length: a size of the pair (the sum
-// of their bounding radii), the solvers' scale. Changes nothing else.
+// convexContact's solver, in whatever frame A and B are given.
 template <int D>
-bool convexContact(const PlacedGauge<D>& A, const PlacedGauge<D>& B, Real length,
-                   ConvexContact<D>& out) {
+bool solveConvexContact(const PlacedGauge<D>& A, const PlacedGauge<D>& B, Real length,
+                        ConvexContact<D>& out) {
   const VecD<D> d = B.centre - A.centre;
   const Real dist = d.norm();
   if (dist == 0) return false;  // concentric: no normal to choose (the pair is refused earlier)
@@ -247,6 +250,21 @@ bool convexContact(const PlacedGauge<D>& A, const PlacedGauge<D>& B, Real length
   out.overlap = ta + tb;
   out.point = m.x + 0.5 * (ta - tb) * n;
   return out.overlap > 0;
+}
+
+// Returns true and writes the contact if A and B overlap. length: a size of the pair (the sum
+// of their bounding radii), the solvers' scale. Changes nothing else.
+template <int D>
+bool convexContact(const PlacedGauge<D>& Aworld, const PlacedGauge<D>& Bworld, Real length,
+                   ConvexContact<D>& out) {
+  // Solved in A's body frame (A's evaluations then need no transform), the result turned back.
+  const PlacedGauge<D> A{Aworld.shape, VecD<D>::Zero(), MatD<D>::Identity(), true};
+  const PlacedGauge<D> B{Bworld.shape, Aworld.toBody(Bworld.centre),
+                         Aworld.aligned ? Bworld.rot : MatD<D>(Aworld.rot.transpose() * Bworld.rot)};
+  if (!solveConvexContact(A, B, length, out)) return false;
+  out.normal = Aworld.toWorld(out.normal);
+  out.point = Aworld.aligned ? out.point : VecD<D>(Aworld.centre + Aworld.rot * out.point);
+  return true;
 }
 
 // Returns the parameters s in [-half, half]^K minimising psi_B(origin + axes s): the point of a

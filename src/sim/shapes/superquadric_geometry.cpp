@@ -15,8 +15,15 @@ struct PowTerm {
 // Returns t^p for t > 0: by multiplication for the whole exponents most shapes use (pow is
 // most of a contact's cost otherwise).
 Real power(Real t, Real p) {
-  const int whole = static_cast<int>(p);
-  if (whole == p) return std::pow(t, whole);  // __builtin_powi
+  int whole = static_cast<int>(p);
+  if (whole == p && whole >= 0) {
+    // By squaring (std::pow(double, int) calls pow itself).
+    Real out = 1;
+    for (Real base = t; whole > 0; whole >>= 1, base *= base) {
+      if (whole & 1) out *= base;
+    }
+    return out;
+  }
   if (p == 0.5) return std::sqrt(t);
   return std::pow(t, p);
 }

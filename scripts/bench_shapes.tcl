@@ -1,0 +1,48 @@
+# The cost of a superquadric bed against a bed of spheres of the same bounding radius: run by
+# scripts/bench-shapes (which see). Arguments: variant count settle-steps timed-steps.
+# Prints one CSV row: variant,n,steps,seconds,cpu_seconds,us_per_step,contacts,ns_per_contact
+lassign $argv variant count settle timed
+array set shapes {
+    sphere {}
+    ellipsoid {2 1.5 1 2 2}
+    blocky {2 1.5 1 4 4}
+    blocky-4-3 {2 1.5 1 4 3}
+    blocky-10 {2 1.5 1 10 10}
+}
+if {![info exists shapes($variant)]} {
+    puts stderr "bench_shapes: unknown variant \"$variant\": [array names shapes]"
+    exit 2
+}
+proc cpuSeconds {} {
+    set f [open /proc/self/stat]
+    set fields [split [read $f]]
+    close $f
+    # utime and stime, in clock ticks of 1/100 s (fields 14 and 15)
+    expr {([lindex $fields 13] + [lindex $fields 14]) / 100.0}
+}
+sim new
+material add grain -density 2500 -young 5e6 -poisson 0.3 -restitution 0.5 -friction 0.5
+behavior add gravity
+set side 0.06
+wall add plane -point {0 0 0} -normal {0 0 1}
+foreach {n p} [list {1 0 0} [list 0 0 0] {-1 0 0} [list $side 0 0] {0 1 0} [list 0 0 0] {0 -1 0} [list 0 $side 0]] {
+    wall add plane -normal $n -point $p
+}
+# Bounding balls at a solid fraction of about 0.2 (a loose start that settles in 0.1 s).
+set region [list box {0 0 0} [list $side $side [expr {$count * 5e-5}]]]
+if {$shapes($variant) eq {}} {
+    pack random -region $region -radius 0.002 -count $count -seed 1
+} else {
+    pack random -region $region -radius 0.002 -count $count -seed 1 -shape superquadric \
+        -params $shapes($variant) -orientation random
+}
+sim timestep 1e-5
+sim run -steps $settle -quiet
+set c0 [cpuSeconds]
+set t0 [clock microseconds]
+sim run -steps $timed -quiet
+set seconds [expr {([clock microseconds] - $t0) * 1e-6}]
+set cpu [expr {[cpuSeconds] - $c0}]
+set contacts [llength [query contacts]]
+puts [format "%s,%d,%d,%.3f,%.2f,%.1f,%d,%.0f" $variant $count $timed $seconds $cpu \
+    [expr {$cpu / $timed * 1e6}] $contacts [expr {$contacts > 0 ? $cpu / $timed / $contacts * 1e9 : 0}]]
