@@ -21,6 +21,7 @@ ShapeTable<D>::ShapeTable() {
   // The built-in shape types, the ball first (id 0): one line each.
   registerBall<D>(*this);
   registerSuperquadric<D>(*this);
+  registerClump<D>(*this);
 }
 
 template <int D>
@@ -92,8 +93,18 @@ Geometry<D> ShapeTable<D>::makeGeometry(std::string_view name,
   }
   t.check(params);
   g.params.assign(params.begin(), params.end());
-  g.boundRadius = t.boundingRadius(params);
-  const MassProperties<D> m = t.massProperties(params);
+  MassProperties<D> m = t.massProperties(params);
+  // A type that can move its parameters is moved so that the centroid is the origin (unless it
+  // is there already, to the check's tolerance: a checkpoint's moved parameters stay as saved,
+  // so the loaded Geometry is the saved one bit for bit).
+  const Real size = std::max(t.boundingRadius(params), Real{1e-300});
+  if (m.volume > 0 && m.centroid.norm() > 1e-12 * size) {
+    if (auto moved = t.translated(g.params, VecD<D>(-m.centroid))) {
+      g.params = std::move(*moved);
+      m = t.massProperties(g.params);
+    }
+  }
+  g.boundRadius = t.boundingRadius(g.params);
   g.volume = m.volume;
   const Real scale = std::max(g.boundRadius, Real{1e-300});
   if (!(m.centroid.norm() <= 1e-9 * scale)) {

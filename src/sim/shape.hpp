@@ -83,6 +83,13 @@ class ShapeType {
   virtual std::optional<std::vector<double>> scaled(std::span<const double>, Real) const {
     return std::nullopt;
   }
+  // Returns params describing the same shape moved by offset (a clump's members given about any
+  // point are moved so that its centre of mass is the origin), or nothing if the type's
+  // parameters are always about the centroid (the default).
+  virtual std::optional<std::vector<double>> translated(std::span<const double>,
+                                                        const VecD<D>&) const {
+    return std::nullopt;
+  }
   // The renderer's row: the shape as triangles in its body frame (3 points each; 2D: z = 0),
   // which snapshots draw turned and placed. Empty (the default): drawn as its bounding ball.
   virtual std::vector<Vec3> renderTriangles(std::span<const double>) const { return {}; }
@@ -108,8 +115,9 @@ struct ContactPoint {
   uint32_t feature = 0;
 };
 
-// A pair may touch at up to this many points (a box face down on a plane: four corners).
-inline constexpr int kMaxContactPoints = 4;
+// A pair may touch at up to this many points (a box face down on a plane: four corners; a
+// clump's members).
+inline constexpr int kMaxContactPoints = 16;
 
 // Writes the contact points of elements a and b to out[0..n) and returns n (0: apart). The
 // normals point from a to b. Changes nothing else.
@@ -206,5 +214,8 @@ void registerBall(ShapeTable<D>& t);
 // Registers the superquadric (3D) or superellipse (2D) and its rows (sim/shapes/superquadric.cpp).
 template <int D>
 void registerSuperquadric(ShapeTable<D>& t);
+// Registers the clump (a rigid assembly of balls) and its rows (sim/shapes/clump.cpp).
+template <int D>
+void registerClump(ShapeTable<D>& t);
 
 }  // namespace demlab::sim

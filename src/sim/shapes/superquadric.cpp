@@ -19,6 +19,7 @@
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
 #include "sim/shapes/convex_contact.hpp"
+#include "sim/shapes/radial_mesh.hpp"
 #include "sim/shapes/superquadric.hpp"
 
 namespace demlab::sim {
@@ -175,19 +176,7 @@ class SuperquadricType final : public ShapeType<D> {
         out.emplace_back(p1.x(), p1.y(), 0);
       }
     } else {
-      const int nu = 16, nt = 32;
-      const auto at = [&](int i, int j) {
-        const Real u = pi * i / nu, t = 2 * pi * j / nt;
-        const Vec3 d(std::cos(t) * std::sin(u), std::sin(t) * std::sin(u), std::cos(u));
-        return Vec3(d / s.gauge(d));
-      };
-      for (int i = 0; i < nu; ++i) {
-        for (int j = 0; j < nt; ++j) {
-          const Vec3 a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
-          if (i > 0) out.insert(out.end(), {a, b, d});
-          if (i + 1 < nu) out.insert(out.end(), {b, c, d});
-        }
-      }
+      appendRadialMesh(out, 16, 32, [&](const Vec3& d) { return Vec3(d / s.gauge(d)); });
     }
     return out;
   }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -93,6 +94,62 @@ inline ElementDef grain(const Vec3d& x, double r, const std::string& mat, const 
   g.material = mat;
   g.velocity = v;
   return g;
+}
+
+// Drops a ball of radius 1 cm with spin onto a plane and into a resting ball (friction 0.4,
+// restitution 0.5, 10 000 steps of 2e-5 s), the first ball replaced by an element of shape
+// `shape` with `params` when shape is given; returns both elements' end states. A shape that
+// is the ball in disguise must give the ball's run.
+inline std::array<ElementState, 2> dropIntoBall(std::unique_ptr<Simulation> s,
+                                                const std::string& shape = "",
+                                                const std::vector<double>& params = {}) {
+  s->addMaterial("glass", material(1e7, 0.5, 0.4));
+  s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
+  s->addGravity({0, 0, -9.81});
+  ElementDef a = grain({0, 0, 0.03}, 0.01, "glass", {0.2, 0, -0.3});
+  a.angularVelocity = {3, 1, -2};
+  if (!shape.empty()) {
+    a.radius = 0;
+    a.shape = shape;
+    a.shapeParams = params;
+  }
+  const ElementId ia = s->addElement(a);
+  const ElementId ib = s->addElement(grain({0.03, 0.002, 0.0099}, 0.01, "glass"));
+  s->setTimeStep(2e-5);
+  RunOptions o;
+  o.steps = 10000;
+  s->run(o);
+  return {s->element(ia), s->element(ib)};
+}
+
+// Expects the end states of dropIntoBall for a shape (got) to be the ball's (want) within tol
+// (angular velocities within 100 tol), and the ball struck to have moved.
+inline void expectSamePath(const std::array<ElementState, 2>& got,
+                           const std::array<ElementState, 2>& want, double tol) {
+  for (int e = 0; e < 2; ++e) {
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_NEAR(got[e].position[d], want[e].position[d], tol) << e << d;
+      EXPECT_NEAR(got[e].velocity[d], want[e].velocity[d], tol) << e << d;
+      EXPECT_NEAR(got[e].angularVelocity[d], want[e].angularVelocity[d], 100 * tol) << e << d;
+    }
+  }
+  EXPECT_GT(std::abs(want[1].position[0] - 0.03), 1e-3);
+}
+
+// Expects element add of shape with each of the parameter lists to fail with {VALUE SHAPE} in a
+// 3D scene, changing nothing.
+inline void expectShapesRefused(const std::string& shape,
+                                const std::vector<std::vector<double>>& bad) {
+  auto s = makeSimulation(3);
+  s->addMaterial("glass", material(1e7, 0.3, 0.5));
+  for (const std::vector<double>& p : bad) {
+    ElementDef e = grain({0, 0, 0}, 0, "glass");
+    e.shape = shape;
+    e.shapeParams = p;
+    const uint64_t before = s->stateDigest();
+    EXPECT_EQ(codeOf([&] { s->addElement(e); }), (std::vector<std::string>{"VALUE", "SHAPE"}));
+    EXPECT_EQ(s->stateDigest(), before);
+  }
 }
 
 // Adds the 2 D walls of the box [0, side]^D (planes facing inwards).
