@@ -12,7 +12,7 @@
 // kind through the ball's own narrow phase (physics/narrow_phase): each touching member is a
 // contact point with the member's radius as its Hertz radius, keyed by the member (or the pair of
 // members) so its spring follows it. At most kMaxContactPoints points a pair: beyond that the
-// deepest are kept. Superquadrics meet clumps through no row yet (the run is refused).
+// deepest are kept. Against a superquadric each member is a ball meeting it (its midway point).
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -24,6 +24,7 @@
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
 #include "sim/shapes/radial_mesh.hpp"
+#include "sim/shapes/superquadric.hpp"
 
 namespace demlab::sim {
 
@@ -299,6 +300,23 @@ int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out
   return keepDeepest(all, out);
 }
 
+// A clump against a superquadric: each member as a ball (sim/shapes/superquadric.hpp).
+template <int D>
+int superquadricRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
+  if (!((b.x - a.x).norm() < a.r + b.r)) return 0;
+  thread_local WorldMembers<D> m;
+  thread_local std::vector<ContactPoint<D>> all;
+  worldMembers(a, m);
+  all.clear();
+  for (size_t k = 0; k < m.n; ++k) {
+    ContactPoint<D> p;
+    if (!ballSuperquadricContact(m.c[k], m.r[k], b, p)) continue;
+    p.feature = static_cast<uint32_t>(k);
+    all.push_back(p);
+  }
+  return keepDeepest(all, out);
+}
+
 template <int D, class Wall>
 int wallRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   const Wall& w = *static_cast<const Wall*>(wall);
@@ -327,6 +345,7 @@ void registerClump(ShapeTable<D>& t) {
   const std::string_view ball = D == 3 ? "sphere" : "disc";
   t.addPair("clump", "clump", {pairRow<D>, false});
   t.addPair("clump", ball, {pairRow<D>, false});
+  t.addPair("clump", D == 3 ? "superquadric" : "superellipse", {superquadricRow<D>, false});
   t.addWall("clump", WallShape::Plane, {wallRow<D, physics::PlaneShape<D>>, false});
   t.addWall("clump", WallShape::Finite, {wallRow<D, physics::FlatWallShape<D>>, false});
   t.addWall("clump", WallShape::Box, {wallRow<D, physics::BoxShape<D>>, false});

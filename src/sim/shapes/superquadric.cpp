@@ -357,6 +357,26 @@ int boxRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
 }  // namespace
 
 template <int D>
+bool ballSuperquadricContact(const VecD<D>& centre, Real radius, const ElementRef<D>& sq,
+                             ContactPoint<D>& out) {
+  if (!((sq.x - centre).norm() < radius + sq.r)) return false;
+  PlacedGauge<D> ball;
+  ball.shape.a = ball.shape.b = ball.shape.c = radius;
+  ball.centre = centre;
+  ball.rot = MatD<D>::Identity();
+  ConvexContact<D> c;
+  if (!convexContact(ball, placed(sq), radius + sq.r, c)) return false;
+  const Real rb = hertzRadius(sq);
+  out.g = {c.normal, c.overlap, c.point};
+  out.effRadius = radius * rb / (radius + rb);
+  out.feature = 0;
+  return true;
+}
+
+template bool ballSuperquadricContact<2>(const Vec2&, Real, const ElementRef<2>&, ContactPoint<2>&);
+template bool ballSuperquadricContact<3>(const Vec3&, Real, const ElementRef<3>&, ContactPoint<3>&);
+
+template <int D>
 void registerSuperquadric(ShapeTable<D>& t) {
   t.add(std::make_unique<SuperquadricType<D>>());
   const std::string_view n = D == 3 ? "superquadric" : "superellipse";

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "core/math.hpp"
+#include "sim/shape.hpp"
 
 namespace demlab::sim {
 
@@ -33,5 +34,12 @@ struct Superquadric {
   // point, in closed form (Hoelder's inequality applied twice).
   VecD<D> support(const VecD<D>& d) const;
 };
+
+// Returns true and writes the contact of a ball (centre, radius) with the superquadric element
+// sq, the normal from the ball to it and the Hertz radius the pair's (the contact of a clump's
+// member, sim/shapes/clump.cpp). Changes nothing else.
+template <int D>
+bool ballSuperquadricContact(const VecD<D>& centre, Real radius, const ElementRef<D>& sq,
+                             ContactPoint<D>& out);
 
 }  // namespace demlab::sim

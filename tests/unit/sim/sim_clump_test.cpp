@@ -110,6 +110,36 @@ TEST(SimClump, OneMemberIsTheBallOnEveryWallAndBall) {
   EXPECT_GT(hits, 200);
 }
 
+// A clump's member meets a superquadric as a ball does: a one-member clump against random turned
+// superquadrics gives the superquadric-ball row's contact, the normal reversed.
+TEST(SimClump, MembersMeetSuperquadricsAsBalls) {
+  const ShapeTable<3>& t = ShapeTable<3>::get();
+  const TypeId clump = *t.id("clump"), sq = *t.id("superquadric");
+  const Geometry<3> c = t.makeGeometry("clump", std::vector<double>{0, 0, 0, 0.006});
+  const Geometry<3> ball;
+  const Geometry<3> g = t.makeGeometry("superquadric", std::vector<double>{0.012, 0.008, 0.005, 4, 3});
+  std::mt19937_64 rng(8);
+  std::normal_distribution<Real> n;
+  int hits = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const Vec3 x = Vec3(n(rng), n(rng), n(rng)).normalized() * 0.014 * (0.7 + 0.1 * std::abs(n(rng)));
+    const Quat q = Quat(n(rng), n(rng), n(rng), n(rng)).normalized();
+    const ElementRef<3> S{Vec3::Zero(), q, g.boundRadius, &g};
+    const ElementRef<3> C{x, Quat::Identity(), c.boundRadius, &c};
+    const ElementRef<3> B{x, Quat::Identity(), 0.006, &ball};
+    ContactPoint<3> pc[kMaxContactPoints], pb[kMaxContactPoints];
+    const int nc = t.pair(clump, sq)->fn(C, S, pc);
+    const int nb = t.pair(sq, ball.shape)->fn(S, B, pb);
+    ASSERT_EQ(nc, nb) << trial;
+    if (nc == 0) continue;
+    ++hits;
+    EXPECT_NEAR(pc[0].g.overlap, pb[0].g.overlap, 1e-12) << trial;
+    EXPECT_LT((pc[0].g.normal + pb[0].g.normal).norm(), 1e-9) << trial;
+    EXPECT_LT((pc[0].g.point - pb[0].g.point).norm(), 1e-12) << trial;
+  }
+  EXPECT_GT(hits, 100);
+}
+
 // A one-member clump is the sphere: the same path through impacts with a plane and a sphere.
 TEST(SimClump, OneMemberFollowsTheSpherePath) {
   testing::expectSamePath(testing::dropIntoBall(makeSimulation(3), "clump", {0, 0, 0, 0.01}),
