@@ -8,6 +8,7 @@ array set shapes {
     blocky {2 1.5 1 4 4}
     blocky-4-3 {2 1.5 1 4 3}
     blocky-10 {2 1.5 1 10 10}
+    clump {0 0 0 1 1.2 0 0 0.8 0 1.2 0 0.8 0 0 1.2 0.8}
 }
 if {![info exists shapes($variant)]} {
     puts stderr "bench_shapes: unknown variant \"$variant\": [array names shapes]"
@@ -33,8 +34,9 @@ set region [list box {0 0 0} [list $side $side [expr {$count * 5e-5}]]]
 if {$shapes($variant) eq {}} {
     pack random -region $region -radius 0.002 -count $count -seed 1
 } else {
-    pack random -region $region -radius 0.002 -count $count -seed 1 -shape superquadric \
-        -params $shapes($variant) -orientation random
+    pack random -region $region -radius 0.002 -count $count -seed 1 \
+        -shape [expr {$variant eq "clump" ? "clump" : "superquadric"}] -params $shapes($variant) \
+        -orientation random
 }
 sim timestep 1e-5
 sim run -steps $settle -quiet
