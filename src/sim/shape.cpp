@@ -97,9 +97,9 @@ Geometry<D> ShapeTable<D>::makeGeometry(std::string_view name,
   // A type that can move its parameters is moved so that the centroid is the origin (unless it
   // is there already, to the check's tolerance: a checkpoint's moved parameters stay as saved,
   // so the loaded Geometry is the saved one bit for bit).
-  const Real size = std::max(t.boundingRadius(params), Real{1e-300});
-  if (m.volume > 0 && m.centroid.norm() > 1e-12 * size) {
-    if (auto moved = t.translated(g.params, VecD<D>(-m.centroid))) {
+  if (m.volume > 0 && m.centroid.norm() > 0) {
+    auto moved = t.translated(g.params, VecD<D>(-m.centroid));
+    if (moved && m.centroid.norm() > 1e-12 * t.boundingRadius(params)) {
       g.params = std::move(*moved);
       m = t.massProperties(g.params);
     }

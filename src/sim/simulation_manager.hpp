@@ -55,7 +55,7 @@ class SimulationManager final : public Simulation {
       throw Error("bad shape \"" + shape + "\": its size can't be drawn from a distribution",
                   {"VALUE", "SHAPE"});
     }
-    t.makeGeometry(shape, *out);  // still within the type's checks
+    t.type(g.shape).check(*out);  // still within the type's checks
     return *out;
   }
   void setContactLaw(LawKind law) override;
