@@ -132,8 +132,10 @@ file(GLOB DEMLAB_TCL_TEST_FILES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/te
 # Files run through the executable only: they exercise the engine's physics through commands
 # every other file already runs through the package, and each takes over 40 s in the sanitizer
 # build, time the test command spends on fuzzing instead (doc/reliability.md, "The test command").
-# interrupt's commands run in child demlab executables whichever interpreter starts them.
-set(DEMLAB_TCL_EXECUTABLE_ONLY interrupt janssen lab periodic silo threads triaxial wallmotion)
+# interrupt's commands run in child demlab executables whichever interpreter starts them;
+# snapshot's renderer is the same code whichever interpreter calls it.
+set(DEMLAB_TCL_EXECUTABLE_ONLY interrupt janssen lab periodic silo snapshot threads triaxial
+    wallmotion)
 # Files about the package itself in a plain tclsh and in wish, run through the package only.
 set(DEMLAB_TCL_PACKAGE_ONLY package)
 # Files that open windows: run on a virtual X display of their own (xvfb-run), one such file at
