@@ -106,9 +106,9 @@ void runSource(Scene<D>& s, SourceState& src) {
     near.r.push_back(a.r[i]);
   }
   const double density = s.materials[src.material].density;
-  // A shape other than the ball: its reference Geometry, scaled for each element.
+  // A shape other than the ball: its reference Geometry, scaled for each element (made at the
+  // first element this call places, not on the steps that place none).
   std::optional<Geometry<D>> shape;
-  if (!d.shape.empty()) shape = ShapeTable<D>::get().makeGeometry(d.shape, d.shapeParams);
   while (sourceOwes(src, s.time)) {
     if (src.pendingRadius == 0) src.pendingRadius = d.size.draw(rng);
     const Real r = src.pendingRadius;
@@ -129,7 +129,8 @@ void runSource(Scene<D>& s, SourceState& src) {
     }
     if (d.randomOrientation) e.orientation = randomOrientation<D>(rng);
     Real mass = ballMass<D>(density, r);
-    if (shape) {
+    if (!d.shape.empty()) {
+      if (!shape) shape = ShapeTable<D>::get().makeGeometry(d.shape, d.shapeParams);
       const Real f = r / shape->boundRadius;
       e.shape = d.shape;
       e.shapeParams = *ShapeTable<D>::get().type(shape->shape).scaled(d.shapeParams, f);

@@ -216,16 +216,22 @@ int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out
   return 1;
 }
 
+// Writes c as the row's one contact point.
+template <int D>
+int convexPoint(const ElementRef<D>& a, const ConvexContact<D>& c, ContactPoint<D>* out) {
+  out[0].g = {c.normal, c.overlap, c.point};
+  out[0].effRadius = hertzRadius(a);
+  out[0].feature = 0;
+  return 1;
+}
+
 // Writes the contact with a surface whose outward normal (towards the element) is n at the
 // deepest point p, depth = how far p lies behind it.
 template <int D>
 int wallPoint(const ElementRef<D>& a, const VecD<D>& p, const VecD<D>& n, Real depth,
               ContactPoint<D>* out) {
   if (!(depth > 0)) return 0;
-  out[0].g = {VecD<D>(-n), depth, VecD<D>(p + 0.5 * depth * n)};
-  out[0].effRadius = hertzRadius(a);
-  out[0].feature = 0;
-  return 1;
+  return convexPoint(a, ConvexContact<D>{VecD<D>(-n), VecD<D>(p + 0.5 * depth * n), depth}, out);
 }
 
 template <int D>
@@ -266,15 +272,6 @@ int drumRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
     if (done) break;
   }
   return wallPoint(a, p, VecD<D>(-u), radial(p).norm() - dr.radius, out);
-}
-
-// Writes c as the row's one contact point.
-template <int D>
-int convexPoint(const ElementRef<D>& a, const ConvexContact<D>& c, ContactPoint<D>* out) {
-  out[0].g = {c.normal, c.overlap, c.point};
-  out[0].effRadius = hertzRadius(a);
-  out[0].feature = 0;
-  return 1;
 }
 
 // A finite wall (a rectangle or a segment, touched from both sides, perhaps with a hole): its
