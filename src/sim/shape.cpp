@@ -21,6 +21,7 @@ ShapeTable<D>::ShapeTable() {
   // The built-in shape types, the ball first (id 0): one line each.
   registerBall<D>(*this);
   registerSuperquadric<D>(*this);
+  registerPolytope<D>(*this);
   registerClump<D>(*this);
 }
 
@@ -139,6 +140,7 @@ Geometry<D> ShapeTable<D>::makeGeometry(std::string_view name,
     }
     g.isotropic = hi - lo <= 1e-12 * hi;
   }
+  g.data = t.derive(g.params);
   return g;
 }
 

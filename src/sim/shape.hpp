@@ -17,6 +17,7 @@
 // plug-in, a test) is registered before scenes use it, like a module row (module_table.hpp).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <optional>
@@ -57,6 +58,9 @@ struct Geometry {
   // All principal moments equal (to a relative 1e-12): the element turns as a ball does, and
   // the isotropic integrator serves it. Always true in 2D.
   bool isotropic = true;
+  // What the shape type derives once from its parameters for its contact routines (a
+  // polyhedron's faces and edges: ShapeType::derive), or null.
+  std::shared_ptr<const void> data;
 };
 
 // A shape type's interface. Implementations are stateless: every method is const and reads the
@@ -93,6 +97,9 @@ class ShapeType {
   // The renderer's row: the shape as triangles in its body frame (3 points each; 2D: z = 0),
   // which snapshots draw turned and placed. Empty (the default): drawn as its bounding ball.
   virtual std::vector<Vec3> renderTriangles(std::span<const double>) const { return {}; }
+  // Returns what the contact routines read of a shape besides its parameters, computed once per
+  // Geometry (checked parameters about the centroid), or null (the default).
+  virtual std::shared_ptr<const void> derive(std::span<const double>) const { return nullptr; }
 };
 
 // An element as a contact routine sees it: pose, bounding radius and shared geometry.
@@ -118,6 +125,22 @@ struct ContactPoint {
 // A pair may touch at up to this many points (a box face down on a plane: four corners; a
 // clump's members).
 inline constexpr int kMaxContactPoints = 16;
+
+// Moves the points of all to out, or beyond kMaxContactPoints the deepest of them (ties by
+// feature, so the choice is deterministic), and returns their count. Changes all's order.
+template <int D>
+int keepDeepestPoints(std::vector<ContactPoint<D>>& all, ContactPoint<D>* out) {
+  if (all.size() > static_cast<size_t>(kMaxContactPoints)) {
+    std::partial_sort(all.begin(), all.begin() + kMaxContactPoints, all.end(),
+                      [](const ContactPoint<D>& x, const ContactPoint<D>& y) {
+                        return x.g.overlap != y.g.overlap ? x.g.overlap > y.g.overlap
+                                                          : x.feature < y.feature;
+                      });
+    all.resize(kMaxContactPoints);
+  }
+  std::copy(all.begin(), all.end(), out);
+  return static_cast<int>(all.size());
+}
 
 // Writes the contact points of elements a and b to out[0..n) and returns n (0: apart). The
 // normals point from a to b. Changes nothing else.
@@ -214,6 +237,9 @@ void registerBall(ShapeTable<D>& t);
 // Registers the superquadric (3D) or superellipse (2D) and its rows (sim/shapes/superquadric.cpp).
 template <int D>
 void registerSuperquadric(ShapeTable<D>& t);
+// Registers the polygon (2D) or polyhedron (3D) and its rows (sim/shapes/polytope.cpp).
+template <int D>
+void registerPolytope(ShapeTable<D>& t);
 // Registers the clump (a rigid assembly of balls) and its rows (sim/shapes/clump.cpp).
 template <int D>
 void registerClump(ShapeTable<D>& t);

@@ -24,6 +24,7 @@
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
 #include "sim/shapes/radial_mesh.hpp"
+#include "sim/shapes/polytope.hpp"
 #include "sim/shapes/superquadric.hpp"
 
 namespace demlab::sim {
@@ -271,22 +272,6 @@ void worldMembers(const ElementRef<D>& e, WorldMembers<D>& out) {
   }
 }
 
-// Keeps the n points or, beyond the limit, the deepest kMaxContactPoints (ties by feature, so
-// the choice is deterministic). Returns the count written to out.
-template <int D>
-int keepDeepest(std::vector<ContactPoint<D>>& all, ContactPoint<D>* out) {
-  if (all.size() > static_cast<size_t>(kMaxContactPoints)) {
-    std::partial_sort(all.begin(), all.begin() + kMaxContactPoints, all.end(),
-                      [](const ContactPoint<D>& x, const ContactPoint<D>& y) {
-                        return x.g.overlap != y.g.overlap ? x.g.overlap > y.g.overlap
-                                                          : x.feature < y.feature;
-                      });
-    all.resize(kMaxContactPoints);
-  }
-  std::copy(all.begin(), all.end(), out);
-  return static_cast<int>(all.size());
-}
-
 template <int D>
 int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
   if (!((b.x - a.x).norm() < a.r + b.r)) return 0;
@@ -309,12 +294,13 @@ int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out
       all.push_back(p);
     }
   }
-  return keepDeepest(all, out);
+  return keepDeepestPoints<D>(all, out);
 }
 
-// A clump against a superquadric: each member as a ball (sim/shapes/superquadric.hpp).
-template <int D>
-int superquadricRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
+// A clump against a superquadric or a polytope: each member as a ball, through the other
+// shape's ball routine (sim/shapes/superquadric.hpp, sim/shapes/polytope.hpp).
+template <int D, bool (*BallContact)(const VecD<D>&, Real, const ElementRef<D>&, ContactPoint<D>&)>
+int memberRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
   if (!((b.x - a.x).norm() < a.r + b.r)) return 0;
   thread_local WorldMembers<D> m;
   thread_local std::vector<ContactPoint<D>> all;
@@ -322,11 +308,11 @@ int superquadricRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint
   all.clear();
   for (size_t k = 0; k < m.n; ++k) {
     ContactPoint<D> p;
-    if (!ballSuperquadricContact(m.c[k], m.r[k], b, p)) continue;
+    if (!BallContact(m.c[k], m.r[k], b, p)) continue;
     p.feature = static_cast<uint32_t>(k);
     all.push_back(p);
   }
-  return keepDeepest(all, out);
+  return keepDeepestPoints<D>(all, out);
 }
 
 template <int D, class Wall>
@@ -346,7 +332,7 @@ int wallRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
     p.feature = static_cast<uint32_t>(k);
     all.push_back(p);
   }
-  return keepDeepest(all, out);
+  return keepDeepestPoints<D>(all, out);
 }
 
 }  // namespace
@@ -357,7 +343,9 @@ void registerClump(ShapeTable<D>& t) {
   const std::string_view ball = D == 3 ? "sphere" : "disc";
   t.addPair("clump", "clump", {pairRow<D>, false});
   t.addPair("clump", ball, {pairRow<D>, false});
-  t.addPair("clump", D == 3 ? "superquadric" : "superellipse", {superquadricRow<D>, false});
+  t.addPair("clump", D == 3 ? "superquadric" : "superellipse",
+            {memberRow<D, ballSuperquadricContact<D>>, false});
+  t.addPair("clump", D == 3 ? "polyhedron" : "polygon", {memberRow<D, ballPolytopeContact<D>>, false});
   t.addWall("clump", WallShape::Plane, {wallRow<D, physics::PlaneShape<D>>, false});
   t.addWall("clump", WallShape::Finite, {wallRow<D, physics::FlatWallShape<D>>, false});
   t.addWall("clump", WallShape::Box, {wallRow<D, physics::BoxShape<D>>, false});

@@ -19,6 +19,8 @@ namespace {
 using testing::grain;
 using testing::material;
 using testing::plane;
+using testing::randomQuat;
+using testing::randomUnit;
 
 const Real kPi = std::numbers::pi;
 
@@ -31,11 +33,6 @@ Superquadric<3> randomShape(std::mt19937_64& rng) {
   return s;
 }
 
-Vec3 randomUnit(std::mt19937_64& rng) {
-  std::normal_distribution<Real> n;
-  Vec3 v(n(rng), n(rng), n(rng));
-  return v / v.norm();
-}
 
 // Runs s for the simulated time t (whole steps at its current step).
 void runFor(Simulation& s, double t) {
@@ -137,11 +134,6 @@ TEST(SimSuperquadric, SupportPointIsTheFarthestSurfacePoint) {
   }
 }
 
-// Returns the world pose of a random orientation.
-Quat randomQuat(std::mt19937_64& rng) {
-  std::normal_distribution<Real> n;
-  return Quat(n(rng), n(rng), n(rng), n(rng)).normalized();
-}
 
 TEST(SimSuperquadric, EqualAxesGiveTheBallsContactExactly) {
   const ShapeTable<3>& t = ShapeTable<3>::get();

@@ -18,6 +18,19 @@
 
 namespace demlab::sim::testing {
 
+// Returns a random unit vector (uniform on the sphere).
+inline Vec3 randomUnit(std::mt19937_64& rng) {
+  std::normal_distribution<Real> n;
+  Vec3 v(n(rng), n(rng), n(rng));
+  return v / v.norm();
+}
+
+// Returns a random orientation (uniform over rotations).
+inline Quat randomQuat(std::mt19937_64& rng) {
+  std::normal_distribution<Real> n;
+  return Quat(n(rng), n(rng), n(rng), n(rng)).normalized();
+}
+
 // Returns checkpoint file bytes with the scene's part changed by edit and the checksum made
 // anew: the reader's own checks see the change instead of the checksum catching it first.
 template <class F>

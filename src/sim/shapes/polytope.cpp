@@ -1,0 +1,249 @@
+// The polygon (2D) and polyhedron (3D) shape types: parameters the corners, x y [z] each
+// (sim/shapes/polytope.hpp has the structure and the contact).
+//
+// Rows: against itself and the ball (and the clump, whose members meet it as balls:
+// sim/shapes/clump.cpp), and every wall kind. A plane or a drum holds a convex body inside it
+// exactly when it holds every corner, so those rows take the corners below the plane or beyond
+// the drum's radius, each a contact point keyed by its corner. Solid boxes and finite walls are
+// polytopes themselves and go through the pair routine; a finite wall with a hole drops the
+// points over the hole (its rim's edge is not a contact feature: a corner or face resting across
+// the rim is held by the points beside the hole). The Hertz radius is the volume-equivalent
+// sphere's, as for superquadrics, taken at each point of a face contact.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "core/error.hpp"
+#include "physics/narrow_phase.hpp"
+#include "physics/shapes.hpp"
+#include "sim/obj_manager.hpp"
+#include "sim/shape.hpp"
+#include "sim/shapes/convex_contact.hpp"
+#include "sim/shapes/polytope.hpp"
+
+namespace demlab::sim {
+
+namespace {
+
+template <int D>
+constexpr const char* typeName() {
+  return D == 3 ? "polyhedron" : "polygon";
+}
+
+template <int D>
+class PolytopeType final : public ShapeType<D> {
+ public:
+  std::string_view name() const override { return typeName<D>(); }
+  std::string_view parameters() const override {
+    return D == 3 ? "x y z ...: the corners (4 to 64), about any point (m); the shape is their "
+                    "convex hull, and every point must be one of its corners"
+                  : "x y ...: the corners (3 to 64), about any point (m); the shape is their "
+                    "convex hull, and every point must be one of its corners";
+  }
+  void check(std::span<const double> p) const override { buildPolytope<D>(p, typeName<D>()); }
+  Real boundingRadius(std::span<const double> p) const override {
+    Real r = 0;
+    for (size_t k = 0; k + D <= p.size(); k += D) {
+      Real s = 0;
+      for (int d = 0; d < D; ++d) s += p[k + d] * p[k + d];
+      r = std::max(r, std::sqrt(s));
+    }
+    return r * (1 + 1e-12);
+  }
+  MassProperties<D> massProperties(std::span<const double> p) const override {
+    return polytopeMassProperties(buildPolytope<D>(p, typeName<D>()));
+  }
+  std::optional<std::vector<double>> scaled(std::span<const double> p, Real f) const override {
+    std::vector<double> out(p.begin(), p.end());
+    for (double& x : out) x *= f;
+    return out;
+  }
+  std::optional<std::vector<double>> translated(std::span<const double> p,
+                                                const VecD<D>& offset) const override {
+    std::vector<double> out(p.begin(), p.end());
+    for (size_t k = 0; k < out.size(); ++k) out[k] += offset[static_cast<int>(k % D)];
+    return out;
+  }
+  std::shared_ptr<const void> derive(std::span<const double> p) const override {
+    return std::make_shared<const Polytope<D>>(buildPolytope<D>(p, typeName<D>()));
+  }
+  // 3D: each face fanned from its first corner; 2D: the polygon fanned from the centroid.
+  std::vector<Vec3> renderTriangles(std::span<const double> p) const override {
+    const Polytope<D> poly = buildPolytope<D>(p, typeName<D>());
+    std::vector<Vec3> out;
+    const auto at = [&](uint32_t k) {
+      Vec3 v = Vec3::Zero();
+      v.template head<D>() = poly.vertices[k];
+      return v;
+    };
+    for (const auto& f : poly.faces) {
+      if constexpr (D == 2) {
+        out.push_back(Vec3::Zero());
+        out.push_back(at(f.loop[0]));
+        out.push_back(at(f.loop[1]));
+      } else {
+        for (size_t k = 1; k + 1 < f.loop.size(); ++k) {
+          out.push_back(at(f.loop[0]));
+          out.push_back(at(f.loop[k]));
+          out.push_back(at(f.loop[k + 1]));
+        }
+      }
+    }
+    return out;
+  }
+};
+
+template <int D>
+const Polytope<D>& polytopeOf(const ElementRef<D>& e) {
+  return *static_cast<const Polytope<D>*>(e.g->data.get());
+}
+
+template <int D>
+Real hertzRadius(const ElementRef<D>& e) {
+  if constexpr (D == 3) return std::cbrt(3 * e.g->volume / (4 * std::numbers::pi));
+  return std::sqrt(e.g->volume / std::numbers::pi);
+}
+
+// An element's corners and face normals in the world (scratch per thread and slot).
+template <int D>
+struct Placed {
+  std::vector<VecD<D>> corners, normals;
+  void place(const ElementRef<D>& e) {
+    const Polytope<D>& p = polytopeOf(e);
+    const MatD<D> rot = rotationMatrix(e.q);
+    corners.resize(p.vertices.size());
+    normals.resize(p.faces.size());
+    for (size_t k = 0; k < p.vertices.size(); ++k) corners[k] = e.x + rot * p.vertices[k];
+    for (size_t k = 0; k < p.faces.size(); ++k) normals[k] = rot * p.faces[k].normal;
+  }
+};
+
+// Sets every point's Hertz radius to r.
+template <int D>
+int withRadius(int n, Real r, ContactPoint<D>* out) {
+  for (int k = 0; k < n; ++k) out[k].effRadius = r;
+  return n;
+}
+
+template <int D>
+int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
+  if (!((b.x - a.x).norm() < a.r + b.r)) return 0;
+  thread_local Placed<D> pa, pb;
+  pa.place(a);
+  pb.place(b);
+  const int n = polytopeContact<D>(polytopeOf(a), pa.corners, pa.normals, polytopeOf(b), pb.corners,
+                                   pb.normals, out);
+  const Real ra = hertzRadius(a), rb = hertzRadius(b);
+  return withRadius(n, ra * rb / (ra + rb), out);
+}
+
+// A polytope against a ball: the ball's routine with the normal turned to point from a to b.
+template <int D>
+int ballRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
+  if (!ballPolytopeContact(b.x, b.r, a, out[0])) return 0;
+  out[0].g.normal = -out[0].g.normal;
+  return 1;
+}
+
+// The corners beyond a surface: depth(x) > 0 is how far corner x lies beyond it, normal(x) the
+// direction from the element into the wall there.
+template <int D, class Depth, class Normal>
+int cornerRow(const ElementRef<D>& a, Depth depth, Normal normal, ContactPoint<D>* out) {
+  thread_local Placed<D> pa;
+  pa.place(a);
+  thread_local std::vector<ContactPoint<D>> all;
+  all.clear();
+  for (size_t k = 0; k < pa.corners.size(); ++k) {
+    const VecD<D>& x = pa.corners[k];
+    const Real d = depth(x);
+    if (!(d > 0)) continue;
+    const VecD<D> n = normal(x);
+    ContactPoint<D> p;
+    p.g = {n, d, VecD<D>(x - 0.5 * d * n)};
+    p.effRadius = hertzRadius(a);
+    p.feature = static_cast<uint32_t>(k);
+    all.push_back(p);
+  }
+  return keepDeepestPoints<D>(all, out);
+}
+
+template <int D>
+int planeRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  const auto& pl = *static_cast<const physics::PlaneShape<D>*>(wall);
+  if ((a.x - pl.point).dot(pl.normal) >= a.r) return 0;
+  return cornerRow<D>(
+      a, [&](const VecD<D>& x) { return -(x - pl.point).dot(pl.normal); },
+      [&](const VecD<D>&) { return VecD<D>(-pl.normal); }, out);
+}
+
+template <int D>
+int drumRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  const auto& dr = *static_cast<const physics::DrumShape<D>*>(wall);
+  const auto radial = [&](const VecD<D>& x) {
+    VecD<D> r = x - dr.centre;
+    if constexpr (D == 3) r -= r.dot(dr.axis) * dr.axis;
+    return r;
+  };
+  if constexpr (D == 3) {
+    if (std::abs((a.x - dr.centre).dot(dr.axis)) > dr.halfLength) return 0;
+  }
+  if (radial(a.x).norm() + a.r <= dr.radius) return 0;
+  return cornerRow<D>(
+      a, [&](const VecD<D>& x) { return radial(x).norm() - dr.radius; },
+      [&](const VecD<D>& x) { return VecD<D>(radial(x).normalized()); }, out);
+}
+
+// The element against a wall's polytope w (in the world: its corners and normals as given).
+template <int D>
+int polytopeWall(const ElementRef<D>& a, const Polytope<D>& w, ContactPoint<D>* out) {
+  thread_local Placed<D> pa;
+  thread_local std::vector<VecD<D>> wn;
+  pa.place(a);
+  wn.resize(w.faces.size());
+  for (size_t k = 0; k < w.faces.size(); ++k) wn[k] = w.faces[k].normal;
+  const int n = polytopeContact<D>(polytopeOf(a), pa.corners, pa.normals, w, w.vertices, wn, out);
+  return withRadius(n, hertzRadius(a), out);
+}
+
+template <int D>
+int boxRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  const auto& w = *static_cast<const physics::BoxShape<D>*>(wall);
+  if (!physics::intersect<D>(physics::SphereShape<D>{a.x, a.r}, w)) return 0;
+  return polytopeWall(a, boxPolytope<D>(w.centre, w.axes, w.halfExtents), out);
+}
+
+template <int D>
+int finiteRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  const auto& w = *static_cast<const physics::FlatWallShape<D>*>(wall);
+  if (!physics::intersect<D>(physics::SphereShape<D>{a.x, a.r}, w)) return 0;
+  const int n = polytopeWall(a, flatPolytope<D>(w.centre, w.axes, w.halfExtents), out);
+  if (!(w.hole > 0)) return n;
+  int kept = 0;
+  for (int k = 0; k < n; ++k) {
+    VecD<D> in = out[k].g.point - w.centre;
+    Real s2 = 0;
+    for (int d = 0; d < D - 1; ++d) s2 += std::pow(in.dot(w.axes[d]), 2);
+    if (std::sqrt(s2) >= w.hole) out[kept++] = out[k];
+  }
+  return kept;
+}
+
+}  // namespace
+
+template <int D>
+void registerPolytope(ShapeTable<D>& t) {
+  t.add(std::make_unique<PolytopeType<D>>());
+  const std::string_view n = typeName<D>();
+  t.addPair(n, n, {pairRow<D>, false});
+  t.addPair(n, D == 3 ? "sphere" : "disc", {ballRow<D>, false});
+  t.addWall(n, WallShape::Plane, {planeRow<D>, false});
+  t.addWall(n, WallShape::Drum, {drumRow<D>, false});
+  t.addWall(n, WallShape::Finite, {finiteRow<D>, false});
+  t.addWall(n, WallShape::Box, {boxRow<D>, false});
+}
+
+template void registerPolytope<2>(ShapeTable<2>&);
+template void registerPolytope<3>(ShapeTable<3>&);
+
+}  // namespace demlab::sim
