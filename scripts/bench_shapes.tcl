@@ -9,6 +9,8 @@ array set shapes {
     blocky-4-3 {2 1.5 1 4 3}
     blocky-10 {2 1.5 1 10 10}
     clump {0 0 0 1 1.2 0 0 0.8 0 1.2 0 0.8 0 0 1.2 0.8}
+    polyhedron {-2 -1.5 -1 2 -1.5 -1 -2 1.5 -1 2 1.5 -1 -2 -1.5 1 2 -1.5 1 -2 1.5 1 2 1.5 1}
+    sphere-meshfloor {}
 }
 if {![info exists shapes($variant)]} {
     puts stderr "bench_shapes: unknown variant \"$variant\": [array names shapes]"
@@ -25,7 +27,28 @@ sim new
 material add grain -density 2500 -young 5e6 -poisson 0.3 -restitution 0.5 -friction 0.5
 behavior add gravity
 set side 0.06
-wall add plane -point {0 0 0} -normal {0 0 1}
+if {$variant eq "sphere-meshfloor"} {
+    # The floor as a mesh of 200 triangles (10 x 10 squares) instead of a plane.
+    set stl [file join [file dirname [info script]] .. build bench-floor.stl]
+    set f [open $stl w]
+    puts $f "solid floor"
+    set m 10
+    for {set i 0} {$i < $m} {incr i} {
+        for {set j 0} {$j < $m} {incr j} {
+            set x0 [expr {$side * $i / $m}]; set x1 [expr {$side * ($i + 1) / $m}]
+            set y0 [expr {$side * $j / $m}]; set y1 [expr {$side * ($j + 1) / $m}]
+            foreach tri [list [list $x0 $y0 $x1 $y0 $x1 $y1] [list $x0 $y0 $x1 $y1 $x0 $y1]] {
+                lassign $tri a b c d e g
+                puts $f "facet normal 0 0 1\nouter loop\nvertex $a $b 0\nvertex $c $d 0\nvertex $e $g 0\nendloop\nendfacet"
+            }
+        }
+    }
+    puts $f "endsolid floor"
+    close $f
+    wall add mesh -file $stl
+} else {
+    wall add plane -point {0 0 0} -normal {0 0 1}
+}
 foreach {n p} [list {1 0 0} [list 0 0 0] {-1 0 0} [list $side 0 0] {0 1 0} [list 0 0 0] {0 -1 0} [list 0 $side 0]] {
     wall add plane -normal $n -point $p
 }
@@ -35,7 +58,7 @@ if {$shapes($variant) eq {}} {
     pack random -region $region -radius 0.002 -count $count -seed 1
 } else {
     pack random -region $region -radius 0.002 -count $count -seed 1 \
-        -shape [expr {$variant eq "clump" ? "clump" : "superquadric"}] -params $shapes($variant) \
+        -shape [expr {$variant in {clump polyhedron} ? $variant : "superquadric"}] -params $shapes($variant) \
         -orientation random
 }
 sim timestep 1e-5

@@ -1,4 +1,5 @@
 #include "output/scene_vtk.hpp"
+#include "physics/triangle_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -120,6 +121,8 @@ void meshWall(const sim::WallState& w, int dim, const std::array<Vec3d, 2>& boun
         m.polyline(ring, true, k);
         break;
       }
+      case WallShape::Mesh:
+        break;  // 3D only
     }
     return;
   }
@@ -161,6 +164,18 @@ void meshWall(const sim::WallState& w, int dim, const std::array<Vec3d, 2>& boun
           const int p = side > 0 ? a : b, q = side > 0 ? b : a;
           m.polygon(rectangle(fc, w.axes[p], w.halfExtents[p], w.axes[q], w.halfExtents[q]), k);
         }
+      }
+      break;
+    }
+    case WallShape::Mesh: {
+      const physics::TriangleMesh& mesh = *w.mesh;
+      const auto place = [&](const Vec3& x) {
+        Vec3d out = c;
+        for (int k = 0; k < 3; ++k) out = add(out, w.axes[k], x[k]);
+        return out;
+      };
+      for (const auto& t : mesh.triangles) {
+        m.polygon({place(mesh.vertices[t[0]]), place(mesh.vertices[t[1]]), place(mesh.vertices[t[2]])}, k);
       }
       break;
     }

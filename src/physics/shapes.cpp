@@ -74,6 +74,25 @@ Bounds<D> bounds(const DrumShape<D>& d) {
   }
 }
 
+// The box of the mesh's bounds turned and moved: its eight corners' box.
+template <int D>
+Bounds<D> bounds(const MeshShape<D>& m) {
+  Bounds<D> out;
+  out.lo.fill(kInf);
+  out.hi.fill(-kInf);
+  if (!m.mesh) return out;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 local((c & 1) ? m.mesh->hi.x() : m.mesh->lo.x(), (c & 2) ? m.mesh->hi.y() : m.mesh->lo.y(),
+                     (c & 4) ? m.mesh->hi.z() : m.mesh->lo.z());
+    const Vec3 x = m.rotation * local + m.offset;
+    for (int k = 0; k < D; ++k) {
+      out.lo[k] = std::min(out.lo[k], x[k]);
+      out.hi[k] = std::max(out.hi[k], x[k]);
+    }
+  }
+  return out;
+}
+
 template <int D>
 Bounds<D> boundsWithin(const PlaneShape<D>& p, const Bounds<D>& domain) {
   Bounds<D> out;
@@ -115,6 +134,7 @@ Bounds<D> boundsWithin(const PlaneShape<D>& p, const Bounds<D>& domain) {
   template Bounds<D> bounds<D>(const FlatWallShape<D>&); \
   template Bounds<D> bounds<D>(const BoxShape<D>&);      \
   template Bounds<D> bounds<D>(const DrumShape<D>&);     \
+  template Bounds<D> bounds<D>(const MeshShape<D>&);     \
   template Bounds<D> boundsWithin<D>(const PlaneShape<D>&, const Bounds<D>&);
 DEMLAB_PHYSICS_BOUNDS(2)
 DEMLAB_PHYSICS_BOUNDS(3)

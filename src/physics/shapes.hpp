@@ -15,8 +15,10 @@
 
 #include <array>
 #include <limits>
+#include <memory>
 
 #include "core/math.hpp"
+#include "physics/triangle_mesh.hpp"
 #include "search/box.hpp"
 
 namespace demlab::physics {
@@ -75,6 +77,16 @@ struct DrumShape {
   Real halfLength = std::numeric_limits<Real>::infinity();  // 3D only
 };
 
+// A triangle-mesh wall (3D only): the mesh (physics/triangle_mesh.hpp) in its own frame, placed
+// by a rotation and an offset, world = rotation * local + offset. Two-sided, as a finite wall:
+// a grain is pushed away from the nearest point of the surface.
+template <int D>
+struct MeshShape {
+  std::shared_ptr<const TriangleMesh> mesh;
+  Mat3 rotation = Mat3::Identity();
+  Vec3 offset = Vec3::Zero();
+};
+
 // Each returns the closed axis-aligned box around the shape (+-infinity where unbounded);
 // changes nothing.
 template <int D>
@@ -87,6 +99,8 @@ template <int D>
 Bounds<D> bounds(const BoxShape<D>& b);
 template <int D>
 Bounds<D> bounds(const DrumShape<D>& d);
+template <int D>
+Bounds<D> bounds(const MeshShape<D>& m);
 
 // Returns the bounds of the part of the plane's back half-space {x : (x - point).normal <= 0}
 // that lies in the domain box (exact: the box of the clipped polytope); an empty intersection

@@ -45,6 +45,13 @@ RenderWall RenderWall::drum(const Vec3& centre, const Vec3& axis, double radius,
   return w;
 }
 
+RenderWall RenderWall::triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  RenderWall w;
+  w.kind = WallKind::triangle;
+  w.p = {a, b, c};
+  return w;
+}
+
 namespace {
 
 // Returns v formatted the way Tcl prints a double.
@@ -109,6 +116,9 @@ void checkWall(const RenderWall& w, size_t i, int dim) {
       if (dim == 3 && !(std::isfinite(w.length) && w.length > 0))
         throw bad("length \"" + num(w.length) + "\" must be a positive number");
       if (dim == 3 && w.p[1].squaredNorm() == 0) throw bad("axis must be a nonzero vector");
+      break;
+    case WallKind::triangle:
+      if (dim != 3) throw bad("a triangle is a 3D wall");
       break;
     default:
       throw bad("unknown kind");

@@ -21,7 +21,7 @@ namespace demlab::render {
 
 using Rgb = std::array<float, 3>;
 
-enum class WallKind { plane, segment, rectangle, box, drum };
+enum class WallKind { plane, segment, rectangle, box, drum, triangle };
 
 // One wall as a simple geometric description. Meaning of p[0..2] by kind:
 //   plane:     p[0] a point on it, p[1] its normal. Drawn clipped to the scene bounds
@@ -45,6 +45,8 @@ struct RenderWall {
   static RenderWall rectangle(const Vec3& corner, const Vec3& u, const Vec3& v);
   static RenderWall box(const Vec3& lo, const Vec3& hi);
   static RenderWall drum(const Vec3& centre, const Vec3& axis, double radius, double length);
+  // One triangle of a mesh wall (3D), its corners a, b, c.
+  static RenderWall triangle(const Vec3& a, const Vec3& b, const Vec3& c);
 };
 
 // Axis-aligned bounds; empty when lo > hi on some axis.

@@ -25,6 +25,11 @@ void addWall(Bounds& b, const RenderWall& w, int dim) {
       b.add(p[0]);
       b.add(p[1]);
       break;
+    case WallKind::triangle:
+      b.add(p[0]);
+      b.add(p[1]);
+      b.add(p[2]);
+      break;
     case WallKind::rectangle:
       b.add(p[0]);
       b.add(p[0] + p[1]);

@@ -169,6 +169,10 @@ void wallGeometry(const RenderScene& scene, const Bounds& bounds, const Vec3& an
       case WallKind::segment:
         e.segment(p0, p1);
         break;
+      case WallKind::triangle:
+        e.loop({p0, p1, p2});
+        if (faces) e.triangle(p0, p1, p2, (p1 - p0).cross(p2 - p0).normalized());
+        break;
       case WallKind::rectangle: {
         const std::vector<Vec3> q = {p0, p0 + p1, p0 + p1 + p2, p0 + p2};
         e.loop(q);

@@ -18,6 +18,7 @@
 #include "core/type_interaction.hpp"
 #include "physics/law_hertz_mindlin.hpp"
 #include "physics/law_linear.hpp"
+#include "physics/mesh_contact.hpp"
 #include "physics/narrow_phase.hpp"
 #include "sim/contact_kernel.hpp"
 #include "sim/scene.hpp"
@@ -203,7 +204,7 @@ template <int D>
 struct WallNarrowPhase {
   TypeRegistry types{"shape type"};
   TypeInteractionManager<physics::NarrowPhaseEntry<D>> table{types, "narrow phase"};
-  TypeId sphere, byShape[4];
+  TypeId sphere, byShape[5];  // none for meshes: balls meet them in the shape pass
   WallNarrowPhase() {
     physics::registerNarrowPhase<D>(types, table);
     sphere = types.get("sphere");
@@ -238,8 +239,16 @@ Real recordOverlapRatio(const Scene<D>& s, const ContactRecord<D>& c, Real f) {
     const Real ratio = 1 - (a.x[c.a] - plane->point).dot(plane->normal) / a.r[c.a];
     return ratio > f ? ratio : -1;
   }
-  const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
   const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
+  if (const auto* mesh = std::get_if<physics::MeshShape<D>>(&w.shape)) {
+    // The deepest of the ball's points on the mesh.
+    physics::MeshContact<D> mc[16];
+    const int n = physics::sphereMeshContacts<D>(sa, *mesh, mc, 16);
+    Real ratio = -1;
+    for (int k = 0; k < n; ++k) ratio = std::max(ratio, mc[k].g.overlap / a.r[c.a]);
+    return ratio > f ? ratio : -1;
+  }
+  const WallNarrowPhase<D>& np = WallNarrowPhase<D>::get();
   const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
   const auto geo = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
   if (!geo) return -1;

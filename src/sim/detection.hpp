@@ -225,7 +225,9 @@ class DetectionModule final : public SimModule<D> {
           continue;
         }
         pairs_[kept++] = q;
-      } else if (shapes && p.first < n && isShape(p.first)) {
+      } else if (shapes && p.first < n &&
+                 (isShape(p.first) || s.walls.items[wallOfBox_[p.second - n]].kind == WallShape::Mesh)) {
+        // Elements of every shape meet a mesh wall in the shape pass (several points a pair).
         s.shapeWallCandidates.emplace_back(p.first, wallOfBox_[p.second - n]);
       } else if (p.first < n) {
         s.wallCandidates[wallOfBox_[p.second - n]].push_back(p.first);

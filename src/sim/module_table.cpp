@@ -38,7 +38,10 @@ SceneUse sceneUse(const Scene<D>& s) {
     f.shapes = true;
     if (a.invInertia[i] == 0) f.rigid = true;
   }
-  for (const Wall<D>& w : s.walls.items) anyMat[w.material] = true;
+  for (const Wall<D>& w : s.walls.items) {
+    anyMat[w.material] = true;
+    if (w.kind == WallShape::Mesh) f.shapes = true;  // every element meets it in the shape pass
+  }
   int law = -2;
   for (size_t m = 0; m < nm; ++m) {
     if (!grainMat[m]) continue;

@@ -48,7 +48,8 @@ template <int D>
 std::optional<RecordGeometry<D>> recordGeometry(const Scene<D>& s, const ContactRecord<D>& c,
                                                 int point = -1) {
   const ElementArrays<D>& a = s.elements.a;
-  if (s.anyShapes && (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0))) {
+  if (s.anyShapes && (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0) ||
+                      (c.wall && s.walls.items[c.b].kind == WallShape::Mesh))) {
     if (point < 0) return std::nullopt;
     ContactPoint<D> pts[kMaxContactPoints];
     const int n = c.wall ? elementWallPoints(s, c.a, s.walls.items[c.b], pts)

@@ -17,8 +17,24 @@ namespace demlab::sim {
 
 namespace {
 
+// A mesh's triangles as corner coordinates, which TriangleMesh::build turns back into the same
+// mesh (corners numbered alike).
+std::vector<std::array<double, 9>> meshCorners(const physics::TriangleMesh& m) {
+  std::vector<std::array<double, 9>> out;
+  out.reserve(m.triangles.size());
+  for (const auto& t : m.triangles) {
+    std::array<double, 9> c;
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) c[3 * k + d] = m.vertices[t[k]][d];
+    out.push_back(c);
+  }
+  return out;
+}
+
+// Writes a wall's geometry; a mesh is written whole unless it is same (the wall's geometry at
+// creation, written just before), then only its pose.
 template <int D>
-void writeShape(Writer& w, const WallGeometry<D>& g) {
+void writeShape(Writer& w, const WallGeometry<D>& g, const physics::TriangleMesh* same = nullptr) {
   w.u8(static_cast<uint8_t>(g.index()));
   std::visit(
       [&](const auto& s) {
@@ -34,6 +50,16 @@ void writeShape(Writer& w, const WallGeometry<D>& g) {
           w.vec<D>(s.centre);
           for (int c = 0; c < D; ++c) w.vec<D>(s.axes.col(c));
           w.vec<D>(s.halfExtents);
+        } else if constexpr (std::is_same_v<S, physics::MeshShape<D>>) {
+          for (int c = 0; c < 3; ++c) w.vec<3>(s.rotation.col(c));
+          w.vec<3>(s.offset);
+          w.u8(s.mesh.get() != same);
+          if (s.mesh.get() != same) {
+            w.str(s.mesh->source);
+            w.list(meshCorners(*s.mesh), [&](const std::array<double, 9>& c) {
+              for (double x : c) w.f64(x);
+            });
+          }
         } else {
           w.vec<D>(s.centre);
           w.vec<D>(s.axis);
@@ -45,7 +71,7 @@ void writeShape(Writer& w, const WallGeometry<D>& g) {
 }
 
 template <int D>
-WallGeometry<D> readShape(Reader& r) {
+WallGeometry<D> readShape(Reader& r, const WallGeometry<D>* same = nullptr) {
   switch (r.u8()) {
     case 0: {
       physics::PlaneShape<D> s;
@@ -73,6 +99,35 @@ WallGeometry<D> readShape(Reader& r) {
       s.axis = r.vec<D>();
       s.radius = r.f64();
       s.halfLength = r.f64();
+      return s;
+    }
+    case 4: {
+      if (D != 3) Reader::bad("mesh wall in 2D");
+      physics::MeshShape<D> s;
+      for (int c = 0; c < 3; ++c) s.rotation.col(c) = r.vec<3>();
+      s.offset = r.vec<3>();
+      if (!((s.rotation.transpose() * s.rotation - Mat3::Identity()).norm() < 1e-9) ||
+          !(s.rotation.determinant() > 0) || !s.offset.allFinite()) {
+        Reader::bad("mesh pose");
+      }
+      if (r.u8() == 0) {
+        const auto* first = same == nullptr ? nullptr : std::get_if<physics::MeshShape<D>>(same);
+        if (first == nullptr) Reader::bad("mesh");
+        s.mesh = first->mesh;
+        return s;
+      }
+      const std::string source = r.str();
+      std::vector<std::array<double, 9>> corners(r.count(72));
+      for (auto& c : corners)
+        for (double& x : c) x = r.f64();
+      try {
+        auto mesh = physics::TriangleMesh::build(corners, source);
+        if (mesh.triangles.size() != corners.size()) Reader::bad("mesh triangles");
+        s.mesh = std::make_shared<const physics::TriangleMesh>(std::move(mesh));
+      } catch (const Error& e) {
+        if (e.code().size() > 1 && e.code()[1] == "LOAD") throw;
+        Reader::bad("mesh triangles");
+      }
       return s;
     }
     default:
@@ -716,7 +771,8 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.u8(static_cast<uint8_t>(x.kind));
     w.u32(x.material);
     writeShape<D>(w, x.shape0);
-    writeShape<D>(w, x.shape);
+    const auto* m0 = std::get_if<physics::MeshShape<D>>(&x.shape0);
+    writeShape<D>(w, x.shape, m0 != nullptr ? m0->mesh.get() : nullptr);
     w.u8(x.moving);
     w.vec<D>(x.velocity);
     w.vec<D>(x.amplitude);
@@ -828,7 +884,9 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     body.list(s.pairOverrides, [&](const PairOverride& o) { body.f64(o.c.young); });
     writeSection(w, kPairYoungTag, body);
   }
-  if (s.geometries.size() > 1) {
+  // Also for balls alone when they meet a mesh wall through the shape pass (its candidates and
+  // springs).
+  if (s.geometries.size() > 1 || s.anyShapes) {
     Writer body;
     writeShapes(body, s);
     writeSection(w, kShapeTag, body);
@@ -1013,7 +1071,10 @@ void readScene(Reader& r, Scene<D>& s) {
     x.material = r.u32();
     if (x.material >= nm) Reader::bad("wall material index");
     x.shape0 = readShape<D>(r);
-    x.shape = readShape<D>(r);
+    x.shape = readShape<D>(r, &x.shape0);
+    if (x.shape0.index() != x.shape.index() || static_cast<size_t>(x.kind) != x.shape.index()) {
+      Reader::bad("wall shape");
+    }
     x.moving = r.u8();
     x.velocity = r.vec<D>();
     x.amplitude = r.vec<D>();

@@ -167,7 +167,7 @@ struct ElementWallEntry {
   bool ballPass = false;
 };
 
-inline constexpr int kWallKinds = 4;  // WallShape's values
+inline constexpr int kWallKinds = 5;  // WallShape's values
 
 template <int D>
 class ShapeTable {

@@ -38,6 +38,10 @@
 #include "physics/pair_params.hpp"
 #include "sim/options.hpp"
 
+namespace demlab::physics {
+struct TriangleMesh;
+}
+
 namespace demlab::sim {
 
 using Vec3d = std::array<double, 3>;
@@ -130,7 +134,8 @@ enum class WallShape {
   Plane,   // infinite plane (a line in 2D) through point with normal; grains on the + side
   Finite,  // a finite flat wall: 2D a segment, 3D a rectangle; two-sided
   Box,     // a solid oriented box; grains outside
-  Drum     // a cylinder (a circle in 2D); grains inside
+  Drum,    // a cylinder (a circle in 2D); grains inside
+  Mesh     // a triangle mesh (3D only), two-sided
 };
 
 // Prescribed rigid motion of a wall, all parts optional and summed: the wall's reference point
@@ -157,6 +162,8 @@ struct WallMotion {
 //   Box   : point (centre), halfExtents (2D: [0], [1]; 3D: all three), rotation: a rotation
 //           vector (axis times angle, 2D: z only) turning the box from axis-aligned
 //   Drum  : point (centre), radius; 3D also axis (the cylinder's axis) and halfLength
+//   Mesh  : mesh (its triangles in their own frame), point (where the frame's origin goes),
+//           rotation (a rotation vector turning the frame); 3D only
 // A finite wall may also have a hole centred at its point: 3D a circular hole of radius hole,
 // 2D a gap of half width hole; 0 < hole < every half extent (VALUE HOLE).
 struct WallDef {
@@ -169,6 +176,7 @@ struct WallDef {
   double radius = 0;
   double halfLength = 0;
   double hole = 0;       // Finite only; 0: none
+  std::shared_ptr<const physics::TriangleMesh> mesh;  // Mesh only
   std::string material;  // LOOKUP MATERIAL
   std::vector<std::string> tags;
   std::string name;
@@ -241,10 +249,12 @@ struct WallState {
   //           the radius of its hole (2D: the gap's half width), 0 for none.
   //   Box   : centre, axes[0..dim-1] its axes, halfExtents along them.
   //   Drum  : centre, radius; 3D axes[0] its axis and halfLength.
+  //   Mesh  : centre (where its frame's origin is), axes[0..2] its frame's axes, mesh.
   Vec3d centre{}, normal{};
   std::array<Vec3d, 3> axes{};
   Vec3d halfExtents{};
   double radius = 0, halfLength = 0, hole = 0;
+  std::shared_ptr<const physics::TriangleMesh> mesh;
 };
 
 // The heap a scene holds, in bytes, by part (capacities, so room reserved counts): what grows

@@ -6,6 +6,7 @@
 
 #include "sim/convert.hpp"
 #include "sim/record_geometry.hpp"
+#include "physics/triangle_mesh.hpp"
 #include "sim/simulation_manager.hpp"
 
 namespace demlab::sim {
@@ -199,6 +200,32 @@ Wall<D> SimulationManager<D>::checkWall(const WallDef& def) const {
       w.shape0 = d;
       break;
     }
+    case WallShape::Mesh: {
+      const char* sh = "mesh";
+      if (D != 3) throw Error("bad wall: a mesh wall is 3D only", {"VALUE", "SHAPE"});
+      checkUnused(def.hole, "hole", sh);
+      checkUnused(def.normal, "normal", sh);
+      checkUnused(def.axis, "axis", sh);
+      checkUnused(def.halfExtents, "half extents", sh);
+      checkUnused(def.radius, "radius", sh);
+      checkUnused(def.halfLength, "half length", sh);
+      if (!def.mesh || def.mesh->triangles.empty()) throw Error("bad wall: a mesh wall needs a mesh", {"VALUE", "MESH"});
+      physics::MeshShape<D> m;
+      m.mesh = def.mesh;
+      if constexpr (D == 3) {
+        m.rotation = quatFromRotationVector(toAngular<D>(def.rotation, "rotation")).toRotationMatrix();
+        m.offset = p;
+        // Every corner where it goes must lie within the coordinates' bound.
+        const physics::Bounds<D> b = physics::bounds(m);
+        for (int k = 0; k < D; ++k) {
+          if (!(std::abs(b.lo[k]) <= validity::kMaxCoordinate && std::abs(b.hi[k]) <= validity::kMaxCoordinate)) {
+            throwBad("point", formatVec(def.point, 3), "puts the mesh beyond the coordinates' bound");
+          }
+        }
+      }
+      w.shape0 = m;
+      break;
+    }
     default:
       throw Error("bad wall shape", {"VALUE", "SHAPE"});
   }
@@ -336,6 +363,12 @@ WallState SimulationManager<D>::wall(WallId id) const {
             st.axes[k] = fromVec<D>(VecD<D>(sh.axes.col(k)));
             st.halfExtents[k] = sh.halfExtents[k];
           }
+        } else if constexpr (std::is_same_v<S, physics::MeshShape<D>>) {
+          if constexpr (D == 3) {
+            st.centre = fromVec<D>(sh.offset);
+            for (int k = 0; k < 3; ++k) st.axes[k] = fromVec<D>(Vec3(sh.rotation.col(k)));
+          }
+          st.mesh = sh.mesh;
         } else {
           st.centre = fromVec<D>(sh.centre);
           st.radius = sh.radius;

@@ -24,7 +24,8 @@ namespace demlab::sim {
 
 template <int D>
 using WallGeometry = std::variant<physics::PlaneShape<D>, physics::FlatWallShape<D>,
-                                  physics::BoxShape<D>, physics::DrumShape<D>>;
+                                  physics::BoxShape<D>, physics::DrumShape<D>,
+                                  physics::MeshShape<D>>;
 
 template <int D>
 struct Wall {
@@ -120,6 +121,11 @@ struct Wall {
           } else if constexpr (std::is_same_v<S, physics::BoxShape<D>>) {
             s.centre = point0 + shift + R * (s0.centre - point0);
             s.axes = R * s0.axes;
+          } else if constexpr (std::is_same_v<S, physics::MeshShape<D>>) {
+            if constexpr (D == 3) {
+              s.offset = point0 + shift + R * (s0.offset - point0);
+              s.rotation = R * s0.rotation;
+            }
           } else {
             s.centre = point0 + shift + R * (s0.centre - point0);
             if constexpr (D == 3) s.axis = R * s0.axis;
@@ -229,6 +235,16 @@ struct Wall {
             return (s.centre - point).norm() + std::sqrt(h2);
           } else if constexpr (std::is_same_v<S, physics::BoxShape<D>>) {
             return (s.centre - point).norm() + s.halfExtents.norm();
+          } else if constexpr (std::is_same_v<S, physics::MeshShape<D>>) {
+            // The farthest corner of the mesh's bounds from the reference point.
+            const physics::Bounds<D> b = physics::bounds(s);
+            Real far = 0;
+            for (int c = 0; c < (1 << D); ++c) {
+              VecD<D> x;
+              for (int k = 0; k < D; ++k) x[k] = (c >> k & 1) ? b.hi[k] : b.lo[k];
+              far = std::max(far, (x - point).norm());
+            }
+            return far;
           } else {
             bool aboutAxis;
             if constexpr (D == 2) {

@@ -1,4 +1,5 @@
 #include "cmd/commands/snapshot_frame.hpp"
+#include "physics/triangle_mesh.hpp"
 
 #ifdef DEMLAB_HAVE_RENDER
 
@@ -95,6 +96,16 @@ std::vector<RenderWall> renderWalls(const sim::Simulation& s) {
         out.push_back(RenderWall::drum(c, d == 2 ? Vec3::UnitZ() : a0, w.radius,
                                        d == 2 ? 0.0 : 2 * w.halfLength));
         break;
+      case sim::WallShape::Mesh: {
+        const physics::TriangleMesh& m = *w.mesh;
+        Mat3 R;
+        R << a0, a1, a2;
+        for (const auto& t : m.triangles) {
+          out.push_back(RenderWall::triangle(c + R * m.vertices[t[0]], c + R * m.vertices[t[1]],
+                                             c + R * m.vertices[t[2]]));
+        }
+        break;
+      }
     }
   }
   return out;

@@ -1,4 +1,4 @@
-// The "wall" group: planes, finite walls, boxes and drums, with optional prescribed motion.
+// The "wall" group: planes, finite walls, boxes, drums and meshes, with optional prescribed motion.
 #include <unordered_set>
 
 #include "cmd/commands/commands.hpp"
@@ -6,6 +6,8 @@
 #include "cmd/words.hpp"
 #include "core/validity.hpp"
 #include "core/tag_table.hpp"
+#include "io/stl.hpp"
+#include "physics/triangle_mesh.hpp"
 #include "sim/boundaries.hpp"
 
 namespace demlab::cmd {
@@ -26,6 +28,8 @@ const char* shapeName(WallShape s) {
       return "box";
     case WallShape::Drum:
       return "drum";
+    case WallShape::Mesh:
+      return "mesh";
   }
   return "?";
 }
@@ -107,7 +111,7 @@ Value addWall(Call& c) {
 Dict wallDict(const sim::WallState& w, int d) {
   List tags;
   for (auto& t : w.tags) tags.emplace_back(t);
-  return {{"id", scriptId(w.id)},
+  Dict out = {{"id", scriptId(w.id)},
           {"name", w.name},
           {"shape", shapeName(w.shape)},
           {"material", w.material},
@@ -124,12 +128,17 @@ Dict wallDict(const sim::WallState& w, int d) {
           {"hole", w.hole},
           {"bounds", List{vecValue(w.boundsLo, d), vecValue(w.boundsHi, d)}},
           {"tags", tags}};
+  if (w.mesh) {
+    out.emplace_back("file", w.mesh->source);
+    out.emplace_back("triangles", Value(w.mesh->triangles.size()));
+  }
+  return out;
 }
 
 }  // namespace
 
 void registerWallCommands(Registry& r) {
-  r.describe("wall", "Walls: infinite planes, finite walls, boxes and drums, fixed or moving.");
+  r.describe("wall", "Walls: infinite planes, finite walls, boxes, drums and triangle meshes, fixed or moving.");
   r.describe("wall add", "Adds a wall of one shape; returns its id.");
 
   Command& plane =
@@ -200,6 +209,32 @@ void registerWallCommands(Registry& r) {
     c.prepared = w;
   });
   drum.run(addWall);
+
+  Command& mesh = r.add("wall add mesh",
+                        "Adds a wall of triangles read from an STL file (ASCII or binary), 3D "
+                        "only: a hopper, a chute, a mixer's blade. Two-sided; an element meets "
+                        "each face, edge or corner it touches once, however many triangles "
+                        "share it.");
+  mesh.interruptible = true;
+  mesh.option("file", text("file"), "the STL file").require();
+  mesh.option("scale", real().positive(), "multiply the file's lengths by this (mm to m: 0.001)")
+      .byDefault("1");
+  mesh.option("rotation", spin().withUnit("rad"),
+              "rotation vector (axis times angle) turning the mesh about its file's origin");
+  commonOptions(mesh);
+  mesh.onCheck([](Call& c) {
+    if (session(c).scene().dim() != 3) c.bad("file", "a mesh wall is 3D only");
+    WallDef w = baseDef(c, WallShape::Mesh);
+    const std::string path = c.str("file");
+    io::StlMesh stl = io::readStl(path);
+    const double k = c.real("scale");
+    for (auto& t : stl.triangles)
+      for (double& x : t) x *= k;
+    w.mesh = std::make_shared<const physics::TriangleMesh>(physics::TriangleMesh::build(stl.triangles, path));
+    if (c.has("rotation")) w.rotation = vec3(c.vec("rotation"), true);
+    c.prepared = w;
+  });
+  mesh.run(addWall);
 
   Command& get = r.add("wall get", "Returns a wall's state as a dict, or the fields asked for.");
   get.arg("wall", wallRef(), "a wall id or name");

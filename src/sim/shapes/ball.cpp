@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "physics/mesh_contact.hpp"
 #include "physics/narrow_phase.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
@@ -57,6 +58,17 @@ int ballWall(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
       a.r, out);
 }
 
+// A ball against a mesh wall: a point per surface feature it touches (physics/mesh_contact.hpp),
+// through the shape pass (several points a pair, each with its own spring).
+template <int D>
+int ballMesh(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  physics::MeshContact<D> c[kMaxContactPoints];
+  const int n = physics::sphereMeshContacts<D>({a.x, a.r}, *static_cast<const physics::MeshShape<D>*>(wall),
+                                               c, kMaxContactPoints);
+  for (int k = 0; k < n; ++k) out[k] = {c[k].g, a.r, c[k].feature};
+  return n;
+}
+
 }  // namespace
 
 template <int D>
@@ -68,6 +80,7 @@ void registerBall(ShapeTable<D>& t) {
   t.addWall(n, WallShape::Finite, {ballWall<D, physics::FlatWallShape<D>>, true});
   t.addWall(n, WallShape::Box, {ballWall<D, physics::BoxShape<D>>, true});
   t.addWall(n, WallShape::Drum, {ballWall<D, physics::DrumShape<D>>, true});
+  if (D == 3) t.addWall(n, WallShape::Mesh, {ballMesh<D>, false});
 }
 
 template void registerBall<2>(ShapeTable<2>&);

@@ -24,6 +24,7 @@
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
 #include "sim/shapes/radial_mesh.hpp"
+#include "physics/mesh_contact.hpp"
 #include "sim/shapes/polytope.hpp"
 #include "sim/shapes/superquadric.hpp"
 
@@ -335,6 +336,25 @@ int wallRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   return keepDeepestPoints<D>(all, out);
 }
 
+// A clump against a mesh wall: each member as a ball (physics/mesh_contact.hpp), its points'
+// features its member's and their rank there.
+template <int D>
+int meshRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  const auto& mesh = *static_cast<const physics::MeshShape<D>*>(wall);
+  thread_local WorldMembers<D> m;
+  thread_local std::vector<ContactPoint<D>> all;
+  worldMembers(a, m);
+  all.clear();
+  physics::MeshContact<D> c[kMaxContactPoints];
+  for (size_t k = 0; k < m.n; ++k) {
+    const int n = physics::sphereMeshContacts<D>({m.c[k], m.r[k]}, mesh, c, kMaxContactPoints);
+    for (int j = 0; j < n; ++j) {
+      all.push_back({c[j].g, m.r[k], static_cast<uint32_t>(k * kMaxContactPoints) + c[j].feature});
+    }
+  }
+  return keepDeepestPoints<D>(all, out);
+}
+
 }  // namespace
 
 template <int D>
@@ -350,6 +370,7 @@ void registerClump(ShapeTable<D>& t) {
   t.addWall("clump", WallShape::Finite, {wallRow<D, physics::FlatWallShape<D>>, false});
   t.addWall("clump", WallShape::Box, {wallRow<D, physics::BoxShape<D>>, false});
   t.addWall("clump", WallShape::Drum, {wallRow<D, physics::DrumShape<D>>, false});
+  if (D == 3) t.addWall("clump", WallShape::Mesh, {meshRow<D>, false});
 }
 
 template void registerClump<2>(ShapeTable<2>&);

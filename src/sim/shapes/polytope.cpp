@@ -16,6 +16,7 @@
 
 #include "core/error.hpp"
 #include "physics/narrow_phase.hpp"
+#include "physics/triangle_mesh.hpp"
 #include "physics/shapes.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
@@ -229,6 +230,50 @@ int finiteRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   return kept;
 }
 
+// A polyhedron against a mesh wall: each triangle near it as a flat polytope (its two sides
+// faces), through the pair routine; a point that two triangles give alike (where the body lies
+// across their shared edge) is kept once, the deeper.
+template <int D>
+int meshRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  if constexpr (D != 3) {
+    return 0;
+  } else {
+    const auto& m = *static_cast<const physics::MeshShape<D>*>(wall);
+    const physics::TriangleMesh& mesh = *m.mesh;
+    thread_local std::vector<uint32_t> near;
+    thread_local std::vector<ContactPoint<D>> all;
+    thread_local Polytope<3> tri;
+    mesh.near(Vec3(m.rotation.transpose() * (a.x - m.offset)), a.r, near);
+    all.clear();
+    if (tri.faces.empty()) {
+      tri.vertices.resize(3);
+      tri.faces = {{Vec3::Zero(), 0, {0, 1, 2}}, {Vec3::Zero(), 0, {2, 1, 0}}};
+      tri.edges = {{0, 1}, {1, 2}, {0, 2}};
+    }
+    ContactPoint<D> pts[kMaxContactPoints];
+    for (uint32_t t : near) {
+      for (int k = 0; k < 3; ++k) tri.vertices[k] = m.rotation * mesh.vertices[mesh.triangles[t][k]] + m.offset;
+      const Vec3 n = m.rotation * mesh.normals[t];
+      tri.faces[0].normal = n, tri.faces[0].offset = n.dot(tri.vertices[0]);
+      tri.faces[1].normal = -n, tri.faces[1].offset = -n.dot(tri.vertices[0]);
+      const int c = polytopeWall(a, tri, pts);
+      for (int k = 0; k < c; ++k) {
+        pts[k].feature ^= t * 0x9E3779B1u;
+        bool merged = false;
+        for (ContactPoint<D>& q : all) {
+          if ((q.g.point - pts[k].g.point).norm() <= 1e-9 * a.r) {
+            if (pts[k].g.overlap > q.g.overlap) q = pts[k];
+            merged = true;
+            break;
+          }
+        }
+        if (!merged) all.push_back(pts[k]);
+      }
+    }
+    return keepDeepestPoints<D>(all, out);
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -241,6 +286,7 @@ void registerPolytope(ShapeTable<D>& t) {
   t.addWall(n, WallShape::Drum, {drumRow<D>, false});
   t.addWall(n, WallShape::Finite, {finiteRow<D>, false});
   t.addWall(n, WallShape::Box, {boxRow<D>, false});
+  if (D == 3) t.addWall(n, WallShape::Mesh, {meshRow<D>, false});
 }
 
 template void registerPolytope<2>(ShapeTable<2>&);
