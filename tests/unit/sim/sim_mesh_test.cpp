@@ -96,7 +96,7 @@ TEST(SimMesh, NearestPointOfATriangleAgreesWithSampling) {
     const Vec3 p(2 * u(rng), 2 * u(rng), 2 * u(rng));
     const physics::TrianglePoint got = physics::nearestOnTriangle(p, a, b, c);
     double best = 1e300;
-    const int n = 300;
+    const int n = 120;
     for (int i = 0; i <= n; ++i) {
       for (int j = 0; i + j <= n; ++j) {
         const Vec3 q = a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n);
@@ -105,7 +105,7 @@ TEST(SimMesh, NearestPointOfATriangleAgreesWithSampling) {
     }
     const double d = (p - got.point).norm();
     EXPECT_LE(d, best + 1e-12) << k;
-    EXPECT_GT(d, best - 0.01) << k;  // the sampling's spacing
+    EXPECT_GT(d, best - 0.03) << k;  // the sampling's spacing
   }
 }
 
