@@ -66,6 +66,11 @@ struct PlacedGauge {
   }
 };
 
+// Returns element e, a superquadric (or a ball, as the superquadric (r, r, r, 2, 2)), as a
+// placed gauge body (sim/shapes/superquadric.cpp).
+template <int D>
+PlacedGauge<D> placedGauge(const ElementRef<D>& e);
+
 // The result of the midway-point search.
 template <int D>
 struct MidwayPoint {

@@ -1,8 +1,8 @@
 // The polygon (2D) and polyhedron (3D) shape types: parameters the corners, x y [z] each
 // (sim/shapes/polytope.hpp has the structure and the contact).
 //
-// Rows: against itself and the ball (and the clump, whose members meet it as balls:
-// sim/shapes/clump.cpp), and every wall kind. A plane or a drum holds a convex body inside it
+// Rows: against itself, the ball and the superquadric (and the clump, whose members meet it as
+// balls: sim/shapes/clump.cpp), and every wall kind. A plane or a drum holds a convex body inside it
 // exactly when it holds every corner, so those rows take the corners below the plane or beyond
 // the drum's radius, each a contact point keyed by its corner. Solid boxes and finite walls are
 // polytopes themselves and go through the pair routine; a finite wall with a hole drops the
@@ -139,6 +139,19 @@ int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out
   return withRadius(n, ra * rb / (ra + rb), out);
 }
 
+// A polytope against a superquadric (sim/shapes/polytope.hpp, polytopeGaugeContact): one point.
+template <int D>
+int gaugeRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
+  if (!((b.x - a.x).norm() < a.r + b.r)) return 0;
+  thread_local Placed<D> pa;
+  pa.place(a);
+  if (polytopeGaugeContact<D>(polytopeOf(a), pa.corners, pa.normals, placedGauge(b), b.r, out) == 0) return 0;
+  const Real ra = hertzRadius(a), rb = hertzRadius(b);
+  out[0].effRadius = ra * rb / (ra + rb);
+  out[0].feature = 0;
+  return 1;
+}
+
 // A polytope against a ball: the ball's routine with the normal turned to point from a to b.
 template <int D>
 int ballRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
@@ -230,9 +243,14 @@ int finiteRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   return kept;
 }
 
-// A polyhedron against a mesh wall: each triangle near it as a flat polytope (its two sides
-// faces), through the pair routine; a point that two triangles give alike (where the body lies
-// across their shared edge) is kept once, the deeper.
+// A polyhedron against a mesh wall, as its corners against a plane and the mesh's ridges
+// against its faces: each corner beyond a triangle near it (on the far side of the triangle's
+// plane from the element's centre, over the triangle) is a point, the deepest such triangle's,
+// keyed by the corner, so its spring follows it from triangle to triangle; and each edge where
+// the mesh bends away from the element (or its border) that passes through the element gives
+// its deepest point, pushed out through the element's nearest face. Edges and corners inside a
+// flat or hollow part of the mesh are not contact features, so a box face down on a floor of
+// many triangles rests on its four corners, as on a plane.
 template <int D>
 int meshRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   if constexpr (D != 3) {
@@ -240,35 +258,123 @@ int meshRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   } else {
     const auto& m = *static_cast<const physics::MeshShape<D>*>(wall);
     const physics::TriangleMesh& mesh = *m.mesh;
+    const Polytope<3>& poly = polytopeOf(a);
     thread_local std::vector<uint32_t> near;
     thread_local std::vector<ContactPoint<D>> all;
-    thread_local Polytope<3> tri;
-    mesh.near(Vec3(m.rotation.transpose() * (a.x - m.offset)), a.r, near);
-    all.clear();
-    if (tri.faces.empty()) {
-      tri.vertices.resize(3);
-      tri.faces = {{Vec3::Zero(), 0, {0, 1, 2}}, {Vec3::Zero(), 0, {2, 1, 0}}};
-      tri.edges = {{0, 1}, {1, 2}, {0, 2}};
+    thread_local std::vector<Vec3> corners, normals;
+    thread_local std::vector<Real> offsets;
+    // The element in the mesh's frame.
+    const Mat3 rt = m.rotation.transpose();
+    const Vec3 c = rt * (a.x - m.offset);
+    const Mat3 rot = rt * rotationMatrix(a.q);
+    corners.resize(poly.vertices.size());
+    for (size_t k = 0; k < corners.size(); ++k) corners[k] = c + rot * poly.vertices[k];
+    normals.resize(poly.faces.size());
+    offsets.resize(poly.faces.size());
+    for (size_t f = 0; f < poly.faces.size(); ++f) {
+      normals[f] = rot * poly.faces[f].normal;
+      offsets[f] = normals[f].dot(corners[poly.faces[f].loop[0]]);
     }
-    ContactPoint<D> pts[kMaxContactPoints];
+    mesh.near(c, a.r, near);
+    all.clear();
+    const Real r = hertzRadius(a);
+    const auto emit = [&](const Vec3& point, const Vec3& normal, Real depth, uint32_t feature) {
+      ContactPoint<D> p;
+      p.g = {Vec3(m.rotation * normal), depth, Vec3(m.rotation * point + m.offset)};
+      p.effRadius = r;
+      p.feature = feature;
+      all.push_back(p);
+    };
+    // The side of triangle t the element's centre is on (its unit normal towards it).
+    const auto towards = [&](uint32_t t) {
+      const Vec3& n = mesh.normals[t];
+      return n.dot(c - mesh.vertices[mesh.triangles[t][0]]) >= 0 ? n : Vec3(-n);
+    };
+    for (size_t k = 0; k < corners.size(); ++k) {
+      const Vec3& x = corners[k];
+      Real deepest = 0;
+      Vec3 normal = Vec3::Zero();
+      for (uint32_t t : near) {
+        const auto& v = mesh.triangles[t];
+        const Vec3 n = towards(t), a0 = mesh.vertices[v[0]];
+        const Real h = n.dot(x - a0);
+        if (!(h < 0) || -h <= deepest || -h > a.r) continue;
+        // Over the triangle: the foot within its three edges.
+        const Vec3 foot = x - h * n;
+        bool over = true;
+        for (int e = 0; e < 3 && over; ++e) {
+          const Vec3 p = mesh.vertices[v[e]], q = mesh.vertices[v[(e + 1) % 3]];
+          over = (q - p).cross(foot - p).dot(mesh.normals[t]) >= 0;
+        }
+        if (over) deepest = -h, normal = -n;
+      }
+      if (deepest > 0) emit(Vec3(x - 0.5 * deepest * normal), normal, deepest, static_cast<uint32_t>(k));
+    }
+    // The ridges: edges of the near triangles with one triangle, or whose two triangles bend
+    // away from the element.
+    thread_local std::vector<std::array<uint32_t, 4>> edges;  // corners a < b, triangle, slot
+    edges.clear();
     for (uint32_t t : near) {
-      for (int k = 0; k < 3; ++k) tri.vertices[k] = m.rotation * mesh.vertices[mesh.triangles[t][k]] + m.offset;
-      const Vec3 n = m.rotation * mesh.normals[t];
-      tri.faces[0].normal = n, tri.faces[0].offset = n.dot(tri.vertices[0]);
-      tri.faces[1].normal = -n, tri.faces[1].offset = -n.dot(tri.vertices[0]);
-      const int c = polytopeWall(a, tri, pts);
-      for (int k = 0; k < c; ++k) {
-        pts[k].feature ^= t * 0x9E3779B1u;
-        bool merged = false;
-        for (ContactPoint<D>& q : all) {
-          if ((q.g.point - pts[k].g.point).norm() <= 1e-9 * a.r) {
-            if (pts[k].g.overlap > q.g.overlap) q = pts[k];
-            merged = true;
-            break;
+      const auto& v = mesh.triangles[t];
+      for (int e = 0; e < 3; ++e) {
+        edges.push_back({std::min(v[e], v[(e + 1) % 3]), std::max(v[e], v[(e + 1) % 3]), t, v[(e + 2) % 3]});
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    for (size_t i = 0; i < edges.size();) {
+      size_t j = i + 1;
+      while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
+      bool ridge = j - i == 1;
+      if (j - i == 2) {
+        const uint32_t t1 = edges[i][2];
+        const Vec3 other = mesh.vertices[edges[i + 1][3]];
+        ridge = towards(t1).dot(other - mesh.vertices[edges[i][0]]) < -1e-9 * a.r;
+      }
+      if (ridge) {
+        // The edge's part inside the element (clipped by its face planes), and there the point
+        // deepest below the nearest face (a concave function along the edge: golden section).
+        const Vec3 p = mesh.vertices[edges[i][0]], d = mesh.vertices[edges[i][1]] - p;
+        Real lo = 0, hi = 1;
+        for (size_t f = 0; f < normals.size() && lo <= hi; ++f) {
+          const Real s0 = normals[f].dot(p) - offsets[f], s1 = normals[f].dot(d);
+          if (s1 == 0) {
+            if (s0 > 0) hi = -1;
+          } else if (s1 > 0) {
+            hi = std::min(hi, -s0 / s1);
+          } else {
+            lo = std::max(lo, -s0 / s1);
           }
         }
-        if (!merged) all.push_back(pts[k]);
+        if (lo < hi) {
+          const auto depthAt = [&](Real t, size_t* face) {
+            Real least = std::numeric_limits<Real>::infinity();
+            for (size_t f = 0; f < normals.size(); ++f) {
+              const Real h = offsets[f] - normals[f].dot(p + t * d);
+              if (h < least) least = h, *face = f;
+            }
+            return least;
+          };
+          size_t face = 0;
+          Real x0 = lo, x1 = hi;
+          const Real g = (std::sqrt(5.0) - 1) / 2;
+          for (int it = 0; it < 60 && x1 - x0 > 1e-12; ++it) {
+            const Real u = x1 - g * (x1 - x0), w = x0 + g * (x1 - x0);
+            if (depthAt(u, &face) > depthAt(w, &face)) {
+              x1 = w;
+            } else {
+              x0 = u;
+            }
+          }
+          const Real t = 0.5 * (x0 + x1);
+          const Real depth = depthAt(t, &face);
+          if (depth > 0) {
+            const Vec3 at = p + t * d;
+            emit(Vec3(at + 0.5 * depth * normals[face]), normals[face], depth,
+                 0x10000u + ((edges[i][0] * 2654435761u) ^ edges[i][1]) % 0xfff0000u);
+          }
+        }
       }
+      i = j;
     }
     return keepDeepestPoints<D>(all, out);
   }
@@ -282,6 +388,7 @@ void registerPolytope(ShapeTable<D>& t) {
   const std::string_view n = typeName<D>();
   t.addPair(n, n, {pairRow<D>, false});
   t.addPair(n, D == 3 ? "sphere" : "disc", {ballRow<D>, false});
+  t.addPair(n, D == 3 ? "superquadric" : "superellipse", {gaugeRow<D>, false});
   t.addWall(n, WallShape::Plane, {planeRow<D>, false});
   t.addWall(n, WallShape::Drum, {drumRow<D>, false});
   t.addWall(n, WallShape::Finite, {finiteRow<D>, false});

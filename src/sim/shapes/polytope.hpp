@@ -23,6 +23,7 @@
 
 #include "core/math.hpp"
 #include "sim/shape.hpp"
+#include "sim/shapes/convex_contact.hpp"
 
 namespace demlab::sim {
 
@@ -76,6 +77,16 @@ template <int D>
 int polytopeContact(const Polytope<D>& a, std::span<const VecD<D>> wa, std::span<const VecD<D>> na,
                     const Polytope<D>& b, std::span<const VecD<D>> wb, std::span<const VecD<D>> nb,
                     ContactPoint<D>* out);
+
+// Writes the contact of polytope a (world corners wa, face normals na) with the smooth convex
+// body g (a superquadric; reach: the radius of a ball about its centre that holds it) to out[0]
+// and returns 1, or 0 when they are apart. The normal is the one of least overlap among a's face
+// normals, g's normals where a's corners and the points of a's edges deepest in g's gauge lie,
+// and the centre line; out's effRadius and feature are left to the caller. Changes nothing else.
+template <int D>
+int polytopeGaugeContact(const Polytope<D>& a, std::span<const VecD<D>> wa,
+                         std::span<const VecD<D>> na, const PlacedGauge<D>& g, Real reach,
+                         ContactPoint<D>* out);
 
 // Returns true and writes the contact of a ball (centre, radius) with the polytope element e,
 // the normal from the ball to e and the pair's Hertz radius (a clump's member meets a polytope

@@ -203,6 +203,90 @@ int polytopeContact(const Polytope<D>& a, std::span<const VecD<D>> wa, std::span
 }
 
 template <int D>
+int polytopeGaugeContact(const Polytope<D>& a, std::span<const VecD<D>> wa,
+                         std::span<const VecD<D>> na, const PlacedGauge<D>& g, Real reach,
+                         ContactPoint<D>* out) {
+  Real best = std::numeric_limits<Real>::infinity();
+  VecD<D> normal = VecD<D>::Zero();
+  // The overlap along n (from a to g) of the two bodies' extents.
+  const auto consider = [&](VecD<D> n) {
+    const Real len = n.norm();
+    if (!(len > 0)) return;
+    n /= len;
+    Real hi = -std::numeric_limits<Real>::infinity();
+    for (const VecD<D>& x : wa) hi = std::max(hi, n.dot(x));
+    const Real d = hi - n.dot(g.support(VecD<D>(-n)));
+    if (d < best) best = d, normal = n;
+  };
+  for (const VecD<D>& n : na) {
+    consider(n);
+    if (best < 0) return 0;  // a face plane separates them
+  }
+  // g's normal where a's corners lie, and where each edge's point deepest in g's gauge does
+  // (the gauge is convex along the edge: golden-section search). They are also how the pair is
+  // found apart when no face plane separates it: a meets g only if some point of a lies where
+  // g's gauge is below 1, and the least gauge over a is at a corner, on an edge, or inside a
+  // face where g scaled about its centre first touches the face's plane. Only features within
+  // reach of g's centre can be inside it.
+  Real least = std::numeric_limits<Real>::infinity();
+  for (const VecD<D>& x : wa) {
+    if (!((x - g.centre).norm() < reach)) continue;
+    least = std::min(least, g.gauge(x));
+    consider(VecD<D>(-g.gaugeGradient(x)));
+  }
+  const auto edge = [&](const VecD<D>& p, const VecD<D>& q) {
+    const VecD<D> d = q - p;
+    const Real t0 = std::clamp((g.centre - p).dot(d) / d.squaredNorm(), Real{0}, Real{1});
+    if (!((p + t0 * d - g.centre).norm() < reach)) return;
+    Real lo = 0, hi = 1;
+    const Real r = (std::sqrt(5.0) - 1) / 2;
+    for (int it = 0; it < 60 && hi - lo > 1e-12; ++it) {
+      const Real x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo);
+      if (g.gauge(VecD<D>(p + x1 * d)) < g.gauge(VecD<D>(p + x2 * d))) {
+        hi = x2;
+      } else {
+        lo = x1;
+      }
+    }
+    const VecD<D> at = p + 0.5 * (lo + hi) * d;
+    least = std::min(least, g.gauge(at));
+    consider(VecD<D>(-g.gaugeGradient(at)));
+  };
+  if constexpr (D == 3) {
+    for (const auto& e : a.edges) edge(wa[e.a], wa[e.b]);
+  } else {
+    for (const auto& f : a.faces) edge(wa[f.loop[0]], wa[f.loop[1]]);
+  }
+  for (size_t f = 0; f < a.faces.size() && least >= 1; ++f) {
+    const VecD<D>& n = na[f];
+    const std::vector<uint32_t>& loop = a.faces[f].loop;
+    const VecD<D> s = g.support(VecD<D>(-n));
+    const Real lambda = n.dot(VecD<D>(wa[loop[0]] - g.centre)) / n.dot(VecD<D>(s - g.centre));
+    if (!(lambda > 0)) continue;
+    const VecD<D> x = g.centre + lambda * (s - g.centre);
+    bool inside = true;
+    if constexpr (D == 3) {
+      for (size_t k = 0; k < loop.size() && inside; ++k) {
+        const Vec3 r0 = wa[loop[k]], r1 = wa[loop[(k + 1) % loop.size()]];
+        inside = (r1 - r0).cross(n).dot(x - r0) <= 0;
+      }
+    } else {
+      const Vec2 e = wa[loop[1]] - wa[loop[0]];
+      const Real t = e.dot(x - wa[loop[0]]) / e.squaredNorm();
+      inside = t >= 0 && t <= 1;
+    }
+    if (inside) least = std::min(least, lambda);
+  }
+  if (!(least < 1)) return 0;
+  VecD<D> centre = VecD<D>::Zero();
+  for (const VecD<D>& x : wa) centre += x;
+  consider(VecD<D>(g.centre - centre / static_cast<Real>(wa.size())));
+  if (!(best > 0)) return 0;
+  out[0].g = {normal, best, VecD<D>(g.support(VecD<D>(-normal)) + 0.5 * best * normal)};
+  return 1;
+}
+
+template <int D>
 bool ballPolytopeContact(const VecD<D>& centre, Real radius, const ElementRef<D>& e,
                          ContactPoint<D>& out) {
   if (!((e.x - centre).norm() < radius + e.r)) return false;
@@ -273,6 +357,10 @@ template int polytopeContact<2>(const Polytope<2>&, std::span<const Vec2>, std::
 template int polytopeContact<3>(const Polytope<3>&, std::span<const Vec3>, std::span<const Vec3>,
                                 const Polytope<3>&, std::span<const Vec3>, std::span<const Vec3>,
                                 ContactPoint<3>*);
+template int polytopeGaugeContact<2>(const Polytope<2>&, std::span<const Vec2>, std::span<const Vec2>,
+                                     const PlacedGauge<2>&, Real, ContactPoint<2>*);
+template int polytopeGaugeContact<3>(const Polytope<3>&, std::span<const Vec3>, std::span<const Vec3>,
+                                     const PlacedGauge<3>&, Real, ContactPoint<3>*);
 template bool ballPolytopeContact<2>(const Vec2&, Real, const ElementRef<2>&, ContactPoint<2>&);
 template bool ballPolytopeContact<3>(const Vec3&, Real, const ElementRef<3>&, ContactPoint<3>&);
 

@@ -18,7 +18,9 @@
 #include "physics/shapes.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
+#include "physics/triangle_mesh.hpp"
 #include "sim/shapes/convex_contact.hpp"
+#include "sim/shapes/polytope.hpp"
 #include "sim/shapes/radial_mesh.hpp"
 #include "sim/shapes/superquadric.hpp"
 
@@ -351,7 +353,72 @@ int boxRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   return convexPoint(a, c, out);
 }
 
+// A superquadric against a mesh wall: each triangle near it as a flat polytope
+// (polytopeGaugeContact), a point each; points two triangles give alike kept once, and points
+// on triangles' rims dropped when a triangle touches with its face (on a flat mesh the body
+// rests on the faces under it, not on the rims of those beside). A ridge with no face touching
+// keeps its rim point.
+template <int D>
+int meshRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  if constexpr (D != 3) {
+    return 0;
+  } else {
+    const auto& m = *static_cast<const physics::MeshShape<D>*>(wall);
+    const physics::TriangleMesh& mesh = *m.mesh;
+    thread_local std::vector<uint32_t> near;
+    thread_local std::vector<ContactPoint<D>> all;
+    thread_local Polytope<3> tri;
+    mesh.near(Vec3(m.rotation.transpose() * (a.x - m.offset)), a.r, near);
+    all.clear();
+    if (tri.faces.empty()) {
+      tri.vertices.resize(3);
+      tri.faces = {{Vec3::Zero(), 0, {0, 1, 2}}, {Vec3::Zero(), 0, {2, 1, 0}}};
+      tri.edges = {{0, 1}, {1, 2}, {0, 2}};
+    }
+    const PlacedGauge<D> g = placed(a);
+    std::array<Vec3, 2> normals;
+    for (uint32_t t : near) {
+      for (int k = 0; k < 3; ++k) tri.vertices[k] = m.rotation * mesh.vertices[mesh.triangles[t][k]] + m.offset;
+      normals[0] = m.rotation * mesh.normals[t];
+      normals[1] = -normals[0];
+      ContactPoint<D> p;
+      if (polytopeGaugeContact<3>(tri, tri.vertices, normals, g, a.r, &p) == 0) continue;
+      p.g.normal = -p.g.normal;  // from the element to the wall
+      p.effRadius = hertzRadius(a);
+      p.feature = std::abs(p.g.normal.dot(normals[0])) >= 1 - 1e-9 ? 1 : 0;  // on a face
+      bool merged = false;
+      for (ContactPoint<D>& q : all) {
+        if ((q.g.point - p.g.point).norm() <= 1e-9 * a.r) {
+          if (p.g.overlap > q.g.overlap) q = p;
+          merged = true;
+          break;
+        }
+      }
+      if (!merged) all.push_back(p);
+    }
+    // A triangle's rim meets the body beside the face it rests on (within its contact patch):
+    // where some triangle touches with its face, the rims' tilted points are dropped.
+    if (std::any_of(all.begin(), all.end(), [](const ContactPoint<D>& x) { return x.feature == 1; })) {
+      std::erase_if(all, [](const ContactPoint<D>& x) { return x.feature == 0; });
+    }
+    // Deepest first, a point's feature its rank (as a ball's on a mesh).
+    std::sort(all.begin(), all.end(), [](const ContactPoint<D>& x, const ContactPoint<D>& y) {
+      return x.g.overlap > y.g.overlap;
+    });
+    for (size_t k = 0; k < all.size(); ++k) all[k].feature = static_cast<uint32_t>(k);
+    return keepDeepestPoints<D>(all, out);
+  }
+}
+
 }  // namespace
+
+template <int D>
+PlacedGauge<D> placedGauge(const ElementRef<D>& e) {
+  return placed(e);
+}
+
+template PlacedGauge<2> placedGauge<2>(const ElementRef<2>&);
+template PlacedGauge<3> placedGauge<3>(const ElementRef<3>&);
 
 template <int D>
 bool ballSuperquadricContact(const VecD<D>& centre, Real radius, const ElementRef<D>& sq,
@@ -384,6 +451,7 @@ void registerSuperquadric(ShapeTable<D>& t) {
   t.addWall(n, WallShape::Drum, {drumRow<D>, false});
   t.addWall(n, WallShape::Finite, {finiteRow<D>, false});
   t.addWall(n, WallShape::Box, {boxRow<D>, false});
+  if (D == 3) t.addWall(n, WallShape::Mesh, {meshRow<D>, false});
 }
 
 template void registerSuperquadric<2>(ShapeTable<2>&);

@@ -168,6 +168,19 @@ TEST(SimMesh, RidgesGiveOneContactAndValleysTwo) {
   ASSERT_EQ(physics::sphereMeshContacts<3>({Vec3(0, 0, r - 0.002), r}, placed(ridge), c, 16), 1);
 }
 
+// Adds a floor at z = 0 of material glass: a plane, or a mesh of 800 triangles.
+void addFloor(Simulation& s, bool mesh) {
+  if (!mesh) {
+    s.addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
+    return;
+  }
+  WallDef w;
+  w.shape = WallShape::Mesh;
+  w.mesh = std::make_shared<const TriangleMesh>(TriangleMesh::build(flatGrid(20, 0.2), "floor"));
+  w.material = "glass";
+  s.addWall(w);
+}
+
 void runFor(Simulation& s, double t) {
   RunOptions o;
   o.steps = static_cast<uint64_t>(std::ceil(t / s.timeStep()));
@@ -181,15 +194,7 @@ TEST(SimMesh, ABallCrossesAMeshFloorAsAPlane) {
   for (int run = 0; run < 2; ++run) {
     auto s = makeSimulation(3);
     s->addMaterial("glass", material(1e7, 0.5, 0.4));
-    if (run == 0) {
-      s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
-    } else {
-      WallDef w;
-      w.shape = WallShape::Mesh;
-      w.mesh = std::make_shared<const TriangleMesh>(TriangleMesh::build(flatGrid(20, 0.2), "floor"));
-      w.material = "glass";
-      s->addWall(w);
-    }
+    addFloor(*s, run == 1);
     s->addGravity({0, 0, -9.81});
     const ElementId id = s->addElement(grain({-0.1, -0.05, 0.03}, 0.01, "glass", {0.5, 0.25, 0}));
     runFor(*s, 0.3);
@@ -201,6 +206,40 @@ TEST(SimMesh, ABallCrossesAMeshFloorAsAPlane) {
     EXPECT_NEAR(end[1].angularVelocity[d], end[0].angularVelocity[d], 1e-5) << d;
   }
   EXPECT_GT(end[0].position[0], 0.0);  // it has crossed many triangles
+}
+
+// An ellipsoid and a cube (polyhedron) dropped turned on a floor of 800 triangles come to rest
+// as on a plane: the same height, the same resting attitude.
+TEST(SimMesh, ShapesRestOnAMeshFloorAsOnAPlane) {
+  for (const std::string shape : {"superquadric", "polyhedron"}) {
+    std::array<ElementState, 2> end;
+    for (int run = 0; run < 2; ++run) {
+      auto s = makeSimulation(3);
+      MaterialDef mat = material(1e7, 0.3, 0.5);
+      mat.rollingFriction = 0.05;
+      s->addMaterial("glass", mat);
+      addFloor(*s, run == 1);
+      s->addGravity({0, 0, -9.81});
+      ElementDef e = grain({0.013, -0.021, 0.04}, 0, "glass");
+      e.shape = shape;
+      if (shape == "superquadric") {
+        e.shapeParams = {0.02, 0.013, 0.008, 2, 2};
+      } else {
+        e.shapeParams = {-0.01, -0.01, -0.01, 0.01, -0.01, -0.01, -0.01, 0.01, -0.01, 0.01, 0.01, -0.01,
+                         -0.01, -0.01, 0.01, 0.01, -0.01, 0.01, -0.01, 0.01, 0.01, 0.01, 0.01, 0.01};
+      }
+      e.orientation = {0.9, 0.3, 0.2, 0.1};
+      const ElementId id = s->addElement(e);
+      runFor(*s, 3);
+      end[run] = s->element(id);
+    }
+    const double rest = shape == "superquadric" ? 0.008 : 0.01;
+    for (int run = 0; run < 2; ++run) {
+      EXPECT_NEAR(end[run].position[2], rest, 5e-5) << shape << run;
+      EXPECT_LT(std::hypot(end[run].velocity[0], end[run].velocity[1], end[run].velocity[2]), 1e-4) << shape << run;
+    }
+    EXPECT_NEAR(end[1].position[2], end[0].position[2], 1e-6) << shape;
+  }
 }
 
 }  // namespace

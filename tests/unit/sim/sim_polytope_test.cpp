@@ -10,6 +10,7 @@
 
 #include "physics/shapes.hpp"
 #include "sim/shape.hpp"
+#include "sim/shapes/convex_contact.hpp"
 #include "sim/shapes/polytope.hpp"
 #include "sim/simulation_manager.hpp"
 #include "sim_test_util.hpp"
@@ -257,6 +258,86 @@ TEST(SimPolytope, PairContactAgreesWithBruteForce) {
   }
   EXPECT_GT(touching, 40);
   EXPECT_GT(apart, 15);
+}
+
+// A polyhedron against a superquadric: with equal axes and exponents 2 (a ball) the ball's
+// answer; for random pairs, contact exactly when the least overlap of their extents over
+// directions is positive, at a normal whose overlap is within 5 % of that least.
+TEST(SimPolytope, SuperquadricContactAgreesWithBruteForce) {
+  const ShapeTable<3>& t = ShapeTable<3>::get();
+  const TypeId poly = *t.id("polyhedron"), sq = *t.id("superquadric");
+  std::mt19937_64 rng(23);
+  const Geometry<3> ball;
+  for (int trial = 0; trial < 100; ++trial) {
+    const Body a{t.makeGeometry("polyhedron", randomPolyhedron(rng)), Vec3::Zero(), randomQuat(rng)};
+    const Real r = std::uniform_real_distribution<Real>(0.003, 0.01)(rng);
+    const Geometry<3> g = t.makeGeometry("superquadric", std::vector<double>{r, r, r, 2, 2});
+    const Vec3 u = testing::randomUnit(rng);
+    Real hi = -1e300;
+    for (const Vec3& c : a.corners()) hi = std::max(hi, u.dot(c));
+    const Vec3 x = u * (hi + r - std::uniform_real_distribution<Real>(0.0, 0.2)(rng) * r);
+    ContactPoint<3> p[kMaxContactPoints], q[kMaxContactPoints];
+    const int n = t.pair(poly, sq)->fn(a.ref(), {x, randomQuat(rng), g.boundRadius, &g}, p);
+    const int m = t.pair(poly, TypeId{0})->fn(a.ref(), {x, Quat::Identity(), r, &ball}, q);
+    ASSERT_EQ(n, m) << trial;
+    if (n == 0) continue;
+    EXPECT_NEAR(p[0].g.overlap, q[0].g.overlap, 1e-7 * r) << trial;  // the edge search's precision
+    EXPECT_LT((p[0].g.normal - q[0].g.normal).norm(), 1e-6) << trial;
+  }
+  int touching = 0, apart = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const Body a{t.makeGeometry("polyhedron", randomPolyhedron(rng)), Vec3::Zero(), randomQuat(rng)};
+    std::uniform_real_distribution<Real> axis(0.004, 0.015), expo(2, 6);
+    const Geometry<3> g =
+        t.makeGeometry("superquadric", std::vector<double>{axis(rng), axis(rng), axis(rng), expo(rng), expo(rng)});
+    ElementRef<3> b{Vec3::Zero(), randomQuat(rng), g.boundRadius, &g};
+    PlacedGauge<3> G = placedGauge(b);
+    // Touching at a's corner farthest along u (g's point farthest along -u put there), then
+    // moved along u by -2 % to 4 % of the size.
+    const Vec3 u = testing::randomUnit(rng);
+    Vec3 top = a.corners()[0];
+    for (const Vec3& c : a.corners()) {
+      if (u.dot(c) > u.dot(top)) top = c;
+    }
+    const Real size = std::min(a.g.boundRadius, g.boundRadius);
+    b.x = top - G.support(Vec3(-u)) - u * (std::uniform_real_distribution<Real>(-0.02, 0.04)(rng) * size);
+    G = placedGauge(b);
+    const auto overlap = [&](const Vec3& n) {
+      Real h = -1e300;
+      for (const Vec3& c : a.corners()) h = std::max(h, n.dot(c));
+      return h - n.dot(G.support(Vec3(-n)));
+    };
+    Real least = 1e300;
+    Vec3 best = u;
+    for (int k = 0; k < 4000; ++k) {
+      const Vec3 n = testing::randomUnit(rng);
+      const Real d = overlap(n);
+      if (d < least) least = d, best = n;
+    }
+    for (Real h = 0.05; h > 1e-9; h *= 0.7) {
+      for (int k = 0; k < 30; ++k) {
+        const Vec3 n = (best + h * testing::randomUnit(rng)).normalized();
+        const Real d = overlap(n);
+        if (d < least) least = d, best = n;
+      }
+    }
+    ContactPoint<3> p[kMaxContactPoints];
+    const int n = t.pair(poly, sq)->fn(a.ref(), b, p);
+    if (least < -1e-6 * size) {
+      EXPECT_EQ(n, 0) << trial << " least " << least;
+      ++apart;
+      continue;
+    }
+    if (least < 1e-6 * size) continue;  // grazing
+    ASSERT_EQ(n, 1) << trial << " least " << least;
+    ++touching;
+    // The overlap along the normal (an upper bound of the depth whatever the normal) is the
+    // least to 5 %.
+    EXPECT_LT(p[0].g.overlap, least * 1.05 + 1e-9 * size) << trial;
+    EXPECT_NEAR(overlap(p[0].g.normal), p[0].g.overlap, 1e-12) << trial;
+  }
+  EXPECT_GT(touching, 20);
+  EXPECT_GT(apart, 5);
 }
 
 // A ball against a cube: the plane's answer on a face, the distance to the corner at a corner.
