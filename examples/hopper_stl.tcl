@@ -6,7 +6,7 @@
 #
 #   build/demlab examples/hopper_stl.tcl ?-short? ?-csv file? ?-frames folder?
 #
-# -short: a few hundredths of a second of filling (the test suite's form). -csv: where the
+# -short: three hundredths of a second of filling (the test suite's form). -csv: where the
 # series goes (default hopper_stl.csv). -frames: PNG frames every 0.1 s into that folder.
 
 set short 0
@@ -58,7 +58,7 @@ set hopper [wall add mesh -file $stl -name hopper]
 # The feed: ellipsoids of half axes 1.6 : 1.2 : 1 mm (scaled to bounding radii of 1.4-1.8 mm),
 # turned at random, poured from above the cone until 30 g are in; the sink 3 cm below the
 # outlet.
-set massIn [expr {$short ? 0.004 : 0.03}]
+set massIn [expr {$short ? 0.002 : 0.03}]
 inlet add feed -region [list cylinder [list 0 0 [expr {$H + 0.02}]] {0 0 1} [expr {0.7 * $R}] 0.01] \
     -radius {uniform 0.0014 0.0018} -shape superquadric -params {1.6 1.2 1 2 2} \
     -orientation random -massrate 0.4 -mass $massIn -velocity {0 0 -0.3} -seed 1
@@ -73,7 +73,7 @@ if {$frames ne ""} {
         -range {0 0.5} -position {0.16 -0.2 0.14} -lookat {0 0 0.02} -fov 35 \
         -title "ellipsoids through an STL hopper"
 }
-set tEnd [expr {$short ? 0.04 : 0.5}]
+set tEnd [expr {$short ? 0.03 : 0.5}]
 # A run of -time fixes its step count at its start; the automatic step shrinks as the inlet
 # adds elements, so the run is repeated until the time is reached.
 while {[sim time] < $tEnd - 1e-9} {
