@@ -19,6 +19,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <numbers>
 #include <memory>
 #include <optional>
 #include <span>
@@ -121,6 +123,14 @@ struct ContactPoint {
   // point's tangential spring is kept under it, as Box2D keys its warm starts by feature ids.
   uint32_t feature = 0;
 };
+
+// Returns the radius of the ball (the disc in 2D) of geometry g's volume (area): the Hertz
+// radius the shapes without a curvature of their own take.
+template <int D>
+Real volumeEquivalentRadius(const Geometry<D>& g) {
+  if constexpr (D == 3) return std::cbrt(3 * g.volume / (4 * std::numbers::pi));
+  return std::sqrt(g.volume / std::numbers::pi);
+}
 
 // A pair may touch at up to this many points (a box face down on a plane: four corners; a
 // clump's members).

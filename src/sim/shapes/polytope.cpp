@@ -102,8 +102,7 @@ const Polytope<D>& polytopeOf(const ElementRef<D>& e) {
 
 template <int D>
 Real hertzRadius(const ElementRef<D>& e) {
-  if constexpr (D == 3) return std::cbrt(3 * e.g->volume / (4 * std::numbers::pi));
-  return std::sqrt(e.g->volume / std::numbers::pi);
+  return volumeEquivalentRadius(*e.g);
 }
 
 // An element's corners and face normals in the world (scratch per thread and slot).
@@ -224,14 +223,18 @@ template <int D>
 int boxRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   const auto& w = *static_cast<const physics::BoxShape<D>*>(wall);
   if (!physics::intersect<D>(physics::SphereShape<D>{a.x, a.r}, w)) return 0;
-  return polytopeWall(a, boxPolytope<D>(w.centre, w.axes, w.halfExtents), out);
+  thread_local Polytope<D> box;
+  boxPolytope<D>(w.centre, w.axes, w.halfExtents, box);
+  return polytopeWall(a, box, out);
 }
 
 template <int D>
 int finiteRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   const auto& w = *static_cast<const physics::FlatWallShape<D>*>(wall);
   if (!physics::intersect<D>(physics::SphereShape<D>{a.x, a.r}, w)) return 0;
-  const int n = polytopeWall(a, flatPolytope<D>(w.centre, w.axes, w.halfExtents), out);
+  thread_local Polytope<D> flat;
+  flatPolytope<D>(w.centre, w.axes, w.halfExtents, flat);
+  const int n = polytopeWall(a, flat, out);
   if (!(w.hole > 0)) return n;
   int kept = 0;
   for (int k = 0; k < n; ++k) {

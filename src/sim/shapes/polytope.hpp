@@ -60,13 +60,15 @@ Polytope<D> buildPolytope(std::span<const double> params, const char* what);
 template <int D>
 MassProperties<D> polytopeMassProperties(const Polytope<D>& p);
 
-// Returns the polytope of a solid box wall, or of a finite wall as a flat box of two faces of
-// opposite normals (in 2D a segment with two sides), in the world frame.
+// Writes to p the polytope of a solid box wall, or of a finite wall as a flat box of two faces
+// of opposite normals (in 2D a segment with two sides), in the world frame; p's arrays are
+// reused, so a wall row built each step allocates nothing after its first.
 template <int D>
-Polytope<D> boxPolytope(const VecD<D>& centre, const MatD<D>& axes, const VecD<D>& halfExtents);
+void boxPolytope(const VecD<D>& centre, const MatD<D>& axes, const VecD<D>& halfExtents,
+                 Polytope<D>& p);
 template <int D>
-Polytope<D> flatPolytope(const VecD<D>& centre, std::span<const VecD<D>> axes,
-                         std::span<const Real> halfExtents);
+void flatPolytope(const VecD<D>& centre, std::span<const VecD<D>> axes,
+                  std::span<const Real> halfExtents, Polytope<D>& p);
 
 // Writes the contact points of polytopes a and b, whose corners in the world are wa and wb
 // (same order as their vertices) and their faces' world normals na and nb, to out and returns

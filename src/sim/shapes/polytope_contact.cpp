@@ -344,8 +344,7 @@ bool ballPolytopeContact(const VecD<D>& centre, Real radius, const ElementRef<D>
   const VecD<D> n = rotate(e.q, normal), at = e.x + rotate(e.q, closest);
   // From the ball to e: the reverse of e's outward normal.
   out.g = {VecD<D>(-n), depth, VecD<D>(at - 0.5 * depth * n)};
-  const Real rb = D == 3 ? std::cbrt(3 * e.g->volume / (4 * std::numbers::pi))
-                         : std::sqrt(e.g->volume / std::numbers::pi);
+  const Real rb = volumeEquivalentRadius(*e.g);
   out.effRadius = radius * rb / (radius + rb);
   out.feature = 0;
   return true;

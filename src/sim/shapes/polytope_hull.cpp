@@ -233,84 +233,89 @@ MassProperties<D> polytopeMassProperties(const Polytope<D>& p) {
   return m;
 }
 
+// Sets face f of p: its normal, the loop of corners and the offset from its first corner.
+template <int D, size_t N>
+void setFace(Polytope<D>& p, size_t f, const VecD<D>& normal, const std::array<uint32_t, N>& loop) {
+  auto& face = p.faces[f];
+  face.normal = normal;
+  face.loop.assign(loop.begin(), loop.end());
+  face.offset = normal.dot(p.vertices[loop[0]]);
+}
+
 template <int D>
-Polytope<D> boxPolytope(const VecD<D>& centre, const MatD<D>& axes, const VecD<D>& half) {
-  Polytope<D> p;
+void boxPolytope(const VecD<D>& centre, const MatD<D>& axes, const VecD<D>& half, Polytope<D>& p) {
   const int corners = 1 << D;
+  p.vertices.resize(corners);
   for (int c = 0; c < corners; ++c) {
     VecD<D> x = centre;
     for (int d = 0; d < D; ++d) x += ((c >> d & 1) ? 1 : -1) * half[d] * axes.col(d);
-    p.vertices.push_back(x);
+    p.vertices[c] = x;
   }
   if constexpr (D == 2) {
     const uint32_t loop[4] = {0, 1, 3, 2};  // counterclockwise for a right-handed frame
+    p.faces.resize(4);
     for (int k = 0; k < 4; ++k) {
       const uint32_t a = loop[k], b = loop[(k + 1) % 4];
-      typename Polytope<2>::Face f;
       const Vec2 e = (p.vertices[b] - p.vertices[a]).normalized();
-      f.normal = Vec2(e.y(), -e.x());
-      f.offset = f.normal.dot(p.vertices[a]);
-      f.loop = {a, b};
-      p.faces.push_back(f);
+      setFace<2, 2>(p, k, Vec2(e.y(), -e.x()), {a, b});
     }
   } else {
     // Per axis d, the face at +half (corners with bit d set) and at -half; each loop is put
     // counterclockwise about its outward normal.
+    p.faces.resize(6);
     for (int d = 0; d < 3; ++d) {
       for (int s = 0; s < 2; ++s) {
         const int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
         const uint32_t base = s ? (1u << d) : 0u;
-        std::vector<uint32_t> loop = {base, base | (1u << d1), base | (1u << d1) | (1u << d2),
-                                      base | (1u << d2)};
-        typename Polytope<3>::Face f;
-        f.normal = (s ? 1 : -1) * axes.col(d);
+        std::array<uint32_t, 4> loop = {base, base | (1u << d1), base | (1u << d1) | (1u << d2),
+                                        base | (1u << d2)};
+        const Vec3 n = (s ? 1 : -1) * axes.col(d);
         const Vec3 turn = (p.vertices[loop[1]] - p.vertices[loop[0]])
                               .cross(p.vertices[loop[2]] - p.vertices[loop[1]]);
-        if (turn.dot(f.normal) < 0) std::reverse(loop.begin(), loop.end());
-        f.loop = loop;
-        f.offset = f.normal.dot(p.vertices[loop[0]]);
-        p.faces.push_back(std::move(f));
+        if (turn.dot(n) < 0) std::reverse(loop.begin(), loop.end());
+        setFace<3, 4>(p, 2 * d + s, n, loop);
       }
     }
+    p.edges.clear();
     for (uint32_t a = 0; a < 8; ++a) {
       for (int d = 0; d < 3; ++d) {
         if (!(a >> d & 1)) p.edges.push_back({a, a | (1u << d)});
       }
     }
   }
-  return p;
 }
 
 template <int D>
-Polytope<D> flatPolytope(const VecD<D>& centre, std::span<const VecD<D>> axes,
-                         std::span<const Real> half) {
-  Polytope<D> p;
+void flatPolytope(const VecD<D>& centre, std::span<const VecD<D>> axes, std::span<const Real> half,
+                  Polytope<D>& p) {
+  p.faces.resize(2);
   if constexpr (D == 2) {
     p.vertices = {Vec2(centre - half[0] * axes[0]), Vec2(centre + half[0] * axes[0])};
     const Vec2 n(-axes[0].y(), axes[0].x());
-    p.faces.push_back({Vec2(-n), -n.dot(centre), {0, 1}});
-    p.faces.push_back({n, n.dot(centre), {1, 0}});
+    setFace<2, 2>(p, 0, Vec2(-n), {0, 1});
+    setFace<2, 2>(p, 1, n, {1, 0});
   } else {
     const Vec3 n = axes[0].cross(axes[1]);
+    p.vertices.resize(4);
+    int k = 0;
     for (int c : {0, 1, 3, 2}) {
-      p.vertices.push_back(centre + ((c & 1) ? 1 : -1) * half[0] * axes[0] +
-                           ((c & 2) ? 1 : -1) * half[1] * axes[1]);
+      p.vertices[k++] = centre + ((c & 1) ? 1 : -1) * half[0] * axes[0] + ((c & 2) ? 1 : -1) * half[1] * axes[1];
     }
     // Corners 0, 1, 2, 3 go counterclockwise about n.
-    p.faces.push_back({n, n.dot(centre), {0, 1, 2, 3}});
-    p.faces.push_back({Vec3(-n), -n.dot(centre), {3, 2, 1, 0}});
-    for (uint32_t k = 0; k < 4; ++k) p.edges.push_back({std::min(k, (k + 1) % 4), std::max(k, (k + 1) % 4)});
+    setFace<3, 4>(p, 0, n, {0, 1, 2, 3});
+    setFace<3, 4>(p, 1, Vec3(-n), {3, 2, 1, 0});
+    p.edges.clear();
+    for (uint32_t e = 0; e < 4; ++e) p.edges.push_back({std::min(e, (e + 1) % 4), std::max(e, (e + 1) % 4)});
   }
-  return p;
 }
 
 template Polytope<2> buildPolytope<2>(std::span<const double>, const char*);
 template Polytope<3> buildPolytope<3>(std::span<const double>, const char*);
 template MassProperties<2> polytopeMassProperties<2>(const Polytope<2>&);
 template MassProperties<3> polytopeMassProperties<3>(const Polytope<3>&);
-template Polytope<2> boxPolytope<2>(const Vec2&, const Mat2&, const Vec2&);
-template Polytope<3> boxPolytope<3>(const Vec3&, const Mat3&, const Vec3&);
-template Polytope<2> flatPolytope<2>(const Vec2&, std::span<const Vec2>, std::span<const Real>);
-template Polytope<3> flatPolytope<3>(const Vec3&, std::span<const Vec3>, std::span<const Real>);
+template void boxPolytope<2>(const Vec2&, const Mat2&, const Vec2&, Polytope<2>&);
+template void boxPolytope<3>(const Vec3&, const Mat3&, const Vec3&, Polytope<3>&);
+template void flatPolytope<2>(const Vec2&, std::span<const Vec2>, std::span<const Real>, Polytope<2>&);
+template void flatPolytope<3>(const Vec3&, std::span<const Vec3>, std::span<const Real>, Polytope<3>&);
 
 }  // namespace demlab::sim

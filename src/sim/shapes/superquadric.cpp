@@ -201,9 +201,7 @@ PlacedGauge<D> placed(const ElementRef<D>& e) {
 // Returns the Hertz radius of element e: the ball's radius, or the equal-volume ball's.
 template <int D>
 Real hertzRadius(const ElementRef<D>& e) {
-  if (e.g->params.empty()) return e.r;
-  if constexpr (D == 3) return std::cbrt(3 * e.g->volume / (4 * std::numbers::pi));
-  return std::sqrt(e.g->volume / std::numbers::pi);
+  return e.g->params.empty() ? e.r : volumeEquivalentRadius(*e.g);
 }
 
 template <int D>
