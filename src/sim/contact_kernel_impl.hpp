@@ -332,6 +332,8 @@ DEMLAB_KI vd<W> nearestImage(const PeriodicCell& p, V3<W>& d) {
 // The lanes' candidates: k[l] for l < valid, then the last one repeated.
 template <int W>
 DEMLAB_KI void laneCandidates(const uint32_t* k, size_t valid, size_t* kc) {
+  // Every caller has at least one candidate; saying so keeps GCC from warning about k[-1].
+  if (valid == 0) __builtin_unreachable();
   for (int l = 0; l < W; ++l) kc[l] = k[static_cast<size_t>(l) < valid ? l : valid - 1];
 }
 
