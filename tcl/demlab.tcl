@@ -3,7 +3,7 @@
 # also installed beside pkgIndex.tcl for reading.
 
 namespace eval ::demlab {
-    namespace export settle each report sample
+    namespace export settle each report sample levelset
 }
 
 # demlab::settle ?-energy E? ?-chunk N? ?-maxsteps N?
@@ -46,6 +46,74 @@ proc ::demlab::settle {args} {
         set kinetic [demlab::KineticEnergy]
     }
     return [dict create steps $done kinetic $kinetic settled [expr {$kinetic < $opt(-energy)}]]
+}
+
+# demlab::levelset vars expression -box {lo hi} -spacing h
+# Returns the -params of the level-set shape where expression, a function of the coordinates
+# named by vars ({x y z} in 3D, {x y} in 2D), is negative: it is sampled on the grid of spacing
+# h over the box from corner lo to corner hi, which must hold the body with the function
+# positive on its border, and `element levelset -values` re-distances it. The expression runs
+# in a procedure of its own (as a lambda): it sees only its variables and globals.
+proc ::demlab::levelset {vars expression args} {
+    set usage {wrong # args: should be "demlab::levelset vars expression -box {lo hi} -spacing h"}
+    if {[llength $args] != 4} {return -code error -errorcode {DEMLAB ARGS} $usage}
+    set dim [dict get [sim info] dimension]
+    if {[llength $vars] != $dim} {
+        return -code error -errorcode {DEMLAB VALUE VARS} \
+            "bad vars \"$vars\": must name $dim coordinates"
+    }
+    foreach {k v} $args {
+        switch -- $k {
+            -box {set box $v}
+            -spacing {set h $v}
+            default {
+                return -code error -errorcode {DEMLAB OPTION} \
+                    "bad option \"$k\": must be -box or -spacing"
+            }
+        }
+    }
+    if {![info exists box] || ![info exists h]} {return -code error -errorcode {DEMLAB ARGS} $usage}
+    if {![string is double -strict $h] || !($h > 0) || $h == Inf} {
+        return -code error -errorcode {DEMLAB VALUE SPACING} "bad spacing \"$h\": must be a positive length"
+    }
+    if {[catch {llength $box} n] || $n != 2 || [llength [lindex $box 0]] != $dim
+            || [llength [lindex $box 1]] != $dim} {
+        return -code error -errorcode {DEMLAB VALUE BOX} \
+            "bad box \"$box\": must be {lo hi}, two corners of $dim coordinates"
+    }
+    lassign $box lo hi
+    set dims {}
+    foreach a $lo b $hi {
+        if {![string is double -strict $a] || ![string is double -strict $b] || !($b > $a)} {
+            return -code error -errorcode {DEMLAB VALUE BOX} \
+                "bad box \"$box\": each corner's coordinates must be numbers, lo < hi"
+        }
+        set count [expr {int(ceil(($b - $a) / $h)) + 1}]
+        if {$count > 400} {
+            return -code error -errorcode {DEMLAB VALUE SPACING} \
+                "bad spacing \"$h\": the box needs $count nodes along an axis, more than 400"
+        }
+        lappend dims $count
+    }
+    set f [list $vars [list expr $expression]]
+    set values {}
+    set x0 [lindex $lo 0]; set y0 [lindex $lo 1]; set z0 [lindex $lo 2]
+    lassign $dims nx ny nz
+    if {$dim == 2} {set nz 1}
+    for {set k 0} {$k < $nz} {incr k} {
+        for {set j 0} {$j < $ny} {incr j} {
+            for {set i 0} {$i < $nx} {incr i} {
+                set point [list [expr {$x0 + $i * $h}] [expr {$y0 + $j * $h}]]
+                if {$dim == 3} {lappend point [expr {$z0 + $k * $h}]}
+                if {[catch {apply $f {*}$point} v]} {
+                    return -code error -errorcode {DEMLAB VALUE EXPRESSION} \
+                        "bad expression: at ($point) it failed: $v"
+                }
+                lappend values $v
+            }
+        }
+    }
+    element levelset -values $values -dims $dims -origin $lo -spacing $h
 }
 
 proc ::demlab::KineticEnergy {} {

@@ -75,6 +75,21 @@ struct DrumShape {
   VecD<D> axis = VecD<D>::Unit(D - 1);  // unit (3D only)
   Real radius;
   Real halfLength = std::numeric_limits<Real>::infinity();  // 3D only
+
+  // Returns x - centre without its part along the axis (3D): the outward radial vector.
+  VecD<D> radial(const VecD<D>& x) const {
+    VecD<D> r = x - centre;
+    if constexpr (D == 3) r -= r.dot(axis) * axis;
+    return r;
+  }
+  // Returns true when a body within distance reach of x may meet the mantle: between the ends
+  // (3D) and reaching beyond the radius.
+  bool mayReach(const VecD<D>& x, Real reach) const {
+    if constexpr (D == 3) {
+      if (std::abs((x - centre).dot(axis)) > halfLength) return false;
+    }
+    return radial(x).norm() + reach > radius;
+  }
 };
 
 // A triangle-mesh wall (3D only): the mesh (physics/triangle_mesh.hpp) in its own frame, placed

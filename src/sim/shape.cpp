@@ -22,6 +22,7 @@ ShapeTable<D>::ShapeTable() {
   registerBall<D>(*this);
   registerSuperquadric<D>(*this);
   registerPolytope<D>(*this);
+  registerLevelSet<D>(*this);
   registerClump<D>(*this);
 }
 

@@ -133,8 +133,8 @@ Real volumeEquivalentRadius(const Geometry<D>& g) {
 }
 
 // A pair may touch at up to this many points (a box face down on a plane: four corners; a
-// clump's members).
-inline constexpr int kMaxContactPoints = 16;
+// clump's members; a level set's surface nodes).
+inline constexpr int kMaxContactPoints = 64;
 
 // Moves the points of all to out, or beyond kMaxContactPoints the deepest of them (ties by
 // feature, so the choice is deterministic), and returns their count. Changes all's order.
@@ -250,6 +250,10 @@ void registerSuperquadric(ShapeTable<D>& t);
 // Registers the polygon (2D) or polyhedron (3D) and its rows (sim/shapes/polytope.cpp).
 template <int D>
 void registerPolytope(ShapeTable<D>& t);
+// Registers the level set (an arbitrary shape by its signed distance on a grid) and its rows
+// (sim/shapes/level_set.cpp).
+template <int D>
+void registerLevelSet(ShapeTable<D>& t);
 // Registers the clump (a rigid assembly of balls) and its rows (sim/shapes/clump.cpp).
 template <int D>
 void registerClump(ShapeTable<D>& t);

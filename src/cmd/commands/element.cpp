@@ -10,6 +10,8 @@
 #include "cmd/words.hpp"
 #include "core/tag_table.hpp"
 #include "core/validity.hpp"
+#include "io/stl.hpp"
+#include "sim/shapes/level_set.hpp"
 
 namespace demlab::cmd {
 
@@ -179,6 +181,80 @@ void registerElementCommands(Registry& r) {
     Dict d;
     for (auto& [name, params] : session(c).scene().shapeTypes()) d.emplace_back(name, params);
     return Value(d);
+  });
+
+  Command& levelset = r.add(
+      "element levelset",
+      "Returns the -params of a level-set shape (`element add -shape levelset -params ...`): the "
+      "signed distance, on a grid of spacing -spacing, to the body inside a closed STL mesh "
+      "(-file, 3D) or to where sampled function values are negative (-values).");
+  levelset.details =
+      "From a mesh the grid reaches two and a half nodes beyond the mesh's bounds; the mesh must "
+      "be closed (each edge in two triangles). From values, one per node of the grid of -dims "
+      "nodes from -origin (x fastest), negative inside and positive on the grid's border: the "
+      "distance is recomputed exactly to the surface where they cross zero, so any implicit "
+      "function serves (demlab::levelset samples one). The body may be given about any point: "
+      "`element add` moves it about its centroid.";
+  levelset.changesScene = false;
+  levelset.needsScene = true;
+  levelset.interruptible = true;
+  levelset.option("spacing", real().positive().withUnit("m"), "the grid's node spacing").require();
+  levelset.option("file", text("file"), "a closed STL mesh (3D only)");
+  levelset.option("scale", real().positive(), "multiply the file's lengths by this (mm to m: 0.001)")
+      .byDefault("1");
+  levelset.option("values", reals(), "the function's value at each node, x fastest, negative inside");
+  levelset.option("dims", ints(), "{nx ny [nz]}: the nodes per axis of -values");
+  levelset.option("origin", vector().withUnit("m"), "the position of -values's first node");
+  levelset.onCheck([](Call& c) {
+    const int dim = session(c).scene().dim();
+    if (c.given("file") == c.given("values")) {
+      throw Error("element levelset: give either -file (a mesh) or -values (samples)", {"ARGS"});
+    }
+    if (c.given("file")) {
+      if (dim != 3) c.bad("file", "a mesh level set is 3D only (in 2D give -values)");
+      for (const char* o : {"dims", "origin"}) {
+        if (c.given(o)) c.bad(o, "goes with -values, not -file");
+      }
+      return;
+    }
+    if (!c.given("dims") || !c.given("origin")) c.bad("values", "needs -dims and -origin");
+    const auto& dims = c.get<std::vector<std::int64_t>>("dims");
+    if (dims.size() != static_cast<size_t>(dim)) {
+      c.bad("dims", "needs " + std::to_string(dim) + " node counts");
+    }
+    size_t total = 1;
+    for (std::int64_t k : dims) {
+      if (k < sim::kLevelSetMinNodes || k > sim::kLevelSetMaxNodesPerAxis) {
+        c.bad("dims", "each count must lie in [" + std::to_string(sim::kLevelSetMinNodes) + ", " +
+                          std::to_string(sim::kLevelSetMaxNodesPerAxis) + "]");
+      }
+      total *= static_cast<size_t>(k);
+    }
+    if (c.get<std::vector<double>>("values").size() != total) {
+      c.bad("values", "needs one value per node: " + std::to_string(total));
+    }
+  });
+  levelset.run([](Call& c) {
+    const double h = c.real("spacing");
+    std::vector<double> params;
+    if (c.given("file")) {
+      io::StlMesh stl = io::readStl(c.str("file"));
+      const double k = c.real("scale");
+      for (auto& t : stl.triangles)
+        for (double& x : t) x *= k;
+      params = sim::levelSetFromMesh(stl.triangles, h);
+    } else {
+      const auto& dims = c.get<std::vector<std::int64_t>>("dims");
+      const auto& values = c.get<std::vector<double>>("values");
+      const auto& o = c.vec("origin");
+      if (session(c).scene().dim() == 3) {
+        params = sim::levelSetFromValues<3>(h, {int(dims[0]), int(dims[1]), int(dims[2])},
+                                            Vec3(o[0], o[1], o[2]), values);
+      } else {
+        params = sim::levelSetFromValues<2>(h, {int(dims[0]), int(dims[1])}, Vec2(o[0], o[1]), values);
+      }
+    }
+    return Value(Reals{std::move(params), 0});
   });
 
   Command& get =

@@ -23,8 +23,10 @@
 #include "physics/narrow_phase.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
+#include "sim/shapes/level_set.hpp"
 #include "sim/shapes/radial_mesh.hpp"
 #include "physics/mesh_contact.hpp"
+#include "sim/shapes/level_set.hpp"
 #include "sim/shapes/polytope.hpp"
 #include "sim/shapes/superquadric.hpp"
 
@@ -366,6 +368,7 @@ void registerClump(ShapeTable<D>& t) {
   t.addPair("clump", D == 3 ? "superquadric" : "superellipse",
             {memberRow<D, ballSuperquadricContact<D>>, false});
   t.addPair("clump", D == 3 ? "polyhedron" : "polygon", {memberRow<D, ballPolytopeContact<D>>, false});
+  t.addPair("clump", "levelset", {memberRow<D, ballLevelSetContact<D>>, false});
   t.addWall("clump", WallShape::Plane, {wallRow<D, physics::PlaneShape<D>>, false});
   t.addWall("clump", WallShape::Finite, {wallRow<D, physics::FlatWallShape<D>>, false});
   t.addWall("clump", WallShape::Box, {wallRow<D, physics::BoxShape<D>>, false});

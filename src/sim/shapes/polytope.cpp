@@ -21,6 +21,7 @@
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
 #include "sim/shapes/convex_contact.hpp"
+#include "sim/shapes/point_rows.hpp"
 #include "sim/shapes/polytope.hpp"
 
 namespace demlab::sim {
@@ -181,31 +182,13 @@ int cornerRow(const ElementRef<D>& a, Depth depth, Normal normal, ContactPoint<D
   return keepDeepestPoints<D>(all, out);
 }
 
-template <int D>
-int planeRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
-  const auto& pl = *static_cast<const physics::PlaneShape<D>*>(wall);
-  if ((a.x - pl.point).dot(pl.normal) >= a.r) return 0;
-  return cornerRow<D>(
-      a, [&](const VecD<D>& x) { return -(x - pl.point).dot(pl.normal); },
-      [&](const VecD<D>&) { return VecD<D>(-pl.normal); }, out);
-}
-
-template <int D>
-int drumRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
-  const auto& dr = *static_cast<const physics::DrumShape<D>*>(wall);
-  const auto radial = [&](const VecD<D>& x) {
-    VecD<D> r = x - dr.centre;
-    if constexpr (D == 3) r -= r.dot(dr.axis) * dr.axis;
-    return r;
-  };
-  if constexpr (D == 3) {
-    if (std::abs((a.x - dr.centre).dot(dr.axis)) > dr.halfLength) return 0;
+// The corners beyond a plane or a drum (sim/shapes/point_rows.hpp).
+struct Corners {
+  template <int D, class Depth, class Normal>
+  static int run(const ElementRef<D>& a, Depth depth, Normal normal, ContactPoint<D>* out) {
+    return cornerRow<D>(a, depth, normal, out);
   }
-  if (radial(a.x).norm() + a.r <= dr.radius) return 0;
-  return cornerRow<D>(
-      a, [&](const VecD<D>& x) { return radial(x).norm() - dr.radius; },
-      [&](const VecD<D>& x) { return VecD<D>(radial(x).normalized()); }, out);
-}
+};
 
 // The element against a wall's polytope w (in the world: its corners and normals as given).
 template <int D>
@@ -392,8 +375,8 @@ void registerPolytope(ShapeTable<D>& t) {
   t.addPair(n, n, {pairRow<D>, false});
   t.addPair(n, D == 3 ? "sphere" : "disc", {ballRow<D>, false});
   t.addPair(n, D == 3 ? "superquadric" : "superellipse", {gaugeRow<D>, false});
-  t.addWall(n, WallShape::Plane, {planeRow<D>, false});
-  t.addWall(n, WallShape::Drum, {drumRow<D>, false});
+  t.addWall(n, WallShape::Plane, {planeByPoints<D, Corners>, false});
+  t.addWall(n, WallShape::Drum, {drumByPoints<D, Corners>, false});
   t.addWall(n, WallShape::Finite, {finiteRow<D>, false});
   t.addWall(n, WallShape::Box, {boxRow<D>, false});
   if (D == 3) t.addWall(n, WallShape::Mesh, {meshRow<D>, false});

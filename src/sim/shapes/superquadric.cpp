@@ -249,21 +249,13 @@ int planeRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
 template <int D>
 int drumRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   const auto& dr = *static_cast<const physics::DrumShape<D>*>(wall);
-  const auto radial = [&](const VecD<D>& x) {
-    VecD<D> r = x - dr.centre;
-    if constexpr (D == 3) r -= r.dot(dr.axis) * dr.axis;
-    return r;
-  };
-  if constexpr (D == 3) {
-    if (std::abs((a.x - dr.centre).dot(dr.axis)) > dr.halfLength) return 0;
-  }
-  VecD<D> r = radial(a.x);
-  if (r.norm() + a.r <= dr.radius) return 0;
+  if (!dr.mayReach(a.x, a.r)) return 0;
+  VecD<D> r = dr.radial(a.x);
   if (!(r.norm() > 0)) return 0;
   const PlacedGauge<D> g = placed(a);
   VecD<D> u = r / r.norm(), p = g.support(u);
   for (int it = 0; it < 50; ++it) {
-    r = radial(p);
+    r = dr.radial(p);
     if (!(r.norm() > 0)) return 0;
     const VecD<D> u1 = r / r.norm();
     const bool done = (u1 - u).norm() <= 1e-14;
@@ -271,7 +263,7 @@ int drumRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
     p = g.support(u);
     if (done) break;
   }
-  return wallPoint(a, p, VecD<D>(-u), radial(p).norm() - dr.radius, out);
+  return wallPoint(a, p, VecD<D>(-u), dr.radial(p).norm() - dr.radius, out);
 }
 
 // A finite wall (a rectangle or a segment, touched from both sides, perhaps with a hole): its

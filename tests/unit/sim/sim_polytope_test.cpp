@@ -424,26 +424,15 @@ TEST(SimPolytope, BoxComesToRestFaceDownWithoutJitter) {
 TEST(SimPolytope, CubeOnAnInclineSticksOrSlidesByCoulomb) {
   const double mu = 0.4, g0 = 9.81;
   for (const double theta : {0.25, 0.55}) {
-    auto s = makeSimulation(3);
-    s->addMaterial("glass", material(1e7, 0.3, mu));
-    s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
-    s->addGravity({g0 * std::sin(theta), 0, -g0 * std::cos(theta)});
-    const ElementId id = s->addElement(cube({0, 0, 0.01}, 0.01, "glass"));
-    runFor(*s, 0.2);
-    const ElementState a = s->element(id);
-    const double t0 = s->time();
-    runFor(*s, 0.3);
-    const ElementState z = s->element(id);
-    const double T = s->time() - t0;
-    const double acc = 2 * ((z.position[0] - a.position[0]) - a.velocity[0] * T) / (T * T);
+    const testing::InclineRun r = testing::runIncline(cube({0, 0, 0.01}, 0.01, "glass"), theta, mu, 0.2, 0.3);
     if (std::tan(theta) < mu) {
-      EXPECT_LT(std::abs(z.position[0] - a.position[0]), 1e-6) << theta;
+      EXPECT_LT(std::abs(r.moved), 1e-6) << theta;
     } else {
       const double want = g0 * (std::sin(theta) - mu * std::cos(theta));
-      EXPECT_NEAR(acc, want, 0.01 * want) << theta;
+      EXPECT_NEAR(r.acceleration, want, 0.01 * want) << theta;
     }
     // Face down: tilted only by the corners' unequal overlaps under the friction's moment.
-    EXPECT_GT(std::abs(axisZ(z, 2)), 1 - 1e-6) << theta;
+    EXPECT_GT(std::abs(axisZ(r.end, 2)), 1 - 1e-6) << theta;
   }
 }
 

@@ -203,4 +203,41 @@ inline std::vector<ElementDef> latticeGrains(int dim, int n, double r, double si
   return out;
 }
 
+// What a block did on a slope: how far it moved down the slope, its acceleration there and its
+// last state.
+struct InclineRun {
+  double moved = 0, acceleration = 0;
+  ElementState end;
+};
+
+// Places element e (material "glass", Young 1e7, restitution 0.3, friction mu) on a floor under
+// gravity g0 tilted by theta along x, at the automatic step over stepDivisor; lets it settle for
+// settle seconds and returns what it does in the next measure seconds.
+inline InclineRun runIncline(ElementDef e, double theta, double mu, double settle, double measure,
+                             double stepDivisor = 1) {
+  const double g0 = 9.81;
+  auto s = makeSimulation(3);
+  s->addMaterial("glass", material(1e7, 0.3, mu));
+  s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
+  s->addGravity({g0 * std::sin(theta), 0, -g0 * std::cos(theta)});
+  e.material = "glass";
+  const ElementId id = s->addElement(e);
+  s->setTimeStep(s->timeStep() / stepDivisor);
+  const auto runFor = [&](double t) {
+    RunOptions o;
+    o.steps = static_cast<uint64_t>(std::ceil(t / s->timeStep()));
+    s->run(o);
+  };
+  runFor(settle);
+  const ElementState a = s->element(id);
+  const double t0 = s->time();
+  runFor(measure);
+  InclineRun r;
+  r.end = s->element(id);
+  const double T = s->time() - t0;
+  r.moved = r.end.position[0] - a.position[0];
+  r.acceleration = 2 * (r.moved - a.velocity[0] * T) / (T * T);
+  return r;
+}
+
 }  // namespace demlab::sim::testing
