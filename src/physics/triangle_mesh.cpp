@@ -149,4 +149,34 @@ TrianglePoint nearestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, con
   return r;
 }
 
+void FacingTriangles::prepare(const TriangleMesh& mesh, std::span<const uint32_t> near,
+                              const Vec3& centre) {
+  ids.assign(near.begin(), near.end());
+  normals.resize(ids.size());
+  corners.resize(ids.size());
+  for (size_t k = 0; k < ids.size(); ++k) {
+    const uint32_t t = ids[k];
+    corners[k] = mesh.vertices[mesh.triangles[t][0]];
+    normals[k] = mesh.normals[t].dot(centre - corners[k]) >= 0 ? mesh.normals[t] : Vec3(-mesh.normals[t]);
+  }
+}
+
+Real FacingTriangles::depthBehind(const TriangleMesh& mesh, const Vec3& x, Real reach,
+                                  Vec3& normal) const {
+  Real deepest = 0;
+  for (size_t k = 0; k < ids.size(); ++k) {
+    const Real h = normals[k].dot(x - corners[k]);
+    if (!(h < 0) || -h <= deepest || -h > reach) continue;
+    const auto& v = mesh.triangles[ids[k]];
+    const Vec3 foot = x - h * normals[k];
+    bool over = true;
+    for (int e = 0; e < 3 && over; ++e) {
+      const Vec3 p = mesh.vertices[v[e]], q = mesh.vertices[v[(e + 1) % 3]];
+      over = (q - p).cross(foot - p).dot(mesh.normals[ids[k]]) >= 0;
+    }
+    if (over) deepest = -h, normal = -normals[k];
+  }
+  return deepest;
+}
+
 }  // namespace demlab::physics

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <span>
 #include <vector>
 
 #include "core/math.hpp"
@@ -41,6 +42,22 @@ struct TriangleMesh {
   Real cell = 1;
   std::array<int, 3> dims{1, 1, 1};
   std::vector<uint32_t> cellStart, cellTriangles;
+};
+
+// The triangles near an element, each with its unit normal turned towards the element's
+// centre: prepared once per element and step, then asked about each of its points (a
+// polyhedron's corners, a level set's nodes). All in the mesh's frame.
+struct FacingTriangles {
+  std::vector<uint32_t> ids;
+  std::vector<Vec3> normals, corners;  // per triangle: towards the centre; its first corner
+
+  // Prepares the triangles near (of mesh) for an element centred at centre. Changes this only.
+  void prepare(const TriangleMesh& mesh, std::span<const uint32_t> near, const Vec3& centre);
+  // Returns the depth (> 0) of point x behind the deepest triangle that it lies over (its foot
+  // on the triangle's plane inside the triangle) and behind (beyond the plane from the centre),
+  // no deeper than reach, and in normal that triangle's normal pointing away from the centre;
+  // 0 when x is behind none. Changes normal only.
+  Real depthBehind(const TriangleMesh& mesh, const Vec3& x, Real reach, Vec3& normal) const;
 };
 
 // Where the point of a triangle nearest to p lies: inside (Face), on an edge (Edge, edge k from

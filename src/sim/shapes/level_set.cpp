@@ -21,6 +21,7 @@
 
 #include "physics/narrow_phase.hpp"
 #include "physics/shapes.hpp"
+#include "physics/triangle_mesh.hpp"
 #include "sim/shape.hpp"
 #include "sim/shapes/level_set.hpp"
 #include "sim/shapes/level_set_internal.hpp"
@@ -373,6 +374,36 @@ int finiteRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
       [&](const VecD<D>&) { return VecD<D>(-normal); }, out);
 }
 
+// A mesh wall: the nodes behind the triangles they lie over (as a polytope's corners: a flat
+// floor of many triangles bears a level set as a plane does). A sharp ridge of the mesh pressing
+// into the body between two nodes is felt only when it reaches a node: resolved to the nodes'
+// spacing.
+template <int D>
+int meshRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
+  if constexpr (D != 3) {
+    return 0;
+  } else {
+    const auto& m = *static_cast<const physics::MeshShape<D>*>(wall);
+    const physics::TriangleMesh& mesh = *m.mesh;
+    thread_local std::vector<uint32_t> near;
+    thread_local std::vector<ContactPoint<D>> all;
+    const Mat3 rt = m.rotation.transpose();
+    const Vec3 c = rt * (a.x - m.offset);  // the element's centre in the mesh's frame
+    mesh.near(c, a.r, near);
+    all.clear();
+    if (near.empty()) return 0;
+    const Real radius = volumeEquivalentRadius(*a.g);
+    thread_local physics::FacingTriangles facing;
+    facing.prepare(mesh, near, c);
+    forNodesNear(a, a.x, a.r, [&](uint32_t k, const Vec3& x) {
+      Vec3 normal;
+      const Real d = facing.depthBehind(mesh, Vec3(rt * (x - m.offset)), a.r, normal);
+      if (d > 0) all.push_back(point<D>(x, Vec3(m.rotation * normal), d, true, radius, k));
+    });
+    return keepDeepestPoints<D>(all, out);
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -385,6 +416,7 @@ void registerLevelSet(ShapeTable<D>& t) {
   t.addWall("levelset", WallShape::Drum, {drumByPoints<D, Nodes>, false});
   t.addWall("levelset", WallShape::Box, {boxRow<D>, false});
   t.addWall("levelset", WallShape::Finite, {finiteRow<D>, false});
+  if (D == 3) t.addWall("levelset", WallShape::Mesh, {meshRow<D>, false});
 }
 
 template void registerLevelSet<2>(ShapeTable<2>&);

@@ -276,24 +276,12 @@ int meshRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
       const Vec3& n = mesh.normals[t];
       return n.dot(c - mesh.vertices[mesh.triangles[t][0]]) >= 0 ? n : Vec3(-n);
     };
+    thread_local physics::FacingTriangles facing;
+    facing.prepare(mesh, near, c);
     for (size_t k = 0; k < corners.size(); ++k) {
       const Vec3& x = corners[k];
-      Real deepest = 0;
       Vec3 normal = Vec3::Zero();
-      for (uint32_t t : near) {
-        const auto& v = mesh.triangles[t];
-        const Vec3 n = towards(t), a0 = mesh.vertices[v[0]];
-        const Real h = n.dot(x - a0);
-        if (!(h < 0) || -h <= deepest || -h > a.r) continue;
-        // Over the triangle: the foot within its three edges.
-        const Vec3 foot = x - h * n;
-        bool over = true;
-        for (int e = 0; e < 3 && over; ++e) {
-          const Vec3 p = mesh.vertices[v[e]], q = mesh.vertices[v[(e + 1) % 3]];
-          over = (q - p).cross(foot - p).dot(mesh.normals[t]) >= 0;
-        }
-        if (over) deepest = -h, normal = -n;
-      }
+      const Real deepest = facing.depthBehind(mesh, x, a.r, normal);
       if (deepest > 0) emit(Vec3(x - 0.5 * deepest * normal), normal, deepest, static_cast<uint32_t>(k));
     }
     // The ridges: edges of the near triangles with one triangle, or whose two triangles bend
