@@ -11,6 +11,7 @@ array set shapes {
     clump {0 0 0 1 1.2 0 0 0.8 0 1.2 0 0.8 0 0 1.2 0.8}
     polyhedron {-2 -1.5 -1 2 -1.5 -1 -2 1.5 -1 2 1.5 -1 -2 -1.5 1 2 -1.5 1 -2 1.5 1 2 1.5 1}
     sphere-meshfloor {}
+    levelset {}
 }
 if {![info exists shapes($variant)]} {
     puts stderr "bench_shapes: unknown variant \"$variant\": [array names shapes]"
@@ -54,11 +55,17 @@ foreach {n p} [list {1 0 0} [list 0 0 0] {-1 0 0} [list $side 0 0] {0 1 0} [list
 }
 # Bounding balls at a solid fraction of about 0.2 (a loose start that settles in 0.1 s).
 set region [list box {0 0 0} [list $side $side [expr {$count * 5e-5}]]]
+if {$variant eq "levelset"} {
+    # The ellipsoid (2 : 1.5 : 1) as a level set: its function sampled at a spacing of 1/4 of the
+    # short half axis and re-distanced (about 600 surface nodes).
+    set shapes(levelset) [demlab::levelset {x y z} {sqrt(($x / 2) ** 2 + ($y / 1.5) ** 2 + $z ** 2) - 1} \
+        -box {{-2.5 -2 -1.5} {2.5 2 1.5}} -spacing 0.25]
+}
 if {$shapes($variant) eq {}} {
     pack random -region $region -radius 0.002 -count $count -seed 1
 } else {
     pack random -region $region -radius 0.002 -count $count -seed 1 \
-        -shape [expr {$variant in {clump polyhedron} ? $variant : "superquadric"}] -params $shapes($variant) \
+        -shape [expr {$variant in {clump polyhedron levelset} ? $variant : "superquadric"}] -params $shapes($variant) \
         -orientation random
 }
 sim timestep 1e-5
