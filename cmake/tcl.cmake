@@ -138,8 +138,9 @@ file(GLOB DEMLAB_TCL_TEST_FILES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/te
 # every declaration badinput checks through the package.
 set(DEMLAB_TCL_EXECUTABLE_ONLY analysis bond compaction dump element interrupt janssen lab periodic silo sim snapshot threads
     triaxial wall wallmotion)
-# Files about the package itself in a plain tclsh and in wish, run through the package only.
-set(DEMLAB_TCL_PACKAGE_ONLY package)
+# Files about the package itself in a plain tclsh and in wish, run through the package only; and
+# badinput, whose every call goes through the binding that the executable and the package share.
+set(DEMLAB_TCL_PACKAGE_ONLY package badinput)
 # Files that open windows: run on a virtual X display of their own (xvfb-run), one such file at
 # a time (two xvfb-run -a starting together can pick the same display number).
 set(DEMLAB_TCL_DISPLAY viewer package)

@@ -355,7 +355,7 @@ TEST(SimKernel, RunsGiveTheEigenLoopsDigest) {
     std::vector<uint64_t> digests;
     size_t contacts = 0, wallContacts = 0;
     for (int stretch = 0; stretch < 3; ++stretch) {
-      ref->runSteps(400);
+      ref->runSteps(300);
       digests.push_back(ref->stateDigest());
       for (const ContactInfo& c : ref->contacts()) (c.wall.isNull() ? contacts : wallContacts) += 1;
     }
@@ -367,8 +367,8 @@ TEST(SimKernel, RunsGiveTheEigenLoopsDigest) {
       ASSERT_TRUE(kernel::setActive(true, isa));
       auto s = settlingBed(spring, verlet, rotation);
       for (int stretch = 0; stretch < 3; ++stretch) {
-        s->runSteps(400);
-        EXPECT_EQ(s->stateDigest(), digests[stretch]) << "after " << 400 * (stretch + 1);
+        s->runSteps(300);
+        EXPECT_EQ(s->stateDigest(), digests[stretch]) << "after " << 300 * (stretch + 1);
       }
     }
   }
