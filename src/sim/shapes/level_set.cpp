@@ -146,6 +146,16 @@ void forNodesNear(const ElementRef<D>& e, const VecD<D>& centre, Real reach, Vis
   }
 }
 
+// Calls visit(k, x) for every surface node k of level-set element e (all lie within its
+// bounding radius: the wall rows need no filter).
+template <int D, class Visit>
+void forEachNode(const ElementRef<D>& e, Visit visit) {
+  const LevelSet<D>& ls = levelSetOf(e);
+  for (size_t k = 0; k < ls.nodes.size(); ++k) {
+    visit(static_cast<uint32_t>(k), VecD<D>(e.x + rotate(e.q, ls.nodes[k])));
+  }
+}
+
 // Returns true and the depth and world outward normal of point x inside level-set element e.
 template <int D>
 bool insideField(const ElementRef<D>& e, const VecD<D>& x, Real& depth, VecD<D>& normal) {
@@ -293,12 +303,11 @@ int polytopeRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>*
 // The nodes beyond a wall's surface: depth(x) > 0 how far node x lies beyond it, normal(x) the
 // direction from the element into the wall there.
 template <int D, class Depth, class Normal>
-int nodeRow(const ElementRef<D>& a, const VecD<D>& centre, Real reach, Depth depth, Normal normal,
-            ContactPoint<D>* out) {
+int nodeRow(const ElementRef<D>& a, Depth depth, Normal normal, ContactPoint<D>* out) {
   thread_local std::vector<ContactPoint<D>> all;
   all.clear();
   const Real radius = volumeEquivalentRadius(*a.g);
-  forNodesNear(a, centre, reach, [&](uint32_t k, const VecD<D>& x) {
+  forEachNode(a, [&](uint32_t k, const VecD<D>& x) {
     const Real d = depth(x);
     if (d > 0) all.push_back(point<D>(x, normal(x), d, true, radius, k));
   });
@@ -309,7 +318,7 @@ int nodeRow(const ElementRef<D>& a, const VecD<D>& centre, Real reach, Depth dep
 struct Nodes {
   template <int D, class Depth, class Normal>
   static int run(const ElementRef<D>& a, Depth depth, Normal normal, ContactPoint<D>* out) {
-    return nodeRow<D>(a, a.x, a.r, depth, normal, out);
+    return nodeRow<D>(a, depth, normal, out);
   }
 };
 
@@ -322,7 +331,7 @@ int boxRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   thread_local std::vector<ContactPoint<D>> all;
   all.clear();
   const Real radius = volumeEquivalentRadius(*a.g);
-  forNodesNear(a, a.x, a.r, [&](uint32_t k, const VecD<D>& x) {
+  forEachNode(a, [&](uint32_t k, const VecD<D>& x) {
     const VecD<D> y = w.axes.transpose() * (x - w.centre);
     Real least = std::numeric_limits<Real>::infinity();
     VecD<D> n = VecD<D>::Zero();
@@ -366,7 +375,7 @@ int finiteRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
     return !(w.hole > 0) || std::sqrt(s2) >= w.hole;
   };
   return nodeRow<D>(
-      a, a.x, a.r,
+      a,
       [&](const VecD<D>& x) {
         const Real h = (x - w.centre).dot(normal);
         return h < 0 && -h <= a.r && over(x) ? -h : Real{0};
@@ -395,7 +404,7 @@ int meshRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
     const Real radius = volumeEquivalentRadius(*a.g);
     thread_local physics::FacingTriangles facing;
     facing.prepare(mesh, near, c);
-    forNodesNear(a, a.x, a.r, [&](uint32_t k, const Vec3& x) {
+    forEachNode(a, [&](uint32_t k, const Vec3& x) {
       Vec3 normal;
       const Real d = facing.depthBehind(mesh, Vec3(rt * (x - m.offset)), a.r, normal);
       if (d > 0) all.push_back(point<D>(x, Vec3(m.rotation * normal), d, true, radius, k));

@@ -479,9 +479,10 @@ Vec3 spinOf(const ElementState& g) {
   return Vec3(g.angularVelocity[0], g.angularVelocity[1], g.angularVelocity[2]);
 }
 
-// Returns the world angular momentum of a toybox element g (body frame = principal frame).
-Vec3 momentumOf(const ElementState& g) {
-  const Mat3 r = orientationOf(g).toRotationMatrix();
+// Returns the world angular momentum of element g whose principal frame is turned by principal
+// from its body frame (a toybox's: none).
+Vec3 momentumOf(const ElementState& g, const Quat& principal = Quat::Identity()) {
+  const Mat3 r = (orientationOf(g) * principal).toRotationMatrix();
   const Vec3 I(g.principalInertia[0], g.principalInertia[1], g.principalInertia[2]);
   return r * I.asDiagonal() * r.transpose() * spinOf(g);
 }
@@ -558,11 +559,7 @@ TEST_F(SimShape, EveryShapeTumblingFreeKeepsItsAngularMomentum) {
     const ElementState g0 = s->element(id);
     const Geometry<3> geom = t.makeGeometry(shape, g0.shapeParams);
     ASSERT_FALSE(geom.isotropic) << shape;
-    const auto momentum = [&](const ElementState& g) {
-      const Mat3 r = (orientationOf(g) * geom.principal).toRotationMatrix();
-      const Vec3 I(g.principalInertia[0], g.principalInertia[1], g.principalInertia[2]);
-      return Vec3(r * I.asDiagonal() * r.transpose() * spinOf(g));
-    };
+    const auto momentum = [&](const ElementState& g) { return momentumOf(g, geom.principal); };
     const Vec3 l0 = momentum(g0);
     const double e0 = s->energy().kineticRotational;
     double worstE = 0, worstL = 0;
