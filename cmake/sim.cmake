@@ -6,7 +6,7 @@ add_library(demlab_sim STATIC ${DEMLAB_SIM_SOURCES})
 demlab_precompile(demlab_sim)
 target_link_libraries(demlab_sim PUBLIC demlab_physics demlab_core)
 
-demlab_add_unit_tests(sim demlab_sim_tests sim/ demlab_sim)
+demlab_add_unit_tests(sim demlab_sim_tests sim/ demlab_sim SHARDS 3)
 
 # The contact kernels (src/sim/contact_kernel.hpp): one translation unit per instruction set,
 # chosen at run time; the rest of the build targets baseline x86-64. No FMA anywhere (a fused

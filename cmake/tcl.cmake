@@ -136,7 +136,7 @@ file(GLOB DEMLAB_TCL_TEST_FILES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/te
 # snapshot's renderer is the same code whichever interpreter calls it; bond, dump and wall spend
 # their time in the engine (bonded samples, writers, mesh walls), not in the binding, whose
 # every declaration badinput checks through the package.
-set(DEMLAB_TCL_EXECUTABLE_ONLY analysis bond compaction dump element interrupt janssen lab periodic silo sim snapshot threads
+set(DEMLAB_TCL_EXECUTABLE_ONLY analysis bond compaction drum_assembly dump element interrupt janssen lab periodic silo sim snapshot threads
     triaxial wall wallmotion)
 # Files about the package itself in a plain tclsh and in wish, run through the package only; and
 # badinput, whose every call goes through the binding that the executable and the package share.

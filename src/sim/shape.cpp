@@ -24,6 +24,7 @@ ShapeTable<D>::ShapeTable() {
   registerPolytope<D>(*this);
   registerLevelSet<D>(*this);
   registerClump<D>(*this);
+  registerAssembly<D>(*this);
 }
 
 template <int D>

@@ -102,6 +102,10 @@ class ShapeType {
   // Returns what the contact routines read of a shape besides its parameters, computed once per
   // Geometry (checked parameters about the centroid), or null (the default).
   virtual std::shared_ptr<const void> derive(std::span<const double>) const { return nullptr; }
+  // Returns the shape types whose rows this type's rows call (an assembly's members'), so that
+  // a run checks their routines too before it starts; empty (the default) for a type whose rows
+  // are its own.
+  virtual std::vector<TypeId> memberTypes(std::span<const double>) const { return {}; }
 };
 
 // An element as a contact routine sees it: pose, bounding radius and shared geometry.
@@ -234,6 +238,30 @@ class ShapeTable {
 // Throws demlab::Error {LOOKUP INTERACTION}: no contact routine for shape types a and b.
 [[noreturn]] void throwNoRoutine(std::string_view a, std::string_view b);
 
+// Returns a's contact points with b by the table's row for their shape types, into out, normals
+// from a to b (a row registered the other way round is called swapped, its normals negated).
+// Throws {LOOKUP INTERACTION} if no row serves the pair.
+template <int D>
+int shapePairPoints(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
+  const ShapeTable<D>& t = ShapeTable<D>::get();
+  const auto* e = t.pair(a.g->shape, b.g->shape);
+  if (e == nullptr) throwNoRoutine(t.type(a.g->shape).name(), t.type(b.g->shape).name());
+  if (!e->swapped()) return e->fn(a, b, out);
+  const int n = e->fn(b, a, out);
+  for (int k = 0; k < n; ++k) out[k].g.normal = -out[k].g.normal;
+  return n;
+}
+
+// Returns a's contact points with a wall of kind `kind` whose shape is at wall, into out.
+// Throws {LOOKUP INTERACTION} if no row serves the pair.
+template <int D>
+int shapeWallPoints(const ElementRef<D>& a, WallShape kind, const void* wall, ContactPoint<D>* out) {
+  const ShapeTable<D>& t = ShapeTable<D>::get();
+  const ElementWallEntry<D>* e = t.wall(a.g->shape, kind);
+  if (e == nullptr || e->fn == nullptr) throwNoRoutine(t.type(a.g->shape).name(), "a wall");
+  return e->fn(a, wall, out);
+}
+
 // Returns {1 / mass, 1 / moment of inertia} of an element of geometry g, density rho and
 // (bounding) radius r; the second is 0 when its inertia is not isotropic (3D), which marks the
 // element for the rigid-body rotation (sim/rigid_body.hpp).
@@ -257,5 +285,9 @@ void registerLevelSet(ShapeTable<D>& t);
 // Registers the clump (a rigid assembly of balls) and its rows (sim/shapes/clump.cpp).
 template <int D>
 void registerClump(ShapeTable<D>& t);
+// Registers the assembly (a rigid body of members of every other type) and its rows against
+// every type registered before it (sim/shapes/assembly.cpp). Called last.
+template <int D>
+void registerAssembly(ShapeTable<D>& t);
 
 }  // namespace demlab::sim

@@ -37,25 +37,14 @@ ElementRef<D> elementRef(const Scene<D>& s, uint32_t i) {
 // {LOOKUP INTERACTION} if no routine serves the pair (the run checks before it starts).
 template <int D>
 int elementPairPoints(const Scene<D>& s, uint32_t i, uint32_t j, ContactPoint<D>* out) {
-  const ShapeTable<D>& t = ShapeTable<D>::get();
-  const ElementRef<D> A = elementRef(s, i), B = elementRef(s, j);
-  const auto* e = t.pair(A.g->shape, B.g->shape);
-  if (e == nullptr) throwNoRoutine(t.type(A.g->shape).name(), t.type(B.g->shape).name());
-  if (!e->swapped()) return e->fn(A, B, out);
-  const int n = e->fn(B, A, out);
-  for (int k = 0; k < n; ++k) out[k].g.normal = -out[k].g.normal;
-  return n;
+  return shapePairPoints(elementRef(s, i), elementRef(s, j), out);
 }
 
 // Returns element i's contact points with wall w, into out.
 template <int D>
 int elementWallPoints(const Scene<D>& s, uint32_t i, const Wall<D>& w, ContactPoint<D>* out) {
-  const ShapeTable<D>& t = ShapeTable<D>::get();
-  const ElementRef<D> A = elementRef(s, i);
-  const ElementWallEntry<D>* e = t.wall(A.g->shape, w.kind);
-  if (e == nullptr || e->fn == nullptr) throwNoRoutine(t.type(A.g->shape).name(), "a wall");
   const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
-  return e->fn(A, shape, out);
+  return shapeWallPoints(elementRef(s, i), w.kind, shape, out);
 }
 
 // Throws {LOOKUP INTERACTION} unless the ShapeTable has a routine for every pair of shape types
@@ -69,27 +58,24 @@ void checkShapeRoutines(const Scene<D>& s, const std::vector<TypeId>& extra = {}
   for (uint32_t g : s.elements.a.geometry) present[g] += 1;
   std::vector<TypeId> types;
   std::vector<size_t> counts;  // elements of each type
+  const auto count = [&](TypeId id, size_t n) {
+    const auto it = std::find(types.begin(), types.end(), id);
+    if (it == types.end()) {
+      types.push_back(id);
+      counts.push_back(n);
+    } else {
+      counts[static_cast<size_t>(it - types.begin())] += n;
+    }
+  };
   for (size_t g = 0; g < present.size(); ++g) {
     if (present[g] == 0) continue;
-    const TypeId id = s.geometries[g]->shape;
-    const auto it = std::find(types.begin(), types.end(), id);
-    if (it == types.end()) {
-      types.push_back(id);
-      counts.push_back(present[g]);
-    } else {
-      counts[static_cast<size_t>(it - types.begin())] += present[g];
-    }
+    const Geometry<D>& geom = *s.geometries[g];
+    count(geom.shape, present[g]);
+    // An assembly's members meet what it meets, through their own rows.
+    for (TypeId m : t.type(geom.shape).memberTypes(geom.params)) count(m, present[g]);
   }
   // Elements about to be created (a deferred change): one more of each type.
-  for (const TypeId id : extra) {
-    const auto it = std::find(types.begin(), types.end(), id);
-    if (it == types.end()) {
-      types.push_back(id);
-      counts.push_back(1);
-    } else {
-      counts[static_cast<size_t>(it - types.begin())] += 1;
-    }
-  }
+  for (const TypeId id : extra) count(id, 1);
   for (size_t x = 0; x < types.size(); ++x) {
     for (size_t y = x; y < types.size(); ++y) {
       if (types[x] == ShapeTable<D>::ball() && types[y] == ShapeTable<D>::ball()) continue;

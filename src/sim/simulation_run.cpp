@@ -266,7 +266,10 @@ bool SimulationManager<D>::applyDeferred() {
   std::vector<TypeId> extra;
   for (const ElementDef& d : changes.create) {
     if (d.shape.empty()) continue;
-    if (const auto id = ShapeTable<D>::get().id(d.shape)) extra.push_back(*id);
+    if (const auto id = ShapeTable<D>::get().id(d.shape)) {
+      extra.push_back(*id);
+      for (TypeId m : ShapeTable<D>::get().type(*id).memberTypes(d.shapeParams)) extra.push_back(m);
+    }
   }
   if (!extra.empty()) checkShapeRoutines(s_, extra);
   if (!gone.empty()) removeElementSet(gone);

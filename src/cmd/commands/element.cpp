@@ -11,6 +11,7 @@
 #include "core/tag_table.hpp"
 #include "core/validity.hpp"
 #include "io/stl.hpp"
+#include "sim/shapes/assembly.hpp"
 #include "sim/shapes/level_set.hpp"
 
 namespace demlab::cmd {
@@ -102,6 +103,51 @@ void checkNameFree(const sim::Simulation& s, const std::string& name) {
     taken = false;
   }
   if (taken) throw Error("element \"" + name + "\" already exists", {"EXISTS", "NAME"});
+}
+
+// Returns the members of `element assembly -members`: each a list of a shape type's name and
+// options (-radius, -params, -position, -orientation). Throws demlab::Error saying which member
+// and word is wrong (the caller names the option). Changes nothing.
+std::vector<sim::AssemblyMemberDef> readAssemblyMembers(const std::string& text) {
+  std::vector<sim::AssemblyMemberDef> out;
+  const auto bad = [&](size_t k, const std::string& why) {
+    throw Error("member " + std::to_string(k + 1) + ": " + why, {"VALUE", "MEMBERS"});
+  };
+  const std::vector<std::string> items = splitList(text);
+  if (items.empty()) throw Error("an assembly needs at least one member", {"VALUE", "MEMBERS"});
+  for (size_t k = 0; k < items.size(); ++k) {
+    const std::vector<std::string> w = splitList(items[k]);
+    if (w.empty() || w.size() % 2 == 0) {
+      bad(k, "must be a shape type then option-value pairs (-radius, -params, -position, "
+             "-orientation)");
+    }
+    sim::AssemblyMemberDef m;
+    m.shape = w[0];
+    for (size_t i = 1; i < w.size(); i += 2) {
+      std::vector<double> numbers;
+      for (const std::string& x : splitList(w[i + 1])) {
+        double v = 0;
+        if (!readReal(x, v) || !std::isfinite(v)) {
+          bad(k, "expected a finite number in " + w[i] + " but got \"" + x + "\"");
+        }
+        numbers.push_back(v);
+      }
+      if (w[i] == "-radius") {
+        if (numbers.size() != 1 || !(numbers[0] > 0)) bad(k, "-radius must be one positive number");
+        m.radius = numbers[0];
+      } else if (w[i] == "-params") {
+        m.params = std::move(numbers);
+      } else if (w[i] == "-position") {
+        m.position = std::move(numbers);
+      } else if (w[i] == "-orientation") {
+        m.orientation = std::move(numbers);
+      } else {
+        bad(k, "unknown option \"" + w[i] + "\": must be -orientation, -params, -position, or -radius");
+      }
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
 }
 
 Value idList(const std::vector<ElementId>& ids) {
@@ -254,6 +300,40 @@ void registerElementCommands(Registry& r) {
         params = sim::levelSetFromValues<2>(h, {int(dims[0]), int(dims[1])}, Vec2(o[0], o[1]), values);
       }
     }
+    return Value(Reals{std::move(params), 0});
+  });
+
+  Command& assembly = r.add(
+      "element assembly",
+      "Returns the -params of an assembly (`element add -shape assembly -params ...`): a rigid "
+      "body made of members of the other shape types, each placed and turned in its frame.");
+  assembly.details =
+      "Each member is a list: a shape type of `element shapes` (not an assembly), then -radius "
+      "(a ball's) or -params (the others'), -position in the assembly's frame (default the "
+      "origin) and -orientation (3D a quaternion {w x y z}, 2D an angle in rad). A member given "
+      "about another point than its centroid is moved about it and its position with it, so it "
+      "stays where it was given. The mass is the members' sum, so members may touch but not "
+      "overlap (a clump takes overlapping balls; a level set any union). `element add` then moves "
+      "the whole about its centre of mass.";
+  assembly.changesScene = false;
+  assembly.needsScene = true;
+  assembly.option("members", text("list of members"), "the members: {shape ?-radius r? ?-params "
+                  "{...}? ?-position {...}? ?-orientation {...}?} ...").require();
+  assembly.onCheck([](Call& c) {
+    try {
+      c.prepared = readAssemblyMembers(c.str("members"));
+    } catch (const Error& e) {
+      c.bad("members", e.what());  // a list that does not split, say: named as the option
+    }
+  });
+  assembly.run([](Call& c) {
+    auto members = std::any_cast<std::vector<sim::AssemblyMemberDef>>(c.prepared);
+    const int dim = session(c).scene().dim();
+    for (auto& m : members) {
+      if (m.position.empty()) m.position.assign(static_cast<size_t>(dim), 0.0);
+    }
+    std::vector<double> params = dim == 3 ? sim::assemblyParams<3>(members)
+                                          : sim::assemblyParams<2>(members);
     return Value(Reals{std::move(params), 0});
   });
 

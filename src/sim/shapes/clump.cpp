@@ -233,21 +233,8 @@ class ClumpType final : public ShapeType<D> {
   }
   std::vector<Vec3> renderTriangles(std::span<const double> p) const override {
     std::vector<Vec3> out;
-    const Real pi = std::numbers::pi;
     for (size_t k = 0; k < p.size() / stride<D>(); ++k) {
-      const VecD<D> c = memberCentre<D>(p, k);
-      const Real r = memberRadius<D>(p, k);
-      if constexpr (D == 2) {
-        const int n = 32;
-        for (int i = 0; i < n; ++i) {
-          const Real a0 = 2 * pi * i / n, a1 = 2 * pi * (i + 1) / n;
-          out.emplace_back(c.x(), c.y(), 0);
-          out.emplace_back(c.x() + r * std::cos(a0), c.y() + r * std::sin(a0), 0);
-          out.emplace_back(c.x() + r * std::cos(a1), c.y() + r * std::sin(a1), 0);
-        }
-      } else {
-        appendRadialMesh(out, 8, 16, [&](const Vec3& d) { return Vec3(c + r * d); });
-      }
+      appendBallTriangles<D>(out, memberCentre<D>(p, k), memberRadius<D>(p, k));
     }
     return out;
   }

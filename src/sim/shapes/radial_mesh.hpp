@@ -28,4 +28,22 @@ void appendRadialMesh(std::vector<Vec3>& out, int nu, int nt, F&& pointAt) {
   }
 }
 
+// Appends the triangles of a ball of radius r about c: a fan of 32 in 2D (z = 0), a radial mesh
+// in 3D. What snapshots draw for a ball inside another shape (a clump's or an assembly's).
+template <int D>
+void appendBallTriangles(std::vector<Vec3>& out, const VecD<D>& c, Real r) {
+  const Real pi = std::numbers::pi;
+  if constexpr (D == 2) {
+    const int n = 32;
+    for (int i = 0; i < n; ++i) {
+      const Real a0 = 2 * pi * i / n, a1 = 2 * pi * (i + 1) / n;
+      out.emplace_back(c.x(), c.y(), 0);
+      out.emplace_back(c.x() + r * std::cos(a0), c.y() + r * std::sin(a0), 0);
+      out.emplace_back(c.x() + r * std::cos(a1), c.y() + r * std::sin(a1), 0);
+    }
+  } else {
+    appendRadialMesh(out, 8, 16, [&](const Vec3& d) { return Vec3(c + r * d); });
+  }
+}
+
 }  // namespace demlab::sim
