@@ -5,7 +5,9 @@
 // monodisperse beds are what single-size grids were designed for; bidisperse and power-law
 // radii break a grid whose cell is sized by the largest object; domain-sized walls break it
 // completely (figure 3-9 of the seed); a sparse clustered scene breaks grids whose cost
-// depends on the empty space they cover.
+// depends on the empty space they cover; elongated shapes (rods) at random orientations give
+// boxes long on some axes and thin on others, whose bounding spheres are far larger than their
+// volume, as non-spherical elements give the neighbour search.
 //
 // Scale: the smallest radius is 1 (the results are scale free). The domain is sized so that
 // the scene has the density of a granular bed: in the monodisperse case each object's box
@@ -37,7 +39,7 @@
 
 namespace demlab::search {
 
-enum class Distribution { Uniform, Bidisperse, PowerLaw, PowerLawWalls, Clustered };
+enum class Distribution { Uniform, Bidisperse, PowerLaw, PowerLawWalls, Clustered, Rods };
 
 struct WorkloadSpec {
   Distribution distribution;
@@ -59,6 +61,8 @@ inline std::string_view distributionName(Distribution d) {
       return "powerlaw_walls";
     case Distribution::Clustered:
       return "clustered";
+    case Distribution::Rods:
+      return "rods";
   }
   return "?";
 }
@@ -66,7 +70,7 @@ inline std::string_view distributionName(Distribution d) {
 // Returns the distribution named `name` (as printed by distributionName), or nothing.
 inline std::optional<Distribution> parseDistribution(std::string_view name) {
   for (Distribution d : {Distribution::Uniform, Distribution::Bidisperse, Distribution::PowerLaw,
-                         Distribution::PowerLawWalls, Distribution::Clustered}) {
+                         Distribution::PowerLawWalls, Distribution::Clustered, Distribution::Rods}) {
     if (distributionName(d) == name) return d;
   }
   return std::nullopt;
@@ -76,6 +80,8 @@ inline std::optional<Distribution> parseDistribution(std::string_view name) {
 inline bool isMonodisperse(Distribution d) {
   return d == Distribution::Uniform || d == Distribution::Clustered;
 }
+// Returns true for the distributions where sizeRatio is an aspect ratio, not a size ratio.
+inline bool isElongated(Distribution d) { return d == Distribution::Rods; }
 
 namespace workload_detail {
 
@@ -152,6 +158,9 @@ inline Box<D, T> ballBox(const std::array<double, D>& centre, double r) {
 //   Bidisperse: r_min and sizeRatio * r_min, exactly round(n / 10) large ones, spread evenly
 //     over the indices (positions are random, so indices carry no spatial order).
 //   PowerLaw, PowerLawWalls: truncated power law p(r) ~ r^-3 on [r_min, sizeRatio * r_min].
+//   Rods: spherocylinders of radius r_min and aspect ratio sizeRatio (length over width),
+//     pointing in directions uniform on the sphere; each box is its rod's, and the domain
+//     holds their total volume as a bed of balls of the same volume would.
 // Walls are boxes 2 r_min thick, centred on the low and high faces of axes 0 and 1, spanning
 // the whole domain on every other axis; in 1D, segments from each end face (r_min inside the
 // domain) reaching one domain length outward. Clustered puts the balls in 8 dense cubic clusters
@@ -204,6 +213,37 @@ std::vector<Box<D, T>> makeWorkload(const WorkloadSpec& spec) {
       }
       for (int k = 0; k < D; ++k) c[k] = origin[k] + side * uniform01(rng);
       boxes.push_back(ballBox<D, T>(c, radius[i]));
+    }
+    return boxes;
+  }
+
+  if (dist == Distribution::Rods) {
+    // Half the segment's length; a rod's volume over its end ball's (3D 1 + 1.5 h, 2D
+    // 1 + 4 h / pi, 1D 1 + h, per unit r_min), which sizes the domain.
+    const double h = (ratio - 1.0) * kRMin;
+    const double volume = D == 3 ? 1.0 + 1.5 * h : D == 2 ? 1.0 + 4.0 * h / 3.14159265358979323846 : 1.0 + h;
+    const double side = domainSide<D>(static_cast<double>(nBalls) * volume);
+    for (std::size_t i = 0; i < nBalls; ++i) {
+      // A direction uniform on the sphere: a point uniform in the cube [-1, 1]^D kept when it
+      // lies in the unit ball (and not at its centre), then scaled to length 1.
+      std::array<double, D> d{};
+      double len2 = 0.0;
+      do {
+        len2 = 0.0;
+        for (int k = 0; k < D; ++k) {
+          d[k] = 2.0 * uniform01(rng) - 1.0;
+          len2 += d[k] * d[k];
+        }
+      } while (!(len2 <= 1.0 && len2 > 1e-12));
+      const double len = std::sqrt(len2);
+      for (int k = 0; k < D; ++k) c[k] = side * uniform01(rng);
+      Box<D, T> b;
+      for (int k = 0; k < D; ++k) {
+        const double reach = h * std::abs(d[k]) / len + kRMin;
+        b.lo[k] = static_cast<T>(c[k] - reach);
+        b.hi[k] = static_cast<T>(c[k] + reach);
+      }
+      boxes.push_back(b);
     }
     return boxes;
   }

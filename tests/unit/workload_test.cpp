@@ -13,7 +13,7 @@ namespace {
 
 constexpr Distribution kAll[] = {Distribution::Uniform, Distribution::Bidisperse,
                                  Distribution::PowerLaw, Distribution::PowerLawWalls,
-                                 Distribution::Clustered};
+                                 Distribution::Clustered, Distribution::Rods};
 
 template <int D>
 bool sameBoxes(const std::vector<Box<D, double>>& a, const std::vector<Box<D, double>>& b) {
@@ -88,6 +88,19 @@ void checkCountsAndRadii() {
             d == Distribution::PowerLawWalls ? std::min<std::size_t>(n, D == 1 ? 2 : 4) : 0;
         const double rMax = isMonodisperse(d) ? 1.0 : ratio;
         for (std::size_t i = 0; i + nWalls < n; ++i) {
+          if (isElongated(d)) {
+            // A rod of radius 1 and half length h = ratio - 1 along a unit direction u: its
+            // box reaches 1 + h |u_k| on axis k, so sum_k (extent_k - 1)^2 = h^2.
+            const double h = ratio - 1.0;
+            double sum = 0.0;
+            for (int k = 0; k < D; ++k) {
+              const double e = halfExtent<D>(boxes[i], k) - 1.0;
+              EXPECT_GE(e, -1e-9);
+              sum += e * e;
+            }
+            EXPECT_NEAR(sum, h * h, 1e-9 * (1.0 + h * h)) << "rod " << i << " D=" << D;
+            continue;
+          }
           const double r = halfExtent<D>(boxes[i], 0);
           EXPECT_GE(r, 1.0 - 1e-9);
           EXPECT_LE(r, rMax * (1.0 + 1e-12));

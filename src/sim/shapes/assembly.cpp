@@ -166,11 +166,25 @@ Members<D> makeMembers(std::span<const double> p) {
   return out;
 }
 
-// Member k of the assembly at (x, q), as the rows see it.
+// The assembly's pose as its members are placed: the rotation as a matrix, made once a pair (a
+// 2D angle's sine and cosine would otherwise be taken for every member).
 template <int D>
-ElementRef<D> memberRef(const VecD<D>& x, const RotationD<D>& q, const Member<D>& m) {
-  return {x + rotate(q, m.position), q * m.rotation, m.r, &m.g};
-}
+struct Pose {
+  VecD<D> x;
+  RotationD<D> q;
+  MatD<D> m;
+  Pose(const VecD<D>& at, const RotationD<D>& turn) : x(at), q(turn) {
+    if constexpr (D == 3) {
+      m = turn.toRotationMatrix();
+    } else {
+      m = turn.matrix();
+    }
+  }
+  // Returns where member k's centre is.
+  VecD<D> centre(const Member<D>& k) const { return x + m * k.position; }
+  // Returns member k as the rows see it.
+  ElementRef<D> ref(const Member<D>& k) const { return {centre(k), q * k.rotation, k.r, &k.g}; }
+};
 
 template <int D>
 class AssemblyType final : public ShapeType<D> {
@@ -226,12 +240,10 @@ class AssemblyType final : public ShapeType<D> {
     const Members<D> members = makeMembers<D>(p);
     const Real tolerance = 1e-9 * reach;
     ContactPoint<D> points[kMaxContactPoints];
-    const VecD<D> origin = VecD<D>::Zero();
-    const RotationD<D> identity = ElementArrays<D>::identityRotation();
+    const Pose<D> body(VecD<D>::Zero(), ElementArrays<D>::identityRotation());
     for (size_t i = 0; i < members.size(); ++i) {
       for (size_t j = i + 1; j < members.size(); ++j) {
-        const ElementRef<D> a = memberRef(origin, identity, members[i]);
-        const ElementRef<D> b = memberRef(origin, identity, members[j]);
+        const ElementRef<D> a = body.ref(members[i]), b = body.ref(members[j]);
         if (!((a.x - b.x).norm() < a.r + b.r)) continue;
         const int n = shapePairPoints(a, b, points);
         for (int k = 0; k < n; ++k) {
@@ -375,9 +387,11 @@ int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out
   all.clear();
   const Members<D>& ma = membersOf(a);
   const bool assemblyB = b.g->shape == a.g->shape;
+  const Pose<D> pa(a.x, a.q);
+  const Pose<D> pb(b.x, b.q);  // read only when b is an assembly
   for (size_t i = 0; i < ma.size(); ++i) {
-    const ElementRef<D> ai = memberRef(a.x, a.q, ma[i]);
-    if (!((ai.x - b.x).norm() < ai.r + b.r)) continue;
+    if (!((pa.centre(ma[i]) - b.x).norm() < ma[i].r + b.r)) continue;
+    const ElementRef<D> ai = pa.ref(ma[i]);
     if (!assemblyB) {
       const int n = shapePairPoints(ai, b, points);
       for (int k = 0; k < n; ++k) {
@@ -388,8 +402,8 @@ int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out
     }
     const Members<D>& mb = membersOf(b);
     for (size_t j = 0; j < mb.size(); ++j) {
-      const ElementRef<D> bj = memberRef(b.x, b.q, mb[j]);
-      if (!((ai.x - bj.x).norm() < ai.r + bj.r)) continue;
+      if (!((ai.x - pb.centre(mb[j])).norm() < ai.r + mb[j].r)) continue;
+      const ElementRef<D> bj = pb.ref(mb[j]);
       const int n = shapePairPoints(ai, bj, points);
       for (int k = 0; k < n; ++k) {
         points[k].feature = mixFeature(mixFeature(points[k].feature, j), i);
@@ -407,8 +421,9 @@ int wallRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   thread_local ContactPoint<D> points[kMaxContactPoints];
   all.clear();
   const Members<D>& ma = membersOf(a);
+  const Pose<D> pa(a.x, a.q);
   for (size_t i = 0; i < ma.size(); ++i) {
-    const int n = shapeWallPoints(memberRef(a.x, a.q, ma[i]), Kind, wall, points);
+    const int n = shapeWallPoints(pa.ref(ma[i]), Kind, wall, points);
     for (int k = 0; k < n; ++k) {
       points[k].feature = mixFeature(points[k].feature, i);
       all.push_back(points[k]);

@@ -47,6 +47,7 @@ struct PlacedGauge {
   VecD<D> toBody(const VecD<D>& x) const { return aligned ? x : VecD<D>(rot.transpose() * (x - centre)); }
   VecD<D> toWorld(const VecD<D>& v) const { return aligned ? v : VecD<D>(rot * v); }
   Real gauge(const VecD<D>& x) const { return shape.gauge(toBody(x)); }
+  Real level(const VecD<D>& x) const { return shape.level(toBody(x)); }
   VecD<D> gaugeGradient(const VecD<D>& x) const { return toWorld(shape.gaugeGradient(toBody(x))); }
   VecD<D> gaugeAndGradient(const VecD<D>& x, Real& phi) const {
     return toWorld(shape.gaugeAndGradient(toBody(x), phi));

@@ -23,6 +23,9 @@ struct Superquadric {
 
   // Returns phi(x), the gauge: < 1 inside, 1 on the surface, > 1 outside. Changes nothing.
   Real gauge(const VecD<D>& x) const;
+  // Returns F(x) = phi(x)^n1, which orders points as the gauge does without its root or any
+  // derivative: what a search for the deepest point compares. Changes nothing.
+  Real level(const VecD<D>& x) const;
   // Returns the gradient of phi at x (x != 0).
   VecD<D> gaugeGradient(const VecD<D>& x) const;
   // Returns the gradient of phi at x and writes phi(x) to phi: both for the cost of one.

@@ -85,6 +85,17 @@ Real dualNorm(Real p, Real q, Real m) {
 }  // namespace
 
 template <int D>
+Real Superquadric<D>::level(const VecD<D>& x) const {
+  const auto term = [](Real v, Real a, Real p) { return power(std::abs(v) / a, p); };
+  if constexpr (D == 2) {
+    return term(x[0], a, n1) + term(x[1], b, n1);
+  } else {
+    const Real hsum = term(x[0], a, n2) + term(x[1], b, n2);
+    return (n1 == n2 ? hsum : power(hsum, n1 / n2)) + term(x[2], c, n1);
+  }
+}
+
+template <int D>
 Real Superquadric<D>::gauge(const VecD<D>& x) const {
   VecD<D> g;
   MatD<D> h;
