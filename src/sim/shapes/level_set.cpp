@@ -12,18 +12,21 @@
 //
 // Rows: against itself, the ball (the ball's centre in the field, the field extended beyond the
 // grid by the distance to it: one point), the polytope (its nodes in the polytope, the
-// polytope's corners in its field), the clump (its members as balls), and the plane, drum,
-// box and finite walls (its nodes beyond them). The Hertz radius is the volume-equivalent
+// polytope's corners in its field), the superquadric (its nodes in the gauge, points of the
+// superquadric's surface in its field), the clump (its members as balls), and the plane, drum,
+// box, finite and mesh walls (its nodes beyond them). The Hertz radius is the volume-equivalent
 // sphere's, as for the other shapes without curvature of their own.
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "physics/narrow_phase.hpp"
 #include "physics/shapes.hpp"
 #include "physics/triangle_mesh.hpp"
 #include "sim/shape.hpp"
 #include "sim/shapes/level_set.hpp"
+#include "sim/shapes/convex_contact.hpp"
 #include "sim/shapes/level_set_internal.hpp"
 #include "sim/shapes/point_rows.hpp"
 #include "sim/shapes/polytope.hpp"
@@ -300,6 +303,57 @@ int polytopeRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>*
   return keepDeepestPoints<D>(all, out);
 }
 
+// A level set against a superquadric (superellipse in 2D): its nodes inside the superquadric,
+// each at the depth (1 - phi) / |grad phi| below its surface (first order in the gauge phi,
+// exact for a sphere) along the gradient, and points of the superquadric's surface inside its
+// field, as the polytope's corners are. The surface points are the radial projections u / phi(u)
+// of directions u spread evenly (a Fibonacci sphere; a fan in 2D), as many as put them about a
+// node spacing apart, taken only where the ray from the centre along u can reach the level
+// set's bounding sphere.
+template <int D>
+int gaugeRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
+  if (!((b.x - a.x).norm() < a.r + b.r)) return 0;
+  const PlacedGauge<D> g = placedGauge(b);
+  const LevelSet<D>& ls = levelSetOf(a);
+  thread_local std::vector<ContactPoint<D>> all;
+  all.clear();
+  const Real radius = pairRadius(a, b);
+  forNodesNear(a, b.x, b.r, [&](uint32_t k, const VecD<D>& x) {
+    Real phi;
+    const VecD<D> grad = g.gaugeAndGradient(x, phi);
+    const Real len = grad.norm();
+    if (!(phi < 1) || !(len > 0)) return;
+    all.push_back(point<D>(x, VecD<D>(-grad / len), (1 - phi) / len, true, radius, k));
+  });
+  const Real inner = D == 3 ? std::min({g.shape.a, g.shape.b, g.shape.c})
+                            : std::min(g.shape.a, g.shape.b);
+  const Real pi = std::numbers::pi;
+  const Real spacing = ls.h;  // the field's own resolution
+  const int count = D == 3 ? static_cast<int>(std::min(4096.0, std::ceil(4 * pi * b.r * b.r / (spacing * spacing))))
+                           : static_cast<int>(std::min(1024.0, std::ceil(2 * pi * b.r / spacing)));
+  const Real golden = pi * (3 - std::sqrt(Real{5}));
+  Real depth;
+  VecD<D> n;
+  for (int i = 0; i < count; ++i) {
+    VecD<D> u;
+    if constexpr (D == 3) {
+      const Real z = 1 - 2 * (i + 0.5) / count, rho = std::sqrt(std::max(Real{0}, 1 - z * z));
+      u = Vec3(rho * std::cos(golden * i), rho * std::sin(golden * i), z);
+    } else {
+      const Real t = 2 * pi * (i + 0.5) / count;
+      u = Vec2(std::cos(t), std::sin(t));
+    }
+    const VecD<D> w = g.rot * u;
+    const Real t = std::clamp((a.x - b.x).dot(w), inner, b.r);
+    if ((b.x + t * w - a.x).squaredNorm() > a.r * a.r) continue;
+    const VecD<D> x = b.x + g.rot * VecD<D>(u / g.shape.gauge(u));
+    if (insideField(a, x, depth, n)) {
+      all.push_back(point<D>(x, n, depth, false, radius, static_cast<uint32_t>(i) | kOtherBody));
+    }
+  }
+  return keepDeepestPoints<D>(all, out);
+}
+
 // The nodes beyond a wall's surface: depth(x) > 0 how far node x lies beyond it, normal(x) the
 // direction from the element into the wall there.
 template <int D, class Depth, class Normal>
@@ -421,6 +475,7 @@ void registerLevelSet(ShapeTable<D>& t) {
   t.addPair("levelset", "levelset", {pairRow<D>, false});
   t.addPair("levelset", D == 3 ? "sphere" : "disc", {ballRow<D>, false});
   t.addPair("levelset", D == 3 ? "polyhedron" : "polygon", {polytopeRow<D>, false});
+  t.addPair("levelset", D == 3 ? "superquadric" : "superellipse", {gaugeRow<D>, false});
   t.addWall("levelset", WallShape::Plane, {planeByPoints<D, Nodes>, false});
   t.addWall("levelset", WallShape::Drum, {drumByPoints<D, Nodes>, false});
   t.addWall("levelset", WallShape::Box, {boxRow<D>, false});

@@ -237,6 +237,77 @@ TEST(SimLevelSet, ABallMeetsASphereAsTheSphereItIs) {
   }
 }
 
+// A superquadric against a level set, through shapePairPoints (the row is registered level set
+// first): a sphere as a superquadric meets a sphere's level set as the two spheres overlap; a
+// blocky superquadric meets an ellipsoid's level set as the superquadric row meets the
+// ellipsoid itself, for shallow overlaps; apart, no point.
+TEST(SimLevelSet, SuperquadricsMeetLevelSetsAsTheShapesTheyAre) {
+  const ShapeTable<3>& t = ShapeTable<3>::get();
+  const Real r = 0.01, h = 0.001;
+  Body s, e;
+  s.g = t.makeGeometry("levelset", levelSetFromValues<3>(h, kSphereGrid, Vec3::Constant(-13 * h),
+                                                         sampleSphereGrid(h, [&](const Vec3& x) { return x.norm() - r; })));
+  // The ellipsoid 1.2 : 1 : 0.8 cm, sampled as its gauge less one (re-distanced).
+  const Vec3 axes(0.012, 0.01, 0.008);
+  e.g = t.makeGeometry("levelset", levelSetFromValues<3>(h, kSphereGrid, Vec3::Constant(-13 * h),
+                                                         sampleSphereGrid(h, [&](const Vec3& x) { return x.cwiseQuotient(axes).norm() - 1; })));
+  Body sq, ell, blocky;
+  sq.g = t.makeGeometry("superquadric", std::vector<double>{0.004, 0.004, 0.004, 2, 2});
+  ell.g = t.makeGeometry("superquadric", std::vector<double>{axes.x(), axes.y(), axes.z(), 2, 2});
+  blocky.g = t.makeGeometry("superquadric", std::vector<double>{0.006, 0.004, 0.005, 6, 4});
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  ContactPoint<3> got[kMaxContactPoints], want[kMaxContactPoints];
+  const auto deepest = [](const ContactPoint<3>* p, int n) {
+    int at = -1;
+    for (int k = 0; k < n; ++k) {
+      if (at < 0 || p[k].g.overlap > p[at].g.overlap) at = k;
+    }
+    return at;
+  };
+  int spheres = 0, shapes = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    s.q = randomQuat(rng);
+    sq.q = randomQuat(rng);
+    const Real gap = 0.002 * u(rng);
+    const Vec3 dir = testing::randomUnit(rng);
+    sq.x = s.x + dir * (r + 0.004 + gap);
+    const int m = shapePairPoints<3>(sq.ref(), s.ref(), got);
+    if (gap > 0.15 * h) {
+      EXPECT_EQ(m, 0) << trial;
+    }
+    if (gap < -0.15 * h) {
+      ++spheres;
+      const int k = deepest(got, m);
+      ASSERT_GE(k, 0) << trial;
+      EXPECT_NEAR(got[k].g.overlap, -gap, 0.1 * h) << trial;
+      // From the superquadric to the level set; the deepest node lies up to half a cell's
+      // diagonal off the centre line (0.7 h), where the 4 mm sphere's normal is turned by up to
+      // 0.7 h / r = 0.18.
+      EXPECT_LT((got[k].g.normal + dir).norm(), 0.25) << trial;
+    }
+    // The blocky superquadric against the ellipsoid's level set and against the ellipsoid.
+    e.q = ell.q = randomQuat(rng);
+    blocky.q = randomQuat(rng);
+    blocky.x = e.x + testing::randomUnit(rng) * (0.014 + 0.004 * u(rng));
+    ell.x = e.x;
+    const int nr = shapePairPoints<3>(blocky.ref(), ell.ref(), want);
+    const int nl = shapePairPoints<3>(blocky.ref(), e.ref(), got);
+    const Real w = nr > 0 ? want[deepest(want, nr)].g.overlap : 0;
+    const Real g = nl > 0 ? got[deepest(got, nl)].g.overlap : 0;
+    if (w > 1.5 * h && w < 0.003) {
+      ++shapes;
+      EXPECT_NEAR(g, w, 1.5 * h) << trial;
+      EXPECT_GT(got[deepest(got, nl)].g.normal.dot(e.x - blocky.x), 0) << trial;
+    }
+    if (nr == 0) {
+      EXPECT_LT(g, 1.5 * h) << trial;
+    }
+  }
+  EXPECT_GT(spheres, 50);
+  EXPECT_GT(shapes, 20);
+}
+
 ElementDef levelSetCube(const Vec3d& x, double half, double h, const std::string& mat) {
   ElementDef e = grain(x, 0, mat);
   e.shape = "levelset";
