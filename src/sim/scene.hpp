@@ -18,6 +18,7 @@
 #include "physics/material.hpp"
 #include "physics/pair_params.hpp"
 #include "search/box.hpp"
+#include "sim/shape_springs.hpp"
 #include "sim/behavior.hpp"
 #include "sim/bond.hpp"
 #include "sim/boundaries.hpp"
@@ -149,12 +150,6 @@ struct BlockedElement {
   uint8_t dofs;  // dof:: mask, never 0 (an element with none blocked leaves the list)
 };
 
-// The key of one contact point's tangential spring in a pair with a non-ball element
-// (sim/shape_contacts.hpp): the two slots (a wall's as wallPairId) and the point's index.
-struct ShapeSpringKey {
-  uint32_t a, b, point;
-  friend auto operator<=>(const ShapeSpringKey&, const ShapeSpringKey&) = default;
-};
 
 // Returns the Geometry list a new scene starts with: the ball's, at index 0.
 template <int D>
@@ -202,7 +197,7 @@ struct Scene {
   bool anyShapes = false;
   std::vector<CandidatePair> shapeCandidates;                    // element-element
   std::vector<std::pair<uint32_t, uint32_t>> shapeWallCandidates;  // (element, wall) dense
-  std::map<ShapeSpringKey, physics::TangentialHistory<D>> shapeSprings;
+  ShapeSpringStore<D> shapeSprings;  // sim/shape_springs.hpp
 
   // ---- materials and laws ----
   std::vector<std::string> materialNames;

@@ -659,7 +659,7 @@ void writeShapes(Writer& w, const Scene<D>& s) {
     w.u32(c.second);
   });
   w.u64(s.shapeSprings.size());
-  for (const auto& [k, h] : s.shapeSprings) {
+  for (const auto& [k, h] : s.shapeSprings.sorted()) {
     w.u32(k.a);
     w.u32(k.b);
     w.u32(k.point);
@@ -719,7 +719,7 @@ void readShapes(Reader& r, Scene<D>& s) {
     key.point = r.u32();
     const VecD<D> spring = r.vec<D>();
     if (!spring.allFinite()) Reader::bad("shape spring");
-    s.shapeSprings[key].spring = spring;
+    s.shapeSprings.put(key, {spring});
   }
 }
 

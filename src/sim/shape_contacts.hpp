@@ -121,7 +121,6 @@ class ShapeContactModule final : public SimModule<D> {
     const size_t nMat = s.nMat();
     const bool history = s.keepHistory, rotating = s.rotating;
     PassEnergy e;
-    touched_.clear();
     ContactPoint<D> pts[kMaxContactPoints];
     // One contact point through the law: returns the force on B.
     const auto apply = [&](const ContactPoint<D>& p, const VecD<D>& vrel, Real effMass, size_t pair,
@@ -129,14 +128,14 @@ class ShapeContactModule final : public SimModule<D> {
       physics::TangentialHistory<D>* h = nullptr;
       if (history) {
         // A new point starts from a zero spring; the map allocates only then.
-        h = &s.shapeSprings.try_emplace(key).first->second;
-        touched_.push_back(key);
+        h = s.shapeSprings.touch(key);
       }
       const physics::ContactKinematics<D> k{vrel, effMass, p.effRadius, lag};
       const physics::ContactForce<D> f = s.pairLawFn[pair](s.pairParams[pair], p.g, k, h, dt);
       e.add(f);
       return f.force;
     };
+    if (history) s.shapeSprings.beginStep();
     for (const CandidatePair& c : s.shapeCandidates) {
       const uint32_t i = c.i, j = c.j;
       const int n = elementPairPoints(s, i, j, pts);
@@ -182,20 +181,14 @@ class ShapeContactModule final : public SimModule<D> {
         if (s.recordContacts) appendRecord<D>(s.contacts, {i, w, true, f});
       }
     }
-    // The points that stopped touching drop their springs (touched_ is in contact order).
-    std::sort(touched_.begin(), touched_.end());
-    std::erase_if(s.shapeSprings, [&](const auto& kv) {
-      return !std::binary_search(touched_.begin(), touched_.end(), kv.first);
-    });
+    // The points that stopped touching drop their springs.
+    if (history) s.shapeSprings.endStep();
     s.ledger.elastic += e.elastic;
     s.ledger.dampingLoss += e.damping;
     s.ledger.frictionLoss += e.friction;
     s.ledger.springWork += e.springWork;
     s.ledger.wallWork += e.wallWork;
   }
-
- private:
-  std::vector<ShapeSpringKey> touched_;  // the points that kept or took a spring this step
 };
 
 }  // namespace demlab::sim

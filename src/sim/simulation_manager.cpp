@@ -479,7 +479,7 @@ void SimulationManager<D>::removeElement(ElementId id) {
   const uint32_t slot = s_.elements.remove(id);
   dropBonds({slot});
   if (s_.keepHistory) s_.histories.removeId(slot);
-  std::erase_if(s_.shapeSprings, [&](const auto& e) { return e.first.a == slot || e.first.b == slot; });
+  s_.shapeSprings.eraseIf([&](const ShapeSpringKey& k) { return k.a == slot || k.b == slot; });
   s_.needRebuild = true;
   touchConfig();
 }
@@ -504,9 +504,7 @@ void SimulationManager<D>::removeElementSet(const std::vector<ElementId>& ids) {
   dropBlocked([&](ElementId g) { return slots.contains(g.index); });
   std::erase_if(s_.placedElements, [&](ElementId g) { return slots.contains(g.index); });
   dropBonds(slots);
-  std::erase_if(s_.shapeSprings, [&](const auto& e) {
-    return slots.contains(e.first.a) || slots.contains(e.first.b);
-  });
+  s_.shapeSprings.eraseIf([&](const ShapeSpringKey& k) { return slots.contains(k.a) || slots.contains(k.b); });
   if (s_.keepHistory) {
     std::vector<std::pair<uint32_t, uint32_t>> drop;
     s_.histories.forEach([&](const auto& p, auto&) {

@@ -259,7 +259,7 @@ void SimulationManager<D>::removeWall(WallId id) {
   forgetCandidates();
   if (s_.keepHistory) s_.histories.removeId(wallPairId(id.index));
   // Its slot may come back for a new wall: its shape springs go with it.
-  std::erase_if(s_.shapeSprings, [&](const auto& e) { return e.first.b == wallPairId(id.index); });
+  s_.shapeSprings.eraseIf([&](const ShapeSpringKey& k) { return k.b == wallPairId(id.index); });
   s_.walls.remove(id);
   std::erase(s_.placedWalls, id);
   s_.needRebuild = true;

@@ -1,0 +1,106 @@
+// The tangential springs of the shape contact pass (sim/shape_contacts.hpp): one per contact
+// point, keyed by the pair's slots and the point's feature (ShapeSpringKey).
+//
+// Why not a map: the pass visits the same points in the same order from step to step between
+// neighbour searches, so the springs are kept as two arrays, last step's and this step's, in the
+// order the pass touched them. A point looks first at the place after the last one found (a hit
+// in the common case: no search, no tree, no allocation), and only when that misses (a new point,
+// a new search) at a sorted index of last step's springs, made once in such a step. A spring not
+// touched in a step is dropped with last step's array. Lookups are by key, so the results do not
+// depend on the storage order; checkpoints write the springs sorted by key.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+#include "physics/contact.hpp"
+
+namespace demlab::sim {
+
+// The key of one contact point's tangential spring in a pair with a non-ball element: the two
+// slots (a wall's as wallPairId) and the point's feature.
+struct ShapeSpringKey {
+  uint32_t a, b, point;
+  friend auto operator<=>(const ShapeSpringKey&, const ShapeSpringKey&) = default;
+};
+
+template <int D>
+class ShapeSpringStore {
+ public:
+  using History = physics::TangentialHistory<D>;
+  struct Entry {
+    ShapeSpringKey key;
+    History h;
+  };
+
+  // Starts a step: every spring is last step's until touched. Changes the store.
+  void beginStep() {
+    next_.clear();
+    next_.reserve(springs_.size() + springs_.size() / 8 + 16);
+    cursor_ = 0;
+    indexed_ = false;
+  }
+  // Returns the spring of key for this step: last step's, or a zero spring for a new point.
+  // The pointer is valid until the next touch. Changes the store.
+  History* touch(const ShapeSpringKey& key) {
+    if (cursor_ < springs_.size() && springs_[cursor_].key == key) {
+      next_.push_back(springs_[cursor_++]);
+      return &next_.back().h;
+    }
+    if (!indexed_) {
+      index_.resize(springs_.size());
+      std::iota(index_.begin(), index_.end(), uint32_t{0});
+      std::sort(index_.begin(), index_.end(),
+                [&](uint32_t x, uint32_t y) { return springs_[x].key < springs_[y].key; });
+      indexed_ = true;
+    }
+    const auto it = std::lower_bound(index_.begin(), index_.end(), key,
+                                     [&](uint32_t x, const ShapeSpringKey& k) { return springs_[x].key < k; });
+    if (it != index_.end() && springs_[*it].key == key) {
+      cursor_ = *it + 1;
+      next_.push_back(springs_[*it]);
+    } else {
+      next_.push_back({key, History{}});
+    }
+    return &next_.back().h;
+  }
+  // Ends a step: this step's springs become the store; those not touched are dropped.
+  void endStep() { springs_.swap(next_); }
+
+  size_t size() const { return springs_.size(); }
+  size_t heapBytes() const {
+    return (springs_.capacity() + next_.capacity()) * sizeof(Entry) + index_.capacity() * sizeof(uint32_t);
+  }
+  // Returns the springs sorted by key (checkpoints). Changes nothing.
+  std::vector<Entry> sorted() const {
+    std::vector<Entry> out = springs_;
+    std::sort(out.begin(), out.end(), [](const Entry& x, const Entry& y) { return x.key < y.key; });
+    return out;
+  }
+  // Adds the spring of key, between steps (a checkpoint's, whose keys come sorted: a key equal
+  // to the last one added replaces it). Changes the store.
+  void put(const ShapeSpringKey& key, const History& h) {
+    if (!springs_.empty() && springs_.back().key == key) {
+      springs_.back().h = h;
+      return;
+    }
+    springs_.push_back({key, h});
+  }
+  // Drops the springs whose key satisfies drop, between steps. Changes the store.
+  template <class Drop>
+  void eraseIf(Drop drop) {
+    std::erase_if(springs_, [&](const Entry& e) { return drop(e.key); });
+  }
+  void clear() { springs_.clear(); }
+
+ private:
+  std::vector<Entry> springs_;  // last step's, in the order they were touched
+  std::vector<Entry> next_;     // this step's
+  std::vector<uint32_t> index_;  // springs_'s positions by key, made on a step's first miss
+  size_t cursor_ = 0;
+  bool indexed_ = false;
+};
+
+}  // namespace demlab::sim
