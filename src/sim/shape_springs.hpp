@@ -5,14 +5,14 @@
 // neighbour searches, so the springs are kept as two arrays, last step's and this step's, in the
 // order the pass touched them. A point looks first at the place after the last one found (a hit
 // in the common case: no search, no tree, no allocation), and only when that misses (a new point,
-// a new search) at a sorted index of last step's springs, made once in such a step. A spring not
+// a new search) in a hash table of last step's springs (open addressing, linear probing), made
+// once in such a step: linear in the springs, where sorting them would not be. A spring not
 // touched in a step is dropped with last step's array. Lookups are by key, so the results do not
 // depend on the storage order; checkpoints write the springs sorted by key.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
-#include <numeric>
 #include <vector>
 
 #include "physics/contact.hpp"
@@ -49,18 +49,11 @@ class ShapeSpringStore {
       next_.push_back(springs_[cursor_++]);
       return &next_.back().h;
     }
-    if (!indexed_) {
-      index_.resize(springs_.size());
-      std::iota(index_.begin(), index_.end(), uint32_t{0});
-      std::sort(index_.begin(), index_.end(),
-                [&](uint32_t x, uint32_t y) { return springs_[x].key < springs_[y].key; });
-      indexed_ = true;
-    }
-    const auto it = std::lower_bound(index_.begin(), index_.end(), key,
-                                     [&](uint32_t x, const ShapeSpringKey& k) { return springs_[x].key < k; });
-    if (it != index_.end() && springs_[*it].key == key) {
-      cursor_ = *it + 1;
-      next_.push_back(springs_[*it]);
+    if (!indexed_) buildIndex();
+    const uint32_t at = find(key);
+    if (at != kNone) {
+      cursor_ = at + 1;
+      next_.push_back(springs_[at]);
     } else {
       next_.push_back({key, History{}});
     }
@@ -98,7 +91,36 @@ class ShapeSpringStore {
  private:
   std::vector<Entry> springs_;  // last step's, in the order they were touched
   std::vector<Entry> next_;     // this step's
-  std::vector<uint32_t> index_;  // springs_'s positions by key, made on a step's first miss
+  static constexpr uint32_t kNone = 0xffffffffu;
+
+  static uint64_t hash(const ShapeSpringKey& k) {
+    uint64_t h = (uint64_t{k.a} << 32 | k.b) * 0x9e3779b97f4a7c15ull;
+    h ^= (h >> 29) + uint64_t{k.point} * 0xbf58476d1ce4e5b9ull;
+    return h ^ (h >> 32);
+  }
+  // Fills index_ with springs_'s positions by key: a power-of-two table at most half full.
+  void buildIndex() {
+    size_t size = 16;
+    while (size < 2 * springs_.size()) size *= 2;
+    index_.assign(size, kNone);
+    const size_t mask = size - 1;
+    for (uint32_t i = 0; i < springs_.size(); ++i) {
+      size_t slot = hash(springs_[i].key) & mask;
+      while (index_[slot] != kNone) slot = (slot + 1) & mask;
+      index_[slot] = i;
+    }
+    indexed_ = true;
+  }
+  // Returns the position of key in springs_, or kNone.
+  uint32_t find(const ShapeSpringKey& key) const {
+    const size_t mask = index_.size() - 1;
+    for (size_t slot = hash(key) & mask; index_[slot] != kNone; slot = (slot + 1) & mask) {
+      if (springs_[index_[slot]].key == key) return index_[slot];
+    }
+    return kNone;
+  }
+
+  std::vector<uint32_t> index_;  // a hash table of springs_'s positions, made on a step's first miss
   size_t cursor_ = 0;
   bool indexed_ = false;
 };
