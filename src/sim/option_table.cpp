@@ -21,6 +21,7 @@ constexpr std::string_view kIntegrators[] = {"synchronized", "verlet"};
 // In the order of the values in sim/law_models.hpp.
 constexpr std::string_view kTangential[] = {"history", "none"};
 constexpr std::string_view kSwitch[] = {"on", "off", "auto"};
+constexpr std::string_view kCurvature[] = {"equivalent", "local"};
 
 // get and set of an option held in one scene field (or a member of one).
 template <class T>
@@ -203,6 +204,17 @@ struct Rows {
         .choices = kSwitch},
        getField<D, &S::cohesionModel>,
        setField<D, &S::cohesionModel>},
+      {{.group = "law",
+        .name = "curvature",
+        .type = OptionType::Choice,
+        .def = std::string("equivalent"),
+        .help = "the Hertz radius of pairs with a non-ball element: equivalent (the default), "
+                "each body's volume-equivalent sphere's; local, from the two surfaces' own "
+                "curvature at the point where the row knows it (superquadrics: the Gaussian "
+                "radius, flat parts capped at a_max^2 / a_min), else the equivalent one",
+        .choices = kCurvature},
+       getField<D, &S::curvatureModel>,
+       setField<D, &S::curvatureModel>},
   };
 };
 
@@ -240,7 +252,7 @@ constexpr OptionGroup kGroups[] = {
     {"law", "Selects the contact law's sub-models; returns the choice as a dict.",
      "In the spirit of LAMMPS's pair granular: -normal is the default law (law default; a pair "
      "with its own law keeps it), -damping Hertz's (law damping), -tangential the tangential "
-     "model, -rolling and -cohesion whether those sub-models run. auto, their default, runs "
+     "model, -rolling and -cohesion whether those sub-models run, -curvature the Hertz radius of shape pairs. auto, their default, runs "
      "one where a pair's coefficient (material -rolling, -cohesion, law coefficients) is "
      "non-zero; off leaves it out whatever the coefficients; on keeps it in the loop. A choice "
      "other than the default is saved with the scene.",

@@ -274,6 +274,7 @@ struct Scene {
   // ---- the law's sub-model choices (`law model`; sim/law_models.hpp names the values) ----
   uint8_t tangentialModel = 0;  // history, none
   uint8_t rollingModel = 2;     // on, off, auto (auto: when a coefficient is non-zero)
+  uint8_t curvatureModel = 0;   // equivalent, local: the Hertz radius of shape pairs
   uint8_t cohesionModel = 2;    // on, off, auto
 
   size_t nMat() const { return materials.size(); }

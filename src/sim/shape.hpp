@@ -126,6 +126,9 @@ struct ContactPoint {
   // Which feature of the pair touches (a vertex's index, say), stable from step to step: the
   // point's tangential spring is kept under it, as Box2D keys its warm starts by feature ids.
   uint32_t feature = 0;
+  // The pair's Hertz radius from the two surfaces' own curvature at the point (law -curvature
+  // local), or 0 where the row has none (the scene then takes effRadius).
+  Real localRadius = 0;
 };
 
 // Returns the radius of the ball (the disc in 2D) of geometry g's volume (area): the Hertz

@@ -120,6 +120,7 @@ class ShapeContactModule final : public SimModule<D> {
     const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
     const bool history = s.keepHistory, rotating = s.rotating;
+    const bool localCurvature = s.curvatureModel == 1;  // law -curvature local
     PassEnergy e;
     ContactPoint<D> pts[kMaxContactPoints];
     // One contact point through the law: returns the force on B.
@@ -130,7 +131,8 @@ class ShapeContactModule final : public SimModule<D> {
         // A new point starts from a zero spring; the map allocates only then.
         h = s.shapeSprings.touch(key);
       }
-      const physics::ContactKinematics<D> k{vrel, effMass, p.effRadius, lag};
+      const Real radius = localCurvature && p.localRadius > 0 ? p.localRadius : p.effRadius;
+      const physics::ContactKinematics<D> k{vrel, effMass, radius, lag};
       const physics::ContactForce<D> f = s.pairLawFn[pair](s.pairParams[pair], p.g, k, h, dt);
       e.add(f);
       return f.force;

@@ -204,23 +204,52 @@ Real hertzRadius(const ElementRef<D>& e) {
   return e.g->params.empty() ? e.r : volumeEquivalentRadius(*e.g);
 }
 
+// Returns the radius of curvature of g's surface near x (world): 3D the Gaussian one,
+// 1 / sqrt(K), 2D the curve's. K is the curvature of the level set of g's gauge through x,
+// -det([[H, grad], [grad^T, 0]]) / |grad|^4 (|grad|^3 in 2D) from the squared gauge's gradient
+// and Hessian; the level set phi = s is the surface scaled by s about the centre, so the
+// surface's radius is the level set's over s. Flat parts (a blocky face: K -> 0) take at most
+// the largest radius an ellipsoid of the same half axes has, a_max^2 / a_min. Changes nothing.
+template <int D>
+Real surfaceRadius(const PlacedGauge<D>& g, const VecD<D>& x) {
+  VecD<D> grad;
+  MatD<D> h;
+  const Real psi = g.squaredGauge(x, grad, h);
+  Eigen::Matrix<Real, D + 1, D + 1> bordered = Eigen::Matrix<Real, D + 1, D + 1>::Zero();
+  bordered.template topLeftCorner<D, D>() = h;
+  bordered.template topRightCorner<D, 1>() = grad;
+  bordered.template bottomLeftCorner<1, D>() = grad.transpose();
+  const Real len = grad.norm(), k = -bordered.determinant();
+  const Real lo = D == 3 ? std::min({g.shape.a, g.shape.b, g.shape.c}) : std::min(g.shape.a, g.shape.b);
+  const Real hi = D == 3 ? std::max({g.shape.a, g.shape.b, g.shape.c}) : std::max(g.shape.a, g.shape.b);
+  const Real cap = hi * hi / lo;
+  if (!(psi > 0 && len > 0 && k > 0)) return cap;
+  const Real levelRadius = D == 3 ? len * len / std::sqrt(k) : len * len * len / k;
+  return std::min(cap, levelRadius / std::sqrt(psi));
+}
+
 template <int D>
 int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
   if (!((b.x - a.x).norm() < a.r + b.r)) return 0;  // bounding balls apart
+  const PlacedGauge<D> ga = placed(a), gb = placed(b);
   ConvexContact<D> c;
-  if (!convexContact(placed(a), placed(b), a.r + b.r, c)) return 0;
+  if (!convexContact(ga, gb, a.r + b.r, c)) return 0;
   const Real ra = hertzRadius(a), rb = hertzRadius(b);
   out[0].g = {c.normal, c.overlap, c.point};
   out[0].effRadius = ra * rb / (ra + rb);
+  const Real la = surfaceRadius(ga, c.point), lb = surfaceRadius(gb, c.point);
+  out[0].localRadius = la * lb / (la + lb);
   out[0].feature = 0;
   return 1;
 }
 
-// Writes c as the row's one contact point.
+// Writes c as the row's one contact point (a against a wall: the wall is flat, so the pair's
+// local radius is a's).
 template <int D>
 int convexPoint(const ElementRef<D>& a, const ConvexContact<D>& c, ContactPoint<D>* out) {
   out[0].g = {c.normal, c.overlap, c.point};
   out[0].effRadius = hertzRadius(a);
+  out[0].localRadius = surfaceRadius(placed(a), c.point);
   out[0].feature = 0;
   return 1;
 }
@@ -423,6 +452,8 @@ bool ballSuperquadricContact(const VecD<D>& centre, Real radius, const ElementRe
   const Real rb = hertzRadius(sq);
   out.g = {c.normal, c.overlap, c.point};
   out.effRadius = radius * rb / (radius + rb);
+  const Real local = surfaceRadius(placed(sq), c.point);
+  out.localRadius = radius * local / (radius + local);
   out.feature = 0;
   return true;
 }

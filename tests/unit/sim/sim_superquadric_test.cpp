@@ -281,6 +281,60 @@ TEST(SimSuperquadric, EllipsoidComesToRestOnItsLongestAxis) {
   }
 }
 
+// law -curvature local: the Hertz radius from the surfaces' curvature. An ellipsoid of half
+// axes 2, 1, 1 cm against a plane on its tip has the tip's radius b^2 / a; on its side the
+// Gaussian radius sqrt((a^2 / c) (b^2 / c)) = a b / c; a sphere as a superquadric against a
+// ball, the two radii's r1 r2 / (r1 + r2); an ellipse's tip in 2D b^2 / a. With the option on,
+// an ellipsoid resting on its tip sinks by Hertz's overlap for the tip's radius.
+TEST(SimSuperquadric, LocalCurvatureGivesTheSurfacesRadii) {
+  const ShapeTable<3>& t = ShapeTable<3>::get();
+  const Geometry<3> ell = t.makeGeometry("superquadric", std::vector<double>{0.02, 0.01, 0.01, 2, 2});
+  const physics::PlaneShape<3> floor{Vec3::Zero(), Vec3::UnitZ()};
+  ContactPoint<3> p[kMaxContactPoints];
+  // On its tip: the long axis (x) turned to vertical, sunk by 1 um.
+  const Quat up(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitY()));
+  ASSERT_EQ(shapeWallPoints<3>({Vec3(0, 0, 0.02 - 1e-6), up, ell.boundRadius, &ell}, WallShape::Plane, &floor, p), 1);
+  EXPECT_NEAR(p[0].localRadius, 0.01 * 0.01 / 0.02, 1e-4 * 0.005);
+  // On its side (z vertical).
+  ASSERT_EQ(shapeWallPoints<3>({Vec3(0, 0, 0.01 - 1e-6), Quat::Identity(), ell.boundRadius, &ell}, WallShape::Plane, &floor, p), 1);
+  EXPECT_NEAR(p[0].localRadius, 0.02 * 0.01 / 0.01, 1e-4 * 0.02);
+  // A sphere as a superquadric against a ball, and against itself.
+  const Geometry<3> sq = t.makeGeometry("superquadric", std::vector<double>{0.01, 0.01, 0.01, 2, 2});
+  const Geometry<3> ball = t.makeGeometry("sphere", std::vector<double>{});
+  ASSERT_EQ(shapePairPoints<3>({Vec3::Zero(), Quat::Identity(), sq.boundRadius, &sq},
+                               {Vec3(0.0149, 0.001, 0), Quat::Identity(), 0.005, &ball}, p), 1);
+  EXPECT_NEAR(p[0].localRadius, 0.01 * 0.005 / 0.015, 1e-9);
+  ASSERT_EQ(shapePairPoints<3>({Vec3::Zero(), Quat::Identity(), sq.boundRadius, &sq},
+                               {Vec3(0, 0.0199, 0), Quat::Identity(), sq.boundRadius, &sq}, p), 1);
+  EXPECT_NEAR(p[0].localRadius, 0.005, 1e-9);
+  // 2D: an ellipse on its tip.
+  const Geometry<2> e2 = ShapeTable<2>::get().makeGeometry("superellipse", std::vector<double>{0.02, 0.01, 2});
+  const physics::PlaneShape<2> floor2{Vec2::Zero(), Vec2::UnitY()};
+  ContactPoint<2> p2[kMaxContactPoints];
+  ASSERT_EQ(shapeWallPoints<2>({Vec2(0, 0.02 - 1e-6), Rotation2{M_PI / 2}, e2.boundRadius, &e2}, WallShape::Plane, &floor2, p2), 1);
+  EXPECT_NEAR(p2[0].localRadius, 0.005, 1e-4 * 0.005);
+  // Resting on its tip (held upright), with the option: Hertz's overlap for R = b^2 / a.
+  for (const bool local : {false, true}) {
+    auto s = makeSimulation(3);
+    s->addMaterial("glass", material(1e7, 0.3, 0.5));
+    s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
+    s->addGravity({0, 0, -9.81});
+    if (local) s->setOption("law", "curvature", std::string("local"));
+    ElementDef e = grain({0, 0, 0.02}, 0, "glass");
+    e.shape = "superquadric";
+    e.shapeParams = {0.02, 0.01, 0.01, 2, 2};
+    e.orientation = {up.w(), up.x(), up.y(), up.z()};
+    e.blocked = dof::Rx | dof::Ry | dof::Rz | dof::X | dof::Y;
+    const ElementId id = s->addElement(e);
+    runFor(*s, 0.5);
+    const ElementState g = s->element(id);
+    const double young = 1e7 / (2 * (1 - 0.3 * 0.3));  // E* of two equal materials
+    const double radius = local ? 0.005 : std::cbrt(0.02 * 0.01 * 0.01);
+    const double want = std::pow(3 * g.mass * 9.81 / (4 * young * std::sqrt(radius)), 2.0 / 3);
+    EXPECT_NEAR(0.02 - g.position[2], want, 0.01 * want) << local;
+  }
+}
+
 // A blocky superquadric (exponents 10) on a slope, as gravity tilted by theta: below
 // tan(theta) = mu it stays where it is; above, it slides at g (sin theta - mu cos theta)
 // without rolling over.
