@@ -15,8 +15,9 @@
 #pragma once
 
 #include <algorithm>
-#include <map>
 #include <vector>
+
+#include "core/thread_pool.hpp"
 
 #include "sim/contacts.hpp"
 #include "sim/rigid_body.hpp"
@@ -122,7 +123,10 @@ class ShapeContactModule final : public SimModule<D> {
     const bool history = s.keepHistory, rotating = s.rotating;
     const bool localCurvature = s.curvatureModel == 1;  // law -curvature local
     PassEnergy e;
-    ContactPoint<D> pts[kMaxContactPoints];
+    // The rows first, on the thread pool: each chunk of candidates writes its points to its own
+    // buffer, so the laws, springs and sums below see them in candidate order, as a serial pass
+    // would, for any thread count. The rows are most of a shape pair's cost.
+    findPoints(s);
     // One contact point through the law: returns the force on B.
     const auto apply = [&](const ContactPoint<D>& p, const VecD<D>& vrel, Real effMass, size_t pair,
                            const ShapeSpringKey& key) {
@@ -138,9 +142,11 @@ class ShapeContactModule final : public SimModule<D> {
       return f.force;
     };
     if (history) s.shapeSprings.beginStep();
-    for (const CandidatePair& c : s.shapeCandidates) {
-      const uint32_t i = c.i, j = c.j;
-      const int n = elementPairPoints(s, i, j, pts);
+    for (size_t ci = 0; ci < s.shapeCandidates.size(); ++ci) {
+      const uint32_t i = s.shapeCandidates[ci].i, j = s.shapeCandidates[ci].j;
+      const Chunk& chunk = chunks_[ci / kChunk];
+      const ContactPoint<D>* pts = chunk.points.data() + chunk.first[ci % kChunk];
+      const int n = static_cast<int>(chunk.first[ci % kChunk + 1] - chunk.first[ci % kChunk]);
       const size_t pair = a.material[i] * nMat + a.material[j];
       for (int k = 0; k < n; ++k) {
         const VecD<D> ra = pts[k].g.point - a.x[i], rb = pts[k].g.point - a.x[j];
@@ -160,9 +166,14 @@ class ShapeContactModule final : public SimModule<D> {
         if (s.recordContacts) appendRecord<D>(s.contacts, {i, j, false, f});
       }
     }
-    for (const auto& [i, w] : s.shapeWallCandidates) {
+    const size_t firstWall = s.shapeCandidates.size();
+    for (size_t wi = 0; wi < s.shapeWallCandidates.size(); ++wi) {
+      const auto [i, w] = s.shapeWallCandidates[wi];
       Wall<D>& wall = s.walls.items[w];
-      const int n = elementWallPoints(s, i, wall, pts);
+      const size_t ci = firstWall + wi;
+      const Chunk& chunk = chunks_[ci / kChunk];
+      const ContactPoint<D>* pts = chunk.points.data() + chunk.first[ci % kChunk];
+      const int n = static_cast<int>(chunk.first[ci % kChunk + 1] - chunk.first[ci % kChunk]);
       const size_t pair = a.material[i] * nMat + wall.material;
       const uint32_t wallKey = wallPairId(s.walls.pool().handleAt(w).index);
       for (int k = 0; k < n; ++k) {
@@ -191,6 +202,56 @@ class ShapeContactModule final : public SimModule<D> {
     s.ledger.springWork += e.springWork;
     s.ledger.wallWork += e.wallWork;
   }
+
+  size_t workingBytes() const override {
+    size_t bytes = chunks_.capacity() * sizeof(Chunk);
+    for (const Chunk& c : chunks_) {
+      bytes += c.points.capacity() * sizeof(ContactPoint<D>) + c.first.capacity() * sizeof(uint32_t);
+    }
+    return bytes;
+  }
+
+ private:
+  static constexpr size_t kChunk = 64;  // candidates a task
+  // One task's candidates' points: candidate k's are points[first[k] .. first[k + 1]).
+  struct Chunk {
+    std::vector<ContactPoint<D>> points;
+    std::vector<uint32_t> first;
+  };
+
+  // Fills chunks_ with the points of every element pair and then every element-wall pair,
+  // numbered in that order, on the thread pool. Throws {LOOKUP INTERACTION} as the rows do (the
+  // lowest candidate's). Changes chunks_.
+  void findPoints(const Scene<D>& s) {
+    const size_t pairs = s.shapeCandidates.size(), total = pairs + s.shapeWallCandidates.size();
+    const size_t nChunks = (total + kChunk - 1) / kChunk;
+    if (chunks_.size() < nChunks) chunks_.resize(nChunks);
+    const auto fill = [&](size_t c) {
+      Chunk& chunk = chunks_[c];
+      chunk.points.clear();
+      chunk.first.assign(1, 0);
+      ContactPoint<D> pts[kMaxContactPoints];
+      const size_t end = std::min(total, (c + 1) * kChunk);
+      for (size_t k = c * kChunk; k < end; ++k) {
+        int n;
+        if (k < pairs) {
+          n = elementPairPoints(s, s.shapeCandidates[k].i, s.shapeCandidates[k].j, pts);
+        } else {
+          const auto& [i, w] = s.shapeWallCandidates[k - pairs];
+          n = elementWallPoints(s, i, s.walls.items[w], pts);
+        }
+        chunk.points.insert(chunk.points.end(), pts, pts + n);
+        chunk.first.push_back(static_cast<uint32_t>(chunk.points.size()));
+      }
+    };
+    if (nChunks <= 1) {
+      if (nChunks == 1) fill(0);
+      return;
+    }
+    ThreadPool::global().forEach(nChunks, [&](size_t c, unsigned) { fill(c); });
+  }
+
+  std::vector<Chunk> chunks_;
 };
 
 }  // namespace demlab::sim
