@@ -102,13 +102,6 @@ Real inverseInertiaAlong(const Scene<D>& s, uint32_t i, const AngularD<D>& u) {
   return squaredNorm(u) * s.elements.a.invInertia[i];
 }
 
-// Returns (r x n) . I^-1 (r x n) for element i: the rotational part of its compliance along the
-// normal n at the lever arm r (0 when the scene does not rotate).
-template <int D>
-Real angularCompliance(const Scene<D>& s, uint32_t i, const VecD<D>& r, const VecD<D>& n) {
-  if (!s.rotating) return 0;
-  return inverseInertiaAlong(s, i, AngularD<D>(cross(r, n)));
-}
 
 template <int D>
 class ShapeContactModule final : public SimModule<D> {
@@ -127,6 +120,7 @@ class ShapeContactModule final : public SimModule<D> {
     // buffer, so the laws, springs and sums below see them in candidate order, as a serial pass
     // would, for any thread count. The rows are most of a shape pair's cost.
     findPoints(s);
+    if (rotating) worldInverseInertia(s);
     // One contact point through the law: returns the force on B.
     const auto apply = [&](const ContactPoint<D>& p, const VecD<D>& vrel, Real effMass, size_t pair,
                            const ShapeSpringKey& key) {
@@ -151,8 +145,8 @@ class ShapeContactModule final : public SimModule<D> {
       for (int k = 0; k < n; ++k) {
         const VecD<D> ra = pts[k].g.point - a.x[i], rb = pts[k].g.point - a.x[j];
         const VecD<D>& nrm = pts[k].g.normal;
-        const Real effMass = 1 / (a.invMass[i] + a.invMass[j] + angularCompliance(s, i, ra, nrm) +
-                                  angularCompliance(s, j, rb, nrm));
+        const Real effMass = 1 / (a.invMass[i] + a.invMass[j] + compliance(s, i, ra, nrm) +
+                                  compliance(s, j, rb, nrm));
         VecD<D> vrel = a.v[j] - a.v[i];
         if (rotating) vrel += cross(a.w[j], rb) - cross(a.w[i], ra);
         const VecD<D> f =
@@ -181,7 +175,7 @@ class ShapeContactModule final : public SimModule<D> {
         const VecD<D> vWall = wall.surfaceVelocity(pts[k].g.point);
         VecD<D> vrel = vWall - a.v[i];
         if (rotating) vrel -= cross(a.w[i], ra);
-        const Real effMass = 1 / (a.invMass[i] + angularCompliance(s, i, ra, pts[k].g.normal));
+        const Real effMass = 1 / (a.invMass[i] + compliance(s, i, ra, pts[k].g.normal));
         const VecD<D> f = apply(pts[k], vrel, effMass, pair,
                                 {a.slot[i], wallKey, pts[k].feature});
         a.f[i] -= f;
@@ -204,7 +198,7 @@ class ShapeContactModule final : public SimModule<D> {
   }
 
   size_t workingBytes() const override {
-    size_t bytes = chunks_.capacity() * sizeof(Chunk);
+    size_t bytes = chunks_.capacity() * sizeof(Chunk) + invIw_.capacity() * sizeof(Mat3);
     for (const Chunk& c : chunks_) {
       bytes += c.points.capacity() * sizeof(ContactPoint<D>) + c.first.capacity() * sizeof(uint32_t);
     }
@@ -251,7 +245,33 @@ class ShapeContactModule final : public SimModule<D> {
     ThreadPool::global().forEach(nChunks, [&](size_t c, unsigned) { fill(c); });
   }
 
+  // Makes invIw_[i], the world inverse inertia tensor of each element i of anisotropic inertia
+  // (3D), once a step: a point would otherwise turn both bodies' principal frames. Changes invIw_.
+  void worldInverseInertia(const Scene<D>& s) {
+    if constexpr (D == 3) {
+      const ElementArrays<D>& a = s.elements.a;
+      invIw_.resize(a.size());
+      for (uint32_t i = 0; i < a.size(); ++i) {
+        if (a.invInertia[i] != 0) continue;
+        const PrincipalFrame f = principalFrame(s, i);
+        const Mat3 r = f.Q.toRotationMatrix();
+        invIw_[i] = r * f.I.cwiseInverse().asDiagonal() * r.transpose();
+      }
+    }
+  }
+  // Returns (r x n) . I^-1 (r x n) for element i: the rotational part of its compliance along
+  // the normal n at the lever arm r (0 when the scene does not rotate), by invIw_ for a rigid one.
+  Real compliance(const Scene<D>& s, uint32_t i, const VecD<D>& r, const VecD<D>& n) const {
+    if (!s.rotating) return 0;
+    const AngularD<D> u(cross(r, n));
+    if constexpr (D == 3) {
+      if (s.elements.a.invInertia[i] == 0) return u.dot(invIw_[i] * u);
+    }
+    return squaredNorm(u) * s.elements.a.invInertia[i];
+  }
+
   std::vector<Chunk> chunks_;
+  std::vector<Mat3> invIw_;  // per element (dense), valid for the rigid ones this step
 };
 
 }  // namespace demlab::sim
