@@ -20,6 +20,7 @@
 #include <cmath>
 #include <vector>
 
+#include "sim/element_chunks.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -149,19 +150,22 @@ class PredictRigidRotationModule final : public SimModule<D> {
       const Real dt = s.stepDt, h = 0.5 * dt;
       const bool sync = s.integrator == IntegratorKind::Synchronized;
       if (!s.blocked.empty()) holdSpins(s, held_);
-      for (size_t i = 0; i < a.size(); ++i) {
-        if (a.invInertia[i] != 0) continue;
-        const Quat& principal = s.geometries[a.geometry[i]]->principal;
-        auto [Q, I] = principalFrame(s, i);
-        // Body-frame angular momentum after the first kick.
-        Vec3 pi = I.cwiseProduct(Q.conjugate() * a.w[i]) + Q.conjugate() * (h * a.t[i]);
-        freeRotor(Q, pi, I, dt);
-        a.q[i] = (Q * principal.conjugate()).normalized();
-        if (sync) pi += Q.conjugate() * (h * a.t[i]);
-        a.w[i] = Q * pi.cwiseQuotient(I);
-        a.tPrev[i] = a.t[i];
-        a.t[i].setZero();
-      }
+      // Each element on its own: the chunks run on the pool (the same bits for any threads).
+      forEachElementChunk(a.size(), [&](size_t begin, size_t end, size_t) {
+        for (size_t i = begin; i < end; ++i) {
+          if (a.invInertia[i] != 0) continue;
+          const Quat& principal = s.geometries[a.geometry[i]]->principal;
+          auto [Q, I] = principalFrame(s, i);
+          // Body-frame angular momentum after the first kick.
+          Vec3 pi = I.cwiseProduct(Q.conjugate() * a.w[i]) + Q.conjugate() * (h * a.t[i]);
+          freeRotor(Q, pi, I, dt);
+          a.q[i] = (Q * principal.conjugate()).normalized();
+          if (sync) pi += Q.conjugate() * (h * a.t[i]);
+          a.w[i] = Q * pi.cwiseQuotient(I);
+          a.tPrev[i] = a.t[i];
+          a.t[i].setZero();
+        }
+      });
       if (!s.blocked.empty()) restoreSpins(s, held_);
     }
   }
@@ -184,11 +188,13 @@ class CorrectRigidRotationModule final : public SimModule<D> {
       const Real h = 0.5 * s.stepDt;
       const bool sync = s.integrator == IntegratorKind::Synchronized;
       if (!s.blocked.empty()) holdSpins(s, held_);
-      for (size_t i = 0; i < a.size(); ++i) {
-        if (a.invInertia[i] != 0) continue;
-        const Vec3 kick = h * (sync ? Vec3(a.t[i] - a.tPrev[i]) : a.t[i]);
-        a.w[i] += rigidInverseInertiaTimes(s, i, kick);
-      }
+      forEachElementChunk(a.size(), [&](size_t begin, size_t end, size_t) {
+        for (size_t i = begin; i < end; ++i) {
+          if (a.invInertia[i] != 0) continue;
+          const Vec3 kick = h * (sync ? Vec3(a.t[i] - a.tPrev[i]) : a.t[i]);
+          a.w[i] += rigidInverseInertiaTimes(s, i, kick);
+        }
+      });
       if (!s.blocked.empty()) restoreSpins(s, held_);
     }
   }
