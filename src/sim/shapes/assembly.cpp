@@ -18,11 +18,11 @@
 // Beyond kMaxContactPoints points a pair keeps the deepest.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "core/error.hpp"
 #include "core/validity.hpp"
-#include "physics/mesh_contact.hpp"
 #include "sim/obj_manager.hpp"
 #include "sim/shape.hpp"
 #include "sim/shapes/assembly.hpp"
@@ -248,9 +248,10 @@ class AssemblyType final : public ShapeType<D> {
         const int n = shapePairPoints(a, b, points);
         for (int k = 0; k < n; ++k) {
           if (points[k].g.overlap > tolerance) {
+            char depth[32];
+            std::snprintf(depth, sizeof depth, "%.3g", points[k].g.overlap);
             throw Error("bad shape parameters: assembly members " + std::to_string(i + 1) +
-                            " and " + std::to_string(j + 1) + " overlap by " +
-                            std::to_string(points[k].g.overlap) +
+                            " and " + std::to_string(j + 1) + " overlap by " + depth +
                             " m: an assembly's mass is its members' sum, so they must not "
                             "overlap (a clump takes overlapping balls, a level set any union)",
                         {"VALUE", "SHAPE"});
