@@ -363,10 +363,15 @@ typename SimulationManager<D>::CheckedElement SimulationManager<D>::checkElement
   const ShapeTable<D>& table = ShapeTable<D>::get();
   const std::string_view shape =
       def.shape.empty() ? table.type(ShapeTable<D>::ball()).name() : std::string_view(def.shape);
-  // The ball's Geometry is the scene's first; any other is made (and checked) from the table.
-  c.geometry = def.shape.empty() && def.shapeParams.empty()
-                   ? *s_.geometries[0]
-                   : table.makeGeometry(shape, def.shapeParams);
+  // The ball's Geometry is the scene's first; any other is the scene's own if it has one of the
+  // same type and parameters (made deterministically from them: a packing of equal clumps or
+  // level sets makes one, not one an element), else made (and checked) from the table.
+  const auto id = table.id(shape);
+  const auto known = id ? s_.geometryLookup.find(std::make_pair(id->value, def.shapeParams))
+                        : s_.geometryLookup.end();
+  c.geometry = def.shape.empty() && def.shapeParams.empty() ? *s_.geometries[0]
+               : known != s_.geometryLookup.end()          ? *s_.geometries[known->second]
+                                                           : table.makeGeometry(shape, def.shapeParams);
   if (c.geometry.boundRadius == 0) {
     checkPositive(def.radius, "radius");
     c.r = def.radius;
