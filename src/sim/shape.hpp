@@ -115,6 +115,9 @@ struct ElementRef {
   RotationD<D> q;
   Real r;  // bounding radius (the ball's radius)
   const Geometry<D>* g;
+  // The scene asks for ContactPoint::localRadius (law -curvature local); rows that know a
+  // surface's curvature compute it only then.
+  bool localCurvature = false;
 };
 
 // One contact point of a pair: the geometry the laws read (normal from A to B, overlap, point)

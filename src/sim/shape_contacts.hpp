@@ -31,7 +31,7 @@ namespace demlab::sim {
 template <int D>
 ElementRef<D> elementRef(const Scene<D>& s, uint32_t i) {
   const ElementArrays<D>& a = s.elements.a;
-  return {a.x[i], a.q[i], a.r[i], s.geometries[a.geometry[i]].get()};
+  return {a.x[i], a.q[i], a.r[i], s.geometries[a.geometry[i]].get(), s.curvatureModel == 1};
 }
 
 // Returns a's contact points with b from the table (normals from a to b), into out. Throws

@@ -173,7 +173,9 @@ struct Pose {
   VecD<D> x;
   RotationD<D> q;
   MatD<D> m;
-  Pose(const VecD<D>& at, const RotationD<D>& turn) : x(at), q(turn) {
+  bool localCurvature = false;  // passed on to the members (ElementRef::localCurvature)
+  Pose(const VecD<D>& at, const RotationD<D>& turn, bool curvature = false)
+      : x(at), q(turn), localCurvature(curvature) {
     if constexpr (D == 3) {
       m = turn.toRotationMatrix();
     } else {
@@ -183,7 +185,9 @@ struct Pose {
   // Returns where member k's centre is.
   VecD<D> centre(const Member<D>& k) const { return x + m * k.position; }
   // Returns member k as the rows see it.
-  ElementRef<D> ref(const Member<D>& k) const { return {centre(k), q * k.rotation, k.r, &k.g}; }
+  ElementRef<D> ref(const Member<D>& k) const {
+    return {centre(k), q * k.rotation, k.r, &k.g, localCurvature};
+  }
 };
 
 template <int D>
@@ -388,8 +392,9 @@ int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out
   all.clear();
   const Members<D>& ma = membersOf(a);
   const bool assemblyB = b.g->shape == a.g->shape;
-  const Pose<D> pa(a.x, a.q);
-  const Pose<D> pb(b.x, b.q);  // read only when b is an assembly
+  const Pose<D> pa(a.x, a.q, a.localCurvature);
+  // b's pose, read only when b is an assembly (no rotation matrix made for a grain).
+  const Pose<D> pb = assemblyB ? Pose<D>(b.x, b.q, b.localCurvature) : pa;
   for (size_t i = 0; i < ma.size(); ++i) {
     if (!((pa.centre(ma[i]) - b.x).norm() < ma[i].r + b.r)) continue;
     const ElementRef<D> ai = pa.ref(ma[i]);
@@ -422,7 +427,7 @@ int wallRow(const ElementRef<D>& a, const void* wall, ContactPoint<D>* out) {
   thread_local ContactPoint<D> points[kMaxContactPoints];
   all.clear();
   const Members<D>& ma = membersOf(a);
-  const Pose<D> pa(a.x, a.q);
+  const Pose<D> pa(a.x, a.q, a.localCurvature);
   for (size_t i = 0; i < ma.size(); ++i) {
     const int n = shapeWallPoints(pa.ref(ma[i]), Kind, wall, points);
     for (int k = 0; k < n; ++k) {

@@ -237,8 +237,11 @@ int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out
   const Real ra = hertzRadius(a), rb = hertzRadius(b);
   out[0].g = {c.normal, c.overlap, c.point};
   out[0].effRadius = ra * rb / (ra + rb);
-  const Real la = surfaceRadius(ga, c.point), lb = surfaceRadius(gb, c.point);
-  out[0].localRadius = la * lb / (la + lb);
+  out[0].localRadius = 0;
+  if (a.localCurvature) {
+    const Real la = surfaceRadius(ga, c.point), lb = surfaceRadius(gb, c.point);
+    out[0].localRadius = la * lb / (la + lb);
+  }
   out[0].feature = 0;
   return 1;
 }
@@ -249,7 +252,7 @@ template <int D>
 int convexPoint(const ElementRef<D>& a, const ConvexContact<D>& c, ContactPoint<D>* out) {
   out[0].g = {c.normal, c.overlap, c.point};
   out[0].effRadius = hertzRadius(a);
-  out[0].localRadius = surfaceRadius(placed(a), c.point);
+  out[0].localRadius = a.localCurvature ? surfaceRadius(placed(a), c.point) : 0;
   out[0].feature = 0;
   return 1;
 }
@@ -452,8 +455,11 @@ bool ballSuperquadricContact(const VecD<D>& centre, Real radius, const ElementRe
   const Real rb = hertzRadius(sq);
   out.g = {c.normal, c.overlap, c.point};
   out.effRadius = radius * rb / (radius + rb);
-  const Real local = surfaceRadius(placed(sq), c.point);
-  out.localRadius = radius * local / (radius + local);
+  out.localRadius = 0;
+  if (sq.localCurvature) {
+    const Real local = surfaceRadius(placed(sq), c.point);
+    out.localRadius = radius * local / (radius + local);
+  }
   out.feature = 0;
   return true;
 }

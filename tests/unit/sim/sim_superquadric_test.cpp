@@ -293,25 +293,25 @@ TEST(SimSuperquadric, LocalCurvatureGivesTheSurfacesRadii) {
   ContactPoint<3> p[kMaxContactPoints];
   // On its tip: the long axis (x) turned to vertical, sunk by 1 um.
   const Quat up(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitY()));
-  ASSERT_EQ(shapeWallPoints<3>({Vec3(0, 0, 0.02 - 1e-6), up, ell.boundRadius, &ell}, WallShape::Plane, &floor, p), 1);
+  ASSERT_EQ(shapeWallPoints<3>({Vec3(0, 0, 0.02 - 1e-6), up, ell.boundRadius, &ell, true}, WallShape::Plane, &floor, p), 1);
   EXPECT_NEAR(p[0].localRadius, 0.01 * 0.01 / 0.02, 1e-4 * 0.005);
   // On its side (z vertical).
-  ASSERT_EQ(shapeWallPoints<3>({Vec3(0, 0, 0.01 - 1e-6), Quat::Identity(), ell.boundRadius, &ell}, WallShape::Plane, &floor, p), 1);
+  ASSERT_EQ(shapeWallPoints<3>({Vec3(0, 0, 0.01 - 1e-6), Quat::Identity(), ell.boundRadius, &ell, true}, WallShape::Plane, &floor, p), 1);
   EXPECT_NEAR(p[0].localRadius, 0.02 * 0.01 / 0.01, 1e-4 * 0.02);
   // A sphere as a superquadric against a ball, and against itself.
   const Geometry<3> sq = t.makeGeometry("superquadric", std::vector<double>{0.01, 0.01, 0.01, 2, 2});
   const Geometry<3> ball = t.makeGeometry("sphere", std::vector<double>{});
-  ASSERT_EQ(shapePairPoints<3>({Vec3::Zero(), Quat::Identity(), sq.boundRadius, &sq},
-                               {Vec3(0.0149, 0.001, 0), Quat::Identity(), 0.005, &ball}, p), 1);
+  ASSERT_EQ(shapePairPoints<3>({Vec3::Zero(), Quat::Identity(), sq.boundRadius, &sq, true},
+                               {Vec3(0.0149, 0.001, 0), Quat::Identity(), 0.005, &ball, true}, p), 1);
   EXPECT_NEAR(p[0].localRadius, 0.01 * 0.005 / 0.015, 1e-9);
-  ASSERT_EQ(shapePairPoints<3>({Vec3::Zero(), Quat::Identity(), sq.boundRadius, &sq},
-                               {Vec3(0, 0.0199, 0), Quat::Identity(), sq.boundRadius, &sq}, p), 1);
+  ASSERT_EQ(shapePairPoints<3>({Vec3::Zero(), Quat::Identity(), sq.boundRadius, &sq, true},
+                               {Vec3(0, 0.0199, 0), Quat::Identity(), sq.boundRadius, &sq, true}, p), 1);
   EXPECT_NEAR(p[0].localRadius, 0.005, 1e-9);
   // 2D: an ellipse on its tip.
   const Geometry<2> e2 = ShapeTable<2>::get().makeGeometry("superellipse", std::vector<double>{0.02, 0.01, 2});
   const physics::PlaneShape<2> floor2{Vec2::Zero(), Vec2::UnitY()};
   ContactPoint<2> p2[kMaxContactPoints];
-  ASSERT_EQ(shapeWallPoints<2>({Vec2(0, 0.02 - 1e-6), Rotation2{M_PI / 2}, e2.boundRadius, &e2}, WallShape::Plane, &floor2, p2), 1);
+  ASSERT_EQ(shapeWallPoints<2>({Vec2(0, 0.02 - 1e-6), Rotation2{M_PI / 2}, e2.boundRadius, &e2, true}, WallShape::Plane, &floor2, p2), 1);
   EXPECT_NEAR(p2[0].localRadius, 0.005, 1e-4 * 0.005);
   // Resting on its tip (held upright), with the option: Hertz's overlap for R = b^2 / a.
   for (const bool local : {false, true}) {
