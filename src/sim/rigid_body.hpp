@@ -70,40 +70,75 @@ inline Vec3 rigidInverseInertiaTimes(const Scene<3>& s, size_t i, const Vec3& x)
   return f.Q * (f.Q.conjugate() * x).cwiseQuotient(f.I);
 }
 
-// Turns the principal frame Q and the body-frame angular momentum pi as the free rotor with
-// principal moments I over time dt (the splitting above). Changes Q and pi.
-inline void freeRotor(Quat& Q, Vec3& pi, const Vec3& I, Real dt) {
-  const auto turn = [&](int k, Real tau) {
-    const Real theta = tau * pi[k] / I[k];
-    // The half angle's sine and cosine: by their series where a step turns little (|theta / 2|
-    // under 0.01, the terms kept leave an error below 1e-19), else by sincos; the whole angle's
-    // by the double-angle identities. Five turns a step, so no trigonometric call in the common
-    // case.
-    const Real x = 0.5 * theta, x2 = x * x;
-    Real sh, ch;
-    if (x2 < 1e-4) {
-      sh = x * (1 - x2 * (Real{1} / 6) * (1 - x2 * (Real{1} / 20) * (1 - x2 * (Real{1} / 42))));
-      ch = 1 - x2 * 0.5 * (1 - x2 * (Real{1} / 12) * (1 - x2 * (Real{1} / 30) * (1 - x2 * (Real{1} / 56))));
-    } else {
-      sh = std::sin(x), ch = std::cos(x);
-    }
-    const Real c = ch * ch - sh * sh, sn = 2 * sh * ch;
-    const int u = (k + 1) % 3, v = (k + 2) % 3;
-    // pi turns by -theta about axis k in the body frame: L stays fixed in the world.
-    const Real pu = pi[u], pv = pi[v];
-    pi[u] = c * pu + sn * pv;
-    pi[v] = -sn * pu + c * pv;
-    Quat r(ch, 0, 0, 0);
-    r.vec()[k] = sh;
-    Q = Q * r;
-  };
+// Free rotors turned side by side. One body's five turns are a chain of dependent operations
+// (a division, two short series, the products), so a batch of bodies is turned lane by lane,
+// each operation for every body in a row: their chains overlap, and the compiler puts two
+// lanes in a register. Lanes past a batch's bodies hold a still body.
+template <int N>
+struct RotorBatch {
+  Real q[4][N];   // principal frames (Q: principal frame to world), w x y z
+  Real pi[3][N];  // body-frame angular momenta
+  Real I[3][N];   // principal moments
+};
+
+// One exact turn of the splitting for every lane: pi turns by -theta about body axis K (L stays
+// fixed in the world), theta = tau pi_K / I_K, and Q by theta about it. Changes b.q and b.pi.
+template <int K, int N>
+[[gnu::always_inline]] inline void rotorTurn(RotorBatch<N>& b, Real tau) {
+  constexpr int U = (K + 1) % 3, V = (K + 2) % 3;
+  Real sh[N], ch[N];
+  for (int l = 0; l < N; ++l) {
+    // The half angle's sine and cosine by their series (|theta / 2| under 0.01: the terms kept
+    // leave an error below 1e-19), else (below) by sin and cos; the whole angle's by the
+    // double-angle identities. Five turns a step, so no trigonometric call in the common case.
+    const Real x = 0.5 * (tau * b.pi[K][l] / b.I[K][l]), x2 = x * x;
+    sh[l] = x * (1 - x2 * (Real{1} / 6) * (1 - x2 * (Real{1} / 20) * (1 - x2 * (Real{1} / 42))));
+    ch[l] = 1 - x2 * 0.5 * (1 - x2 * (Real{1} / 12) * (1 - x2 * (Real{1} / 30) * (1 - x2 * (Real{1} / 56))));
+  }
+  for (int l = 0; l < N; ++l) {
+    const Real x = 0.5 * (tau * b.pi[K][l] / b.I[K][l]);
+    if (!(x * x < 1e-4)) [[unlikely]] sh[l] = std::sin(x), ch[l] = std::cos(x);
+  }
+  for (int l = 0; l < N; ++l) {
+    const Real c = ch[l] * ch[l] - sh[l] * sh[l], sn = 2 * sh[l] * ch[l];
+    const Real pu = b.pi[U][l], pv = b.pi[V][l];
+    b.pi[U][l] = c * pu + sn * pv;
+    b.pi[V][l] = -sn * pu + c * pv;
+    // Q = Q (ch, sh e_K), written out: the product's terms with the zero components dropped.
+    const Real qw = b.q[0][l], qk = b.q[1 + K][l], qu = b.q[1 + U][l], qv = b.q[1 + V][l];
+    b.q[0][l] = ch[l] * qw - sh[l] * qk;
+    b.q[1 + K][l] = ch[l] * qk + sh[l] * qw;
+    b.q[1 + U][l] = ch[l] * qu + sh[l] * qv;
+    b.q[1 + V][l] = ch[l] * qv - sh[l] * qu;
+  }
+}
+
+// Turns every lane of b as the free rotor over time dt (the splitting above) and normalises
+// its frame. Changes b.q and b.pi.
+template <int N>
+inline void freeRotors(RotorBatch<N>& b, Real dt) {
   const Real h = 0.5 * dt;
-  turn(0, h);
-  turn(1, h);
-  turn(2, dt);
-  turn(1, h);
-  turn(0, h);
-  Q.normalize();
+  rotorTurn<0>(b, h);
+  rotorTurn<1>(b, h);
+  rotorTurn<2>(b, dt);
+  rotorTurn<1>(b, h);
+  rotorTurn<0>(b, h);
+  for (int l = 0; l < N; ++l) {
+    const Real n = std::sqrt(b.q[0][l] * b.q[0][l] + b.q[1][l] * b.q[1][l] +
+                             b.q[2][l] * b.q[2][l] + b.q[3][l] * b.q[3][l]);
+    for (int c = 0; c < 4; ++c) b.q[c][l] /= n;
+  }
+}
+
+// Turns the principal frame Q and the body-frame angular momentum pi as the free rotor with
+// principal moments I over time dt: one body through freeRotors. Changes Q and pi.
+inline void freeRotor(Quat& Q, Vec3& pi, const Vec3& I, Real dt) {
+  RotorBatch<1> b;
+  b.q[0][0] = Q.w();
+  for (int c = 0; c < 3; ++c) b.q[1 + c][0] = Q.vec()[c], b.pi[c][0] = pi[c], b.I[c][0] = I[c];
+  freeRotors(b, dt);
+  Q = Quat(b.q[0][0], b.q[1][0], b.q[2][0], b.q[3][0]);
+  pi = Vec3(b.pi[0][0], b.pi[1][0], b.pi[2][0]);
 }
 
 // A rigid element with blocked rotations and its spin before an update. The constraint module
@@ -152,19 +187,44 @@ class PredictRigidRotationModule final : public SimModule<D> {
       if (!s.blocked.empty()) holdSpins(s, held_);
       // Each element on its own: the chunks run on the pool (the same bits for any threads).
       forEachElementChunk(a.size(), [&](size_t begin, size_t end, size_t) {
+        constexpr int N = 8;
+        RotorBatch<N> b;
+        uint32_t which[N];
+        int n = 0;
+        // The rigid elements of the chunk, N at a time: in, turned, out.
+        const auto turn = [&] {
+          for (int l = n; l < N; ++l) {  // still bodies in the lanes left
+            b.q[0][l] = 1, b.q[1][l] = b.q[2][l] = b.q[3][l] = 0;
+            for (int c = 0; c < 3; ++c) b.pi[c][l] = 0, b.I[c][l] = 1;
+          }
+          freeRotors(b, dt);
+          for (int l = 0; l < n; ++l) {
+            const uint32_t i = which[l];
+            const Quat Q(b.q[0][l], b.q[1][l], b.q[2][l], b.q[3][l]);
+            const Vec3 I(b.I[0][l], b.I[1][l], b.I[2][l]);
+            Vec3 pi(b.pi[0][l], b.pi[1][l], b.pi[2][l]);
+            a.q[i] = (Q * s.geometries[a.geometry[i]]->principal.conjugate()).normalized();
+            const Mat3 after = Q.toRotationMatrix();
+            if (sync) pi += after.transpose() * (h * a.t[i]);
+            a.w[i] = after * pi.cwiseQuotient(I);
+            a.tPrev[i] = a.t[i];
+            a.t[i].setZero();
+          }
+          n = 0;
+        };
         for (size_t i = begin; i < end; ++i) {
           if (a.invInertia[i] != 0) continue;
-          const Quat& principal = s.geometries[a.geometry[i]]->principal;
-          auto [Q, I] = principalFrame(s, i);
-          // Body-frame angular momentum after the first kick.
-          Vec3 pi = I.cwiseProduct(Q.conjugate() * a.w[i]) + Q.conjugate() * (h * a.t[i]);
-          freeRotor(Q, pi, I, dt);
-          a.q[i] = (Q * principal.conjugate()).normalized();
-          if (sync) pi += Q.conjugate() * (h * a.t[i]);
-          a.w[i] = Q * pi.cwiseQuotient(I);
-          a.tPrev[i] = a.t[i];
-          a.t[i].setZero();
+          const auto [Q, I] = principalFrame(s, i);
+          // Body-frame angular momentum after the first kick (Q's matrix: fewer operations
+          // than two quaternion rotations).
+          const Mat3 before = Q.toRotationMatrix().transpose();
+          const Vec3 pi = I.cwiseProduct(before * a.w[i]) + before * (h * a.t[i]);
+          b.q[0][n] = Q.w();
+          for (int c = 0; c < 3; ++c) b.q[1 + c][n] = Q.vec()[c], b.pi[c][n] = pi[c], b.I[c][n] = I[c];
+          which[n++] = static_cast<uint32_t>(i);
+          if (n == N) turn();
         }
+        if (n > 0) turn();
       });
       if (!s.blocked.empty()) restoreSpins(s, held_);
     }

@@ -143,6 +143,8 @@ Geometry<D> ShapeTable<D>::makeGeometry(std::string_view name,
     g.isotropic = hi - lo <= 1e-12 * hi;
   }
   g.data = t.derive(g.params);
+  g.placedSize = t.placedSize(g.params);
+  if (auto b = t.balls(g.params)) g.balls = std::move(*b);
   return g;
 }
 

@@ -63,7 +63,16 @@ struct Geometry {
   // What the shape type derives once from its parameters for its contact routines (a
   // polyhedron's faces and edges: ShapeType::derive), or null.
   std::shared_ptr<const void> data;
+  // How many numbers the type's place() writes for an element of this geometry (0: the type
+  // has no placed form; ShapeType::placedSize).
+  uint32_t placedSize = 0;
+  // The shape as balls when it is exactly a union of them (ShapeType::balls), {centre (D
+  // numbers), radius} each in the body frame, else empty.
+  std::vector<double> balls;
 };
+
+template <int D>
+struct ElementRef;
 
 // A shape type's interface. Implementations are stateless: every method is const and reads the
 // parameters it is given.
@@ -106,6 +115,20 @@ class ShapeType {
   // a run checks their routines too before it starts; empty (the default) for a type whose rows
   // are its own.
   virtual std::vector<TypeId> memberTypes(std::span<const double>) const { return {}; }
+  // The placed form: what a type's rows would otherwise work out from an element's pose for
+  // every pair it is in (a clump's members' centres in the world). The shape pass writes it
+  // once a step for each element with a candidate and hands it to the rows in
+  // ElementRef::placed. placedSize returns how many numbers place() writes (0, the default:
+  // no placed form); place writes them to out for element e. Rows must give the same bits with
+  // or without it.
+  virtual uint32_t placedSize(std::span<const double>) const { return 0; }
+  // Returns the shape as balls, {centre (D numbers), radius} each in the body frame, when it is
+  // exactly a union of balls (the clump), or nothing (the default). Such bodies meet each other
+  // and balls member by member through the ball contact kernel (sim/member_balls.hpp).
+  virtual std::optional<std::vector<double>> balls(std::span<const double>) const {
+    return std::nullopt;
+  }
+  virtual void place(const ElementRef<D>&, double*) const {}
 };
 
 // An element as a contact routine sees it: pose, bounding radius and shared geometry.
@@ -118,6 +141,8 @@ struct ElementRef {
   // The scene asks for ContactPoint::localRadius (law -curvature local); rows that know a
   // surface's curvature compute it only then.
   bool localCurvature = false;
+  // The element's placed form this step (ShapeType::place), or null: rows then work it out.
+  const double* placed = nullptr;
 };
 
 // One contact point of a pair: the geometry the laws read (normal from A to B, overlap, point)

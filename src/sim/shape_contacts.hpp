@@ -20,6 +20,7 @@
 #include "core/thread_pool.hpp"
 
 #include "sim/contacts.hpp"
+#include "sim/member_balls.hpp"
 #include "sim/rigid_body.hpp"
 #include "sim/scene.hpp"
 #include "sim/shape.hpp"
@@ -41,11 +42,15 @@ int elementPairPoints(const Scene<D>& s, uint32_t i, uint32_t j, ContactPoint<D>
   return shapePairPoints(elementRef(s, i), elementRef(s, j), out);
 }
 
-// Returns element i's contact points with wall w, into out.
+// Returns element e's contact points with wall w, into out.
+template <int D>
+int elementWallPoints(const ElementRef<D>& e, const Wall<D>& w, ContactPoint<D>* out) {
+  const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
+  return shapeWallPoints(e, w.kind, shape, out);
+}
 template <int D>
 int elementWallPoints(const Scene<D>& s, uint32_t i, const Wall<D>& w, ContactPoint<D>* out) {
-  const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
-  return shapeWallPoints(elementRef(s, i), w.kind, shape, out);
+  return elementWallPoints(elementRef(s, i), w, out);
 }
 
 // Throws {LOOKUP INTERACTION} unless the ShapeTable has a routine for every pair of shape types
@@ -119,6 +124,9 @@ class ShapeContactModule final : public SimModule<D> {
     // The rows first, on the thread pool: each chunk of candidates writes its points to its own
     // buffer, so the laws, springs and sums below see them in candidate order, as a serial pass
     // would, for any thread count. The rows are most of a shape pair's cost.
+    // Pairs of ball unions go through the ball kernel when it can serve the scene.
+    members_ = ballUnions_.serves(s);
+    placeElements(s);
     findPoints(s);
     if (rotating) worldInverseInertia(s);
     // One contact point through the law: returns the force on B.
@@ -136,17 +144,22 @@ class ShapeContactModule final : public SimModule<D> {
       return f.force;
     };
     if (history) s.shapeSprings.beginStep();
+    if (members_) ballUnions_.run(s, e);
     for (size_t ci = 0; ci < s.shapeCandidates.size(); ++ci) {
       const uint32_t i = s.shapeCandidates[ci].i, j = s.shapeCandidates[ci].j;
       const Chunk& chunk = chunks_[ci / kChunk];
       const ContactPoint<D>* pts = chunk.points.data() + chunk.first[ci % kChunk];
       const int n = static_cast<int>(chunk.first[ci % kChunk + 1] - chunk.first[ci % kChunk]);
       const size_t pair = a.material[i] * nMat + a.material[j];
+      const bool unions = n > 0 && madeOfBalls(s, i) && madeOfBalls(s, j);
       for (int k = 0; k < n; ++k) {
         const VecD<D> ra = pts[k].g.point - a.x[i], rb = pts[k].g.point - a.x[j];
         const VecD<D>& nrm = pts[k].g.normal;
-        const Real effMass = 1 / (a.invMass[i] + a.invMass[j] + compliance(s, i, ra, nrm) +
-                                  compliance(s, j, rb, nrm));
+        // Ball unions meet as balls do: the bodies' reduced mass (sim/member_balls.hpp).
+        const Real effMass =
+            unions ? 1 / (a.invMass[i] + a.invMass[j])
+                   : 1 / (a.invMass[i] + a.invMass[j] + compliance(s, i, ra, nrm) +
+                          compliance(s, j, rb, nrm));
         VecD<D> vrel = a.v[j] - a.v[i];
         if (rotating) vrel += cross(a.w[j], rb) - cross(a.w[i], ra);
         const VecD<D> f =
@@ -198,7 +211,10 @@ class ShapeContactModule final : public SimModule<D> {
   }
 
   size_t workingBytes() const override {
-    size_t bytes = chunks_.capacity() * sizeof(Chunk) + invIw_.capacity() * sizeof(Mat3);
+    size_t bytes = chunks_.capacity() * sizeof(Chunk) + invIw_.capacity() * sizeof(Mat3) +
+                   placed_.capacity() * sizeof(double) + placedAt_.capacity() * sizeof(size_t) +
+                   (placedRound_.capacity() + toPlace_.capacity()) * sizeof(uint32_t);
+    bytes += ballUnions_.workingBytes();
     for (const Chunk& c : chunks_) {
       bytes += c.points.capacity() * sizeof(ContactPoint<D>) + c.first.capacity() * sizeof(uint32_t);
     }
@@ -229,10 +245,13 @@ class ShapeContactModule final : public SimModule<D> {
       for (size_t k = c * kChunk; k < end; ++k) {
         int n;
         if (k < pairs) {
-          n = elementPairPoints(s, s.shapeCandidates[k].i, s.shapeCandidates[k].j, pts);
+          const auto [i, j] = s.shapeCandidates[k];
+          n = members_ && madeOfBalls(s, i) && madeOfBalls(s, j)
+                  ? 0  // the member pass's
+                  : shapePairPoints(ref(s, i), ref(s, j), pts);
         } else {
           const auto& [i, w] = s.shapeWallCandidates[k - pairs];
-          n = elementWallPoints(s, i, s.walls.items[w], pts);
+          n = elementWallPoints(ref(s, i), s.walls.items[w], pts);
         }
         chunk.points.insert(chunk.points.end(), pts, pts + n);
         chunk.first.push_back(static_cast<uint32_t>(chunk.points.size()));
@@ -243,6 +262,60 @@ class ShapeContactModule final : public SimModule<D> {
       return;
     }
     ThreadPool::global().forEach(nChunks, [&](size_t c, unsigned) { fill(c); });
+  }
+
+  // Writes the placed form (ShapeType::place) of each element that has one and a candidate
+  // this step to placed_, at placedAt_[i], marking it by placedRound_[i] = round_; on the
+  // thread pool. Changes placed_, placedAt_, placedRound_, round_ and toPlace_.
+  void placeElements(const Scene<D>& s) {
+    const ElementArrays<D>& a = s.elements.a;
+    if (placedRound_.size() != a.size()) {
+      placedRound_.assign(a.size(), 0);
+      placedAt_.resize(a.size());
+    }
+    if (++round_ == 0) {  // the marks wrapped: clear them
+      std::fill(placedRound_.begin(), placedRound_.end(), 0);
+      round_ = 1;
+    }
+    toPlace_.clear();
+    size_t size = 0;
+    const auto mark = [&](uint32_t i) {
+      const uint32_t n = s.geometries[a.geometry[i]]->placedSize;
+      if (n == 0 || placedRound_[i] == round_) return;
+      placedRound_[i] = round_;
+      placedAt_[i] = size;
+      toPlace_.push_back(i);
+      size += n;
+    };
+    for (const auto& c : s.shapeCandidates) {
+      if (members_ && madeOfBalls(s, c.i) && madeOfBalls(s, c.j)) continue;  // the member pass's
+      mark(c.i), mark(c.j);
+    }
+    for (const auto& c : s.shapeWallCandidates) mark(c.first);
+    placed_.resize(size);
+    const ShapeTable<D>& t = ShapeTable<D>::get();
+    const auto placeRange = [&](size_t begin, size_t end) {
+      for (size_t k = begin; k < end; ++k) {
+        const uint32_t i = toPlace_[k];
+        const ElementRef<D> e = elementRef(s, i);
+        t.type(e.g->shape).place(e, placed_.data() + placedAt_[i]);
+      }
+    };
+    constexpr size_t kPlaceChunk = 256;
+    const size_t nChunks = (toPlace_.size() + kPlaceChunk - 1) / kPlaceChunk;
+    if (nChunks <= 1) {
+      placeRange(0, toPlace_.size());
+      return;
+    }
+    ThreadPool::global().forEach(nChunks, [&](size_t c, unsigned) {
+      placeRange(c * kPlaceChunk, std::min(toPlace_.size(), (c + 1) * kPlaceChunk));
+    });
+  }
+  // Returns element i as the rows see it, with its placed form when its type has one.
+  ElementRef<D> ref(const Scene<D>& s, uint32_t i) const {
+    ElementRef<D> e = elementRef(s, i);
+    if (e.g->placedSize != 0) e.placed = placed_.data() + placedAt_[i];
+    return e;
   }
 
   // Makes invIw_[i], the world inverse inertia tensor of each element i of anisotropic inertia
@@ -271,6 +344,13 @@ class ShapeContactModule final : public SimModule<D> {
   }
 
   std::vector<Chunk> chunks_;
+  MemberBallPass<D> ballUnions_;
+  bool members_ = false;  // ballUnions_ serves this step's pairs of ball unions
+  std::vector<double> placed_;          // the placed forms of this step
+  std::vector<size_t> placedAt_;        // per element (dense): where its placed form starts
+  std::vector<uint32_t> placedRound_;   // per element: the round its placed form was made in
+  std::vector<uint32_t> toPlace_;
+  uint32_t round_ = 0;
   std::vector<Mat3> invIw_;  // per element (dense), valid for the rigid ones this step
 };
 

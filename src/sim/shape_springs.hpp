@@ -59,6 +59,18 @@ class ShapeSpringStore {
     }
     return &next_.back().h;
   }
+  // Returns last step's spring of key, or null, without keeping it for this step (a pass that
+  // learns only later which points touch: keep() them then). Changes the lookup's cursor.
+  const History* last(const ShapeSpringKey& key) {
+    if (cursor_ < springs_.size() && springs_[cursor_].key == key) return &springs_[cursor_++].h;
+    if (!indexed_) buildIndex();
+    const uint32_t at = find(key);
+    if (at == kNone) return nullptr;
+    cursor_ = at + 1;
+    return &springs_[at].h;
+  }
+  // Keeps h as key's spring for this step. Changes the store.
+  void keep(const ShapeSpringKey& key, const History& h) { next_.push_back({key, h}); }
   // Ends a step: this step's springs become the store; those not touched are dropped.
   void endStep() { springs_.swap(next_); }
 

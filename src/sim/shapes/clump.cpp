@@ -231,6 +231,20 @@ class ClumpType final : public ShapeType<D> {
     }
     return out;
   }
+  std::optional<std::vector<double>> balls(std::span<const double> p) const override {
+    return std::vector<double>(p.begin(), p.end());
+  }
+  // The placed form: the members' centres in the world, D numbers each.
+  uint32_t placedSize(std::span<const double> p) const override {
+    return static_cast<uint32_t>(p.size() / stride<D>() * D);
+  }
+  void place(const ElementRef<D>& e, double* out) const override {
+    const std::span<const double> p = e.g->params;
+    for (size_t k = 0; k < p.size() / stride<D>(); ++k) {
+      const VecD<D> c = e.x + rotate(e.q, memberCentre<D>(p, k));
+      for (int i = 0; i < D; ++i) out[k * D + i] = c[i];
+    }
+  }
   std::vector<Vec3> renderTriangles(std::span<const double> p) const override {
     std::vector<Vec3> out;
     for (size_t k = 0; k < p.size() / stride<D>(); ++k) {
@@ -257,23 +271,35 @@ void worldMembers(const ElementRef<D>& e, WorldMembers<D>& out) {
   }
   out.n = p.size() / stride<D>();
   for (size_t k = 0; k < out.n; ++k) {
-    out.c[k] = e.x + rotate(e.q, memberCentre<D>(p, k));
+    if (e.placed != nullptr) {
+      for (int i = 0; i < D; ++i) out.c[k][i] = e.placed[k * D + i];
+    } else {
+      out.c[k] = e.x + rotate(e.q, memberCentre<D>(p, k));
+    }
     out.r[k] = memberRadius<D>(p, k);
   }
 }
 
+// Returns whether balls of centres at x and y and radii summing to r overlap (no square root:
+// most candidates of a bed are apart, and these tests are most of their cost).
+template <int D>
+bool ballsOverlap(const VecD<D>& x, const VecD<D>& y, Real r) {
+  return (y - x).squaredNorm() < r * r;
+}
+
 template <int D>
 int pairRow(const ElementRef<D>& a, const ElementRef<D>& b, ContactPoint<D>* out) {
-  if (!((b.x - a.x).norm() < a.r + b.r)) return 0;
-  thread_local WorldMembers<D> ma, mb;
+  if (!ballsOverlap<D>(a.x, b.x, a.r + b.r)) return 0;
+  WorldMembers<D> ma, mb;
   thread_local std::vector<ContactPoint<D>> all;
   worldMembers(a, ma);
   worldMembers(b, mb);
   all.clear();
   for (size_t i = 0; i < ma.n; ++i) {
     // A member beyond b's bounding ball meets none of b's.
-    if (!((ma.c[i] - b.x).norm() < ma.r[i] + b.r)) continue;
+    if (!ballsOverlap<D>(ma.c[i], b.x, ma.r[i] + b.r)) continue;
     for (size_t j = 0; j < mb.n; ++j) {
+      if (!ballsOverlap<D>(ma.c[i], mb.c[j], ma.r[i] + mb.r[j])) continue;
       const auto g = physics::intersect<D>(physics::SphereShape<D>{ma.c[i], ma.r[i]},
                                            physics::SphereShape<D>{mb.c[j], mb.r[j]});
       if (!g) continue;
