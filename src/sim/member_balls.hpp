@@ -68,12 +68,12 @@ class MemberBallPass {
   void run(Scene<D>& s, PassEnergy& e) {
     if constexpr (D == 3) {
       makeMembers(s);
-      if (cand_.empty()) return;
+      if (nc_ == 0) return;
       // Last step's springs of the candidates: a candidate without one has a zero spring.
       if (s.keepHistory) {
-        pool_.resize(keys_.size());
-        slotOf_.assign(keys_.size(), kernel::SpringSlots::kNoSlot);
-        for (size_t k = 0; k < keys_.size(); ++k) {
+        pool_.resize(nc_);
+        slotOf_.assign(nc_, kernel::SpringSlots::kNoSlot);
+        for (size_t k = 0; k < nc_; ++k) {
           if (const auto* h = s.shapeSprings.last(keys_[k])) {
             pool_[k] = *h;
             slotOf_[k] = static_cast<uint32_t>(k);
@@ -96,7 +96,7 @@ class MemberBallPass {
       k.invMass = invMass_.data();
       k.material = material_.data();
       k.cand = cand_.data();
-      k.nCand = cand_.size() / 2;
+      k.nCand = nc_;
       kernel::SpringSlots slots;
       if (s.keepHistory) {
         slots.slotOf = slotOf_.data();
@@ -123,7 +123,7 @@ class MemberBallPass {
       e.friction += k.friction;
       e.springWork += k.springWork;
       if (s.keepHistory) {
-        for (size_t c = 0; c < keys_.size(); ++c) {
+        for (size_t c = 0; c < nc_; ++c) {
           if (slotOf_[c] != kernel::SpringSlots::kNoSlot) s.shapeSprings.keep(keys_[c], pool_[c]);
         }
       }
@@ -223,12 +223,21 @@ class MemberBallPass {
         body_[m] = i;
       }
     }
-    cand_.clear(), keys_.clear(), candBodies_.clear();
+    // The member pairs: every pair of a candidate's members written, and kept (the count
+    // moved on) when they touch: most tests of a bed go either way, so no branch on them.
+    size_t nc = 0;
     for (const CandidatePair& p : s.shapeCandidates) {
-      const uint32_t ni = count_[a.geometry[p.i]], nj = count_[a.geometry[p.j]];
+      const uint32_t gi = a.geometry[p.i], gj = a.geometry[p.j];
+      const uint32_t ni = count_[gi], nj = count_[gj];
       if (ni == 0 || nj == 0) continue;
+      if (nc + size_t{ni} * nj > keys_.size()) {
+        const size_t room = 2 * (nc + size_t{ni} * nj) + 64;
+        cand_.resize(2 * room), keys_.resize(room), candBodies_.resize(room);
+      }
+      // The rows' feature order: the first member the row's first element's (the table may
+      // serve the pair with its elements swapped).
+      const bool swapped = table.pair(s.geometries[gi]->shape, s.geometries[gj]->shape)->swapped();
       const uint32_t fi = first_[p.i], fj = first_[p.j];
-      int swapped = -1;  // looked up when a member pair first touches
       for (uint32_t u = 0; u < ni; ++u) {
         for (uint32_t q = 0; q < nj; ++q) {
           const uint32_t mi = fi + u, mj = fj + q;
@@ -238,20 +247,15 @@ class MemberBallPass {
             d2 += dx * dx;
           }
           const Real rs = r_[mi] + r_[mj];
-          if (!(d2 < rs * rs)) continue;
-          if (swapped < 0) {
-            // The rows' feature order: the first member the row's first element's (the table
-            // may serve the pair with its elements swapped).
-            swapped = table.pair(s.geometries[a.geometry[p.i]]->shape,
-                                 s.geometries[a.geometry[p.j]]->shape)->swapped();
-          }
-          cand_.push_back(mi), cand_.push_back(mj);
-          keys_.push_back({a.slot[p.i], a.slot[p.j],
-                           swapped ? q * kMemberKeyStride + u : u * kMemberKeyStride + q});
-          candBodies_.push_back(p);
+          cand_[2 * nc] = mi, cand_[2 * nc + 1] = mj;
+          keys_[nc] = {a.slot[p.i], a.slot[p.j],
+                       swapped ? q * kMemberKeyStride + u : u * kMemberKeyStride + q};
+          candBodies_[nc] = p;
+          nc += d2 < rs * rs;
         }
       }
     }
+    nc_ = nc;  // the arrays keep their room from step to step
     f_.assign(x_.size(), 0.0);
     t_.assign(w_.size(), 0.0);
   }
@@ -293,6 +297,7 @@ class MemberBallPass {
   std::vector<uint32_t> cand_;
   std::vector<ShapeSpringKey> keys_;
   std::vector<CandidatePair> candBodies_;
+  size_t nc_ = 0;  // the member pairs this step (the arrays above have room for more)
   std::vector<uint32_t> slotOf_;
   std::vector<physics::TangentialHistory<D>> pool_;
 };

@@ -126,6 +126,7 @@ class ShapeContactModule final : public SimModule<D> {
     // would, for any thread count. The rows are most of a shape pair's cost.
     // Pairs of ball unions go through the ball kernel when it can serve the scene.
     members_ = ballUnions_.serves(s);
+    listRows(s);
     placeElements(s);
     findPoints(s);
     if (rotating) worldInverseInertia(s);
@@ -145,13 +146,13 @@ class ShapeContactModule final : public SimModule<D> {
     };
     if (history) s.shapeSprings.beginStep();
     if (members_) ballUnions_.run(s, e);
-    for (size_t ci = 0; ci < s.shapeCandidates.size(); ++ci) {
-      const uint32_t i = s.shapeCandidates[ci].i, j = s.shapeCandidates[ci].j;
+    for (size_t ci = 0; ci < rows_.size(); ++ci) {
+      const uint32_t i = s.shapeCandidates[rows_[ci]].i, j = s.shapeCandidates[rows_[ci]].j;
       const Chunk& chunk = chunks_[ci / kChunk];
       const ContactPoint<D>* pts = chunk.points.data() + chunk.first[ci % kChunk];
       const int n = static_cast<int>(chunk.first[ci % kChunk + 1] - chunk.first[ci % kChunk]);
       const size_t pair = a.material[i] * nMat + a.material[j];
-      const bool unions = n > 0 && madeOfBalls(s, i) && madeOfBalls(s, j);
+      const bool unions = n > 0 && !members_ && madeOfBalls(s, i) && madeOfBalls(s, j);
       for (int k = 0; k < n; ++k) {
         const VecD<D> ra = pts[k].g.point - a.x[i], rb = pts[k].g.point - a.x[j];
         const VecD<D>& nrm = pts[k].g.normal;
@@ -173,7 +174,7 @@ class ShapeContactModule final : public SimModule<D> {
         if (s.recordContacts) appendRecord<D>(s.contacts, {i, j, false, f});
       }
     }
-    const size_t firstWall = s.shapeCandidates.size();
+    const size_t firstWall = rows_.size();
     for (size_t wi = 0; wi < s.shapeWallCandidates.size(); ++wi) {
       const auto [i, w] = s.shapeWallCandidates[wi];
       Wall<D>& wall = s.walls.items[w];
@@ -213,8 +214,8 @@ class ShapeContactModule final : public SimModule<D> {
   size_t workingBytes() const override {
     size_t bytes = chunks_.capacity() * sizeof(Chunk) + invIw_.capacity() * sizeof(Mat3) +
                    placed_.capacity() * sizeof(double) + placedAt_.capacity() * sizeof(size_t) +
-                   (placedRound_.capacity() + toPlace_.capacity()) * sizeof(uint32_t);
-    bytes += ballUnions_.workingBytes();
+                   (placedRound_.capacity() + toPlace_.capacity() + madeRound_.capacity()) * sizeof(uint32_t);
+    bytes += ballUnions_.workingBytes() + rows_.capacity() * sizeof(uint32_t);
     for (const Chunk& c : chunks_) {
       bytes += c.points.capacity() * sizeof(ContactPoint<D>) + c.first.capacity() * sizeof(uint32_t);
     }
@@ -233,7 +234,7 @@ class ShapeContactModule final : public SimModule<D> {
   // numbered in that order, on the thread pool. Throws {LOOKUP INTERACTION} as the rows do (the
   // lowest candidate's). Changes chunks_.
   void findPoints(const Scene<D>& s) {
-    const size_t pairs = s.shapeCandidates.size(), total = pairs + s.shapeWallCandidates.size();
+    const size_t pairs = rows_.size(), total = pairs + s.shapeWallCandidates.size();
     const size_t nChunks = (total + kChunk - 1) / kChunk;
     if (chunks_.size() < nChunks) chunks_.resize(nChunks);
     const auto fill = [&](size_t c) {
@@ -245,10 +246,8 @@ class ShapeContactModule final : public SimModule<D> {
       for (size_t k = c * kChunk; k < end; ++k) {
         int n;
         if (k < pairs) {
-          const auto [i, j] = s.shapeCandidates[k];
-          n = members_ && madeOfBalls(s, i) && madeOfBalls(s, j)
-                  ? 0  // the member pass's
-                  : shapePairPoints(ref(s, i), ref(s, j), pts);
+          const auto [i, j] = s.shapeCandidates[rows_[k]];
+          n = shapePairPoints(ref(s, i), ref(s, j), pts);
         } else {
           const auto& [i, w] = s.shapeWallCandidates[k - pairs];
           n = elementWallPoints(ref(s, i), s.walls.items[w], pts);
@@ -262,6 +261,16 @@ class ShapeContactModule final : public SimModule<D> {
       return;
     }
     ThreadPool::global().forEach(nChunks, [&](size_t c, unsigned) { fill(c); });
+  }
+
+  // Lists in rows_ the candidates the rows serve this step: all, or those the member pass does
+  // not. Changes rows_.
+  void listRows(const Scene<D>& s) {
+    rows_.clear();
+    for (uint32_t k = 0; k < s.shapeCandidates.size(); ++k) {
+      const auto [i, j] = s.shapeCandidates[k];
+      if (!members_ || !madeOfBalls(s, i) || !madeOfBalls(s, j)) rows_.push_back(k);
+    }
   }
 
   // Writes the placed form (ShapeType::place) of each element that has one and a candidate
@@ -287,10 +296,7 @@ class ShapeContactModule final : public SimModule<D> {
       toPlace_.push_back(i);
       size += n;
     };
-    for (const auto& c : s.shapeCandidates) {
-      if (members_ && madeOfBalls(s, c.i) && madeOfBalls(s, c.j)) continue;  // the member pass's
-      mark(c.i), mark(c.j);
-    }
+    for (const uint32_t k : rows_) mark(s.shapeCandidates[k].i), mark(s.shapeCandidates[k].j);
     for (const auto& c : s.shapeWallCandidates) mark(c.first);
     placed_.resize(size);
     const ShapeTable<D>& t = ShapeTable<D>::get();
@@ -319,17 +325,26 @@ class ShapeContactModule final : public SimModule<D> {
   }
 
   // Makes invIw_[i], the world inverse inertia tensor of each element i of anisotropic inertia
-  // (3D), once a step: a point would otherwise turn both bodies' principal frames. Changes invIw_.
+  // (3D) that the rows' points reach this step, once a step: a point would otherwise turn both
+  // bodies' principal frames. Changes invIw_.
   void worldInverseInertia(const Scene<D>& s) {
     if constexpr (D == 3) {
       const ElementArrays<D>& a = s.elements.a;
       invIw_.resize(a.size());
-      for (uint32_t i = 0; i < a.size(); ++i) {
-        if (a.invInertia[i] != 0) continue;
+      if (madeRound_.size() != a.size()) madeRound_.assign(a.size(), 0);
+      if (++inertiaRound_ == 0) {  // the marks wrapped: clear them
+        std::fill(madeRound_.begin(), madeRound_.end(), 0);
+        inertiaRound_ = 1;
+      }
+      const auto make = [&](uint32_t i) {
+        if (a.invInertia[i] != 0 || madeRound_[i] == inertiaRound_) return;
+        madeRound_[i] = inertiaRound_;
         const PrincipalFrame f = principalFrame(s, i);
         const Mat3 r = f.Q.toRotationMatrix();
         invIw_[i] = r * f.I.cwiseInverse().asDiagonal() * r.transpose();
-      }
+      };
+      for (const uint32_t k : rows_) make(s.shapeCandidates[k].i), make(s.shapeCandidates[k].j);
+      for (const auto& c : s.shapeWallCandidates) make(c.first);
     }
   }
   // Returns (r x n) . I^-1 (r x n) for element i: the rotational part of its compliance along
@@ -346,11 +361,14 @@ class ShapeContactModule final : public SimModule<D> {
   std::vector<Chunk> chunks_;
   MemberBallPass<D> ballUnions_;
   bool members_ = false;  // ballUnions_ serves this step's pairs of ball unions
+  std::vector<uint32_t> rows_;  // the candidates the rows serve this step
   std::vector<double> placed_;          // the placed forms of this step
   std::vector<size_t> placedAt_;        // per element (dense): where its placed form starts
   std::vector<uint32_t> placedRound_;   // per element: the round its placed form was made in
   std::vector<uint32_t> toPlace_;
   uint32_t round_ = 0;
+  std::vector<uint32_t> madeRound_;  // per element: the round its invIw_ was made in
+  uint32_t inertiaRound_ = 0;
   std::vector<Mat3> invIw_;  // per element (dense), valid for the rigid ones this step
 };
 

@@ -49,7 +49,15 @@ class SimulationManager final : public Simulation {
                                           const std::vector<double>& params,
                                           double bound) const override {
     const ShapeTable<D>& t = ShapeTable<D>::get();
-    const Geometry<D> g = t.makeGeometry(shape, params);
+    // A packing asks for the same shape at every site: its Geometry (mass properties
+    // integrated over a grid for overlapping clumps) is made once.
+    if (!(boundShape_.has_value() && boundShape_->first == shape && boundShape_->second.params == params)) {
+      boundShape_.reset();
+      Geometry<D> made = t.makeGeometry(shape, params);
+      made.params.assign(params.begin(), params.end());  // the key: the parameters as given
+      boundShape_.emplace(shape, std::move(made));
+    }
+    const Geometry<D>& g = boundShape_->second;
     const auto out = t.type(g.shape).scaled(params, bound / g.boundRadius);
     if (!out || g.boundRadius == 0) {
       throw Error("bad shape \"" + shape + "\": its size can't be drawn from a distribution",
@@ -171,6 +179,8 @@ class SimulationManager final : public Simulation {
   const Scene<D>& scene() const { return s_; }
 
  private:
+  // shapeParamsForBound's last shape: its name and Geometry (params: as given).
+  mutable std::optional<std::pair<std::string, Geometry<D>>> boundShape_;
   // Returns what queries see of bond b; broke is its break record (nullptr: none).
   BondInfo bondInfo(const Bond<D>& b, const BondBreak<D>* broke) const;
   // Returns the index of the material named name. Throws {LOOKUP MATERIAL}.
