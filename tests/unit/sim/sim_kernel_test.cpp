@@ -35,16 +35,7 @@ std::vector<kernel::Isa> kernels() {
   return out;
 }
 
-// Restores the process's kernel choice when a test ends.
-class KernelChoice {
- public:
-  KernelChoice() { use_ = kernel::activeIsa(&isa_); }
-  ~KernelChoice() { kernel::setActive(use_, isa_); }
-
- private:
-  bool use_;
-  kernel::Isa isa_;
-};
+using testing::KernelChoice;
 
 template <class T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {

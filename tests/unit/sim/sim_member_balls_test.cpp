@@ -17,16 +17,7 @@ using testing::grain;
 using testing::material;
 using testing::plane;
 
-// Restores the process's kernel choice when a test ends.
-class KernelChoice {
- public:
-  KernelChoice() { use_ = kernel::activeIsa(&isa_); }
-  ~KernelChoice() { kernel::setActive(use_, isa_); }
-
- private:
-  bool use_;
-  kernel::Isa isa_;
-};
+using testing::KernelChoice;
 
 // A box of five planes holding `clumps` clumps of 1 to 5 members (radii 2-5 mm, overlapping
 // and apart) and `balls` balls, placed at random in a 4 cm square column, their bounding balls

@@ -13,10 +13,22 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "sim/contact_kernel.hpp"
 #include "sim/scene_io.hpp"
 #include "sim/simulation.hpp"
 
 namespace demlab::sim::testing {
+
+// Restores the process's kernel choice when a test ends.
+class KernelChoice {
+ public:
+  KernelChoice() { use_ = kernel::activeIsa(&isa_); }
+  ~KernelChoice() { kernel::setActive(use_, isa_); }
+
+ private:
+  bool use_;
+  kernel::Isa isa_;
+};
 
 // Returns a random unit vector (uniform on the sphere).
 inline Vec3 randomUnit(std::mt19937_64& rng) {
