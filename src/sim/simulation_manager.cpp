@@ -358,7 +358,7 @@ uint32_t SimulationManager<D>::geometryIndex(const Geometry<D>& g) {
 
 template <int D>
 typename SimulationManager<D>::CheckedElement SimulationManager<D>::checkElement(
-    const ElementDef& def) const {
+    const ElementDef& def, const Geometry<D>* same) const {
   CheckedElement c;
   const ShapeTable<D>& table = ShapeTable<D>::get();
   const std::string_view shape =
@@ -370,6 +370,7 @@ typename SimulationManager<D>::CheckedElement SimulationManager<D>::checkElement
   const auto known = id ? s_.geometryLookup.find(std::make_pair(id->value, def.shapeParams))
                         : s_.geometryLookup.end();
   c.geometry = def.shape.empty() && def.shapeParams.empty() ? *s_.geometries[0]
+               : same != nullptr                           ? *same
                : known != s_.geometryLookup.end()          ? *s_.geometries[known->second]
                                                            : table.makeGeometry(shape, def.shapeParams);
   if (c.geometry.boundRadius == 0) {
@@ -436,10 +437,15 @@ std::vector<ElementId> SimulationManager<D>::addElements(const std::vector<Eleme
   checked.reserve(defs.size());
   std::unordered_set<std::string> names;
   InterruptPoll poll("adding elements");  // before anything is added
-  for (const ElementDef& d : defs) {
+  for (size_t k = 0; k < defs.size(); ++k) {
+    const ElementDef& d = defs[k];
     poll();
+    // A packing's elements of one shape: its Geometry made once (mass properties integrated
+    // over a grid for overlapping clumps), not once an element.
+    const bool asBefore = k > 0 && !d.shapeParams.empty() && d.shape == defs[k - 1].shape &&
+                          d.shapeParams == defs[k - 1].shapeParams;
     try {
-      checked.push_back(checkElement(d));
+      checked.push_back(checkElement(d, asBefore ? &checked.back().geometry : nullptr));
     } catch (const Error& e) {
       if (d.origin.empty()) throw;
       throw e.within(d.origin);

@@ -197,7 +197,9 @@ class SimulationManager final : public Simulation {
   };
   // Returns the index of g in the scene's geometries, adding it if no equal one is there.
   uint32_t geometryIndex(const Geometry<D>& g);
-  CheckedElement checkElement(const ElementDef& def) const;
+  // same: a Geometry made from def's shape and parameters (the previous def's in a batch), or
+  // null.
+  CheckedElement checkElement(const ElementDef& def, const Geometry<D>* same = nullptr) const;
   // Throws {VALUE DOF} if mask has a degree of freedom this dimension lacks.
   void checkDofMask(unsigned mask) const;
   // Removes the blocked-list entries of the grains for which gone(id) is true.
