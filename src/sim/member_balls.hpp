@@ -73,7 +73,11 @@ class MemberBallPass {
       if (s.keepHistory) {
         pool_.resize(nc_);
         slotOf_.assign(nc_, kernel::SpringSlots::kNoSlot);
+        keys_.resize(nc_);
+        const ElementArrays<D>& a = s.elements.a;
         for (size_t k = 0; k < nc_; ++k) {
+          const CandidatePair p = s.shapeCandidates[which_[k]];
+          keys_[k] = {a.slot[p.i], a.slot[p.j], feature_[k]};
           if (const auto* h = s.shapeSprings.last(keys_[k])) {
             pool_[k] = *h;
             slotOf_[k] = static_cast<uint32_t>(k);
@@ -138,7 +142,7 @@ class MemberBallPass {
             first_.capacity() + round_.capacity() + bodies_.capacity() + count_.capacity()) * sizeof(uint32_t) +
            keys_.capacity() * sizeof(ShapeSpringKey) +
            pool_.capacity() * sizeof(physics::TangentialHistory<D>) +
-           candBodies_.capacity() * sizeof(CandidatePair);
+           (which_.capacity() + feature_.capacity()) * sizeof(uint32_t);
   }
 
  private:
@@ -150,7 +154,7 @@ class MemberBallPass {
   static void appendRecords(void* context, const uint32_t* cand, const double* force, size_t n) {
     const Sink& k = *static_cast<const Sink*>(context);
     for (size_t c = 0; c < n; ++c) {
-      const CandidatePair p = k.self->candBodies_[cand[c]];
+      const CandidatePair p = k.s->shapeCandidates[k.self->which_[cand[c]]];
       appendRecord<D>(k.s->contacts, {p.i, p.j, false, VecD<D>(force + D * c)});
     }
   }
@@ -171,8 +175,10 @@ class MemberBallPass {
     const ShapeTable<D>& table = ShapeTable<D>::get();
     // Per geometry, its members (0: not a ball union).
     count_.resize(s.geometries.size());
+    type_.resize(s.geometries.size());
     for (size_t g = 0; g < s.geometries.size(); ++g) {
       const Geometry<D>& geom = *s.geometries[g];
+      type_[g] = geom.shape;
       count_[g] = geom.shape == ShapeTable<D>::ball()
                       ? 1
                       : static_cast<uint32_t>(geom.balls.size() / (D + 1));
@@ -226,17 +232,18 @@ class MemberBallPass {
     // The member pairs: every pair of a candidate's members written, and kept (the count
     // moved on) when they touch: most tests of a bed go either way, so no branch on them.
     size_t nc = 0;
-    for (const CandidatePair& p : s.shapeCandidates) {
+    for (uint32_t k = 0; k < s.shapeCandidates.size(); ++k) {
+      const CandidatePair p = s.shapeCandidates[k];
       const uint32_t gi = a.geometry[p.i], gj = a.geometry[p.j];
       const uint32_t ni = count_[gi], nj = count_[gj];
       if (ni == 0 || nj == 0) continue;
-      if (nc + size_t{ni} * nj > keys_.size()) {
+      if (nc + size_t{ni} * nj > which_.size()) {
         const size_t room = 2 * (nc + size_t{ni} * nj) + 64;
-        cand_.resize(2 * room), keys_.resize(room), candBodies_.resize(room);
+        cand_.resize(2 * room), which_.resize(room), feature_.resize(room);
       }
       // The rows' feature order: the first member the row's first element's (the table may
       // serve the pair with its elements swapped).
-      const bool swapped = table.pair(s.geometries[gi]->shape, s.geometries[gj]->shape)->swapped();
+      const bool swapped = table.pair(type_[gi], type_[gj])->swapped();
       const uint32_t fi = first_[p.i], fj = first_[p.j];
       for (uint32_t u = 0; u < ni; ++u) {
         for (uint32_t q = 0; q < nj; ++q) {
@@ -248,9 +255,8 @@ class MemberBallPass {
           }
           const Real rs = r_[mi] + r_[mj];
           cand_[2 * nc] = mi, cand_[2 * nc + 1] = mj;
-          keys_[nc] = {a.slot[p.i], a.slot[p.j],
-                       swapped ? q * kMemberKeyStride + u : u * kMemberKeyStride + q};
-          candBodies_[nc] = p;
+          which_[nc] = k;
+          feature_[nc] = swapped ? q * kMemberKeyStride + u : u * kMemberKeyStride + q;
           nc += d2 < rs * rs;
         }
       }
@@ -292,11 +298,14 @@ class MemberBallPass {
   // Per element (dense): its first member this step, valid when round_[i] == stamp_; the
   // bodies with members this step; per geometry its members (0: not a ball union).
   std::vector<uint32_t> first_, round_, bodies_, count_;
+  std::vector<TypeId> type_;  // per geometry, its shape type
   uint32_t stamp_ = 0;
   // The member pairs that touch: their members (2 each), spring keys and bodies.
   std::vector<uint32_t> cand_;
+  // The member pairs' candidates (indices into s.shapeCandidates) and features; their spring
+  // keys, made only with history.
+  std::vector<uint32_t> which_, feature_;
   std::vector<ShapeSpringKey> keys_;
-  std::vector<CandidatePair> candBodies_;
   size_t nc_ = 0;  // the member pairs this step (the arrays above have room for more)
   std::vector<uint32_t> slotOf_;
   std::vector<physics::TangentialHistory<D>> pool_;
