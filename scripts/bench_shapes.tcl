@@ -17,16 +17,8 @@ if {![info exists shapes($variant)]} {
     puts stderr "bench_shapes: unknown variant \"$variant\": [array names shapes]"
     exit 2
 }
-proc cpuSeconds {} {
-    set f [open /proc/self/stat]
-    set fields [split [read $f]]
-    close $f
-    # utime and stime, in clock ticks of 1/100 s (fields 14 and 15)
-    expr {([lindex $fields 13] + [lindex $fields 14]) / 100.0}
-}
-sim new
-material add grain -density 2500 -young 5e6 -poisson 0.3 -restitution 0.5 -friction 0.5
-behavior add gravity
+source [file join [file dirname [info script]] bench_common.tcl]
+benchScene
 set side 0.06
 if {$variant eq "sphere-meshfloor"} {
     # The floor as a mesh of 200 triangles (10 x 10 squares) instead of a plane.
@@ -50,9 +42,7 @@ if {$variant eq "sphere-meshfloor"} {
 } else {
     wall add plane -point {0 0 0} -normal {0 0 1}
 }
-foreach {n p} [list {1 0 0} [list 0 0 0] {-1 0 0} [list $side 0 0] {0 1 0} [list 0 0 0] {0 -1 0} [list 0 $side 0]] {
-    wall add plane -normal $n -point $p
-}
+addSideWalls $side
 # Bounding balls at a solid fraction of about 0.2 (a loose start that settles in 0.1 s).
 set region [list box {0 0 0} [list $side $side [expr {$count * 5e-5}]]]
 if {$variant eq "levelset"} {

@@ -17,20 +17,10 @@
 # `query contacts`) and of those the box-wall pairs; the mean height of the box centres and the
 # highest corner (m).
 lassign $argv count side height settle timed
-proc cpuSeconds {} {
-    set f [open /proc/self/stat]
-    set fields [split [read $f]]
-    close $f
-    # utime and stime, in clock ticks of 1/100 s (fields 14 and 15)
-    expr {([lindex $fields 13] + [lindex $fields 14]) / 100.0}
-}
-sim new
-material add grain -density 2500 -young 5e6 -poisson 0.3 -restitution 0.5 -friction 0.5
-behavior add gravity
+source [file join [file dirname [info script]] bench_common.tcl]
+benchScene
 wall add plane -point {0 0 0} -normal {0 0 1}
-foreach {n p} [list {1 0 0} {0 0 0} {-1 0 0} [list $side 0 0] {0 1 0} {0 0 0} {0 -1 0} [list 0 $side 0]] {
-    wall add plane -normal $n -point $p
-}
+addSideWalls $side
 # The box's corners; -radius is its bounding radius, the half diagonal, so it keeps its size.
 set hx 0.002
 set hy 0.0015

@@ -26,11 +26,15 @@
 # O.run(TIMED_STEPS, True), and the touching interactions after it (real, penetration > 0).
 # Writes the member spheres to MEMBERS_FILE, a line "body x y z r" each.
 import math
+import os
 import random
 import sys
 import time
 
 from yade import utils
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))
+from peer_packing import pack_apart  # noqa: E402
 
 n = int(sys.argv[1])
 side = float(sys.argv[2])
@@ -62,48 +66,6 @@ def union_mass_inertia():
     return mass, axial, transverse
 
 
-def random_rotation(rng):
-    """A rotation matrix uniform over the rotations (Shoemake's quaternion), as rows."""
-    u1, u2, u3 = rng.random(), rng.random(), rng.random()
-    a, b = math.sqrt(1 - u1), math.sqrt(u1)
-    w, x, y, z = (a * math.sin(2 * math.pi * u2), a * math.cos(2 * math.pi * u2),
-                  b * math.sin(2 * math.pi * u3), b * math.cos(2 * math.pi * u3))
-    return (1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y))
-
-
-def pack(rng):
-    """Centres and axes of n clumps: bounding spheres apart and inside the box."""
-    cell = 2 * bound
-    grid = {}
-    placed = []
-    for i in range(n):
-        for attempt in range(100000):
-            p = (rng.uniform(bound, side - bound), rng.uniform(bound, side - bound),
-                 rng.uniform(bound, height - bound))
-            key = tuple(int(v // cell) for v in p)
-            ok = True
-            for dx in (-1, 0, 1):
-                for dy in (-1, 0, 1):
-                    for dz in (-1, 0, 1):
-                        for q in grid.get((key[0] + dx, key[1] + dy, key[2] + dz), ()):
-                            if sum((p[k] - q[k]) ** 2 for k in range(3)) < cell * cell:
-                                ok = False
-                                break
-                        if not ok:
-                            break
-                    if not ok:
-                        break
-                if not ok:
-                    break
-            if ok:
-                grid.setdefault(key, []).append(p)
-                placed.append((p, random_rotation(rng)))
-                break
-        else:
-            sys.exit("clumps_yade: could not place clump %d of %d" % (i + 1, n))
-    return placed
-
-
 mat = O.materials.append(FrictMat(young=5e6, poisson=0.3, density=density,
                                   frictionAngle=math.atan(0.5)))
 for axis, pos, sense in ((2, 0.0, 1), (0, 0.0, 1), (0, side, -1), (1, 0.0, 1), (1, side, -1)):
@@ -111,7 +73,9 @@ for axis, pos, sense in ((2, 0.0, 1), (0, 0.0, 1), (0, side, -1), (1, 0.0, 1), (
 
 clump_mass, i_axial, i_transverse = union_mass_inertia()
 rng = random.Random(1)
-for centre, axis in pack(rng):
+for centre, (w, x, y, z) in pack_apart(rng, n, bound, side, height, "clump"):
+    # The clump's axis: the first column of its rotation.
+    axis = (1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y))
     spheres = [utils.sphere(tuple(centre[k] + s * half * axis[k] for k in range(3)), radius,
                             material=mat) for s in (-1, 1)]
     cid, ids = O.bodies.appendClumped(spheres)

@@ -29,11 +29,15 @@
 # interactions with overlap volume > 0: one per touching box-box or box-wall pair) and of those
 # the box-wall pairs; the mean height of the box centres and the highest corner (m).
 import math
+import os
 import random
 import sys
 import time
 
 from yade import polyhedra_utils
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))
+from peer_packing import pack_apart  # noqa: E402
 
 n = int(sys.argv[1])
 side = float(sys.argv[2])
@@ -51,43 +55,13 @@ corners = [Vector3(sx * half[0], sy * half[1], sz * half[2])
            for sz in (-1, 1) for sy in (-1, 1) for sx in (-1, 1)]
 
 
-def random_quaternion(rng):
-    """A unit quaternion uniform over the rotations (Shoemake), as (w, x, y, z)."""
-    u1, u2, u3 = rng.random(), rng.random(), rng.random()
-    a, b = math.sqrt(1 - u1), math.sqrt(u1)
-    return (a * math.sin(2 * math.pi * u2), a * math.cos(2 * math.pi * u2),
-            b * math.sin(2 * math.pi * u3), b * math.cos(2 * math.pi * u3))
-
-
-def pack(rng):
-    """Centres and orientations of n boxes: bounding spheres apart and inside the box."""
-    cell = 2 * bound
-    grid = {}
-    placed = []
-    for i in range(n):
-        for attempt in range(100000):
-            p = (rng.uniform(bound, side - bound), rng.uniform(bound, side - bound),
-                 rng.uniform(bound, height - bound))
-            key = tuple(int(v // cell) for v in p)
-            ok = all(sum((p[k] - q[k]) ** 2 for k in range(3)) >= cell * cell
-                     for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)
-                     for q in grid.get((key[0] + dx, key[1] + dy, key[2] + dz), ()))
-            if ok:
-                grid.setdefault(key, []).append(p)
-                placed.append((p, random_quaternion(rng)))
-                break
-        else:
-            sys.exit("polyhedra_yade: could not place box %d of %d" % (i + 1, n))
-    return placed
-
-
 mat = O.materials.append(PolyhedraMat(young=2 * kn, poisson=ks / kn, density=density,
                                       frictionAngle=math.atan(0.5)))
 for axis, pos, sense in ((2, 0.0, 1), (0, 0.0, 1), (0, side, -1), (1, 0.0, 1), (1, side, -1)):
     O.bodies.append(utils.wall(pos, axis=axis, sense=sense, material=mat))
 
 rng = random.Random(1)
-for centre, (w, x, y, z) in pack(rng):
+for centre, (w, x, y, z) in pack_apart(rng, n, bound, side, height, "box"):
     b = polyhedra_utils.polyhedra(O.materials[mat], v=corners)
     b.state.pos = Vector3(*centre)
     b.state.ori = Quaternion(w, x, y, z)
