@@ -25,6 +25,7 @@
 
 #include "sim/contact_kernel.hpp"
 #include "sim/contacts.hpp"
+#include "sim/element_chunks.hpp"
 #include "sim/scene.hpp"
 #include "sim/shape.hpp"
 
@@ -136,9 +137,13 @@ class MemberBallPass {
   }
 
   size_t workingBytes() const {
-    return (x_.capacity() + v_.capacity() + w_.capacity() + f_.capacity() + t_.capacity() +
+    size_t parts = parts_.capacity() * sizeof(Part);
+    for (const Part& p : parts_) {
+      parts += (p.cand.capacity() + p.which.capacity() + p.feature.capacity()) * sizeof(uint32_t);
+    }
+    return parts + (x_.capacity() + v_.capacity() + w_.capacity() + f_.capacity() + t_.capacity() +
             r_.capacity() + invMass_.capacity()) * sizeof(double) +
-           (material_.capacity() + cand_.capacity() + slotOf_.capacity() + body_.capacity() +
+           (material_.capacity() + cand_.capacity() + slotOf_.capacity() +
             first_.capacity() + round_.capacity() + bodies_.capacity() + count_.capacity()) * sizeof(uint32_t) +
            keys_.capacity() * sizeof(ShapeSpringKey) +
            pool_.capacity() * sizeof(physics::TangentialHistory<D>) +
@@ -206,40 +211,78 @@ class MemberBallPass {
       mark(p.i), mark(p.j);
     }
     x_.resize(D * size_t{members}), v_.resize(D * size_t{members}), w_.resize(3 * size_t{members});
-    r_.resize(members), invMass_.resize(members), material_.resize(members), body_.resize(members);
-    for (const uint32_t i : bodies_) {
-      const Geometry<D>& g = *s.geometries[a.geometry[i]];
-      const uint32_t n = count_[a.geometry[i]];
-      for (uint32_t k = 0; k < n; ++k) {
-        const size_t m = first_[i] + k;
-        VecD<D> c = a.x[i];
-        Real radius = a.r[i];
-        if (!g.balls.empty()) {
-          VecD<D> local;
-          for (int d = 0; d < D; ++d) local[d] = g.balls[k * (D + 1) + d];
-          c += rotate(a.q[i], local);
-          radius = g.balls[k * (D + 1) + D];
-        }
-        const VecD<D> vel = a.v[i] + cross(a.w[i], VecD<D>(c - a.x[i]));
-        for (int d = 0; d < D; ++d) x_[D * m + d] = c[d], v_[D * m + d] = vel[d];
-        for (int d = 0; d < 3; ++d) w_[3 * m + d] = a.w[i][d];
-        r_[m] = radius;
-        invMass_[m] = a.invMass[i];
-        material_[m] = a.material[i];
-        body_[m] = i;
-      }
-    }
-    // The member pairs: every pair of a candidate's members written, and kept (the count
-    // moved on) when they touch: most tests of a bed go either way, so no branch on them.
+    r_.resize(members), invMass_.resize(members), material_.resize(members);
+    // Each body's members on their own (the chunks on the pool).
+    forEachElementChunk(bodies_.size(), [&](size_t begin, size_t end, size_t) {
+      for (size_t b = begin; b < end; ++b) placeMembers(s, bodies_[b]);
+    });
+    // The member pairs, a chunk of candidates a task, each into its own part, the parts then
+    // joined in chunk order (candidate order, for any thread count).
+    const size_t nCand = s.shapeCandidates.size(), nChunks = elementChunks(nCand);
+    if (parts_.size() < nChunks) parts_.resize(nChunks);
+    forEachElementChunk(nCand, [&](size_t begin, size_t end, size_t c) {
+      pairMembers(s, table, begin, end, parts_[c]);
+    });
     size_t nc = 0;
-    for (uint32_t k = 0; k < s.shapeCandidates.size(); ++k) {
+    for (size_t c = 0; c < nChunks; ++c) nc += parts_[c].n;
+    if (nc > which_.size()) cand_.resize(2 * nc), which_.resize(nc), feature_.resize(nc);
+    for (size_t c = 0, at = 0; c < nChunks; at += parts_[c].n, ++c) {
+      const Part& part = parts_[c];
+      std::copy_n(part.cand.begin(), 2 * part.n, cand_.begin() + static_cast<std::ptrdiff_t>(2 * at));
+      std::copy_n(part.which.begin(), part.n, which_.begin() + static_cast<std::ptrdiff_t>(at));
+      std::copy_n(part.feature.begin(), part.n, feature_.begin() + static_cast<std::ptrdiff_t>(at));
+    }
+    nc_ = nc;  // the arrays keep their room from step to step
+    f_.assign(x_.size(), 0.0);
+    t_.assign(w_.size(), 0.0);
+  }
+
+  // One chunk's member pairs: the touching pairs of its candidates' members, their candidates
+  // and features.
+  struct Part {
+    std::vector<uint32_t> cand, which, feature;
+    size_t n = 0;
+  };
+
+  // Writes body i's members (first_[i] on) from its pose. Changes those members' entries.
+  void placeMembers(const Scene<D>& s, uint32_t i) {
+    const ElementArrays<D>& a = s.elements.a;
+    const Geometry<D>& g = *s.geometries[a.geometry[i]];
+    const uint32_t n = count_[a.geometry[i]];
+    for (uint32_t k = 0; k < n; ++k) {
+      const size_t m = first_[i] + k;
+      VecD<D> c = a.x[i];
+      Real radius = a.r[i];
+      if (!g.balls.empty()) {
+        VecD<D> local;
+        for (int d = 0; d < D; ++d) local[d] = g.balls[k * (D + 1) + d];
+        c += rotate(a.q[i], local);
+        radius = g.balls[k * (D + 1) + D];
+      }
+      const VecD<D> vel = a.v[i] + cross(a.w[i], VecD<D>(c - a.x[i]));
+      for (int d = 0; d < D; ++d) x_[D * m + d] = c[d], v_[D * m + d] = vel[d];
+      for (int d = 0; d < 3; ++d) w_[3 * m + d] = a.w[i][d];
+      r_[m] = radius;
+      invMass_[m] = a.invMass[i];
+      material_[m] = a.material[i];
+    }
+  }
+
+  // Writes to out the touching member pairs of candidates begin .. end - 1 of s (both elements
+  // ball unions). Every pair of a candidate's members is written, and kept (the count moved on)
+  // when they touch: most tests of a bed go either way, so no branch on them. Changes out.
+  void pairMembers(const Scene<D>& s, const ShapeTable<D>& table, size_t begin, size_t end,
+                   Part& out) const {
+    const ElementArrays<D>& a = s.elements.a;
+    size_t nc = 0;
+    for (size_t k = begin; k < end; ++k) {
       const CandidatePair p = s.shapeCandidates[k];
       const uint32_t gi = a.geometry[p.i], gj = a.geometry[p.j];
       const uint32_t ni = count_[gi], nj = count_[gj];
       if (ni == 0 || nj == 0) continue;
-      if (nc + size_t{ni} * nj > which_.size()) {
+      if (nc + size_t{ni} * nj > out.which.size()) {
         const size_t room = 2 * (nc + size_t{ni} * nj) + 64;
-        cand_.resize(2 * room), which_.resize(room), feature_.resize(room);
+        out.cand.resize(2 * room), out.which.resize(room), out.feature.resize(room);
       }
       // The rows' feature order: the first member the row's first element's (the table may
       // serve the pair with its elements swapped).
@@ -254,31 +297,35 @@ class MemberBallPass {
             d2 += dx * dx;
           }
           const Real rs = r_[mi] + r_[mj];
-          cand_[2 * nc] = mi, cand_[2 * nc + 1] = mj;
-          which_[nc] = k;
-          feature_[nc] = swapped ? q * kMemberKeyStride + u : u * kMemberKeyStride + q;
+          out.cand[2 * nc] = mi, out.cand[2 * nc + 1] = mj;
+          out.which[nc] = static_cast<uint32_t>(k);
+          out.feature[nc] = swapped ? q * kMemberKeyStride + u : u * kMemberKeyStride + q;
           nc += d2 < rs * rs;
         }
       }
     }
-    nc_ = nc;  // the arrays keep their room from step to step
-    f_.assign(x_.size(), 0.0);
-    t_.assign(w_.size(), 0.0);
+    out.n = nc;
   }
 
   // Adds each member's force and torque to its body's, member by member in order. Changes s's
   // forces and torques.
   void gather(Scene<D>& s) const {
     ElementArrays<D>& a = s.elements.a;
-    for (size_t m = 0; m < body_.size(); ++m) {
-      const uint32_t i = body_[m];
-      const VecD<D> f(f_.data() + D * m);
-      a.f[i] += f;
-      if (s.rotating) {
-        const VecD<D> arm = VecD<D>(x_.data() + D * m) - a.x[i];
-        a.t[i] += AngularD<D>(t_.data() + 3 * m) + cross(arm, f);
+    // A body's members are consecutive: each body sums its own (the chunks on the pool).
+    forEachElementChunk(bodies_.size(), [&](size_t begin, size_t end, size_t) {
+      for (size_t b = begin; b < end; ++b) {
+        const uint32_t i = bodies_[b];
+        const size_t first = first_[i], last = first + count_[a.geometry[i]];
+        for (size_t m = first; m < last; ++m) {
+          const VecD<D> f(f_.data() + D * m);
+          a.f[i] += f;
+          if (s.rotating) {
+            const VecD<D> arm = VecD<D>(x_.data() + D * m) - a.x[i];
+            a.t[i] += AngularD<D>(t_.data() + 3 * m) + cross(arm, f);
+          }
+        }
       }
-    }
+    });
   }
 
  public:
@@ -292,9 +339,9 @@ class MemberBallPass {
   kernel::Isa isa_{};
   bool history_ = false, rotation_ = false;
   std::vector<kernel::HertzPair> pairs_;
-  // The members: x, v (D each), w, t (3 each), f (D), radius, inverse mass, material, body.
+  // The members: x, v (D each), w, t (3 each), f (D), radius, inverse mass, material.
   std::vector<double> x_, v_, w_, f_, t_, r_, invMass_;
-  std::vector<uint32_t> material_, body_;
+  std::vector<uint32_t> material_;
   // Per element (dense): its first member this step, valid when round_[i] == stamp_; the
   // bodies with members this step; per geometry its members (0: not a ball union).
   std::vector<uint32_t> first_, round_, bodies_, count_;
@@ -306,6 +353,7 @@ class MemberBallPass {
   // keys, made only with history.
   std::vector<uint32_t> which_, feature_;
   std::vector<ShapeSpringKey> keys_;
+  std::vector<Part> parts_;  // per chunk of candidates
   size_t nc_ = 0;  // the member pairs this step (the arrays above have room for more)
   std::vector<uint32_t> slotOf_;
   std::vector<physics::TangentialHistory<D>> pool_;
