@@ -182,6 +182,11 @@ bool isOnePair(long grainPair, const Scene<D>& s) {
   return grainPair >= 0 && static_cast<size_t>(grainPair) < s.pairParams.size();
 }
 
+// Returns the Hertz-Mindlin constants the SIMD kernels take for a material pair.
+inline kernel::HertzPair hertzPairOf(const physics::PairParams& p) {
+  return {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
+}
+
 // Returns nothing; points the kernel arguments k (kernel::HertzPassArgs or WallPassArgs) at the
 // grain arrays a (Eigen's fixed-size vectors are their D doubles, so they are plain doubles);
 // the spin and torque arrays only when grains rotate.
@@ -423,8 +428,7 @@ class BallContactModule final : public SimModule<D> {
     const size_t nPairs = one ? 1 : s.pairParams.size();
     kernelPairs_.resize(nPairs);
     for (size_t k = 0; k < nPairs; ++k) {
-      const physics::PairParams& p = s.pairParams[one ? static_cast<size_t>(grainPair_) : k];
-      kernelPairs_[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
+      kernelPairs_[k] = hertzPairOf(s.pairParams[one ? static_cast<size_t>(grainPair_) : k]);
     }
     kernel::HertzPassArgs base;
     bindGrainArrays<Rotation>(base, a);

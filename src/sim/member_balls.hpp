@@ -26,16 +26,23 @@
 #include "sim/contact_kernel.hpp"
 #include "sim/contacts.hpp"
 #include "sim/element_chunks.hpp"
+#include "sim/element_marks.hpp"
 #include "sim/scene.hpp"
 #include "sim/shape.hpp"
 
 namespace demlab::sim {
 
+// Returns the balls geometry g is a union of: 1 for the ball, its Geometry::balls' count for
+// a union of balls, 0 for any other shape.
+template <int D>
+uint32_t ballCount(const Geometry<D>& g) {
+  return g.shape == ShapeTable<D>::ball() ? 1 : static_cast<uint32_t>(g.balls.size() / (D + 1));
+}
+
 // Returns whether element i of s is a union of balls (a ball, or a shape with Geometry::balls).
 template <int D>
 bool madeOfBalls(const Scene<D>& s, uint32_t i) {
-  const Geometry<D>& g = *s.geometries[s.elements.a.geometry[i]];
-  return g.shape == ShapeTable<D>::ball() || !g.balls.empty();
+  return ballCount(*s.geometries[s.elements.a.geometry[i]]) > 0;
 }
 
 template <int D>
@@ -87,10 +94,7 @@ class MemberBallPass {
       }
       const size_t nMat = s.nMat();
       pairs_.resize(s.pairParams.size());
-      for (size_t k = 0; k < pairs_.size(); ++k) {
-        const physics::PairParams& p = s.pairParams[k];
-        pairs_[k] = {p.hertzKn, p.hertzKt, p.hertzGammaN, p.hertzGammaT, p.friction};
-      }
+      for (size_t k = 0; k < pairs_.size(); ++k) pairs_[k] = hertzPairOf(s.pairParams[k]);
       kernel::HertzPassArgs k;
       k.x = x_.data();
       k.v = v_.data();
@@ -144,7 +148,8 @@ class MemberBallPass {
     return parts + (x_.capacity() + v_.capacity() + w_.capacity() + f_.capacity() + t_.capacity() +
             r_.capacity() + invMass_.capacity()) * sizeof(double) +
            (material_.capacity() + cand_.capacity() + slotOf_.capacity() +
-            first_.capacity() + round_.capacity() + bodies_.capacity() + count_.capacity()) * sizeof(uint32_t) +
+            first_.capacity() + bodies_.capacity() + count_.capacity()) * sizeof(uint32_t) +
+           marks_.heapBytes() +
            keys_.capacity() * sizeof(ShapeSpringKey) +
            pool_.capacity() * sizeof(physics::TangentialHistory<D>) +
            (which_.capacity() + feature_.capacity()) * sizeof(uint32_t);
@@ -184,24 +189,15 @@ class MemberBallPass {
     for (size_t g = 0; g < s.geometries.size(); ++g) {
       const Geometry<D>& geom = *s.geometries[g];
       type_[g] = geom.shape;
-      count_[g] = geom.shape == ShapeTable<D>::ball()
-                      ? 1
-                      : static_cast<uint32_t>(geom.balls.size() / (D + 1));
+      count_[g] = ballCount(geom);
     }
-    if (round_.size() != a.size()) {
-      round_.assign(a.size(), 0);
-      first_.resize(a.size());
-    }
-    if (++stamp_ == 0) {
-      std::fill(round_.begin(), round_.end(), 0);
-      stamp_ = 1;
-    }
+    marks_.begin(a.size());
+    first_.resize(a.size());
     // The bodies, each once, in the order the candidates name them.
     bodies_.clear();
     uint32_t members = 0;
     const auto mark = [&](uint32_t i) {
-      if (round_[i] == stamp_) return;
-      round_[i] = stamp_;
+      if (!marks_.mark(i)) return;
       first_[i] = members;
       bodies_.push_back(i);
       members += count_[a.geometry[i]];
@@ -342,11 +338,11 @@ class MemberBallPass {
   // The members: x, v (D each), w, t (3 each), f (D), radius, inverse mass, material.
   std::vector<double> x_, v_, w_, f_, t_, r_, invMass_;
   std::vector<uint32_t> material_;
-  // Per element (dense): its first member this step, valid when round_[i] == stamp_; the
-  // bodies with members this step; per geometry its members (0: not a ball union).
-  std::vector<uint32_t> first_, round_, bodies_, count_;
+  // Per element (dense): its first member this step, valid when marks_ has it; the bodies
+  // with members this step; per geometry its members (0: not a ball union).
+  ElementMarks marks_;
+  std::vector<uint32_t> first_, bodies_, count_;
   std::vector<TypeId> type_;  // per geometry, its shape type
-  uint32_t stamp_ = 0;
   // The member pairs that touch: their members (2 each), spring keys and bodies.
   std::vector<uint32_t> cand_;
   // The member pairs' candidates (indices into s.shapeCandidates) and features; their spring

@@ -130,17 +130,6 @@ inline void freeRotors(RotorBatch<N>& b, Real dt) {
   }
 }
 
-// Turns the principal frame Q and the body-frame angular momentum pi as the free rotor with
-// principal moments I over time dt: one body through freeRotors. Changes Q and pi.
-inline void freeRotor(Quat& Q, Vec3& pi, const Vec3& I, Real dt) {
-  RotorBatch<1> b;
-  b.q[0][0] = Q.w();
-  for (int c = 0; c < 3; ++c) b.q[1 + c][0] = Q.vec()[c], b.pi[c][0] = pi[c], b.I[c][0] = I[c];
-  freeRotors(b, dt);
-  Q = Quat(b.q[0][0], b.q[1][0], b.q[2][0], b.q[3][0]);
-  pi = Vec3(b.pi[0][0], b.pi[1][0], b.pi[2][0]);
-}
-
 // A rigid element with blocked rotations and its spin before an update. The constraint module
 // cancels the torque along a blocked axis, but a rigid body's spin also turns by the
 // gyroscopic term and through the coupled world tensor: the blocked components are put back

@@ -20,6 +20,8 @@
 #include "core/thread_pool.hpp"
 
 #include "sim/contacts.hpp"
+#include "sim/element_chunks.hpp"
+#include "sim/element_marks.hpp"
 #include "sim/member_balls.hpp"
 #include "sim/rigid_body.hpp"
 #include "sim/scene.hpp"
@@ -121,10 +123,10 @@ class ShapeContactModule final : public SimModule<D> {
     const bool history = s.keepHistory, rotating = s.rotating;
     const bool localCurvature = s.curvatureModel == 1;  // law -curvature local
     PassEnergy e;
-    // The rows first, on the thread pool: each chunk of candidates writes its points to its own
-    // buffer, so the laws, springs and sums below see them in candidate order, as a serial pass
-    // would, for any thread count. The rows are most of a shape pair's cost.
-    // Pairs of ball unions go through the ball kernel when it can serve the scene.
+    // Pairs of ball unions go through the ball kernel when it can serve the scene; the rows
+    // take the rest, first, on the thread pool: each chunk of candidates writes its points to
+    // its own buffer, so the laws, springs and sums below see them in candidate order, as a
+    // serial pass would, for any thread count. The rows are most of a shape pair's cost.
     members_ = ballUnions_.serves(s);
     listRows(s);
     placeElements(s);
@@ -214,7 +216,8 @@ class ShapeContactModule final : public SimModule<D> {
   size_t workingBytes() const override {
     size_t bytes = chunks_.capacity() * sizeof(Chunk) + invIw_.capacity() * sizeof(Mat3) +
                    placed_.capacity() * sizeof(double) + placedAt_.capacity() * sizeof(size_t) +
-                   (placedRound_.capacity() + toPlace_.capacity() + madeRound_.capacity()) * sizeof(uint32_t);
+                   toPlace_.capacity() * sizeof(uint32_t) + placedMarks_.heapBytes() +
+                   inertiaMarks_.heapBytes();
     bytes += ballUnions_.workingBytes() + rows_.capacity() * sizeof(uint32_t);
     for (const Chunk& c : chunks_) {
       bytes += c.points.capacity() * sizeof(ContactPoint<D>) + c.first.capacity() * sizeof(uint32_t);
@@ -274,24 +277,17 @@ class ShapeContactModule final : public SimModule<D> {
   }
 
   // Writes the placed form (ShapeType::place) of each element that has one and a candidate
-  // this step to placed_, at placedAt_[i], marking it by placedRound_[i] = round_; on the
-  // thread pool. Changes placed_, placedAt_, placedRound_, round_ and toPlace_.
+  // of the rows this step to placed_, at placedAt_[i]; on the thread pool. Changes placed_,
+  // placedAt_, placedMarks_ and toPlace_.
   void placeElements(const Scene<D>& s) {
     const ElementArrays<D>& a = s.elements.a;
-    if (placedRound_.size() != a.size()) {
-      placedRound_.assign(a.size(), 0);
-      placedAt_.resize(a.size());
-    }
-    if (++round_ == 0) {  // the marks wrapped: clear them
-      std::fill(placedRound_.begin(), placedRound_.end(), 0);
-      round_ = 1;
-    }
+    placedMarks_.begin(a.size());
+    placedAt_.resize(a.size());
     toPlace_.clear();
     size_t size = 0;
     const auto mark = [&](uint32_t i) {
       const uint32_t n = s.geometries[a.geometry[i]]->placedSize;
-      if (n == 0 || placedRound_[i] == round_) return;
-      placedRound_[i] = round_;
+      if (n == 0 || !placedMarks_.mark(i)) return;
       placedAt_[i] = size;
       toPlace_.push_back(i);
       size += n;
@@ -300,21 +296,12 @@ class ShapeContactModule final : public SimModule<D> {
     for (const auto& c : s.shapeWallCandidates) mark(c.first);
     placed_.resize(size);
     const ShapeTable<D>& t = ShapeTable<D>::get();
-    const auto placeRange = [&](size_t begin, size_t end) {
+    forEachElementChunk(toPlace_.size(), [&](size_t begin, size_t end, size_t) {
       for (size_t k = begin; k < end; ++k) {
         const uint32_t i = toPlace_[k];
         const ElementRef<D> e = elementRef(s, i);
         t.type(e.g->shape).place(e, placed_.data() + placedAt_[i]);
       }
-    };
-    constexpr size_t kPlaceChunk = 256;
-    const size_t nChunks = (toPlace_.size() + kPlaceChunk - 1) / kPlaceChunk;
-    if (nChunks <= 1) {
-      placeRange(0, toPlace_.size());
-      return;
-    }
-    ThreadPool::global().forEach(nChunks, [&](size_t c, unsigned) {
-      placeRange(c * kPlaceChunk, std::min(toPlace_.size(), (c + 1) * kPlaceChunk));
     });
   }
   // Returns element i as the rows see it, with its placed form when its type has one.
@@ -331,14 +318,9 @@ class ShapeContactModule final : public SimModule<D> {
     if constexpr (D == 3) {
       const ElementArrays<D>& a = s.elements.a;
       invIw_.resize(a.size());
-      if (madeRound_.size() != a.size()) madeRound_.assign(a.size(), 0);
-      if (++inertiaRound_ == 0) {  // the marks wrapped: clear them
-        std::fill(madeRound_.begin(), madeRound_.end(), 0);
-        inertiaRound_ = 1;
-      }
+      inertiaMarks_.begin(a.size());
       const auto make = [&](uint32_t i) {
-        if (a.invInertia[i] != 0 || madeRound_[i] == inertiaRound_) return;
-        madeRound_[i] = inertiaRound_;
+        if (a.invInertia[i] != 0 || !inertiaMarks_.mark(i)) return;
         const PrincipalFrame f = principalFrame(s, i);
         const Mat3 r = f.Q.toRotationMatrix();
         invIw_[i] = r * f.I.cwiseInverse().asDiagonal() * r.transpose();
@@ -364,11 +346,9 @@ class ShapeContactModule final : public SimModule<D> {
   std::vector<uint32_t> rows_;  // the candidates the rows serve this step
   std::vector<double> placed_;          // the placed forms of this step
   std::vector<size_t> placedAt_;        // per element (dense): where its placed form starts
-  std::vector<uint32_t> placedRound_;   // per element: the round its placed form was made in
+  ElementMarks placedMarks_;           // the elements placed this step
   std::vector<uint32_t> toPlace_;
-  uint32_t round_ = 0;
-  std::vector<uint32_t> madeRound_;  // per element: the round its invIw_ was made in
-  uint32_t inertiaRound_ = 0;
+  ElementMarks inertiaMarks_;          // the elements whose invIw_ was made this step
   std::vector<Mat3> invIw_;  // per element (dense), valid for the rigid ones this step
 };
 

@@ -45,18 +45,8 @@ class ShapeSpringStore {
   // Returns the spring of key for this step: last step's, or a zero spring for a new point.
   // The pointer is valid until the next touch. Changes the store.
   History* touch(const ShapeSpringKey& key) {
-    if (cursor_ < springs_.size() && springs_[cursor_].key == key) {
-      next_.push_back(springs_[cursor_++]);
-      return &next_.back().h;
-    }
-    if (!indexed_) buildIndex();
-    const uint32_t at = find(key);
-    if (at != kNone) {
-      cursor_ = at + 1;
-      next_.push_back(springs_[at]);
-    } else {
-      next_.push_back({key, History{}});
-    }
+    const History* h = last(key);
+    next_.push_back({key, h != nullptr ? *h : History{}});
     return &next_.back().h;
   }
   // Returns last step's spring of key, or null, without keeping it for this step (a pass that

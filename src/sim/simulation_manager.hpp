@@ -51,19 +51,17 @@ class SimulationManager final : public Simulation {
     const ShapeTable<D>& t = ShapeTable<D>::get();
     // A packing asks for the same shape at every site: its Geometry (mass properties
     // integrated over a grid for overlapping clumps) is made once.
-    if (!(boundShape_.has_value() && boundShape_->first == shape && boundShape_->second.params == params)) {
-      boundShape_.reset();
-      Geometry<D> made = t.makeGeometry(shape, params);
-      made.params.assign(params.begin(), params.end());  // the key: the parameters as given
-      boundShape_.emplace(shape, std::move(made));
+    if (!(boundShape_.shape == shape && boundShape_.params == params && boundShape_.type)) {
+      const Geometry<D> g = t.makeGeometry(shape, params);
+      boundShape_ = {shape, params, g.shape, g.boundRadius};
     }
-    const Geometry<D>& g = boundShape_->second;
-    const auto out = t.type(g.shape).scaled(params, bound / g.boundRadius);
+    const BoundShape& g = boundShape_;
+    const auto out = t.type(*g.type).scaled(params, bound / g.boundRadius);
     if (!out || g.boundRadius == 0) {
       throw Error("bad shape \"" + shape + "\": its size can't be drawn from a distribution",
                   {"VALUE", "SHAPE"});
     }
-    t.type(g.shape).check(*out);  // still within the type's checks
+    t.type(*g.type).check(*out);  // still within the type's checks
     return *out;
   }
   void setContactLaw(LawKind law) override;
@@ -179,8 +177,15 @@ class SimulationManager final : public Simulation {
   const Scene<D>& scene() const { return s_; }
 
  private:
-  // shapeParamsForBound's last shape: its name and Geometry (params: as given).
-  mutable std::optional<std::pair<std::string, Geometry<D>>> boundShape_;
+  // shapeParamsForBound's last shape: its name and parameters as given, its type and
+  // bounding radius (type empty: none yet).
+  struct BoundShape {
+    std::string shape;
+    std::vector<double> params;
+    std::optional<TypeId> type;
+    Real boundRadius = 0;
+  };
+  mutable BoundShape boundShape_;
   // Returns what queries see of bond b; broke is its break record (nullptr: none).
   BondInfo bondInfo(const Bond<D>& b, const BondBreak<D>* broke) const;
   // Returns the index of the material named name. Throws {LOOKUP MATERIAL}.
