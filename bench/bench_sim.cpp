@@ -88,6 +88,7 @@ struct Options {
   std::string cpu;
   bool header = true;
   bool digest = false;
+  bool contactStep = false;
 };
 
 void usage(std::FILE* f) {
@@ -107,7 +108,10 @@ void usage(std::FILE* f) {
                "  --cpu FILE        append code,scene,n,steps,cpu_seconds,\n"
                "                    particle_steps_per_cpu_s,load1 (CPU time of the run)\n"
                "  --no-header       leave out the CSV header line\n"
-               "  --digest          print the state digest after each run on stderr\n");
+               "  --digest          print the state digest after each run on stderr\n"
+               "  --contact-step    after each run, time the contacts' critical step (what the\n"
+               "                    automatic step measures every 100 steps) against the\n"
+               "                    run's mean step, on stderr\n");
 }
 
 // Returns the value of a numeric option; exits with status 2 on a bad value.
@@ -151,6 +155,8 @@ Options parse(int argc, char** argv) {
       o.header = false;
     } else if (a == "--digest") {
       o.digest = true;
+    } else if (a == "--contact-step") {
+      o.contactStep = true;
     } else if (a == "--variant") {
       std::string_view list = value();
       while (!list.empty()) {
@@ -364,6 +370,25 @@ void runOne(const std::string& path, const Options& o, const Variant& v) {
                static_cast<double>(m.detection) / perGrain,
                static_cast<double>(m.search) / perGrain, static_cast<double>(m.springs) / perGrain,
                static_cast<double>(m.contacts) / perGrain, static_cast<double>(m.passes) / perGrain);
+  if (o.contactStep && r.steps > 0) {
+    // Repeated for at least 0.2 s: one call is a pass over the candidates.
+    int calls = 0;
+    double value = 0;
+    const auto c0 = std::chrono::steady_clock::now();
+    double spent = 0;
+    while (spent < 0.2 || calls < 3) {
+      value = s->contactCriticalTimeStep();
+      ++calls;
+      spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
+    }
+    const double call = spent / calls, step = seconds / static_cast<double>(r.steps);
+    // The automatic step measures it every kContactStepEvery (100) steps.
+    std::fprintf(stderr,
+                 "#   contacts' critical step %.4g s (%.3g of the static estimate): %.1f us a "
+                 "measure, %.2f steps' time, %.2f %% of a run measuring every 100 steps\n",
+                 value, value / s->criticalTimeStep(), 1e6 * call, call / step,
+                 100 * call / (call + 100 * step));
+  }
   // After the peak RSS is read: the digest serializes the whole scene.
   if (o.digest) {
     std::fprintf(stderr, "#   state digest %016llx\n",

@@ -10,6 +10,7 @@
 #include <tuple>
 #include <string>
 #include <utility>
+#include <limits>
 #include <vector>
 
 #include "core/instance_interaction.hpp"
@@ -231,6 +232,11 @@ struct Scene {
   double time = 0;
   uint64_t steps = 0;
   double stepDt = 0;  // the step in use during a run (set by prepare)
+  // The critical step of the ball contacts at their overlaps of the last neighbour search
+  // (sim/contact_stiffness.hpp; +inf before one, or with none touching): the automatic step
+  // is autoFraction x the least of it and the static estimate. Saved with the scene, so a
+  // loaded run goes on with the step it had.
+  double contactStep = std::numeric_limits<double>::infinity();
 
   // ---- contact detection state ----
   std::vector<CandidatePair> candidates;              // grain-grain

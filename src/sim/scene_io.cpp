@@ -908,6 +908,11 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     body.list(s.sinks, [&](const SinkState& x) { body.u32(x.def.every); });
     writeSection(w, kEveryTag, body);
   }
+  if (std::isfinite(s.contactStep)) {
+    Writer body;
+    body.f64(s.contactStep);
+    writeSection(w, kContactStepTag, body);
+  }
   if (std::any_of(s.sources.begin(), s.sources.end(),
                   [](const auto& x) { return x.def.randomOrientation; })) {
     Writer body;
@@ -1266,6 +1271,9 @@ void readScene(Reader& r, Scene<D>& s) {
       }
     } else if (std::memcmp(tag, kOptionTag, 4) == 0) {
       readOptionSection(b, s);
+    } else if (std::memcmp(tag, kContactStepTag, 4) == 0) {
+      s.contactStep = b.f64();
+      if (!(s.contactStep > 0 && std::isfinite(s.contactStep))) Reader::bad("contact step");
     } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {
       if (b.count(8) != s.materials.size()) Reader::bad("cohesion count");
       for (physics::MaterialDef& m : s.materials) {

@@ -202,6 +202,8 @@ inline constexpr char kBondTag[5] = "BOND";
 inline constexpr char kSourceTag[5] = "SRCE";
 // The sources' and sinks' intervals (SourceDef::every, SinkDef::every), when one is not 1.
 inline constexpr char kEveryTag[5] = "EVRY";
+// The contact critical step (Scene::contactStep), when the scene has one.
+inline constexpr char kContactStepTag[5] = "CSTP";
 // Which sources turn their elements at random (SourceDef::randomOrientation), when one does:
 // u64 count (the sources'), then a u8 each. Written after SRCE.
 inline constexpr char kSourceOrientationTag[5] = "SORI";

@@ -395,6 +395,10 @@ struct RelaxReport {
 
 struct RunOptions {
   uint64_t steps = 0;
+  // A run asked for a simulated time: the time it ends at. When the automatic step changes
+  // during the run, the steps left are counted again to reach it (rounded up to whole steps);
+  // NaN: a run of `steps` steps.
+  double endTime = std::numeric_limits<double>::quiet_NaN();
   // Checked at every step boundary; when it reads true the run stops there, consistent.
   const std::atomic<bool>* stop = nullptr;
   // Called with (steps done, steps asked) about every progressEvery steps (0: every 1/100 of
@@ -529,13 +533,20 @@ class Simulation {
   // Sets a fixed time step. Throws VALUE TIMESTEP unless dt > 0 and finite.
   virtual void setTimeStep(double dt) = 0;
   // Makes the step automatic: fraction x criticalTimeStep(), recomputed whenever grains or
-  // materials change. Throws VALUE FRACTION unless 0 < fraction <= 1.
+  // materials change and, during a run, after every neighbour search (the contacts' stiffness
+  // at their overlaps then). Throws VALUE FRACTION unless 0 < fraction <= 1.
   virtual void setAutoTimeStep(double fraction) = 0;
   // Returns the step the next run uses. Throws VALUE TIMESTEP if automatic with no grains.
   virtual double timeStep() const = 0;
-  // Returns the smallest critical step over the materials and grain sizes in the scene
-  // (physics::criticalTimeStep, Rayleigh step for Hertz); +inf when there are no grains.
+  // Returns the scene's critical step: the least of the static estimate over the materials and
+  // grain sizes in the scene (physics::criticalTimeStep, Rayleigh step for Hertz; bonds) and
+  // the ball contacts' at their overlaps at the last neighbour search
+  // (sim/contact_stiffness.hpp); +inf when there are no grains.
   virtual double criticalTimeStep() const = 0;
+  // Returns the ball contacts' critical step at their overlaps now (sim/contact_stiffness.hpp:
+  // the candidates of the last search, the pair table of the last run), recomputed; +inf when
+  // none touches or before a run. What the automatic step takes after each search.
+  virtual double contactCriticalTimeStep() const = 0;
   // Returns the scene time and the number of steps taken.
   virtual double time() const = 0;
   virtual uint64_t stepCount() const = 0;

@@ -17,6 +17,7 @@
 #include "physics/critical_step.hpp"
 #include "physics/narrow_phase.hpp"
 #include "sim/behavior_modules.hpp"
+#include "sim/contact_stiffness.hpp"
 #include "sim/contacts.hpp"
 #include "sim/convert.hpp"
 #include "sim/detection.hpp"
@@ -56,6 +57,7 @@ void SimulationManager<D>::prepare() {
     const double skin = skinInUse();
     if (s_.periodic.any()) checkPeriodic(skin);
     const double dt = timeStep();
+    staticStep_ = staticCriticalStep();
     const size_t nm = s_.nMat();
     s_.pairParams.resize(nm * nm);
     s_.pairLawFn.resize(nm * nm);
@@ -173,13 +175,33 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       return rep;
     }
   }
+  const uint64_t searchedBefore = s_.rebuilds;
   prepare();
   RunReport rep;
   const uint64_t steps0 = s_.steps, rebuilds0 = s_.rebuilds;
   const double time0 = s_.time;
   loop_.resetTimers();
   const auto t0 = std::chrono::steady_clock::now();
-  const uint64_t total = options.steps;
+  uint64_t total = options.steps;
+  // The automatic step follows the contacts: every kContactStepEvery steps of the scene's step
+  // count, and when the run's first force pass searched (an edited scene), it is taken again
+  // from their overlaps (sim/contact_stiffness.hpp) for the steps after, with the static part
+  // as the last configuration (prepare, also within the run) made it. The count alone says
+  // when, so a run continued from a checkpoint goes on with the same steps.
+  const bool adaptive = s_.autoFraction > 0;
+  const auto followContacts = [&](uint64_t k, bool now) {
+    if (!adaptive || !(now || s_.steps % kContactStepEvery == 0)) return;
+    s_.contactStep = contactCriticalStep(s_);
+    const double dt = autoStep(staticStep_);
+    if (dt == s_.stepDt) return;
+    s_.stepDt = dt;
+    // A run to a simulated time: the steps left at the new step (k steps done).
+    if (!std::isnan(options.endTime)) {
+      const double left = std::ceil((options.endTime - s_.time) / dt * (1 - 1e-12));
+      total = k + static_cast<uint64_t>(std::clamp(left, 0.0, 1e15));
+    }
+  };
+  followContacts(0, s_.rebuilds != searchedBefore);
   const uint64_t every =
       options.progressEvery ? options.progressEvery : std::max<uint64_t>(1, total / 100);
   bool watched = s_.watchdog.enabled;
@@ -212,6 +234,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       s_.recordContacts = seen || k + 1 == total || outputsReadNextStep();
       s_.trackDeepest = !s_.recordContacts && watched && s_.watchdog.overlap > 0;
       loop_.step(s_);
+      followContacts(k + 1, false);
       if (!s_.deferred.empty() && applyDeferred()) {
         seen = seen || loop_.readsContactRecords();
         watched = s_.watchdog.enabled;
@@ -394,8 +417,21 @@ WatchdogTrip SimulationManager<D>::describeTrip(const WatchdogHit& h, bool atSta
       t.what = "is the fastest element while the energy balance grew by " + num(h.value) + " J, " +
                percent(h.value / h.extra) + " of the energy scale " + num(h.extra) + " J (limit " +
                percent(s_.watchdog.energy) + ")";
-      t.cause = "the integration creates energy: the time step is too large (" + stepText + ")";
-      t.fix = autoFix + "; module watchdog -energy sets the bound";
+    {
+      // The contacts at the overlaps the run reached (a loaded bed stiffens): what a step of
+      // theirs would be, and a fix that is not the setting in force.
+      const double now = contactCriticalStep(s_);
+      t.cause = "the integration creates energy: the time step is too large (" + stepText +
+                (std::isfinite(now) ? "; the contacts at their overlaps now allow " + num(now) + " s"
+                                    : std::string()) +
+                ")";
+      t.fix = (fixed ? "use sim timestep auto (it follows the contacts' stiffness), or a smaller "
+                       "fixed step"
+                     : "a smaller fraction (sim timestep auto -fraction " +
+                           num(0.5 * s_.autoFraction) + "), or a fixed step below " +
+                           num(0.5 * std::min(crit, now)) + " s") +
+              "; module watchdog -energy sets the bound";
+    }
       break;
   }
   return t;
@@ -785,6 +821,11 @@ std::string SimulationManager<D>::serialize(IoMode mode) const {
   return std::move(w.bytes);
 }
 
+
+template <int D>
+double SimulationManager<D>::contactCriticalTimeStep() const {
+  return contactCriticalStep(s_);
+}
 
 template <int D>
 uint64_t SimulationManager<D>::stateDigest() const {

@@ -131,11 +131,13 @@ Error watchdogError(const sim::RunStopped& e) {
   return Error(t.message(g, w), {"WATCHDOG", t.check});
 }
 
-// Runs `steps` steps on the session's scene; returns the report. Installs the SIGINT hook for
-// the run's duration and draws progress on a terminal. Throws {INTERRUPTED} when stopped;
-// {WATCHDOG <check>} when the watchdog stopped the run, after printing the report of the steps
-// done unless quiet.
-sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool quiet) {
+// Runs `steps` steps on the session's scene (duration > 0: a run of that simulated time, the
+// steps counted again if the automatic step changes during it); returns the report. Installs
+// the SIGINT hook for the run's duration and draws progress on a terminal. Throws
+// {INTERRUPTED} when stopped; {WATCHDOG <check>} when the watchdog stopped the run, after
+// printing the report of the steps done unless quiet.
+sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool quiet,
+                        double duration = 0) {
   sim::Simulation& sim = s.scene();
   warnStep(s);
   // s.stop is not cleared here: the outermost command's bracket cleared it, and a Ctrl-C that
@@ -144,6 +146,7 @@ sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool qui
   ProgressBar bar(s);
   sim::RunOptions o;
   o.steps = steps;
+  if (duration > 0) o.endTime = sim.time() + duration;
   o.stop = &s.stop;
   o.failed = [&s] { return !s.callbackError.empty(); };
   const bool drawBar = progress && s.terminal;
@@ -247,7 +250,8 @@ void registerRunCommands(Registry& r) {
   run.run([](Call& c) {
     Session& s = session(c);
     sim::RunReport rep = runSteps(s, std::any_cast<std::uint64_t>(c.prepared),
-                                  c.get<bool>("progress"), c.flag("quiet"));
+                                  c.get<bool>("progress"), c.flag("quiet"),
+                                  c.given("time") ? c.real("time") : 0.0);
     if (!c.flag("quiet")) s.write(reportText(rep));
     raiseIfStopped(s, rep);
     return reportValue(rep);

@@ -105,9 +105,12 @@ void registerSimCommands(Registry& r) {
   Command& ts = r.add("sim timestep", "Sets the time step, or returns the one the next run uses.");
   ts.details =
       "With a number, the step is fixed; with \"auto\" (the default of a new scene) it follows "
-      "the scene: fraction x the critical step (sim critical), recomputed when grains or "
-      "materials change. The default fraction 0.2 is the safety factor. A fixed step above the "
-      "critical estimate makes sim run warn (an error with sim run -strict).";
+      "the scene: fraction x the static critical step (the Rayleigh step for Hertz-Mindlin; "
+      "recomputed when grains or materials change), and at most fraction x 2.5 x the step the "
+      "contacts' overlaps allow, taken again after every neighbour search during a run (a bed "
+      "stiffens as it is loaded): at the default fraction 0.2, half the contacts' stability "
+      "limit. A run of -time counts its steps again when the step changes. A fixed step above "
+      "the critical estimate makes sim run warn (an error with sim run -strict).";
   ts.optionalArg("dt", stepWord(), "the time step in seconds, or auto").type.unit = "s";
   ts.option("fraction", real().positive().max(1), "with auto: the fraction of the critical step")
       .byDefault("0.2");
@@ -172,8 +175,17 @@ void registerSimCommands(Registry& r) {
   });
 
   Command& crit = r.add("sim critical", "Returns the critical time step of the scene (s).");
+  crit.details =
+      "The least of the static estimate (materials, the smallest grains, bonds) and the step "
+      "the ball contacts allow at their overlaps of the last neighbour search: each contact's "
+      "normal and tangential-rotational modes at its Hertz tangent stiffness, their damping "
+      "included, summed per element (the static estimate alone until a run has searched).";
+  crit.flag("contacts", "only the contacts' step, recomputed at their overlaps now (inf when none touch)");
   crit.changesScene = false;
-  crit.run([](Call& c) { return Value(session(c).scene().criticalTimeStep()); });
+  crit.run([](Call& c) {
+    const sim::Simulation& s = session(c).scene();
+    return Value(c.flag("contacts") ? s.contactCriticalTimeStep() : s.criticalTimeStep());
+  });
 
   Command& dig =
       r.add("sim digest", "Returns a hash of everything that determines the scene's future.");

@@ -339,7 +339,9 @@ TEST_P(SimApi, StopFlagAndProgress) {
   EXPECT_EQ(last, 300u);
   EXPECT_EQ(calls, 4u);
   EXPECT_GT(r.wallSeconds, 0);
-  EXPECT_NEAR(r.simulatedTime, 300 * s->timeStep(), 1e-12);
+  // The scene started at t = 0; the automatic step may have changed at a neighbour search.
+  EXPECT_EQ(r.simulatedTime, s->time());
+  EXPECT_GT(r.simulatedTime, 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dims, SimApi, ::testing::Values(2, 3),

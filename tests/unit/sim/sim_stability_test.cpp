@@ -54,6 +54,34 @@ MaterialDef linearMaterial(double kn, double restitution, double friction, doubl
   return m;
 }
 
+// The contacts' critical step (sim/contact_stiffness.hpp) of two equal elastic Hertz spheres
+// pressed 2 % of a radius together: after the first force pass's neighbour search the critical
+// step is 2 / omega of the pair's fastest mode at that overlap, the normal one
+// (omega^2 = 2 kn / m, kn = 2 E* sqrt(R* delta)) or the tangential-rotational one
+// (omega^2 = kt (2/m + 2 l^2 / I), kt = 8 G* sqrt(R* delta), l = r - delta/2, I = 2/5 m r^2);
+// the automatic step is 0.2 of the least of the static estimate and 2.5 times it.
+TEST(Stability, TheContactsStepIsThePairsFastestModeAtItsOverlap) {
+  auto s = makeSimulation(3);
+  s->addMaterial("m", material(5e6, 1.0, 0.5));
+  s->setContactLaw(LawKind::HertzMindlin);
+  const double r = 1e-3, delta = 0.02 * r;
+  const ElementId a = s->addElement(grain({-r + delta / 2, 0, 0}, r, "m"));
+  s->addElement(grain({r - delta / 2, 0, 0}, r, "m"));
+  const double staticStep = s->criticalTimeStep();
+  EXPECT_DOUBLE_EQ(s->timeStep(), 0.2 * staticStep);  // no search yet
+  s->runSteps(1);
+  const double nu = 0.3, e = 5e6, g = e / (2 * (1 + nu));
+  const double eStar = e / (2 * (1 - nu * nu)), gStar = g / (2 * (2 - nu));
+  const double m = s->element(a).mass, inertia = 0.4 * m * r * r, l = r - delta / 2;
+  const double root = std::sqrt(r / 2 * delta);
+  const double wn2 = 2 * eStar * root * 2 / m;
+  const double wt2 = 8 * gStar * root * (2 / m + 2 * l * l / inertia);
+  const double expected = 2 / std::sqrt(std::max(wn2, wt2));
+  ASSERT_LT(expected, staticStep);  // the overlap makes the contacts the limit
+  EXPECT_NEAR(s->criticalTimeStep() / expected, 1, 1e-12);
+  EXPECT_NEAR(s->timeStep() / (0.2 * std::min(staticStep, 2.5 * expected)), 1, 1e-12);
+}
+
 // Two equal grains (r = 1 mm, 2500 kg/m^3) meet head on at 0.2 m/s, linear law with the given
 // normal stiffness, restitution 0.5, the automatic step.
 TEST(Stability, StiffnessFrom1e3To1e12WithAutoStep) {
