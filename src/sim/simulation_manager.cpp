@@ -80,8 +80,13 @@ void SimulationManager<D>::setAutoTimeStep(double fraction) {
 
 template <int D>
 double SimulationManager<D>::timeStep() const {
+  return timeStepFrom(s_.autoFraction > 0 ? staticCriticalStep() : 0);
+}
+
+template <int D>
+double SimulationManager<D>::timeStepFrom(double staticStep) const {
   if (s_.autoFraction > 0) {
-    const double dt = autoStep(staticCriticalStep());
+    const double dt = autoStep(staticStep);
     if (!std::isfinite(dt)) {
       throw Error("no time step: it is automatic and the scene has no grains and no sources",
                   {"VALUE", "TIMESTEP"});

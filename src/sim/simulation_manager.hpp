@@ -252,6 +252,8 @@ class SimulationManager final : public Simulation {
   double bondCriticalStep() const;
   // Returns the static part of criticalTimeStep(): materials, grain sizes, bonds.
   double staticCriticalStep() const;
+  // Returns timeStep() given staticCriticalStep() (unused for a fixed step). Throws as timeStep.
+  double timeStepFrom(double staticStep) const;
   // Returns the automatic step for the static estimate staticStep and the contacts' step.
   double autoStep(double staticStep) const;
   // How often (steps) a run with the automatic step measures the contacts' stiffness again:

@@ -56,8 +56,9 @@ void SimulationManager<D>::prepare() {
     if (f.shapes) checkShapeRoutines(s_);
     const double skin = skinInUse();
     if (s_.periodic.any()) checkPeriodic(skin);
-    const double dt = timeStep();
+    // The static estimate is a pass over the elements: taken once for both.
     staticStep_ = staticCriticalStep();
+    const double dt = timeStepFrom(staticStep_);
     const size_t nm = s_.nMat();
     s_.pairParams.resize(nm * nm);
     s_.pairLawFn.resize(nm * nm);
