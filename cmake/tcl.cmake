@@ -135,9 +135,10 @@ file(GLOB DEMLAB_TCL_TEST_FILES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/te
 # interrupt's commands run in child demlab executables whichever interpreter starts them;
 # snapshot's renderer is the same code whichever interpreter calls it; bond, dump and wall spend
 # their time in the engine (bonded samples, writers, mesh walls), not in the binding, whose
-# every declaration badinput checks through the package.
-set(DEMLAB_TCL_EXECUTABLE_ONLY analysis bond compaction drum_assembly dump element interrupt janssen lab periodic silo sim snapshot threads
-    triaxial wall wallmotion)
+# every declaration badinput checks through the package; so does stability (long runs of
+# stiff and extreme scenes).
+set(DEMLAB_TCL_EXECUTABLE_ONLY analysis bond compaction drum_assembly dump element interrupt janssen lab periodic silo sim snapshot
+    stability threads triaxial wall wallmotion)
 # Files about the package itself in a plain tclsh and in wish, run through the package only; and
 # badinput, whose every call goes through the binding that the executable and the package share.
 set(DEMLAB_TCL_PACKAGE_ONLY package badinput)

@@ -6,7 +6,7 @@
 #include "search/brute_force.hpp"
 
 namespace demlab::search {
-namespace {
+namespace brute_force_test {
 
 using Box2 = Box<2, double>;
 
@@ -33,5 +33,5 @@ TEST(BruteForce, NanBoxIsRejectedAndReportsNothing) {
   EXPECT_TRUE(out.empty());
 }
 
-}  // namespace
+}  // namespace brute_force_test
 }  // namespace demlab::search

@@ -16,10 +16,12 @@
 // Counts heap allocations made while `gCounting` is set, for the steady-state test. GCC
 // cannot see that the replaced operator new and delete below are a matched pair.
 #pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-namespace {
+namespace cgrid_test {
 std::atomic<bool> gCounting{false};
 std::atomic<long> gAllocations{0};
-}  // namespace
+}  // namespace cgrid_test
+using cgrid_test::gAllocations;
+using cgrid_test::gCounting;
 
 void* operator new(std::size_t size) {
   if (gCounting.load(std::memory_order_relaxed)) gAllocations.fetch_add(1);
@@ -34,7 +36,7 @@ void operator delete(void* p, std::size_t) noexcept {
 }
 
 namespace demlab::search {
-namespace {
+namespace cgrid_test {
 
 using testing::randomBoxes;
 
@@ -260,5 +262,5 @@ TEST(CGrid, WideAndPortableScansReportTheSamePairs) {
   }
 }
 
-}  // namespace
+}  // namespace cgrid_test
 }  // namespace demlab::search

@@ -15,7 +15,7 @@
 #include "support/random_boxes.hpp"
 
 namespace demlab::search {
-namespace {
+namespace cgrid_threads_test {
 
 using testing::randomBoxes;
 using testing::sorted;
@@ -212,5 +212,5 @@ TEST(CGridThreads, SmallInputsAndOneThreadStaySerial) {
   EXPECT_EQ(grid.lastSlabs(), 1u);
 }
 
-}  // namespace
+}  // namespace cgrid_threads_test
 }  // namespace demlab::search

@@ -13,7 +13,7 @@
 #include "core/error.hpp"
 
 namespace demlab {
-namespace {
+namespace core_atomic_file_test {
 
 std::string slurp(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -85,5 +85,5 @@ TEST(AtomicFile, AMissingFolderIsAnOpenErrorAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
 }
 
-}  // namespace
+}  // namespace core_atomic_file_test
 }  // namespace demlab

@@ -10,7 +10,7 @@
 #include "core/handle.hpp"
 
 namespace demlab {
-namespace {
+namespace core_handle_test {
 
 struct ElementKind;
 struct WallKind;
@@ -202,5 +202,5 @@ TEST(HandlePool, ASlotRetiresInsteadOfRepeatingAGeneration) {
   EXPECT_EQ(pool.slotCount(), 2u);
 }
 
-}  // namespace
+}  // namespace core_handle_test
 }  // namespace demlab

@@ -9,7 +9,7 @@
 #include "core/instance_interaction.hpp"
 
 namespace demlab {
-namespace {
+namespace core_instance_interaction_test {
 
 // A stand-in for a tangential spring: its value and how many steps the contact has lasted.
 struct Spring {
@@ -246,5 +246,5 @@ TEST(InstanceInteractionManager, OrderDependsOnlyOnTheOperations) {
   EXPECT_EQ(listing(restored), listing(a));
 }
 
-}  // namespace
+}  // namespace core_instance_interaction_test
 }  // namespace demlab

@@ -12,7 +12,7 @@
 #include "core/name_lookup.hpp"
 
 namespace demlab {
-namespace {
+namespace core_lookup_test {
 
 struct ElementKind;
 using Element = Handle<ElementKind>;
@@ -257,5 +257,5 @@ TEST(TagTable, MatchesAnOrderedListOracleUnderRandomOperations) {
   }
 }
 
-}  // namespace
+}  // namespace core_lookup_test
 }  // namespace demlab

@@ -8,7 +8,7 @@
 #include "core/math.hpp"
 
 namespace demlab {
-namespace {
+namespace core_math_test {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -164,5 +164,5 @@ TEST(Math, Rotation2CountsTurnsAndNormalizesOnRequest) {
   EXPECT_NEAR(rotationVector(q).z(), integrate(Rotation2{0.25}, 3.0, 0.1).angle, 1e-15);
 }
 
-}  // namespace
+}  // namespace core_math_test
 }  // namespace demlab

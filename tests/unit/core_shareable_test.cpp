@@ -6,7 +6,7 @@
 #include "core/shareable.hpp"
 
 namespace demlab {
-namespace {
+namespace core_shareable_test {
 
 // A component that counts its copies and its live instances.
 struct Material {
@@ -107,5 +107,5 @@ TEST_F(ShareableTest, ClonesKeepTheDynamicTypeWithoutAVirtualClone) {
   EXPECT_EQ(shared->scale, 2);
 }
 
-}  // namespace
+}  // namespace core_shareable_test
 }  // namespace demlab

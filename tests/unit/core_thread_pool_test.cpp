@@ -11,7 +11,7 @@
 #include "core/thread_pool.hpp"
 
 namespace demlab {
-namespace {
+namespace core_thread_pool_test {
 
 // Restores the pool's thread count when a test ends.
 struct KeepThreads {
@@ -97,5 +97,5 @@ TEST(ThreadPool, ThreadsFromEnvironmentRefusesBadCounts) {
   unsetenv("DEMLAB_THREADS");
 }
 
-}  // namespace
+}  // namespace core_thread_pool_test
 }  // namespace demlab

@@ -8,7 +8,7 @@
 #include "core/type_interaction.hpp"
 
 namespace demlab {
-namespace {
+namespace core_type_interaction_test {
 
 void expectError(auto&& f, const std::string& message, std::vector<std::string> code) {
   try {
@@ -152,5 +152,5 @@ TEST(TypeInteractionManager, FnMayBeAStructOfRoutines) {
   EXPECT_EQ(e.fn.law(3), -3);
 }
 
-}  // namespace
+}  // namespace core_type_interaction_test
 }  // namespace demlab

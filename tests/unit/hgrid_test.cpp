@@ -15,7 +15,7 @@
 #include "support/oracle_scenes.hpp"
 
 namespace demlab::search {
-namespace {
+namespace hgrid_test {
 
 using namespace test_support;
 
@@ -423,5 +423,5 @@ TEST(HGrid, ExtremeMagnitudes) {
   EXPECT_TRUE(matchesOracle(small, specks));
 }
 
-}  // namespace
+}  // namespace hgrid_test
 }  // namespace demlab::search

@@ -10,7 +10,7 @@
 #include "support/oracle_scenes.hpp"
 
 namespace demlab::search {
-namespace {
+namespace nbs_test {
 
 using namespace test_support;
 
@@ -36,5 +36,5 @@ TEST(Nbs, NameAndNoWorkForTinyInputs) {
   EXPECT_EQ(nbs.workingBytes(), 0u);
 }
 
-}  // namespace
+}  // namespace nbs_test
 }  // namespace demlab::search

@@ -14,7 +14,7 @@
 #include "support/oracle_scenes.hpp"
 
 namespace demlab::search {
-namespace {
+namespace search_edge_cases_test {
 
 using namespace test_support;
 
@@ -284,5 +284,5 @@ TYPED_TEST(EdgeCases, RepeatedCallsOnMovedBoxes) {
   }
 }
 
-}  // namespace
+}  // namespace search_edge_cases_test
 }  // namespace demlab::search

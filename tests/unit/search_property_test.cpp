@@ -9,7 +9,7 @@
 #include "support/random_boxes.hpp"
 
 namespace demlab::search {
-namespace {
+namespace search_property_test {
 
 using testing::randomBoxes;
 using testing::sorted;
@@ -128,5 +128,5 @@ TEST(SearchProperty, RejectsNanInvertedAndInfinite) {
   expectRejects<2>({{-INFINITY, 0}, {1, 1}}, "bad box 20: coordinate is infinite on axis 0");
 }
 
-}  // namespace
+}  // namespace search_property_test
 }  // namespace demlab::search

@@ -13,7 +13,7 @@
 #include "support/oracle_scenes.hpp"
 
 namespace demlab::search {
-namespace {
+namespace sweep_prune_test {
 
 using namespace test_support;
 
@@ -117,5 +117,5 @@ TEST(SweepAndPrune, NameAndNoWorkForTinyInputs) {
   EXPECT_TRUE(out.empty());
 }
 
-}  // namespace
+}  // namespace sweep_prune_test
 }  // namespace demlab::search

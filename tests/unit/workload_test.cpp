@@ -9,7 +9,7 @@
 #include "search/brute_force.hpp"
 
 namespace demlab::search {
-namespace {
+namespace workload_test {
 
 constexpr Distribution kAll[] = {Distribution::Uniform, Distribution::Bidisperse,
                                  Distribution::PowerLaw, Distribution::PowerLawWalls,
@@ -249,5 +249,5 @@ TEST(Workload, FloatCoordinates) {
   for (const auto& b : boxes) EXPECT_LE(b.lo[0], b.hi[0]);
 }
 
-}  // namespace
+}  // namespace workload_test
 }  // namespace demlab::search

@@ -7,7 +7,7 @@
 #include "analysis/structure.hpp"
 
 namespace demlab::analysis {
-namespace {
+namespace analysis_measures_test {
 
 // Two balls of radius 1 touching on the x axis, pressed together by 5 N, the first also on a
 // wall below it (force 2 N down on the wall).
@@ -88,5 +88,5 @@ TEST(AnalysisMeasures, CoarseGrainedContactStressIntegratesToTheLoveWeberSum) {
   }
 }
 
-}  // namespace
+}  // namespace analysis_measures_test
 }  // namespace demlab::analysis

@@ -8,7 +8,7 @@
 #include "analysis/region_geometry.hpp"
 
 namespace demlab::analysis {
-namespace {
+namespace region_geometry_test {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -84,5 +84,5 @@ TEST(RegionGeometry, SegmentFractions) {
   EXPECT_NEAR(segmentFractionInside(s, {-2, 0, 0}, {2, 0, 0}, 2), 0.5, 1e-15);
 }
 
-}  // namespace
+}  // namespace region_geometry_test
 }  // namespace demlab::analysis

@@ -9,7 +9,7 @@
 #include "cmd/words.hpp"
 
 namespace demlab::cmd {
-namespace {
+namespace command_test {
 
 struct Ctx : Context {
   int dim = 3;
@@ -287,5 +287,5 @@ TEST(Words, ListsRoundTripThroughQuoteAndSplit) {
   }
 }
 
-}  // namespace
+}  // namespace command_test
 }  // namespace demlab::cmd

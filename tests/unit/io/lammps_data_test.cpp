@@ -21,7 +21,7 @@
 #include "io/line_reader.hpp"
 
 namespace demlab::io {
-namespace {
+namespace lammps_data_test {
 
 namespace fs = std::filesystem;
 
@@ -397,5 +397,5 @@ TEST(LammpsDataBench, ReadsTheBenchmarkDataFiles) {
   }
 }
 
-}  // namespace
+}  // namespace lammps_data_test
 }  // namespace demlab::io

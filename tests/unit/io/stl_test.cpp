@@ -17,7 +17,7 @@
 #include "core/error.hpp"
 
 namespace demlab::io {
-namespace {
+namespace stl_test {
 
 namespace fs = std::filesystem;
 
@@ -131,5 +131,5 @@ TEST_F(StlTest, MalformedFilesAreNamed) {
   }
 }
 
-}  // namespace
+}  // namespace stl_test
 }  // namespace demlab::io

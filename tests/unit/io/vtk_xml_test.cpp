@@ -12,7 +12,7 @@
 #include "io/vtk_xml.hpp"
 
 namespace demlab::io {
-namespace {
+namespace vtk_xml_test {
 
 uint64_t u64(const std::string& b, size_t at) {
   uint64_t v;
@@ -108,5 +108,5 @@ TEST(VtkXml, CollectionListsEveryEntryInOrder) {
   EXPECT_NE(p.find("file=\"a&amp;b.vtp\""), std::string::npos);
 }
 
-}  // namespace
+}  // namespace vtk_xml_test
 }  // namespace demlab::io

@@ -12,7 +12,7 @@
 #include "physics/pair_params.hpp"
 
 namespace demlab::physics {
-namespace {
+namespace physics_impact_test {
 
 MaterialDef material(Real e, Real mu) {
   MaterialDef m;
@@ -323,5 +323,5 @@ TEST(PhysicsImpact, ObliqueLedgerWithFriction) {
   }
 }
 
-}  // namespace
+}  // namespace physics_impact_test
 }  // namespace demlab::physics

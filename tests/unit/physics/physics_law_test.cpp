@@ -15,7 +15,7 @@
 #include "physics/pair_params.hpp"
 
 namespace demlab::physics {
-namespace {
+namespace physics_law_test {
 
 PairParams pair(LawKind law, Real e = 0.5, Real mu = 0.5,
                 CoulombCriterion coulomb = CoulombCriterion::Total,
@@ -288,5 +288,5 @@ TEST(PhysicsLaw, LawTableMatchesSwitch) {
   }
 }
 
-}  // namespace
+}  // namespace physics_law_test
 }  // namespace demlab::physics

@@ -14,7 +14,7 @@
 #include "physics/narrow_phase.hpp"
 
 namespace demlab::physics {
-namespace {
+namespace physics_liggghts_test {
 
 // x, v, omega, f of one atom, as LIGGGHTS dumped it.
 using State = std::array<Real, 12>;
@@ -160,5 +160,5 @@ TEST(PhysicsLiggghts, SphereWallObliqueWithSliding) {
               700);
 }
 
-}  // namespace
+}  // namespace physics_liggghts_test
 }  // namespace demlab::physics

@@ -15,7 +15,7 @@
 #include "physics/pair_params.hpp"
 
 namespace demlab::physics {
-namespace {
+namespace physics_material_test {
 
 MaterialDef glass() {
   MaterialDef m;
@@ -233,11 +233,11 @@ TEST(PhysicsMaterial, TimeSteps) {
   EXPECT_NEAR(criticalTimeStep(fr, mass, r), 2 / wt * (std::sqrt(1 + z * z) - z), 1e-18);
 }
 
-}  // namespace
+}  // namespace physics_material_test
 }  // namespace demlab::physics
 
 namespace demlab::physics {
-namespace {
+namespace physics_material_test {
 
 TEST(PhysicsMaterial, FormatRealLikeTcl) {
   EXPECT_EQ(formatReal(-1), "-1");
@@ -249,5 +249,5 @@ TEST(PhysicsMaterial, FormatRealLikeTcl) {
   EXPECT_EQ(formatReal(-std::numeric_limits<Real>::infinity()), "-Inf");
 }
 
-}  // namespace
+}  // namespace physics_material_test
 }  // namespace demlab::physics

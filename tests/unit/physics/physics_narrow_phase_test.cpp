@@ -18,7 +18,7 @@
 #include "physics/shapes.hpp"
 
 namespace demlab::physics {
-namespace {
+namespace physics_narrow_phase_test {
 
 constexpr Real kPi = std::numbers::pi;
 
@@ -554,5 +554,5 @@ TEST(PhysicsNarrowPhase, TableRowsAndBatch) {
   EXPECT_GT(m, 10u);
 }
 
-}  // namespace
+}  // namespace physics_narrow_phase_test
 }  // namespace demlab::physics

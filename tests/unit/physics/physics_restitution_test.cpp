@@ -14,7 +14,7 @@
 #include "physics/pair_params.hpp"
 
 namespace demlab::physics {
-namespace {
+namespace physics_restitution_test {
 
 // Returns -x' when the force f(x, x') first vanishes after the turning point of
 // x'' = -f(x, x'), x(0) = x0, x'(0) = v0, integrated in the variable s with t = s^p (p = 1:
@@ -232,5 +232,5 @@ TEST(PhysicsRestitution, DampingChoiceChangesOnlyTheDampers) {
   EXPECT_EQ(hertzDampingName(HertzDamping::Liggghts), "liggghts");
 }
 
-}  // namespace
+}  // namespace physics_restitution_test
 }  // namespace demlab::physics

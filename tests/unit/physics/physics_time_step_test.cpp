@@ -13,7 +13,7 @@
 #include "physics/narrow_phase.hpp"
 
 namespace demlab::physics {
-namespace {
+namespace physics_time_step_test {
 
 // Returns the largest |overlap - static overlap| over the last 200 of `steps` steps over the
 // starting offset, or +inf once the grains part. The pair starts 10 % of the static
@@ -82,5 +82,5 @@ TEST(PhysicsTimeStep, FrictionAddsTheRotationalMode) {
   EXPECT_NEAR(frictional / frictionless, std::sqrt(2 / (7 * 1.4 / 1.7)), 1e-12);
 }
 
-}  // namespace
+}  // namespace physics_time_step_test
 }  // namespace demlab::physics

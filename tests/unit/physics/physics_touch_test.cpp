@@ -6,7 +6,7 @@
 #include "physics/touch.hpp"
 
 namespace demlab::physics {
-namespace {
+namespace physics_touch_test {
 
 PairParams linear(Real kn, Real zeta) {
   PairParams p;
@@ -99,5 +99,5 @@ TEST(PhysicsTouch, HertzTouchPowers) {
               1e-12 * std::abs(t.impulse));
 }
 
-}  // namespace
+}  // namespace physics_touch_test
 }  // namespace demlab::physics

@@ -6,7 +6,7 @@
 #include "render_support.hpp"
 
 namespace demlab::render {
-namespace {
+namespace render_chains_test {
 
 using test::dominant;
 using test::errorCode;
@@ -44,5 +44,5 @@ TEST(RenderChains, DrawnBetweenCentresOverTheGrains) {
   EXPECT_EQ(errorCode([&] { sharedRenderer().render(s, o); }), "DEMLAB VALUE CHAIN");
 }
 
-}  // namespace
+}  // namespace render_chains_test
 }  // namespace demlab::render

@@ -10,7 +10,7 @@
 #include "render_support.hpp"
 
 namespace demlab::render {
-namespace {
+namespace render_frame_test {
 
 using test::dominant;
 using test::isColour;
@@ -439,5 +439,5 @@ TEST(RenderFrame, StripsGiveTheImageOfOnePiece) {
   }
 }
 
-}  // namespace
+}  // namespace render_frame_test
 }  // namespace demlab::render

@@ -12,7 +12,7 @@
 #include "render_support.hpp"
 
 namespace demlab::render {
-namespace {
+namespace render_jpeg_test {
 
 using test::errorCode;
 using test::TempDir;
@@ -79,5 +79,5 @@ TEST(RenderJpeg, BadQualityPathOrFileIsAnError) {
   EXPECT_EQ(errorCode([&] { readImage(junk); }), "DEMLAB IO JPEG");
 }
 
-}  // namespace
+}  // namespace render_jpeg_test
 }  // namespace demlab::render

@@ -13,7 +13,7 @@
 #include "render_support.hpp"
 
 namespace demlab::render {
-namespace {
+namespace render_legend_test {
 
 using test::isColour;
 using test::sharedRenderer;
@@ -193,5 +193,5 @@ TEST(RenderColourMaps, MatplotlibTablesAtTheirEnds) {
   for (ColourMap m : kColourMaps) EXPECT_EQ(colourMapNamed(colourMapName(m)), m);
 }
 
-}  // namespace
+}  // namespace render_legend_test
 }  // namespace demlab::render

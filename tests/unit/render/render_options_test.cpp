@@ -8,7 +8,7 @@
 #include "render_support.hpp"
 
 namespace demlab::render {
-namespace {
+namespace render_options_test {
 
 using test::errorCode;
 using test::sharedRenderer;
@@ -154,5 +154,5 @@ TEST(RenderOptions, BadScenesAreRejected) {
   EXPECT_NO_THROW(checkScene(s));
 }
 
-}  // namespace
+}  // namespace render_options_test
 }  // namespace demlab::render

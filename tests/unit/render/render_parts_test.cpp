@@ -10,7 +10,7 @@
 #include "render_support.hpp"
 
 namespace demlab::render {
-namespace {
+namespace render_parts_test {
 
 double luminance(const Rgb& c) {
   return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
@@ -210,5 +210,5 @@ TEST(RenderFont, GlyphsAreDistinct) {
   EXPECT_EQ(img.pixel(3 + 2 * 2 + 1, 2 + 13)[0], 255);  // bottom row, scaled
 }
 
-}  // namespace
+}  // namespace render_parts_test
 }  // namespace demlab::render

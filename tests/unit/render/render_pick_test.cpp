@@ -12,7 +12,7 @@
 #include "render_support.hpp"
 
 namespace demlab::render::test {
-namespace {
+namespace render_pick_test {
 
 struct Grains {
   std::vector<double> centres, radii, angles, orientations;
@@ -167,5 +167,5 @@ TEST(RenderPick, MeshesArePickedByTheirTrianglesNotTheirBoundingSphere) {
   EXPECT_EQ(pickGrain(lone, front, 115, 100), -1);  // off the face, inside the sphere's 17 px
 }
 
-}  // namespace
+}  // namespace render_pick_test
 }  // namespace demlab::render::test

@@ -11,7 +11,7 @@
 #include "render_support.hpp"
 
 namespace demlab::render {
-namespace {
+namespace render_png_test {
 
 using test::errorCode;
 using test::sharedRenderer;
@@ -71,5 +71,5 @@ TEST(RenderPng, BadPathsAreErrors) {
   EXPECT_EQ(errorCode([&] { writePng(bad, dir.path + "/bad.png"); }), "DEMLAB VALUE IMAGE");
 }
 
-}  // namespace
+}  // namespace render_png_test
 }  // namespace demlab::render

@@ -9,7 +9,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_api_test {
 
 using testing::addBox;
 using testing::codeOf;
@@ -347,5 +347,5 @@ TEST_P(SimApi, StopFlagAndProgress) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimApi, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_api_test
 }  // namespace demlab::sim

@@ -16,7 +16,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_assembly_test {
 
 using testing::codeOf;
 using testing::randomQuat;
@@ -242,5 +242,5 @@ TEST(SimAssembly, BrickOfTwoCubesSlidesAtTheCoulombRateAndSticksBelow) {
   }
 }
 
-}  // namespace
+}  // namespace sim_assembly_test
 }  // namespace demlab::sim

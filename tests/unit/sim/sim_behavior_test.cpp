@@ -7,7 +7,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_behavior_test {
 
 using testing::codeOf;
 using testing::grain;
@@ -221,5 +221,5 @@ TEST(BehaviorRegistry, GenericAddMatchesTheTypedCalls) {
   }
 }
 
-}  // namespace
+}  // namespace sim_behavior_test
 }  // namespace demlab::sim

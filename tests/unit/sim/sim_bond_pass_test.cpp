@@ -16,7 +16,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_bond_pass_test {
 
 using testing::latticeGrains;
 using testing::material;
@@ -172,5 +172,5 @@ TEST(SimBondPass, TheThreadedPassGivesTheSerialPassBits3D) {
   for (unsigned seed : {1u, 2u}) checkAgainstTheSerialPass<3>(seed);
 }
 
-}  // namespace
+}  // namespace sim_bond_pass_test
 }  // namespace demlab::sim

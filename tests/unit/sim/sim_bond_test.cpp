@@ -25,7 +25,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_bond_test {
 
 using testing::codeOf;
 using testing::grain;
@@ -401,5 +401,5 @@ TEST_P(SimBond, RemovingAnElementRemovesItsBonds) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimBond, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_bond_test
 }  // namespace demlab::sim

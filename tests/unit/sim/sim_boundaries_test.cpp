@@ -13,7 +13,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_boundaries_test {
 
 using testing::material;
 using testing::up;
@@ -142,5 +142,5 @@ TEST_P(SimBoundariesDim, BadDefsChangeNothing) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimBoundariesDim, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_boundaries_test
 }  // namespace demlab::sim

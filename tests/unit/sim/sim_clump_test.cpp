@@ -11,7 +11,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_clump_test {
 
 using testing::grain;
 using testing::material;
@@ -182,5 +182,5 @@ TEST(SimClump, BadParametersAreRefusedAndChangeNothing) {
                                          {0, 0, 0, NAN}});
 }
 
-}  // namespace
+}  // namespace sim_clump_test
 }  // namespace demlab::sim

@@ -15,7 +15,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_cohesion_test {
 
 using testing::grain;
 using testing::hasModule;
@@ -148,5 +148,5 @@ TEST(SimCohesionArea, IntersectionCircleOfTwoSpheresAndOfAWall) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimCohesion, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_cohesion_test
 }  // namespace demlab::sim

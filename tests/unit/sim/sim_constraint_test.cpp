@@ -12,7 +12,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_constraint_test {
 
 using testing::codeOf;
 using testing::grain;
@@ -234,5 +234,5 @@ TEST_P(SimConstraint, RelaxStopsWhenTheStopFlagIsRaised) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimConstraint, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_constraint_test
 }  // namespace demlab::sim

@@ -15,7 +15,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_deferred_test {
 
 using testing::material;
 using testing::up;
@@ -123,5 +123,5 @@ TEST_P(SimDeferred, SourceAndSinkDuringOneRun) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimDeferred, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_deferred_test
 }  // namespace demlab::sim

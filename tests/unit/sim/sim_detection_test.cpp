@@ -16,7 +16,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_detection_test {
 
 using testing::grain;
 using testing::material;
@@ -177,5 +177,5 @@ TEST_P(SimDetection, FastMoversWithWideMarginsAreNeverMissed) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimDetection, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_detection_test
 }  // namespace demlab::sim

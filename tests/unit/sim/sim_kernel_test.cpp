@@ -20,7 +20,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_kernel_test {
 
 using testing::material;
 
@@ -383,5 +383,5 @@ TEST(SimKernel, ChoiceAndNames) {
   EXPECT_FALSE(kernel::activeIsa(&isa));
 }
 
-}  // namespace
+}  // namespace sim_kernel_test
 }  // namespace demlab::sim

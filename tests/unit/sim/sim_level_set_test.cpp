@@ -14,7 +14,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_level_set_test {
 
 using testing::grain;
 using testing::material;
@@ -335,5 +335,5 @@ TEST(SimLevelSet, CubeOnAnInclineSticksOrSlidesByCoulomb) {
   }
 }
 
-}  // namespace
+}  // namespace sim_level_set_test
 }  // namespace demlab::sim

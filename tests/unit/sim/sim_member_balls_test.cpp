@@ -13,7 +13,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_member_balls_test {
 
 using testing::grain;
 using testing::material;
@@ -164,5 +164,5 @@ TEST(SimMemberBalls, CheckpointsAndThreadsKeepTheBits) {
   ThreadPool::global().setThreads(before);
 }
 
-}  // namespace
+}  // namespace sim_member_balls_test
 }  // namespace demlab::sim

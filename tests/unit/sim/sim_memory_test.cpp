@@ -9,7 +9,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim::testing {
-namespace {
+namespace sim_memory_test {
 
 // Returns the heap one grain's arrays take: memory().grains of a scene with room for 1000.
 double bytesPerGrain() {
@@ -114,5 +114,5 @@ TEST(SimMemory, FrequentSearchesKeepOnlyTheGrid) {
   EXPECT_LT(kept, 500u * 150);
 }
 
-}  // namespace
+}  // namespace sim_memory_test
 }  // namespace demlab::sim::testing

@@ -13,7 +13,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_mesh_test {
 
 using physics::MeshShape;
 using physics::TriangleMesh;
@@ -255,5 +255,5 @@ TEST(SimMesh, ShapesRestOnAMeshFloorAsOnAPlane) {
   }
 }
 
-}  // namespace
+}  // namespace sim_mesh_test
 }  // namespace demlab::sim

@@ -16,7 +16,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_module_table_test {
 
 using testing::grain;
 using testing::material;
@@ -97,5 +97,5 @@ TEST_P(SimModuleTableDim, ModuleFromOutsideJoinsAndRuns) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimModuleTableDim, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_module_table_test
 }  // namespace demlab::sim

@@ -9,7 +9,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_options_test {
 
 using testing::codeOf;
 using testing::grain;
@@ -111,5 +111,5 @@ TEST_P(SimOptions, AnUnknownOptionIsRefused) {
 
 INSTANTIATE_TEST_SUITE_P(Dims, SimOptions, ::testing::Values(2, 3));
 
-}  // namespace
+}  // namespace sim_options_test
 }  // namespace demlab::sim

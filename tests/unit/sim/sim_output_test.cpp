@@ -5,7 +5,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_output_test {
 
 using testing::addBox;
 using testing::latticeGrains;
@@ -177,5 +177,5 @@ TEST(SimOutput, CallbackErrorEndsTheRunAfterACompleteStep) {
   EXPECT_EQ(s->angularVelocities(), ref->angularVelocities());
 }
 
-}  // namespace
+}  // namespace sim_output_test
 }  // namespace demlab::sim

@@ -12,7 +12,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_pair_coefficients_test {
 
 using testing::codeOf;
 using testing::grain;
@@ -159,5 +159,5 @@ TEST_P(SimPairCoefficients, BadValuesChangeNothing) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimPairCoefficients, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_pair_coefficients_test
 }  // namespace demlab::sim

@@ -16,7 +16,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_pair_springs_test {
 
 TEST(PairSprings, RandomOpeningsAndClosingsReadBackAsOneSpringPerCandidate) {
   for (unsigned seed = 1; seed <= 20; ++seed) {
@@ -149,5 +149,5 @@ TEST(PairSprings, SpringsCrossSearchesAndCheckpointsUnchanged) {
   EXPECT_EQ(loaded->stateDigest(), whole->stateDigest());
 }
 
-}  // namespace
+}  // namespace sim_pair_springs_test
 }  // namespace demlab::sim

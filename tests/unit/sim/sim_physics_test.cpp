@@ -11,7 +11,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_physics_test {
 
 using testing::addBox;
 using testing::grain;
@@ -335,5 +335,5 @@ TEST_P(SimPhysics, GrainsRestOnFiniteAndBoxWalls) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimPhysics, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_physics_test
 }  // namespace demlab::sim

@@ -16,7 +16,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_polytope_test {
 
 using testing::grain;
 using testing::material;
@@ -537,5 +537,5 @@ TEST(SimPolytope, PolygonsRestOnASideAndMeetByTheLeastOverlap) {
   EXPECT_GT(touching, 30);
 }
 
-}  // namespace
+}  // namespace sim_polytope_test
 }  // namespace demlab::sim

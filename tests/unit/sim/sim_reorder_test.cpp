@@ -16,7 +16,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_reorder_test {
 
 using testing::addBox;
 using testing::latticeGrains;
@@ -211,5 +211,5 @@ TEST_P(SimReorderScene, PolydisperseAutoSkinContinuesAfterLoad) {
 
 INSTANTIATE_TEST_SUITE_P(Dims, SimReorderScene, ::testing::Values(2, 3));
 
-}  // namespace
+}  // namespace sim_reorder_test
 }  // namespace demlab::sim

@@ -10,7 +10,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_restitution_test {
 
 using physics::HertzDamping;
 using testing::grain;
@@ -108,5 +108,5 @@ TEST(SimRestitution, DampingChoiceIsPartOfTheScene) {
   EXPECT_EQ(t->hertzDamping(), HertzDamping::Liggghts);
 }
 
-}  // namespace
+}  // namespace sim_restitution_test
 }  // namespace demlab::sim

@@ -12,7 +12,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_rolling_test {
 
 using testing::grain;
 using testing::hasModule;
@@ -120,5 +120,5 @@ TEST_P(SimRolling, NoRollingFrictionNoModule) {
 INSTANTIATE_TEST_SUITE_P(Dims, SimRolling, ::testing::Values(2, 3),
                          [](const auto& info) { return std::to_string(info.param) + "D"; });
 
-}  // namespace
+}  // namespace sim_rolling_test
 }  // namespace demlab::sim

@@ -14,7 +14,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_shape_test {
 
 using testing::codeOf;
 using testing::grain;
@@ -632,5 +632,5 @@ TEST_F(SimShape, NonDiagonalInertiaTurnsAsTheDiagonalBody) {
   EXPECT_LT(orientationOf(ga).angularDistance(orientationOf(gb) * tilt.conjugate()), 1e-9);
 }
 
-}  // namespace
+}  // namespace sim_shape_test
 }  // namespace demlab::sim

@@ -17,7 +17,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_stability_test {
 
 using testing::codeOf;
 using testing::grain;
@@ -483,5 +483,5 @@ TEST(Stability, WatchdogChangesNothingAndIsSaved) {
   EXPECT_EQ(watchdogOf(*on->clone()), o);
 }
 
-}  // namespace
+}  // namespace sim_stability_test
 }  // namespace demlab::sim

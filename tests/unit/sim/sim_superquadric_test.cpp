@@ -14,7 +14,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_superquadric_test {
 
 using testing::grain;
 using testing::material;
@@ -537,5 +537,5 @@ TEST(SimSuperquadric, BadParametersAreRefusedAndChangeNothing) {
                                                 {0.01, NAN, 0.01, 2, 2}});
 }
 
-}  // namespace
+}  // namespace sim_superquadric_test
 }  // namespace demlab::sim

@@ -9,7 +9,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_touch_test {
 
 using testing::grain;
 using testing::material;
@@ -210,5 +210,5 @@ TEST(SimTouch, OptionIsPartOfTheScene) {
   EXPECT_EQ(before.str(), after.str());
 }
 
-}  // namespace
+}  // namespace sim_touch_test
 }  // namespace demlab::sim

@@ -8,7 +8,7 @@
 #include "sim/wall.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_wall_script_test {
 
 // A box wall at the origin, still, its motion referenced at t = 0.
 Wall<3> box() {
@@ -94,5 +94,5 @@ TEST(SimWallScript, LinearRatesAreIntegratedExactly) {
   EXPECT_NEAR(std::remainder(angle - (5 * T + 20 * T * T), 2 * M_PI), 0, 1e-10);
 }
 
-}  // namespace
+}  // namespace sim_wall_script_test
 }  // namespace demlab::sim

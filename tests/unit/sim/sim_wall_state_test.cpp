@@ -5,7 +5,7 @@
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
-namespace {
+namespace sim_wall_state_test {
 
 using testing::material;
 
@@ -111,5 +111,5 @@ TEST(SimWallState, GeometryIn3D) {
   EXPECT_EQ(d.halfLength, 0.25);
 }
 
-}  // namespace
+}  // namespace sim_wall_state_test
 }  // namespace demlab::sim

@@ -19,7 +19,7 @@
 #include "verify/verify.hpp"
 
 namespace demlab::verify {
-namespace {
+namespace verify_test {
 
 ImpactLaw linearLaw(double e) {
   ImpactLaw law;
@@ -215,5 +215,5 @@ TEST(Verify, DocHoldsTheRestitutionSection) {
       << restitutionSection();
 }
 
-}  // namespace
+}  // namespace verify_test
 }  // namespace demlab::verify
