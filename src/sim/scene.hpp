@@ -276,6 +276,10 @@ struct Scene {
   size_t lastRecorded = 0;  // the records of the last step that recorded any
   bool rotating = false;    // the rotation modules run
   LedgerSums ledger;
+  // Whether a step may be abandoned part way when Ctrl-C asks (pollStep in sim_loop.hpp):
+  // set by SimulationManager::run only while it holds a copy of the scene at an earlier step
+  // boundary to go back to. Never saved.
+  bool abandonable = false;
 
   // ---- the law's sub-model choices (`law model`; sim/law_models.hpp names the values) ----
   uint8_t tangentialModel = 0;  // history, none

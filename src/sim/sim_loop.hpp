@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/interrupt.hpp"
+
 namespace demlab::sim {
 
 template <int D>
@@ -24,6 +26,18 @@ struct Scene;
 // body forces after the contacts, and Correct closes the step with the second half kick.
 // Output modules (snapshots, data files) run last, on the finished step, and only read.
 enum class SimLevel { Predict, Walls, Detection, Contacts, Behaviors, Correct, Cleanup, Output };
+
+// Thrown out of a step by pollStep: Ctrl-C asked, and the run holds a copy of the scene to go
+// back to, so the half-done step is dropped (SimulationManager::run).
+struct StepAbandoned {};
+
+// Throws StepAbandoned when the scene's step may be abandoned and Ctrl-C asked for it. A long
+// module calls it between its thread-pool regions (never inside one), so that a step of a very
+// large scene answers within a fraction of its own time. Changes nothing.
+template <int D>
+void pollStep(const Scene<D>& scene) {
+  if (scene.abandonable && interruptRequested()) throw StepAbandoned{};
+}
 
 template <int D>
 class SimModule {
@@ -75,11 +89,14 @@ class SimLoop {
     seconds_ = std::move(secs);
   }
 
-  // Runs one step: every module once, timing each. Changes the scene and the timers.
+  // Runs one step: every module once, timing each. Changes the scene and the timers. Polls
+  // Ctrl-C between the physics modules (pollStep: may throw StepAbandoned, the scene then half
+  // stepped); output modules write files, so once they start the step is finished.
   void step(Scene<D>& scene) {
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
     for (size_t k = 0; k < modules_.size(); ++k) {
+      if (k > 0 && modules_[k]->level() != SimLevel::Output) pollStep(scene);
       modules_[k]->run(scene);
       const auto t1 = Clock::now();
       seconds_[k] += std::chrono::duration<double>(t1 - t0).count();
@@ -89,11 +106,13 @@ class SimLoop {
 
   // Runs only the force stages (walls, detection, contacts, behaviors) once, untimed: the
   // forces at the current time that velocity Verlet's first step needs. Changes the scene.
+  // Polls Ctrl-C between them as step() does.
   void forcesOnly(Scene<D>& scene) {
     for (const auto& m : modules_) {
       const SimLevel l = m->level();
       if (l == SimLevel::Walls || l == SimLevel::Detection || l == SimLevel::Contacts ||
           l == SimLevel::Behaviors) {
+        pollStep(scene);
         m->run(scene);
       }
     }

@@ -323,6 +323,10 @@ struct RunReport {
   double time = 0;           // scene time at the end
   double wallSeconds = 0;
   bool interrupted = false;         // the stop flag ended the run early
+  // Steps done and then dropped: the stop flag came during a long step, and the run went back
+  // to its copy of the scene at an earlier step boundary (RunOptions::longStep).
+  uint64_t dropped = 0;
+  bool abandoned = false;  // a step was abandoned part way and the run went back to its copy
   // The run failed (RunOptions::failed) and the scene is back as it was before it.
   bool undone = false;
   std::vector<ModuleTime> modules;  // wall time per module, in loop order
@@ -410,6 +414,12 @@ struct RunOptions {
   // goes back to its state before the run (RunReport::undone). Only scenes with script
   // callbacks can fail so, and only they pay for the copy this keeps.
   std::function<bool()> failed;
+  // With `stop`: once a step takes longer than this (s), the run keeps a copy of the scene at a
+  // recent step boundary and polls `stop` inside its steps too; stopped part way, it goes back
+  // to the copy (RunReport::dropped). A step then answers Ctrl-C within a fraction of its own
+  // time, however large the scene. Copies are taken again once the run has spent ten times the
+  // last copy's time since, so they cost at most a tenth of the run.
+  double longStep = 0.05;
 };
 
 // One named parameter of a behavior: what `behavior add TYPE -NAME VALUE` gives, what a query

@@ -7,6 +7,7 @@
 
 #include <limits>
 #include <memory>
+#include <optional>
 #include <unordered_set>
 
 #include "sim/module_table.hpp"
@@ -260,6 +261,17 @@ class SimulationManager final : public Simulation {
   // one measure costs about a step (bench_sim --contact-step), so about 1 % of a run, and
   // in 100 steps a loaded bed stiffens little against the factor of 2 the step keeps.
   static constexpr uint64_t kContactStepEvery = 100;
+  // A run with long steps keeps a copy of the scene to go back to (RunOptions::longStep),
+  // taken again once the run has spent kCopyEvery times the last copy's time since: copies
+  // cost at most 4 % of the run, and a stop drops at most that many copies' time of steps.
+  // The copy's arrays stay between runs, so a later copy allocates nothing (a first copy of a
+  // scene of hundreds of megabytes faults in its pages: twenty times slower).
+  static constexpr double kCopyEvery = 25;
+  std::optional<Scene<D>> rollback_;
+  double rollbackSeconds_ = 0;
+  // Returns true if a copy of the scene fits beside it: the scene's bytes at most half the
+  // memory the system has free (else a long step answers Ctrl-C at its end). Changes nothing.
+  bool rollbackFits() const;
   // staticCriticalStep() as the last configuration (prepare) found it.
   double staticStep_ = std::numeric_limits<double>::infinity();
   // Removes the live grains ids (distinct), their springs, histories and blocked entries, the

@@ -13,6 +13,8 @@
 #include <unordered_set>
 #include <vector>
 
+#include <unistd.h>
+
 #include "core/interrupt.hpp"
 #include "physics/critical_step.hpp"
 #include "physics/narrow_phase.hpp"
@@ -159,13 +161,14 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
                                      [](const auto& b) { return b->hasCallbacks(); }) ||
                          anyScripted(s_.walls.items));
   std::optional<Scene<D>> before;
+  // The copies poll the run's stop flag as they serialize (a scene of hundreds of megabytes
+  // takes a second to copy), and so do long steps (pollStep).
+  struct Polled {
+    const std::atomic<bool>* outer;
+    ~Polled() { setInterruptFlag(outer); }
+  } polled{setInterruptFlag(options.stop)};
   if ((s_.watchdog.enabled && (!s_.forcesReady || configDirty_)) || scripted) {
-    // The copy polls the run's stop flag as it serializes (a scene of hundreds of megabytes
-    // takes a second to copy): stopped there, the run has done nothing.
-    struct Polled {
-      const std::atomic<bool>* outer;
-      ~Polled() { setInterruptFlag(outer); }
-    } polled{setInterruptFlag(options.stop)};
+    // Stopped while copying, the run has done nothing.
     try {
       before = copyScene();
     } catch (const Error& e) {
@@ -177,7 +180,23 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     }
   }
   const uint64_t searchedBefore = s_.rebuilds;
-  prepare();
+  // With the copy taken above, the first force pass of an edited scene (a second on a very
+  // large one) and the steps until the run keeps a copy of its own can be abandoned too.
+  s_.abandonable = before.has_value() && options.stop != nullptr;
+  struct Unset {
+    bool& flag;
+    ~Unset() { flag = false; }
+  } unset{s_.abandonable};
+  try {
+    prepare();
+  } catch (const StepAbandoned&) {
+    s_ = std::move(*before);
+    configDirty_ = true;
+    RunReport rep;
+    rep.interrupted = rep.abandoned = true;
+    rep.time = s_.time;
+    return rep;
+  }
   RunReport rep;
   const uint64_t steps0 = s_.steps, rebuilds0 = s_.rebuilds;
   const double time0 = s_.time;
@@ -220,7 +239,36 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       deep = false;
     }
   } restore{s_.recordContacts, s_.trackDeepest};
+  // The copy a long step goes back to when Ctrl-C comes part way (RunOptions::longStep):
+  // rollback_, once this run has refreshed it.
+  using Clock = std::chrono::steady_clock;
+  bool kept = false;
+  auto keptAt = t0;
+  // After a step that took stepSeconds, ending at `now` (a step boundary): copies the scene
+  // into rollback_ when the run needs one (long steps) and the last is old enough, and marks
+  // the scene abandonable while a copy of this run exists. Changes rollback_ and the marks.
+  const auto keepCopy = [&](double stepSeconds, Clock::time_point now) {
+    if (!options.stop || (!kept && stepSeconds <= options.longStep) || !rollbackFits()) {
+      s_.abandonable = kept;  // short steps: stopped at their boundaries, no copy needed
+      return;
+    }
+    if (kept &&
+        std::chrono::duration<double>(now - keptAt).count() < kCopyEvery * rollbackSeconds_) {
+      return;
+    }
+    s_.abandonable = false;
+    if (rollback_) {
+      *rollback_ = s_;  // into the arrays of the last copy: no new pages to fault in
+    } else {
+      rollback_.emplace(s_);
+    }
+    keptAt = Clock::now();
+    rollbackSeconds_ = std::chrono::duration<double>(keptAt - now).count();
+    kept = true;
+    s_.abandonable = true;
+  };
   std::optional<WatchdogTrip> trip;
+  bool untouched = false;  // back to the scene before the run: nothing below may change it
   try {
     // The scene as set up (placed overlaps, initial speeds) before the first step.
     if (watched) {
@@ -234,20 +282,48 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       }
       s_.recordContacts = seen || k + 1 == total || outputsReadNextStep();
       s_.trackDeepest = !s_.recordContacts && watched && s_.watchdog.overlap > 0;
-      loop_.step(s_);
-      followContacts(k + 1, false);
-      if (!s_.deferred.empty() && applyDeferred()) {
-        seen = seen || loop_.readsContactRecords();
-        watched = s_.watchdog.enabled;
+      const auto stepStart = Clock::now();
+      Clock::time_point stepEnd;
+      try {
+        loop_.step(s_);
+        stepEnd = Clock::now();
+        followContacts(k + 1, false);
+        // The step's deferred creations and removals end it (their force pass polls too).
+        if (!s_.deferred.empty() && applyDeferred()) {
+          seen = seen || loop_.readsContactRecords();
+          watched = s_.watchdog.enabled;
+        }
+      } catch (const StepAbandoned&) {
+        // Back to the copy, whose loop state prepare() rebuilds on the next run: the run's own,
+        // or the scene as it was before the run.
+        untouched = !kept;
+        std::optional<Scene<D>>& back = kept ? rollback_ : before;
+        rep.dropped = s_.steps - back->steps;
+        rep.abandoned = true;
+        if (kept) {
+          // The copy was prepared as the scene is: only the modules' scratch, left half
+          // written, is made anew. The dropped scene's arrays serve the next copy.
+          std::swap(s_, *rollback_);
+          loop_.setModules(makeModules(sceneUse(s_)));
+        } else {
+          s_ = std::move(*before);
+          before.reset();
+          configDirty_ = true;
+        }
+        rep.interrupted = true;
+        break;
       }
       if (!watched && (k & 1023) == 1023) checkFinite();
       if (options.progress && (k + 1) % every == 0 && k + 1 < total) options.progress(k + 1, total);
+      if (k + 1 < total) keepCopy(std::chrono::duration<double>(stepEnd - stepStart).count(), stepEnd);
     }
   } catch (const WatchdogHit& h) {
     trip = describeTrip(h, s_.steps == steps0);
   }
-  s_.placedElements.clear();
-  s_.placedWalls.clear();
+  if (!untouched) {
+    s_.placedElements.clear();
+    s_.placedWalls.clear();
+  }
   if (!watched) checkFinite();
   rep.steps = s_.steps - steps0;
   if (options.progress && !trip) options.progress(rep.steps, total);
@@ -259,7 +335,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   rep.contacts = s_.contacts.size();
   rep.neighborRebuilds = s_.rebuilds - rebuilds0;
   const EnergyLedger e = energy();
-  if (!trip) s_.ledger.scale = e.scale;
+  if (!trip && !untouched) s_.ledger.scale = e.scale;
   rep.energyResidual = e.residual;
   const bool failed = !trip && options.failed && options.failed();
   if (before && ((trip && s_.steps == steps0) || failed)) {
@@ -270,6 +346,16 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   }
   if (trip) throw RunStopped(std::move(*trip), rep);
   return rep;
+}
+
+template <int D>
+bool SimulationManager<D>::rollbackFits() const {
+  if (rollback_) return true;  // its arrays are there already
+  const long pages = sysconf(_SC_AVPHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || pageSize <= 0) return false;
+  const double bytes = static_cast<double>(memory().total()) +
+                       static_cast<double>(s_.bonds.bonds.capacity() * sizeof(Bond<D>));
+  return 2 * bytes <= static_cast<double>(pages) * static_cast<double>(pageSize);
 }
 
 template <int D>

@@ -194,9 +194,16 @@ void raiseIfStopped(Session& s, const sim::RunReport& rep) {
                 {"CALLBACK"});
   }
   if (rep.interrupted) {
+    // A long step stopped part way: the run went back to its copy of an earlier step.
+    const std::string back =
+        rep.abandoned ? "; a step was stopped part way and the scene went back to the run's copy "
+                        "at that step (" + std::to_string(rep.dropped) + " finished step" +
+                            (rep.dropped == 1 ? "" : "s") + " dropped)"
+                      : "";
     throw Error("run interrupted at step " + std::to_string(s.sim->stepCount()) +
                     " (t = " + formatReal(s.sim->time()) + " s) after " +
-                    std::to_string(rep.steps) + " steps; the scene is consistent and can be run on",
+                    std::to_string(rep.steps) + " steps" + back +
+                    "; the scene is consistent and can be run on",
                 {"INTERRUPTED"});
   }
 }

@@ -1,0 +1,137 @@
+// A run stopped part way through a step (RunOptions::longStep): it goes back to its copy of an
+// earlier step boundary, and the scene it leaves is the one a run of exactly the steps it
+// reports gives, bit for bit, from which the run continues as if never stopped.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <random>
+
+#include "sim_test_util.hpp"
+
+namespace demlab::sim {
+namespace sim_abandon_test {
+
+using namespace testing;
+
+// Returns a bed of grains bonded in pairs falling onto a floor through each other, with
+// friction, and a load whose force function sets *stop once the scene's time reaches
+// stopAt: the flag is then raised in the middle of a step (the loads run after the contacts
+// and bonds, before the step's last half kick), as Ctrl-C would.
+std::unique_ptr<Simulation> bed(std::atomic<bool>* stop, double stopAt, bool autoStep = false) {
+  auto s = makeSimulation(3);
+  s->addMaterial("glass", material(1e7, 0.5, 0.4));
+  s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
+  s->addGravity({0, 0, -9.81});
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<ElementDef> defs;
+  for (int k = 0; k < 60; ++k) {
+    const double x = 0.03 * (k % 4) + 0.002 * u(rng), y = 0.02 * ((k / 4) % 4) + 0.002 * u(rng);
+    const double z = 0.012 + 0.021 * (k / 16);
+    defs.push_back(grain({x, y, z}, 0.005, "glass", {0.1 * u(rng), 0.1 * u(rng), 0}));
+    defs.push_back(grain({x + 0.0101, y, z}, 0.005, "glass"));
+  }
+  const std::vector<ElementId> ids = s->addElements(defs);
+  s->addBondModel("b", "pointspring", {{"kn", 1e4}, {"ks", 1e4}, {"tensile", 1e9}, {"shear", 1e9}});
+  std::vector<std::pair<ElementId, ElementId>> pairs;
+  for (size_t k = 0; k + 1 < ids.size(); k += 2) pairs.emplace_back(ids[k], ids[k + 1]);
+  s->addBonds(pairs, "b");
+  LoadDef load;
+  load.grain = ids[0];
+  load.forceFn[0] = [stop, stopAt](double t) {
+    if (t >= stopAt) stop->store(true);
+    return 0.0;
+  };
+  s->addLoad(load);
+  if (autoStep) {
+    s->setAutoTimeStep(0.2);
+  } else {
+    s->setTimeStep(2e-5);
+  }
+  return s;
+}
+
+// Runs s for up to n steps with the stop flag, keeping copies from the first step on.
+RunReport stopped(Simulation& s, std::atomic<bool>& stop, uint64_t n) {
+  RunOptions o;
+  o.steps = n;
+  o.stop = &stop;
+  o.longStep = 0;
+  return s.run(o);
+}
+
+TEST(SimAbandon, AStepStoppedPartWayLeavesTheSceneOfTheStepsReported) {
+  int wentBack = 0;
+  for (const bool autoStep : {false, true}) {
+    for (const double stopAt : {0.00211, 0.00471, 0.00931}) {
+      SCOPED_TRACE(std::to_string(stopAt) + (autoStep ? " auto step" : " fixed step"));
+      std::atomic<bool> stop{false};
+      auto s = bed(&stop, stopAt, autoStep);
+      s->runSteps(3);  // a run with contacts and springs behind it
+      const auto reference = s->clone();
+      const RunReport rep = stopped(*s, stop, 100000);
+      ASSERT_TRUE(rep.interrupted);
+      EXPECT_TRUE(rep.abandoned);
+      EXPECT_LT(s->time(), stopAt);
+      EXPECT_EQ(s->stepCount(), 3 + rep.steps);
+      wentBack += rep.dropped > 0;
+      if (!autoStep) {
+        // The steps before the stopped one, reported and dropped, end before stopAt.
+        EXPECT_NEAR((3 + rep.steps + rep.dropped + 0.5) * 2e-5, stopAt, 1e-5);
+      }
+      // The same steps without any stop give the same bits, and so do the steps after (the
+      // automatic step measured at the same step counts).
+      auto replay = reference->clone();
+      replay->runSteps(rep.steps);
+      EXPECT_EQ(replay->stateDigest(), s->stateDigest());
+      stop = false;
+      s->runSteps(250);
+      replay->runSteps(250);
+      EXPECT_EQ(replay->stateDigest(), s->stateDigest());
+      EXPECT_EQ(replay->time(), s->time());
+    }
+  }
+  // Copies are taken again as the run goes on (at most a tenth of its time): some stops go
+  // back over finished steps.
+  EXPECT_GT(wentBack, 0);
+}
+
+// Runs whose steps are short keep no copy: a stop is answered at the next step boundary, as
+// before, and nothing is dropped.
+TEST(SimAbandon, ShortStepsStopAtABoundaryWithoutACopy) {
+  std::atomic<bool> stop{false};
+  auto s = bed(&stop, 0.00211);
+  const auto reference = s->clone();
+  RunOptions o;
+  o.steps = 100000;
+  o.stop = &stop;
+  const RunReport rep = s->run(o);
+  ASSERT_TRUE(rep.interrupted);
+  EXPECT_FALSE(rep.abandoned);
+  EXPECT_EQ(rep.dropped, 0u);
+  EXPECT_GE(s->time(), 0.00211);  // the step under way finished
+  reference->runSteps(rep.steps);
+  EXPECT_EQ(reference->stateDigest(), s->stateDigest());
+}
+
+// The first step of a scene edited since its last step, stopped part way: the run goes back
+// to the copy it took at its start for the watchdog, the scene as it was before the run.
+TEST(SimAbandon, TheFirstStepOfAnEditedSceneGoesBackToTheSceneBeforeTheRun) {
+  std::atomic<bool> stop{false};
+  auto s = bed(&stop, 1e-5);  // raised in the first step (its loads evaluated at t = 2e-5)
+  const uint64_t before = s->stateDigest();
+  RunOptions o;
+  o.steps = 100;
+  o.stop = &stop;
+  const RunReport rep = s->run(o);
+  ASSERT_TRUE(rep.interrupted);
+  EXPECT_TRUE(rep.abandoned);
+  EXPECT_EQ(rep.steps, 0u);
+  EXPECT_EQ(s->stepCount(), 0u);
+  EXPECT_EQ(s->stateDigest(), before);
+}
+
+}  // namespace sim_abandon_test
+}  // namespace demlab::sim
