@@ -53,12 +53,13 @@ std::unique_ptr<Simulation> bed(std::atomic<bool>* stop, double stopAt, bool aut
   return s;
 }
 
-// Runs s for up to n steps with the stop flag, keeping copies from the first step on.
-RunReport stopped(Simulation& s, std::atomic<bool>& stop, uint64_t n) {
+// Runs s for up to n steps with the stop flag, keeping copies after steps longer than
+// longStep (0: from the first step on).
+RunReport stopped(Simulation& s, std::atomic<bool>& stop, uint64_t n, double longStep = 0) {
   RunOptions o;
   o.steps = n;
   o.stop = &stop;
-  o.longStep = 0;
+  o.longStep = longStep;
   return s.run(o);
 }
 
@@ -104,10 +105,7 @@ TEST(SimAbandon, ShortStepsStopAtABoundaryWithoutACopy) {
   std::atomic<bool> stop{false};
   auto s = bed(&stop, 0.00211);
   const auto reference = s->clone();
-  RunOptions o;
-  o.steps = 100000;
-  o.stop = &stop;
-  const RunReport rep = s->run(o);
+  const RunReport rep = stopped(*s, stop, 100000, RunOptions{}.longStep);
   ASSERT_TRUE(rep.interrupted);
   EXPECT_FALSE(rep.abandoned);
   EXPECT_EQ(rep.dropped, 0u);
@@ -122,10 +120,7 @@ TEST(SimAbandon, TheFirstStepOfAnEditedSceneGoesBackToTheSceneBeforeTheRun) {
   std::atomic<bool> stop{false};
   auto s = bed(&stop, 1e-5);  // raised in the first step (its loads evaluated at t = 2e-5)
   const uint64_t before = s->stateDigest();
-  RunOptions o;
-  o.steps = 100;
-  o.stop = &stop;
-  const RunReport rep = s->run(o);
+  const RunReport rep = stopped(*s, stop, 100, RunOptions{}.longStep);
   ASSERT_TRUE(rep.interrupted);
   EXPECT_TRUE(rep.abandoned);
   EXPECT_EQ(rep.steps, 0u);
