@@ -4,10 +4,11 @@
 #   command,delay_ms,latency_ms,outcome
 # (outcome: the error code, or "finished" when the command ended before the signal).
 # Run by scripts/interrupt-latency, which builds demlab first:
-#   demlab scripts/interrupt-latency.tcl ?-side METRES? ?-delays {ms ...}? ?-out DIR?
-# -side sets the lattice block (radius 1 mm): 0.16 gives 512 000 grains.
+#   demlab scripts/interrupt-latency.tcl ?-side METRES? ?-delays {ms ...}? ?-out DIR? ?-only GLOB?
+# -side sets the lattice block (radius 1 mm): 0.16 gives 512 000 grains. -only runs the commands
+# matching a glob pattern (string match), e.g. "sim *".
 
-set opts [dict merge {-side 0.16 -delays {10 50 100 200 300 400 600 800 1000 1500 2000} -out ""} $argv]
+set opts [dict merge {-side 0.16 -delays {10 50 100 200 300 400 600 800 1000 1500 2000} -out "" -only *} $argv]
 set exe [info nameofexecutable]
 set dir [dict get $opts -out]
 if {$dir eq ""} {set dir [file join /tmp demlab-latency-[pid]]}
@@ -68,6 +69,7 @@ set load "sim load [list $plain]"
 set loadBonded "sim load [list $bonded]"
 set cases [list \
     "sim step 1000000" $loadBonded \
+    "sim run -steps 1000000 -quiet" "$loadBonded; sim step 2" \
     "sim relax -overlap 1e-12 -iterations 1000000" "$loadBonded; element resize -factor 1.01" \
     "pack file [list $data]" "sim new; material add glass -density 2500 -young 5e6 -poisson 0.3 -restitution 0.5 -friction 0.5" \
     "bond add -model ps -gap 1e-5" $load \
@@ -81,6 +83,7 @@ set cases [list \
 ]
 puts "command,delay_ms,latency_ms,outcome"
 foreach {command setup} $cases {
+    if {![string match [dict get $opts -only] $command]} continue
     foreach delay [dict get $opts -delays] {
         lassign [interrupted $setup $command $delay] latency outcome
         puts "[lindex $command 0] [lindex $command 1],$delay,$latency,$outcome"
