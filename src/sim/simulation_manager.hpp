@@ -269,6 +269,7 @@ class SimulationManager final : public Simulation {
   static constexpr double kCopyEvery = 25;
   std::optional<Scene<D>> rollback_;
   double rollbackSeconds_ = 0;
+  double lastStepSeconds_ = 0;  // the last step's wall time: a run after long ones copies first
   // Returns true if a copy of the scene fits beside it: the scene's bytes at most half the
   // memory the system has free (else a long step answers Ctrl-C at its end). Changes nothing.
   bool rollbackFits() const;

@@ -244,17 +244,19 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   using Clock = std::chrono::steady_clock;
   bool kept = false;
   auto keptAt = t0;
-  // After a step that took stepSeconds, ending at `now` (a step boundary): copies the scene
-  // into rollback_ when the run needs one (long steps) and the last is old enough, and marks
-  // the scene abandonable while a copy of this run exists. Changes rollback_ and the marks.
-  const auto keepCopy = [&](double stepSeconds, Clock::time_point now) {
+  // At a step boundary (`now`), after a step that took stepSeconds, stepsLeft to go: copies
+  // the scene into rollback_ when the run needs one (long steps), the last is old enough and
+  // the steps left are worth a copy, and marks the scene abandonable while a copy of this run
+  // exists. Changes rollback_ and the marks.
+  const auto keepCopy = [&](double stepSeconds, Clock::time_point now, uint64_t stepsLeft) {
     if (!options.stop || (!kept && stepSeconds <= options.longStep) || !rollbackFits()) {
       s_.abandonable = kept;  // short steps: stopped at their boundaries, no copy needed
       return;
     }
-    if (kept &&
-        std::chrono::duration<double>(now - keptAt).count() < kCopyEvery * rollbackSeconds_) {
-      return;
+    const double wait = kCopyEvery * rollbackSeconds_;
+    if (kept ? std::chrono::duration<double>(now - keptAt).count() < wait
+             : static_cast<double>(stepsLeft) * stepSeconds < wait) {
+      return;  // a few long steps (sim step 1 in a loop) pay no copy: each answers at its end
     }
     s_.abandonable = false;
     if (rollback_) {
@@ -274,6 +276,10 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     if (watched) {
       watchdogCheck(s_, watchdogStepLimit(s_),
                     s_.steps == 0 ? CheckPoint::BeforeFirstStep : CheckPoint::BeforeRun);
+    }
+    // Steps that were long in the last run: the copy before the first (its arrays are kept).
+    if (total > 0 && lastStepSeconds_ > options.longStep) {
+      keepCopy(lastStepSeconds_, Clock::now(), total);
     }
     for (uint64_t k = 0; k < total; ++k) {
       if (options.stop && options.stop->load(std::memory_order_relaxed)) {
@@ -315,7 +321,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       }
       if (!watched && (k & 1023) == 1023) checkFinite();
       if (options.progress && (k + 1) % every == 0 && k + 1 < total) options.progress(k + 1, total);
-      if (k + 1 < total) keepCopy(std::chrono::duration<double>(stepEnd - stepStart).count(), stepEnd);
+      lastStepSeconds_ = std::chrono::duration<double>(stepEnd - stepStart).count();
+      if (k + 1 < total) keepCopy(lastStepSeconds_, stepEnd, total - k - 1);
     }
   } catch (const WatchdogHit& h) {
     trip = describeTrip(h, s_.steps == steps0);
