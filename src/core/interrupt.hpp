@@ -17,6 +17,19 @@ namespace demlab {
 // Returns the previous one, for a nested command to restore.
 const std::atomic<bool>* setInterruptFlag(const std::atomic<bool>* flag) noexcept;
 
+// Points the flag interruptRequested() reads at `flag` while it lives, then back at the one
+// before (a run's outputs run with none, so that they finish; the copies it makes poll its own).
+class InterruptScope {
+ public:
+  explicit InterruptScope(const std::atomic<bool>* flag) : outer_(setInterruptFlag(flag)) {}
+  ~InterruptScope() { setInterruptFlag(outer_); }
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+
+ private:
+  const std::atomic<bool>* outer_;
+};
+
 // Returns true when Ctrl-C asked the running command to stop. Two relaxed atomic loads.
 bool interruptRequested() noexcept;
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -276,10 +277,11 @@ struct Scene {
   size_t lastRecorded = 0;  // the records of the last step that recorded any
   bool rotating = false;    // the rotation modules run
   LedgerSums ledger;
-  // Whether a step may be abandoned part way when Ctrl-C asks (pollStep in sim_loop.hpp):
-  // set by SimulationManager::run only while it holds a copy of the scene at an earlier step
-  // boundary to go back to. Never saved.
-  bool abandonable = false;
+  // The run's stop flag while a step may be abandoned part way (pollStep in sim_loop.hpp), else
+  // null: set by SimulationManager::run only while it holds a copy of the scene at an earlier
+  // step boundary to go back to. Read directly, not through the process-wide interrupt flag,
+  // which a run points at nothing so that its outputs finish. Never saved.
+  const std::atomic<bool>* abandonOn = nullptr;
 
   // ---- the law's sub-model choices (`law model`; sim/law_models.hpp names the values) ----
   uint8_t tangentialModel = 0;  // history, none

@@ -7,14 +7,13 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include "core/interrupt.hpp"
 
 namespace demlab::sim {
 
@@ -36,7 +35,7 @@ struct StepAbandoned {};
 // large scene answers within a fraction of its own time. Changes nothing.
 template <int D>
 void pollStep(const Scene<D>& scene) {
-  if (scene.abandonable && interruptRequested()) throw StepAbandoned{};
+  if (scene.abandonOn && scene.abandonOn->load(std::memory_order_relaxed)) throw StepAbandoned{};
 }
 
 template <int D>

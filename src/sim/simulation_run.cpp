@@ -161,14 +161,10 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
                                      [](const auto& b) { return b->hasCallbacks(); }) ||
                          anyScripted(s_.walls.items));
   std::optional<Scene<D>> before;
-  // The copies poll the run's stop flag as they serialize (a scene of hundreds of megabytes
-  // takes a second to copy), and so do long steps (pollStep).
-  struct Polled {
-    const std::atomic<bool>* outer;
-    ~Polled() { setInterruptFlag(outer); }
-  } polled{setInterruptFlag(options.stop)};
   if ((s_.watchdog.enabled && (!s_.forcesReady || configDirty_)) || scripted) {
-    // Stopped while copying, the run has done nothing.
+    // The copy polls the run's stop flag as it serializes (a scene of hundreds of megabytes
+    // takes a second to copy): stopped there, the run has done nothing.
+    const InterruptScope polled(options.stop);
     try {
       before = copyScene();
     } catch (const Error& e) {
@@ -182,11 +178,11 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   const uint64_t searchedBefore = s_.rebuilds;
   // With the copy taken above, the first force pass of an edited scene (a second on a very
   // large one) and the steps until the run keeps a copy of its own can be abandoned too.
-  s_.abandonable = before.has_value() && options.stop != nullptr;
+  s_.abandonOn = before ? options.stop : nullptr;
   struct Unset {
-    bool& flag;
-    ~Unset() { flag = false; }
-  } unset{s_.abandonable};
+    const std::atomic<bool>*& flag;
+    ~Unset() { flag = nullptr; }
+  } unset{s_.abandonOn};
   try {
     prepare();
   } catch (const StepAbandoned&) {
@@ -246,28 +242,38 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   auto keptAt = t0;
   // At a step boundary (`now`), after a step that took stepSeconds, stepsLeft to go: copies
   // the scene into rollback_ when the run needs one (long steps), the last is old enough and
-  // the steps left are worth a copy, and marks the scene abandonable while a copy of this run
-  // exists. Changes rollback_ and the marks.
+  // the steps left are worth a copy, and lets the run's steps be abandoned (Scene::abandonOn)
+  // while a copy of this run exists. Returns false if Ctrl-C stopped a first copy (then none
+  // is kept). Changes rollback_ and the scene's mark.
   const auto keepCopy = [&](double stepSeconds, Clock::time_point now, uint64_t stepsLeft) {
     if (!options.stop || (!kept && stepSeconds <= options.longStep) || !rollbackFits()) {
-      s_.abandonable = kept;  // short steps: stopped at their boundaries, no copy needed
-      return;
+      if (!kept) s_.abandonOn = nullptr;  // short steps: stopped at their boundaries, no copy
+      return true;
     }
     const double wait = kCopyEvery * rollbackSeconds_;
     if (kept ? std::chrono::duration<double>(now - keptAt).count() < wait
              : static_cast<double>(stepsLeft) * stepSeconds < wait) {
-      return;  // a few long steps (sim step 1 in a loop) pay no copy: each answers at its end
+      return true;  // a few long steps (sim step 1 in a loop) pay no copy: each answers at its end
     }
-    s_.abandonable = false;
-    if (rollback_) {
-      *rollback_ = s_;  // into the arrays of the last copy: no new pages to fault in
-    } else {
-      rollback_.emplace(s_);
+    s_.abandonOn = nullptr;  // not in the copy
+    if (!rollback_) {
+      // The first copy faults its pages in (a second at half a million grains): made by the
+      // serializing copy, which polls Ctrl-C (stopped there, the run ends at this boundary).
+      const InterruptScope polled(options.stop);
+      try {
+        rollback_ = copyScene();
+      } catch (const Error& e) {
+        if (std::find(e.code().begin(), e.code().end(), "INTERRUPTED") == e.code().end()) throw;
+        return false;
+      }
+      now = Clock::now();
     }
+    *rollback_ = s_;  // into the arrays of the last copy: no new pages to fault in
     keptAt = Clock::now();
     rollbackSeconds_ = std::chrono::duration<double>(keptAt - now).count();
     kept = true;
-    s_.abandonable = true;
+    s_.abandonOn = options.stop;
+    return true;
   };
   std::optional<WatchdogTrip> trip;
   bool untouched = false;  // back to the scene before the run: nothing below may change it
@@ -278,8 +284,10 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
                     s_.steps == 0 ? CheckPoint::BeforeFirstStep : CheckPoint::BeforeRun);
     }
     // Steps that were long in the last run: the copy before the first (its arrays are kept).
-    if (total > 0 && lastStepSeconds_ > options.longStep) {
-      keepCopy(lastStepSeconds_, Clock::now(), total);
+    if (total > 0 && lastStepSeconds_ > options.longStep &&
+        !keepCopy(lastStepSeconds_, Clock::now(), total)) {
+      rep.interrupted = true;
+      total = 0;
     }
     for (uint64_t k = 0; k < total; ++k) {
       if (options.stop && options.stop->load(std::memory_order_relaxed)) {
@@ -300,8 +308,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
           watched = s_.watchdog.enabled;
         }
       } catch (const StepAbandoned&) {
-        // Back to the copy, whose loop state prepare() rebuilds on the next run: the run's own,
-        // or the scene as it was before the run.
+        // Back to the copy: the run's own, or the scene as it was before the run.
         untouched = !kept;
         std::optional<Scene<D>>& back = kept ? rollback_ : before;
         rep.dropped = s_.steps - back->steps;
@@ -322,7 +329,10 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       if (!watched && (k & 1023) == 1023) checkFinite();
       if (options.progress && (k + 1) % every == 0 && k + 1 < total) options.progress(k + 1, total);
       lastStepSeconds_ = std::chrono::duration<double>(stepEnd - stepStart).count();
-      if (k + 1 < total) keepCopy(lastStepSeconds_, stepEnd, total - k - 1);
+      if (k + 1 < total && !keepCopy(lastStepSeconds_, stepEnd, total - k - 1)) {
+        rep.interrupted = true;
+        break;
+      }
     }
   } catch (const WatchdogHit& h) {
     trip = describeTrip(h, s_.steps == steps0);
