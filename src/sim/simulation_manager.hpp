@@ -303,6 +303,9 @@ class SimulationManager final : public Simulation {
   std::string serialize(IoMode mode) const;
   // Returns a deep copy of the scene, as clone() and a run's undo need it. Changes nothing.
   Scene<D> copyScene() const;
+  // Returns copyScene() with Ctrl-C polled through `stop` as it copies, or nothing when that
+  // stopped it. Throws copyScene's other errors; changes nothing.
+  std::optional<Scene<D>> copySceneUnlessStopped(const std::atomic<bool>* stop) const;
 
   // The output modules: none when there are no outputs (sim/simulation_outputs.cpp).
   std::vector<std::unique_ptr<SimModule<D>>> outputModules() const;

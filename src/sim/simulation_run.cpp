@@ -164,11 +164,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   if ((s_.watchdog.enabled && (!s_.forcesReady || configDirty_)) || scripted) {
     // The copy polls the run's stop flag as it serializes (a scene of hundreds of megabytes
     // takes a second to copy): stopped there, the run has done nothing.
-    const InterruptScope polled(options.stop);
-    try {
-      before = copyScene();
-    } catch (const Error& e) {
-      if (std::find(e.code().begin(), e.code().end(), "INTERRUPTED") == e.code().end()) throw;
+    before = copySceneUnlessStopped(options.stop);
+    if (!before) {
       RunReport rep;
       rep.interrupted = true;
       rep.time = s_.time;
@@ -259,13 +256,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     if (!rollback_) {
       // The first copy faults its pages in (a second at half a million grains): made by the
       // serializing copy, which polls Ctrl-C (stopped there, the run ends at this boundary).
-      const InterruptScope polled(options.stop);
-      try {
-        rollback_ = copyScene();
-      } catch (const Error& e) {
-        if (std::find(e.code().begin(), e.code().end(), "INTERRUPTED") == e.code().end()) throw;
-        return false;
-      }
+      rollback_ = copySceneUnlessStopped(options.stop);
+      if (!rollback_) return false;
       now = Clock::now();
     }
     *rollback_ = s_;  // into the arrays of the last copy: no new pages to fault in
@@ -951,6 +943,18 @@ Scene<D> SimulationManager<D>::copyScene() const {
     c.walls.items[k].scriptedAngle = s_.walls.items[k].scriptedAngle;
   }
   return c;
+}
+
+template <int D>
+std::optional<Scene<D>> SimulationManager<D>::copySceneUnlessStopped(
+    const std::atomic<bool>* stop) const {
+  const InterruptScope polled(stop);
+  try {
+    return copyScene();
+  } catch (const Error& e) {
+    if (std::find(e.code().begin(), e.code().end(), "INTERRUPTED") == e.code().end()) throw;
+    return std::nullopt;
+  }
 }
 
 template <int D>
