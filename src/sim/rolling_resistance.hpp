@@ -51,9 +51,9 @@ class RollingResistanceModule final : public SimModule<D> {
     ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     double loss = 0;
-    RecordPointCounter<D> points;
+    RecordGeometryReader<D> reader;
     for (const ContactRecord<D>& c : s.contacts) {
-      const auto rg = recordGeometry(s, c, points.next(c));
+      const auto rg = reader.next(s, c);
       if (!rg) continue;
       const uint32_t i = c.a;
       const VecD<D>& n = rg->g.normal;

@@ -325,11 +325,10 @@ WallState SimulationManager<D>::wall(WallId id) const {
   // The torque about the reference point, from the records of the last step that kept them.
   const uint32_t dense = s_.walls.pool().denseIndex(id);
   AngularD<D> torque = Wall<D>::zeroAngular();
-  RecordPointCounter<D> points;
+  RecordGeometryReader<D> reader;
   for (const ContactRecord<D>& c : s_.contacts) {
-    const int point = points.next(c);
     if (!c.wall || c.b != dense) continue;
-    if (const auto g = recordGeometry(s_, c, point))
+    if (const auto g = reader.next(s_, c))
       torque += cross(VecD<D>(g->g.point - w.point), c.force);
   }
   st.torque = fromAngular(torque);
