@@ -16,6 +16,10 @@ class GlContext {
   // Returns nothing; makes the context current on the calling thread.
   virtual void makeCurrent() = 0;
 
+  // Returns nothing; makes no context current on the calling thread, so that another thread
+  // may make this one current (a context is current on at most one thread).
+  virtual void release() = 0;
+
   // Returns the address of GL function name ("glDrawArrays"), nullptr when absent.
   virtual void* procAddress(const char* name) = 0;
 

@@ -25,8 +25,9 @@ class Renderer {
   virtual std::string name() const = 0;
 };
 
-// Returns a new OSMesa renderer. Throws demlab::Error {RENDER CONTEXT} when no GL 3.3 core
-// context can be made.
+// Returns a new OSMesa renderer, its context current on no thread (each call makes it current
+// on its caller, one thread at a time). Throws demlab::Error {RENDER CONTEXT} when no GL 3.3
+// core context can be made.
 std::unique_ptr<Renderer> makeRenderer();
 
 // Returns nothing; renders scene and writes it to path as PNG (writePng). Changes the file only.

@@ -4,13 +4,17 @@
 #ifdef DEMLAB_HAVE_RENDER
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <memory>
+#include <thread>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "cmd/commands/snapshot_contacts.hpp"
+#include "core/interrupt.hpp"
 #include "render/colour_map.hpp"
 #include "render/image_file.hpp"
 #include "render/layout.hpp"
@@ -41,9 +45,33 @@ void compactRows(std::vector<T>& v, size_t width, const std::vector<char>& keep)
 // tens of milliseconds, a frame of a small scene less. It is never destroyed: from an exit
 // handler, destroying the context can wait for ever on software GL's threads, which the exit
 // may already have stopped (the process's memory goes back to the system anyway).
+// It is made on a thread of its own while the command polls Ctrl-C: the context and its
+// shaders are made in calls that cannot be interrupted (0.1 s, 0.3 s under the sanitizers). A
+// command stopped meanwhile leaves it being made for the next; a failure to make it is raised
+// by the command waiting and the next one tries again. Throws demlab::Error {INTERRUPTED}.
 render::Renderer& theRenderer() {
   static render::Renderer* r = nullptr;
-  if (!r) r = render::makeRenderer().release();
+  static std::shared_future<render::Renderer*> making;
+  if (r) return *r;
+  if (!making.valid()) {
+    std::promise<render::Renderer*> made;
+    making = made.get_future().share();
+    std::thread([made = std::move(made)]() mutable {
+      try {
+        made.set_value(render::makeRenderer().release());
+      } catch (...) {
+        made.set_exception(std::current_exception());
+      }
+    }).detach();
+  }
+  while (making.wait_for(std::chrono::milliseconds(5)) != std::future_status::ready)
+    pollInterrupt("snapshot");
+  try {
+    r = making.get();
+  } catch (...) {
+    making = {};
+    throw;
+  }
   return *r;
 }
 
