@@ -14,7 +14,7 @@
 #
 # -sample dense: consolidated with the grains' friction off, so they pack densely (then set to
 # -friction 0.5 for the shear); loose: consolidated with friction 5, which leaves a loose
-# packing. -short: 343 grains to 15 % axial strain (the test suite's form, seconds); the full form
+# packing. -short: 343 grains to 10 % axial strain (the test suite's form, seconds); the full form
 # 3000 grains to 20 %. -count, -rate (the axial strain rate), -strain (where the shear stops)
 # override either. -verbose prints each wall's stress every chunk of the consolidation.
 #
@@ -61,7 +61,7 @@ foreach o {-rate -strain} {
 }
 
 set N [expr {$opt(-count) ne {} ? $opt(-count) : ($opt(-short) ? 343 : 3000)}]
-set strainEnd [expr {$opt(-strain) ne {} ? $opt(-strain) : ($opt(-short) ? 0.15 : 0.2)}]
+set strainEnd [expr {$opt(-strain) ne {} ? $opt(-strain) : ($opt(-short) ? 0.10 : 0.2)}]
 set sigma3 1e5          ;# the confining stress, Pa
 set r 0.001             ;# the mean radius, m (radii uniform in 0.8 r .. 1.2 r)
 set rho 2650.0          ;# the grains' density, kg/m^3
