@@ -18,7 +18,7 @@ class GlContext {
 
   // Returns nothing; makes no context current on the calling thread, so that another thread
   // may make this one current (a context is current on at most one thread).
-  virtual void release() = 0;
+  virtual void releaseCurrent() = 0;
 
   // Returns the address of GL function name ("glDrawArrays"), nullptr when absent.
   virtual void* procAddress(const char* name) = 0;

@@ -39,7 +39,7 @@ class OsMesaContext : public GlContext {
       throw Error("couldn't make the OSMesa context current", {"RENDER", "CONTEXT"});
   }
 
-  void release() override { OSMesaMakeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0); }
+  void releaseCurrent() override { OSMesaMakeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0); }
 
   void* procAddress(const char* name) override {
     return reinterpret_cast<void*>(OSMesaGetProcAddress(name));

@@ -52,7 +52,7 @@ class GlRenderer : public Renderer {
     setUpVertexArrays();
     // Each call makes the context current on its caller, so the renderer may be made on one
     // thread and used on another (the snapshot commands make it on a thread of their own).
-    context_->release();
+    context_->releaseCurrent();
   }
 
   ~GlRenderer() override { release(); }

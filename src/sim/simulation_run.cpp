@@ -256,6 +256,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     if (!rollback_) {
       // The first copy faults its pages in (a second at half a million grains): made by the
       // serializing copy, which polls Ctrl-C (stopped there, the run ends at this boundary).
+      // It holds only what a checkpoint holds; the assignment below makes it exact.
       rollback_ = copySceneUnlessStopped(options.stop);
       if (!rollback_) return false;
       now = Clock::now();
