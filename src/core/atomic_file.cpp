@@ -4,11 +4,18 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <chrono>
+#include <condition_variable>
 #include <cstring>
+#include <memory>
+#include <mutex>
+#include <thread>
 
 #include "core/error.hpp"
+#include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 
 namespace demlab {
@@ -30,6 +37,46 @@ void syncFolderOf(const std::string& path) {
   if (fd < 0) return;
   fsync(fd);
   close(fd);
+}
+
+// The state a sync shares with the thread that runs it.
+struct SyncJob {
+  std::mutex m;
+  std::condition_variable cv;
+  std::FILE* f = nullptr;
+  bool done = false;       // the sync returned
+  bool abandoned = false;  // the caller left: the thread closes f
+  int err = 0;             // the sync's errno, 0 when it succeeded
+};
+
+// Returns the errno of flushing and syncing f to disk (0: done; EINVAL, a file that cannot be
+// synced, counts as done). The sync (a second or more for hundreds of megabytes on a slow disk,
+// in a call no signal ends) runs on a thread of its own while this one polls Ctrl-C; stopped,
+// it unlinks tmp, leaves the thread to finish the sync and close f, and throws {INTERRUPTED}
+// ("writing "path" interrupted"). Changes f's file on disk.
+int syncPolled(std::FILE* f, const std::string& tmp, const std::string& path) {
+  if (std::fflush(f) != 0) return errno;
+  auto job = std::make_shared<SyncJob>();
+  job->f = f;
+  std::thread([job] {
+    const int err = fsync(fileno(job->f)) != 0 && errno != EINVAL ? errno : 0;
+    std::lock_guard<std::mutex> lock(job->m);
+    job->done = true;
+    job->err = err;
+    if (job->abandoned) std::fclose(job->f);
+    job->cv.notify_all();
+  }).detach();
+  std::unique_lock<std::mutex> lock(job->m);
+  while (!job->done) {
+    job->cv.wait_for(lock, std::chrono::milliseconds(5));
+    if (!job->done && interruptRequested()) {
+      job->abandoned = true;
+      lock.unlock();
+      unlink(tmp.c_str());
+      throw Error("writing \"" + path + "\" interrupted", {"INTERRUPTED"});
+    }
+  }
+  return job->err;
 }
 
 }  // namespace
@@ -69,8 +116,10 @@ void writeFileAtomically(const std::string& path, const FileEncoder& encode,
     throw;
   }
   if (reason.empty() && std::ferror(f)) reason = posixMessage(errno ? errno : EIO);
-  if (reason.empty() && std::fflush(f) != 0) reason = posixMessage(errno);
-  if (reason.empty() && fsync(fileno(f)) != 0 && errno != EINVAL) reason = posixMessage(errno);
+  if (reason.empty()) {
+    const int err = syncPolled(f, tmp, path);  // stopped: throws, f left to its thread to close
+    if (err != 0) reason = posixMessage(err);
+  }
   if (std::fclose(f) != 0 && reason.empty()) reason = posixMessage(errno);
   if (!reason.empty()) {
     unlink(tmp.c_str());
@@ -92,8 +141,14 @@ void writeFileAtomically(const std::string& path, std::string_view bytes, std::s
   writeFileAtomically(
       path,
       [&](std::FILE* f) -> std::string {
-        if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size())
-          return posixMessage(errno ? errno : EIO);
+        // In slices with a poll between them: hundreds of megabytes take a tenth of a second
+        // to copy into the page cache.
+        constexpr size_t kSlice = size_t(4) << 20;
+        for (size_t at = 0; at < bytes.size(); at += kSlice) {
+          pollInterrupt("writing \"" + path + "\"");
+          const size_t n = std::min(kSlice, bytes.size() - at);
+          if (std::fwrite(bytes.data() + at, 1, n, f) != n) return posixMessage(errno ? errno : EIO);
+        }
         return "";
       },
       kind);
@@ -103,6 +158,7 @@ std::string readFileBytes(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw Error("couldn't open \"" + path + "\": " + posixMessage(errno), {"IO", "OPEN"});
   std::string bytes;
+  const FreeAsideOnThrow aside(bytes);  // stopped: what was read goes back aside
   constexpr size_t kChunk = size_t(1) << 20;
   try {
     // A regular file's size is known: one allocation instead of a doubling string's copies,

@@ -79,8 +79,13 @@ void readBonds(Reader& r, Scene<D>& s) {
     if (m.values.size() != types[m.type].options.size()) Reader::bad("bond model values");
     for (double& x : m.values) x = r.f64();
   }
-  set.bonds.resize(r.count(40));
-  for (Bond<D>& b : set.bonds) {
+  // Reserved, then made one by one as they are read: a resize would zero and fault in the
+  // pages of a million bonds (hundreds of megabytes) in one call that Ctrl-C cannot stop.
+  const size_t nb = r.count(40);
+  set.bonds.clear();
+  set.bonds.reserve(nb);
+  for (size_t k = 0; k < nb; ++k) {
+    Bond<D>& b = set.bonds.emplace_back();
     b.id = r.u32();
     b.a = readHandle(r, s);
     b.b = readHandle(r, s);

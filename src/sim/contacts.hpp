@@ -113,6 +113,13 @@ struct PassEnergy {
   }
 };
 
+// Returns the candidates in a round of a phase of forEachContactGroup: a few milliseconds of
+// contacts. A test sets a handful, so that a small bed runs many rounds.
+inline size_t& contactRoundCandidates() {
+  static size_t n = size_t(1) << 18;
+  return n;
+}
+
 // Returns the number of groups forEachContactGroup runs: the scene's groups when they cover
 // its candidates, else 1 (all candidates as one group). Changes nothing.
 template <int D>
@@ -124,7 +131,7 @@ size_t contactGroupCount(const Scene<D>& s) {
 // phase, the groups of a phase at once on the thread pool, or all candidates as group 0 when
 // the groups do not cover them. The body may write the forces and torques of its group's
 // elements and what it keeps per candidate or per group, nothing shared. Changes what body
-// changes.
+// changes. Polls Ctrl-C between rounds of contactRoundCandidates() candidates (pollStep).
 template <int D, class Body>
 void forEachContactGroup(const Scene<D>& s, Body&& body) {
   const size_t nc = s.candidates.size();
@@ -139,20 +146,31 @@ void forEachContactGroup(const Scene<D>& s, Body&& body) {
   const size_t parts = pool.threads() == 1 ? 1 : 4 * pool.threads();
   std::vector<uint32_t> cut(parts + 1);
   for (const ContactGroups::Range& phase : g.phases) {
-    // Part t is the t-th share of the phase's candidates, whole groups in order: groups
-    // differ tenfold in size, so equal counts of groups would leave a thread idle.
-    const size_t first = g.groups[phase.begin].begin, all = g.groups[phase.end - 1].end - first;
-    uint32_t k = phase.begin;
-    for (size_t t = 0; t <= parts; ++t) {
-      const size_t want = first + all * t / parts;
-      while (k < phase.end && g.groups[k].begin < want) ++k;
-      cut[t] = t == parts ? phase.end : k;
-    }
-    pool.forEach(parts, [&](size_t t, unsigned) {
-      for (uint32_t j = cut[t]; j < cut[t + 1]; ++j) {
-        body(size_t{g.groups[j].begin}, size_t{g.groups[j].end}, size_t{j});
+    // A phase goes in rounds of whole groups of about contactRoundCandidates(), with a
+    // poll for Ctrl-C between them (pollStep): a phase of a bed of millions of grains is tens
+    // of milliseconds. The groups of a phase share no element, so their order is free.
+    const size_t round = contactRoundCandidates();
+    for (uint32_t from = phase.begin; from < phase.end;) {
+      if (from > phase.begin) pollStep(s);
+      uint32_t to = from + 1;
+      const size_t roundStart = g.groups[from].begin;
+      while (to < phase.end && g.groups[to].end - roundStart <= round) ++to;
+      // Part t is the t-th share of the round's candidates, whole groups in order: groups
+      // differ tenfold in size, so equal counts of groups would leave a thread idle.
+      const size_t all = g.groups[to - 1].end - roundStart;
+      uint32_t k = from;
+      for (size_t t = 0; t <= parts; ++t) {
+        const size_t want = roundStart + all * t / parts;
+        while (k < to && g.groups[k].begin < want) ++k;
+        cut[t] = t == parts ? to : k;
       }
-    });
+      pool.forEach(parts, [&](size_t t, unsigned) {
+        for (uint32_t j = cut[t]; j < cut[t + 1]; ++j) {
+          body(size_t{g.groups[j].begin}, size_t{g.groups[j].end}, size_t{j});
+        }
+      });
+      from = to;
+    }
   }
 }
 

@@ -98,6 +98,9 @@ class DetectionModule final : public SimModule<D> {
     const uint32_t every = s.elements.reorderEvery;
     if (every > 0 && s.rebuilds % every == 0) reorderGrains(s);
     if (s.periodic.any()) wrapIntoCell(s);
+    // Ctrl-C is polled between the search's stages (pollStep): a search of a bed of millions
+    // of grains takes a large part of a second. Abandoned, the module is made anew.
+    pollStep(s);
     const ElementArrays<D>& a = s.elements.a;
     const size_t n = a.size();
     const Real half = 0.5 * s.skin;
@@ -175,7 +178,9 @@ class DetectionModule final : public SimModule<D> {
     const size_t firstImage = boxes_.size();
     if (s.periodic.any()) addImageBoxes(s, corner, half);
     pairs_.reserve(lastPairs_ + lastPairs_ / 8);
+    pollStep(s);
     grid_.findPairs(boxes_, pairs_);
+    pollStep(s);
     lastPairs_ = pairs_.size();
     // The search's scratch goes back to the heap between searches, the grid's and the boxes'
     // before the pairs are sorted out; the next search reserves room for about as many pairs
@@ -236,7 +241,9 @@ class DetectionModule final : public SimModule<D> {
     }
     s.candidates.resize(kept);
     for (size_t k = 0; k < kept; ++k) s.candidates[k] = {pairs_[k].first, pairs_[k].second};
+    pollStep(s);
     groupCandidates(s.candidates, &s.contactGroups);
+    pollStep(s);
     for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
     std::vector<search::IndexPair>().swap(pairs_);
     std::vector<uint32_t>().swap(wallOfBox_);

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "sim/scene.hpp"
+#include "sim/sim_loop.hpp"
 
 namespace demlab::sim {
 
@@ -94,6 +95,8 @@ void gatherInPlace(std::vector<T, A>& v, const std::vector<uint32_t>& perm) {
 // Changes every per-grain array, the handle pool's dense table and s.xAtBuild; invalidates
 // every dense index held elsewhere (candidates, wall candidates, contact records): call it
 // only where those are rebuilt next, with the pair springs collected by slot beforehand.
+// Polls Ctrl-C between the sort and each array's gather (pollStep: may throw StepAbandoned,
+// the scene then half permuted, as a step abandoned part way is).
 template <int D>
 bool reorderGrains(Scene<D>& s) {
   ElementArrays<D>& a = s.elements.a;
@@ -101,7 +104,10 @@ bool reorderGrains(Scene<D>& s) {
   bool identity = true;
   for (size_t k = 0; k < perm.size() && identity; ++k) identity = perm[k] == k;
   if (identity) return false;
-  ElementArrays<D>::forEachArray(a, [&](auto& arr) { gatherInPlace(arr, perm); });
+  ElementArrays<D>::forEachArray(a, [&](auto& arr) {
+    pollStep(s);
+    gatherInPlace(arr, perm);
+  });
   if (s.xAtBuild.size() == perm.size()) gatherInPlace(s.xAtBuild, perm);
   auto st = s.elements.pool().saveState();
   gatherInPlace(st.dense, perm);

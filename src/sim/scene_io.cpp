@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 
+#include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 #include "core/validity.hpp"
 #include "sim/behaviors/gravity.hpp"
@@ -994,6 +995,7 @@ constexpr size_t kTrailer = sizeof kChecksumTag + sizeof(uint64_t);
 }  // namespace
 
 std::string sealCheckpoint(std::string sceneBytes) {
+  const FreeAsideOnThrow aside(sceneBytes);  // stopped in the hash
   const uint64_t sum = hashBytes(sceneBytes);
   sceneBytes.append(kChecksumTag, sizeof kChecksumTag);
   sceneBytes.append(reinterpret_cast<const char*>(&sum), sizeof sum);
@@ -1008,6 +1010,7 @@ int checkpointDimension(std::string_view b) {
 }
 
 std::string unsealCheckpoint(std::string b) {
+  const FreeAsideOnThrow aside(b);  // stopped in the hash, or damaged
   if (b.size() < kTrailer || std::memcmp(b.data() + b.size() - kTrailer, kChecksumTag, 8) != 0) {
     if (b.size() < 8 || std::memcmp(b.data(), kMagic, 8) != 0) Reader::bad("not a demlab checkpoint");
     Reader::bad("no checksum at the end (the file is truncated or damaged)");
@@ -1126,10 +1129,13 @@ void readScene(Reader& r, Scene<D>& s) {
   groupCandidates(s.candidates, &s.contactGroups, &moved);
   const size_t nSprings = r.count(8 * D);
   if (nSprings != 0 && nSprings != s.candidates.size()) Reader::bad("pair springs");
-  std::vector<VecD<D>> springsRead(nSprings);
-  for (auto& sp : springsRead) sp = r.vec<D>();
+  std::vector<VecD<D>> springsRead;
+  springsRead.reserve(nSprings);  // made as read (Reader polls), not zeroed in one call
+  for (size_t k = 0; k < nSprings; ++k) springsRead.push_back(r.vec<D>());
   s.pairSprings.reset(nSprings, true);
+  InterruptPoll poll("reading the scene");  // no bytes read here: a third of a second at 3 10^6
   for (size_t k = 0; k < nSprings; ++k) {
+    poll();
     // A zero spring is no slot (PairSprings::set), except one with a -0.0 in it: only a slot
     // holds that (a law's rounding), and keeping it there makes the scene write its bytes.
     const VecD<D> sp = springsRead[moved.empty() ? k : moved[k]];
@@ -1167,8 +1173,11 @@ void readScene(Reader& r, Scene<D>& s) {
   s.needRebuild = r.u8();
   s.forcesReady = r.u8();
   s.rebuilds = r.u64();
-  s.contacts.resize(r.count(9 + 8 * D));
-  for (auto& c : s.contacts) {
+  const size_t nRecords = r.count(9 + 8 * D);
+  s.contacts.clear();
+  s.contacts.reserve(nRecords);  // made as read (Reader polls), not zeroed in one call
+  for (size_t k = 0; k < nRecords; ++k) {
+    ContactRecord<D>& c = s.contacts.emplace_back();
     const uint32_t a = r.u32(), b = r.u32();
     const bool wall = r.u8() != 0;
     c.force = r.vec<D>();

@@ -777,9 +777,12 @@ class Simulation {
   // moves alone). Velocities are kept; the ledger is rebased (the change is an edit). Throws
   // VALUE FRACTION unless 0 < fraction <= 1, VALUE ITERATIONS unless maxIterations >= 1, VALUE
   // TIMESTEP as run. When *stop reads true between two passes it returns with interrupted set:
-  // the passes made stay made, the scene consistent.
+  // the passes made stay made, the scene consistent. A pass that may take longer than longPass
+  // seconds (the last one did; the first, on a scene of 10^5 elements or more) starts from a
+  // copy of the scene, and *stop abandons it part way: the scene is then the last whole pass's.
   virtual RelaxReport relax(double fraction, uint64_t maxIterations,
-                            const std::atomic<bool>* stop = nullptr) = 0;
+                            const std::atomic<bool>* stop = nullptr,
+                            double longPass = RunOptions{}.longStep) = 0;
   // Runs one step; returns its report.
   virtual RunReport step() = 0;
   // Runs n steps with no stop flag and no progress callback; returns the report.
@@ -825,6 +828,9 @@ class Simulation {
   // holding TimeFunctions, writing nothing, unless skipCallbacks: then they are left out and
   // their descriptions returned. Continuing from load() is bit-identical to never stopping.
   virtual std::vector<std::string> save(std::ostream& out, bool skipCallbacks = false) const = 0;
+  // The same as the checkpoint file's bytes, without a copy; the descriptions go to *skipped.
+  // Polls Ctrl-C as it serializes (throws {INTERRUPTED}, having changed nothing).
+  virtual std::string saveBytes(bool skipCallbacks, std::vector<std::string>* skipped) const = 0;
   // Replaces this scene by the checkpoint read from in. Throws LOAD FORMAT (not a demlab
   // checkpoint, truncated, damaged: the checksum save appends does not match, or a value out
   // of range) or LOAD DIMENSION (another dimension), changing nothing.

@@ -414,7 +414,7 @@ std::vector<BondBreakInfo> SimulationManager<D>::bondBreaks() const {
 }
 
 template <int D>
-double SimulationManager<D>::bondCriticalStep() const {
+double SimulationManager<D>::bondCriticalStep(bool polled) const {
   // Gershgorin's bound on the largest eigenvalue of M^-1/2 K M^-1/2 for the bonds' springs:
   // each row's sum k/m_i + sum k/sqrt(m_i m_j), for translation and (with inertia) rotation;
   // the step is 2 / omega_max. Exact for a pair of equal elements, an upper bound on omega
@@ -422,7 +422,11 @@ double SimulationManager<D>::bondCriticalStep() const {
   // rotational stiffness's lever-arm term).
   const ElementArrays<D>& a = s_.elements.a;
   std::vector<double> rowT, rowR;
+  // A tenth of a second for a million bonds, at a run's start: there (polled) it polls Ctrl-C
+  // (pollStep; a query from a script inside a run must not).
+  size_t seen = 0;
   for (const Bond<D>& b : s_.bonds.bonds) {
+    if (polled && (++seen & 0xffff) == 0) pollStep(s_);
     if (!b.intact) continue;
     if (rowT.empty()) {
       rowT.assign(a.size(), 0);

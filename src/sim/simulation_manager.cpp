@@ -114,7 +114,7 @@ double SimulationManager<D>::autoStep(double staticStep) const {
 }
 
 template <int D>
-double SimulationManager<D>::staticCriticalStep() const {
+double SimulationManager<D>::staticCriticalStep(bool polled) const {
   // Per material: the smallest grain, which is also the lightest and has the least inertia
   // (mass ~ density r^D). Each pair of materials in use (walls included) is then taken with
   // the smallest grain of either side against it: the stiffest contact (the pair's constants)
@@ -183,7 +183,7 @@ double SimulationManager<D>::staticCriticalStep() const {
       }
     }
   }
-  return std::min(best, bondCriticalStep());
+  return std::min(best, bondCriticalStep(polled));
 }
 
 // ---- materials and laws --------------------------------------------------------------------

@@ -153,8 +153,8 @@ class SimulationManager final : public Simulation {
 
   RunReport run(const RunOptions& options) override;
   RunReport step() override;
-  RelaxReport relax(double fraction, uint64_t maxIterations,
-                    const std::atomic<bool>* stop = nullptr) override;
+  RelaxReport relax(double fraction, uint64_t maxIterations, const std::atomic<bool>* stop = nullptr,
+                    double longPass = RunOptions{}.longStep) override;
 
   EnergyLedger energy() const override;
   size_t contactCount() const override { return s_.contacts.size(); }
@@ -173,6 +173,7 @@ class SimulationManager final : public Simulation {
   uint64_t stateDigest() const override;
   std::unique_ptr<Simulation> clone() const override;
   std::vector<std::string> save(std::ostream& out, bool skipCallbacks) const override;
+  std::string saveBytes(bool skipCallbacks, std::vector<std::string>* skipped) const override;
   void load(std::istream& in) override;
   void loadBytes(std::string fileBytes) override;
 
@@ -249,10 +250,12 @@ class SimulationManager final : public Simulation {
   bool applyBondBreaks(const std::vector<PendingBreak>& breaks);
   // Drops the bonds of the elements whose slots are in slots (they are being removed).
   void dropBonds(const std::unordered_set<uint32_t>& slots);
-  // Returns the smallest stable step the bonds allow (infinity without bonds).
-  double bondCriticalStep() const;
-  // Returns the static part of criticalTimeStep(): materials, grain sizes, bonds.
-  double staticCriticalStep() const;
+  // Returns the smallest stable step the bonds allow (infinity without bonds). polled: polls
+  // Ctrl-C (pollStep, may throw StepAbandoned), as prepare() in a run may; never from queries.
+  double bondCriticalStep(bool polled = false) const;
+  // Returns the static part of criticalTimeStep(): materials, grain sizes, bonds (polled: as
+  // bondCriticalStep).
+  double staticCriticalStep(bool polled = false) const;
   // Returns timeStep() given staticCriticalStep() (unused for a fixed step). Throws as timeStep.
   double timeStepFrom(double staticStep) const;
   // Returns the automatic step for the static estimate staticStep and the contacts' step.
@@ -300,7 +303,7 @@ class SimulationManager final : public Simulation {
     configDirty_ = true;
     s_.forcesReady = false;
   }
-  std::string serialize(IoMode mode) const;
+  std::string serialize(IoMode mode, const BehaviorManager<D>* behaviors = nullptr) const;
   // Returns a deep copy of the scene, as clone() and a run's undo need it. Changes nothing.
   Scene<D> copyScene() const;
   // Returns copyScene() with Ctrl-C polled through `stop` as it copies, or nothing when that

@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 #include "physics/critical_step.hpp"
 #include "physics/narrow_phase.hpp"
@@ -59,7 +60,7 @@ void SimulationManager<D>::prepare() {
     const double skin = skinInUse();
     if (s_.periodic.any()) checkPeriodic(skin);
     // The static estimate is a pass over the elements: taken once for both.
-    staticStep_ = staticCriticalStep();
+    staticStep_ = staticCriticalStep(true);  // may throw StepAbandoned, changing nothing
     const double dt = timeStepFrom(staticStep_);
     const size_t nm = s_.nMat();
     s_.pairParams.resize(nm * nm);
@@ -153,6 +154,10 @@ void SimulationManager<D>::checkFinite() const {
 
 template <int D>
 RunReport SimulationManager<D>::run(const RunOptions& options) {
+  // The run stops through options.stop, at step boundaries or back to a copy: nothing inside
+  // a step (a search's sorting, elements a source adds, an output's file) may throw
+  // {INTERRUPTED} from the process-wide flag half way.
+  const InterruptScope unpolled(nullptr);
   // What an undo goes back to. A check that fires before the first step must leave the scene
   // as it was, but after edits the force pass below changes it (forces, contacts, ledger); a
   // scene with script callbacks is undone when one fails. Other runs keep no copy.
@@ -587,7 +592,7 @@ double SimulationManager<D>::worstOverlap(double fraction, bool push, std::vecto
 
 template <int D>
 RelaxReport SimulationManager<D>::relax(double fraction, uint64_t maxIterations,
-                                        const std::atomic<bool>* stop) {
+                                        const std::atomic<bool>* stop, double longPass) {
   if (!(fraction > 0 && fraction <= 1)) {
     throw Error("bad fraction \"" + physics::formatReal(fraction) + "\": must be in (0, 1]",
                 {"VALUE", "FRACTION"});
@@ -597,32 +602,79 @@ RelaxReport SimulationManager<D>::relax(double fraction, uint64_t maxIterations,
   }
   RelaxReport rep;
   if (s_.elements.size() == 0) return rep;
+  const InterruptScope unpolled(nullptr);  // as in run: stopped through stop alone
   if (stop && stop->load(std::memory_order_relaxed)) {  // before any work: nothing changed
     rep.interrupted = true;
     return rep;
   }
-  prepare();  // the contacts at the current positions
-  std::vector<bool> moved(s_.elements.size(), false);
-  rep.before = rep.after = worstOverlap(fraction, false);
-  while (rep.after > fraction && rep.iterations < maxIterations) {
-    if (stop && stop->load(std::memory_order_relaxed)) {
-      rep.interrupted = true;
-      break;
+  // A pass (the moves, then a neighbour search and a force pass of the moved scene) of a
+  // large scene takes a second. Before a pass that may be long (the last one was, or, for the
+  // first, a force pass of a large scene is due), the scene is copied into rollback_ as a run
+  // with long steps copies it; Ctrl-C then abandons the pass part way, back to the copy: the
+  // scene as the last whole pass (or the call) left it.
+  using Clock = std::chrono::steady_clock;
+  constexpr size_t kLargeScene = 100000;  // about where a search and force pass take 50 ms
+  std::vector<bool> moved(s_.elements.size(), false), movedAtCopy;
+  struct Unset {
+    const std::atomic<bool>*& flag;
+    ~Unset() { flag = nullptr; }
+  } unset{s_.abandonOn};
+  // Keeps the copy before a pass when lastSeconds says it may be long; returns false if Ctrl-C
+  // stopped the process's first copy (then the scene is as it was). Changes rollback_.
+  const auto keepCopy = [&](double lastSeconds) {
+    s_.abandonOn = nullptr;
+    if (!stop || lastSeconds <= longPass || !rollbackFits()) return true;
+    if (!rollback_) {
+      rollback_ = copySceneUnlessStopped(stop);
+      if (!rollback_) return false;
     }
-    const double before = ledgerSum();
-    worstOverlap(fraction, true, &moved);
-    rep.iterations += 1;
-    // An edit: the potential energy the moves changed is the user's, and the next force pass
-    // (in prepare) rebases the elastic energy the same way.
-    s_.ledger.reference += ledgerSum() - before;
-    s_.needRebuild = true;
-    s_.forcesReady = false;
-    if (stop && stop->load(std::memory_order_relaxed)) {  // the next run's prepare catches up
-      rep.interrupted = true;
-      break;
+    *rollback_ = s_;
+    movedAtCopy = moved;
+    s_.abandonOn = stop;
+    return true;
+  };
+  // A pass's time until one is measured: long for a large scene.
+  double passSeconds = s_.elements.size() >= kLargeScene ? HUGE_VAL : 0;
+  if (!keepCopy(configDirty_ || !s_.forcesReady ? passSeconds : 0)) {
+    rep.interrupted = true;
+    return rep;
+  }
+  try {
+    prepare();  // the contacts at the current positions
+    rep.before = rep.after = worstOverlap(fraction, false);
+    while (rep.after > fraction && rep.iterations < maxIterations) {
+      if (stop && stop->load(std::memory_order_relaxed)) {
+        rep.interrupted = true;
+        break;
+      }
+      if (!keepCopy(passSeconds)) {
+        rep.interrupted = true;
+        break;
+      }
+      const auto t0 = Clock::now();
+      const double before = ledgerSum();
+      worstOverlap(fraction, true, &moved);
+      // An edit: the potential energy the moves changed is the user's, and the next force
+      // pass (in prepare) rebases the elastic energy the same way.
+      s_.ledger.reference += ledgerSum() - before;
+      s_.needRebuild = true;
+      s_.forcesReady = false;
+      if (stop && stop->load(std::memory_order_relaxed)) {  // the next run's prepare catches up
+        rep.iterations += 1;
+        rep.interrupted = true;
+        break;
+      }
+      prepare();
+      rep.after = worstOverlap(fraction, false);
+      rep.iterations += 1;
+      passSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
     }
-    prepare();
-    rep.after = worstOverlap(fraction, false);
+  } catch (const StepAbandoned&) {
+    // Back to the copy; the modules' scratch, left half written, is made anew.
+    std::swap(s_, *rollback_);
+    moved = std::move(movedAtCopy);
+    configDirty_ = true;
+    rep.interrupted = true;
   }
   rep.moved = static_cast<uint64_t>(std::count(moved.begin(), moved.end(), true));
   return rep;
@@ -907,14 +959,15 @@ ElementTable SimulationManager<D>::elementTable() const {
 // ---- whole scene ---------------------------------------------------------------------------
 
 template <int D>
-std::string SimulationManager<D>::serialize(IoMode mode) const {
+std::string SimulationManager<D>::serialize(IoMode mode, const BehaviorManager<D>* behaviors) const {
   Writer w;
+  const FreeAsideOnThrow aside(w.bytes);  // stopped half way: hundreds of megabytes to free
   // Room for about all of it at once (more than it needs costs only address space): grown by
   // doubling, a scene of hundreds of megabytes was copied whole in one call, twice.
   w.bytes.reserve(4096 + s_.elements.size() * 320 + s_.candidates.size() * 48 +
                   s_.contacts.size() * 48 + s_.xAtBuild.size() * 24 + s_.histories.size() * 40 +
                   s_.bonds.bonds.size() * 192 + s_.bonds.breaks.size() * 96);
-  writeScene(w, s_, mode);
+  writeScene(w, s_, mode, behaviors);
   return std::move(w.bytes);
 }
 
@@ -931,8 +984,10 @@ uint64_t SimulationManager<D>::stateDigest() const {
 
 template <int D>
 Scene<D> SimulationManager<D>::copyScene() const {
-  const std::string b = serialize(IoMode::Clone);
+  std::string b = serialize(IoMode::Clone);
+  const FreeAsideOnThrow asideBytes(b);
   Scene<D> c;
+  const FreeAsideOnThrow asideCopy(c);
   Reader r(b);
   readScene(r, c);
   c.behaviors = s_.behaviors;  // deep copies, sharing the TimeFunctions
@@ -968,6 +1023,16 @@ std::unique_ptr<Simulation> SimulationManager<D>::clone() const {
 template <int D>
 std::vector<std::string> SimulationManager<D>::save(std::ostream& out, bool skipCallbacks) const {
   std::vector<std::string> skipped;
+  const std::string file = saveBytes(skipCallbacks, &skipped);
+  out.write(file.data(), static_cast<std::streamsize>(file.size()));
+  if (!out) throw Error("can't write the checkpoint: the stream failed", {"SAVE", "IO"});
+  return skipped;
+}
+
+template <int D>
+std::string SimulationManager<D>::saveBytes(bool skipCallbacks,
+                                            std::vector<std::string>* skippedOut) const {
+  std::vector<std::string> skipped;
   std::vector<BehaviorId> drop;
   const auto& items = s_.behaviors.items();
   for (size_t k = 0; k < items.size(); ++k) {
@@ -990,18 +1055,16 @@ std::vector<std::string> SimulationManager<D>::save(std::ostream& out, bool skip
                     "save with callbacks skipped",
                 {"SAVE", "CALLBACK"});
   }
-  Writer w;
+  std::string bytes;
   if (drop.empty()) {
-    writeScene(w, s_, IoMode::Checkpoint);
+    bytes = serialize(IoMode::Checkpoint);
   } else {
     BehaviorManager<D> kept = s_.behaviors;
     for (BehaviorId id : drop) kept.remove(id);
-    writeScene(w, s_, IoMode::Checkpoint, &kept);
+    bytes = serialize(IoMode::Checkpoint, &kept);
   }
-  const std::string file = sealCheckpoint(std::move(w.bytes));
-  out.write(file.data(), static_cast<std::streamsize>(file.size()));
-  if (!out) throw Error("can't write the checkpoint: the stream failed", {"SAVE", "IO"});
-  return skipped;
+  if (skippedOut != nullptr) *skippedOut = std::move(skipped);
+  return sealCheckpoint(std::move(bytes));
 }
 
 template <int D>
@@ -1014,8 +1077,10 @@ void SimulationManager<D>::load(std::istream& in) {
 
 template <int D>
 void SimulationManager<D>::loadBytes(std::string fileBytes) {
-  const std::string b = unsealCheckpoint(std::move(fileBytes));
+  std::string b = unsealCheckpoint(std::move(fileBytes));
+  const FreeAsideOnThrow asideBytes(b);
   Scene<D> fresh;
+  const FreeAsideOnThrow asideScene(fresh);
   Reader r(b);
   readScene(r, fresh);
   s_ = std::move(fresh);

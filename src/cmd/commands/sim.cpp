@@ -5,12 +5,11 @@
 
 #include <cerrno>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
 #include "core/atomic_file.hpp"
+#include "core/free_aside.hpp"
 #include "core/thread_pool.hpp"
 #include "core/validity.hpp"
 
@@ -201,9 +200,10 @@ void registerSimCommands(Registry& r) {
   save.changesScene = false;
   save.run([](Call& c) {
     auto& s = session(c).scene();
-    std::ostringstream out(std::ios::binary);
-    std::vector<std::string> skipped = s.save(out, c.flag("skipcallbacks"));
-    writeFileAtomically(c.str("file"), out.str());
+    std::vector<std::string> skipped;
+    std::string bytes = s.saveBytes(c.flag("skipcallbacks"), &skipped);
+    const FreeAsideOnThrow aside(bytes);
+    writeFileAtomically(c.str("file"), bytes);
     List l;
     for (auto& d : skipped) l.emplace_back(d);
     return Value(std::move(l));

@@ -8,6 +8,8 @@
 #include <memory>
 #include <random>
 
+#include "core/thread_pool.hpp"
+#include "sim/contacts.hpp"
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
@@ -126,6 +128,93 @@ TEST(SimAbandon, TheFirstStepOfAnEditedSceneGoesBackToTheSceneBeforeTheRun) {
   EXPECT_EQ(rep.steps, 0u);
   EXPECT_EQ(s->stepCount(), 0u);
   EXPECT_EQ(s->stateDigest(), before);
+}
+
+// Returns a lattice of 5 x 5 x 5 grains 5 % overlapping, and a floor far below whose scripted
+// motion (zero) counts the force passes in *passes and raises *stop at the stopAt-th: the
+// walls move first in a force pass, so a relax pass's search and contacts see the flag.
+std::unique_ptr<Simulation> squeezed(std::atomic<bool>* stop, int* passes, int stopAt) {
+  auto s = makeSimulation(3);
+  s->addMaterial("glass", material(1e7, 0.5, 0.4));
+  WallDef floor = plane({0, 0, -1}, {0, 0, 1}, "glass");
+  floor.motion = WallMotion{};
+  floor.motion->velocityFn[0] = [=](double) {
+    if (++*passes == stopAt) stop->store(true);
+    return 0.0;
+  };
+  s->addWall(floor);
+  std::vector<ElementDef> defs;
+  for (int k = 0; k < 125; ++k) {
+    defs.push_back(grain({0.019 * (k % 5), 0.019 * ((k / 5) % 5), 0.019 * (k / 25)}, 0.01, "glass"));
+  }
+  s->addElements(defs);
+  s->setTimeStep(1e-5);
+  return s;
+}
+
+// A relax pass stopped part way goes back to the copy taken before it: the scene, and the grains
+// reported moved, of the passes reported, bit for bit, from which relax goes on as if never
+// stopped. The first moving pass has no copy (no pass was measured yet; the scene is small):
+// stopped there, it finishes and the call ends after it.
+TEST(SimAbandon, ARelaxPassStoppedPartWayLeavesTheSceneOfThePassesReported) {
+  for (const int stopAt : {2, 3, 6}) {
+    SCOPED_TRACE("stopped in force pass " + std::to_string(stopAt));
+    std::atomic<bool> stop{false};
+    int passes = 0, unused = 0;
+    auto s = squeezed(&stop, &passes, stopAt);
+    const RelaxReport rep = s->relax(1e-6, 1000, &stop, 0);
+    ASSERT_TRUE(rep.interrupted);
+    EXPECT_EQ(rep.iterations, stopAt == 2 ? 1u : uint64_t(stopAt - 2));
+    auto replay = squeezed(&stop, &unused, 0);
+    const RelaxReport same = replay->relax(1e-6, rep.iterations);
+    EXPECT_EQ(replay->stateDigest(), s->stateDigest());
+    EXPECT_EQ(same.moved, rep.moved);
+    stop = false;
+    const RelaxReport rest = s->relax(1e-6, 1000, &stop, 0);
+    const RelaxReport restReplay = replay->relax(1e-6, 1000);
+    EXPECT_FALSE(rest.interrupted);
+    EXPECT_GT(rest.iterations, 3u);  // the lattice takes many passes
+    EXPECT_EQ(rest.iterations, restReplay.iterations);
+    EXPECT_EQ(replay->stateDigest(), s->stateDigest());
+  }
+}
+
+// The contact pass runs each phase of its groups in rounds with a poll between them: rounds of a
+// few candidates give the bits of whole phases, on one thread and on three.
+TEST(SimAbandon, ContactPassRoundsGiveTheBitsOfWholePhases) {
+  const auto bedOf = [] {
+    auto s = makeSimulation(3);
+    s->addMaterial("glass", material(1e7, 0.5, 0.4));
+    s->addWall(plane({0, 0, 0}, {0, 0, 1}, "glass"));
+    s->addGravity({0, 0, -9.81});
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<ElementDef> defs;
+    for (int k = 0; k < 12 * 12 * 12; ++k) {  // blocks of 512 grains: several groups a phase
+      defs.push_back(grain({0.0199 * (k % 12), 0.0199 * ((k / 12) % 12), 0.0101 + 0.0199 * (k / 144)},
+                           0.01, "glass", {0.05 * u(rng), 0.05 * u(rng), 0.05 * u(rng)}));
+    }
+    WatchdogOptions w;
+    w.placed = 0;  // placed overlapping: contacts from the first step
+    setWatchdog(*s, w);
+    s->addElements(defs);
+    s->setTimeStep(2e-5);
+    return s;
+  };
+  const size_t keepRound = contactRoundCandidates();
+  const unsigned keepThreads = ThreadPool::global().threads();
+  auto whole = bedOf();
+  whole->runSteps(40);
+  ASSERT_GT(whole->contactCount(), 1000u);
+  for (const unsigned threads : {1u, 3u}) {
+    contactRoundCandidates() = 7;
+    ThreadPool::global().setThreads(threads);
+    auto rounds = bedOf();
+    rounds->runSteps(40);
+    contactRoundCandidates() = keepRound;
+    ThreadPool::global().setThreads(keepThreads);
+    EXPECT_EQ(rounds->stateDigest(), whole->stateDigest()) << threads << " threads";
+  }
 }
 
 }  // namespace sim_abandon_test
