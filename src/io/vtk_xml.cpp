@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstring>
 #include <sstream>
 
@@ -155,12 +156,23 @@ class Writer {
     xml_ << "</FieldData>\n";
   }
 
-  // Returns the whole file. Call once, after everything is declared.
+  // Reserves room for the appended block: grown by doubling, hundreds of megabytes were
+  // copied (and their pages faulted in) in calls that Ctrl-C cannot stop.
+  void reserve(size_t bytes) { data_.reserve(bytes); }
+
+  // Returns the whole file. Call once, after everything is declared. The appended block is
+  // copied in slices with a poll between them.
   std::string finish() {
     xml_ << "<AppendedData encoding=\"raw\">\n_";
     std::string out = xml_.str();
-    out += data_;
-    out += "\n</AppendedData>\n</VTKFile>\n";
+    constexpr char kTail[] = "\n</AppendedData>\n</VTKFile>\n";
+    out.reserve(out.size() + data_.size() + sizeof kTail);
+    constexpr size_t kSlice = size_t(4) << 20;
+    for (size_t at = 0; at < data_.size(); at += kSlice) {
+      pollInterrupt("writing");
+      out.append(data_, at, std::min(kSlice, data_.size() - at));
+    }
+    out += kTail;
     return out;
   }
 
@@ -192,6 +204,14 @@ std::string vtpBytes(const VtkPolyData& d, VtkCompression c) {
   const size_t verts = d.vertexPerPoint ? points : 0, lines = d.lines.size() / 2,
                polys = d.polyOffsets.size();
   Writer w("PolyData", c);
+  // The raw bytes of every array (compressed ones take less), and a header each.
+  size_t raw = 64 * (8 + d.pointData.size() + d.cellData.size()) + d.points.size() * 8 +
+               verts * 16 + d.lines.size() * 8 + lines * 8 +
+               (d.polyConnectivity.size() + d.polyOffsets.size()) * 8;
+  for (const auto* list : {&d.pointData, &d.cellData}) {
+    for (const VtkArray& a : *list) raw += typeOf(a).count * typeOf(a).size;
+  }
+  w.reserve(raw);
   w.xml() << "<PolyData>\n";
   w.fieldData(d.fieldData, d.fieldStrings);
   w.xml() << "<Piece NumberOfPoints=\"" << points << "\" NumberOfVerts=\"" << verts

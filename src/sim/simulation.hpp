@@ -546,12 +546,14 @@ class Simulation {
   // materials change and, during a run, after every neighbour search (the contacts' stiffness
   // at their overlaps then). Throws VALUE FRACTION unless 0 < fraction <= 1.
   virtual void setAutoTimeStep(double fraction) = 0;
-  // Returns the step the next run uses. Throws VALUE TIMESTEP if automatic with no grains.
+  // Returns the step the next run uses. Throws VALUE TIMESTEP if automatic with no grains, and
+  // {INTERRUPTED} when Ctrl-C stops its estimate (a pass over the bonds).
   virtual double timeStep() const = 0;
   // Returns the scene's critical step: the least of the static estimate over the materials and
   // grain sizes in the scene (physics::criticalTimeStep, Rayleigh step for Hertz; bonds) and
   // the ball contacts' at their overlaps at the last neighbour search
-  // (sim/contact_stiffness.hpp); +inf when there are no grains.
+  // (sim/contact_stiffness.hpp); +inf when there are no grains. Throws {INTERRUPTED} as
+  // timeStep.
   virtual double criticalTimeStep() const = 0;
   // Returns the ball contacts' critical step at their overlaps now (sim/contact_stiffness.hpp:
   // the candidates of the last search, the pair table of the last run), recomputed; +inf when

@@ -422,11 +422,15 @@ double SimulationManager<D>::bondCriticalStep(bool polled) const {
   // rotational stiffness's lever-arm term).
   const ElementArrays<D>& a = s_.elements.a;
   std::vector<double> rowT, rowR;
-  // A tenth of a second for a million bonds, at a run's start: there (polled) it polls Ctrl-C
-  // (pollStep; a query from a script inside a run must not).
+  // A tenth of a second for a million bonds, at a run's start and in the checks of `sim run`:
+  // it polls Ctrl-C, the process-wide flag (a command's: nothing is changed yet) and, in a run
+  // (polled), the run's own (pollStep; a query from a script inside a run must not).
   size_t seen = 0;
   for (const Bond<D>& b : s_.bonds.bonds) {
-    if (polled && (++seen & 0xffff) == 0) pollStep(s_);
+    if ((++seen & 0xffff) == 0) {
+      if (polled) pollStep(s_);
+      pollInterrupt("the critical step estimate");
+    }
     if (!b.intact) continue;
     if (rowT.empty()) {
       rowT.assign(a.size(), 0);

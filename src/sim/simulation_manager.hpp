@@ -250,8 +250,9 @@ class SimulationManager final : public Simulation {
   bool applyBondBreaks(const std::vector<PendingBreak>& breaks);
   // Drops the bonds of the elements whose slots are in slots (they are being removed).
   void dropBonds(const std::unordered_set<uint32_t>& slots);
-  // Returns the smallest stable step the bonds allow (infinity without bonds). polled: polls
-  // Ctrl-C (pollStep, may throw StepAbandoned), as prepare() in a run may; never from queries.
+  // Returns the smallest stable step the bonds allow (infinity without bonds). Polls the
+  // process-wide Ctrl-C flag (throws {INTERRUPTED}); polled: the run's too (pollStep, may throw
+  // StepAbandoned), as prepare() in a run may; never from queries.
   double bondCriticalStep(bool polled = false) const;
   // Returns the static part of criticalTimeStep(): materials, grain sizes, bonds (polled: as
   // bondCriticalStep).

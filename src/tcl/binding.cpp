@@ -12,6 +12,7 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/free_aside.hpp"
 #include "core/validity.hpp"
 #include "physics/material.hpp"
 
@@ -217,8 +218,12 @@ extern "C" int dispatch(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* co
         result = toObj(v);
         return;
       }
+      // Stopped while it is converted, a result of a million dicts is freed on a thread of its
+      // own (plain C++ memory); the half-made Tcl objects are freed here.
+      cmd::Value held = std::move(v);
+      const FreeAsideOnThrow aside(held);
       InterruptPoll poll("query");
-      result = toObj(v, &poll);
+      result = toObj(held, &poll);
     });
     Tcl_SetObjResult(interp, result);
     return TCL_OK;
