@@ -12,6 +12,7 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <system_error>
 #include <thread>
 
 #include "core/error.hpp"
@@ -58,14 +59,18 @@ int syncPolled(std::FILE* f, const std::string& tmp, const std::string& path) {
   if (std::fflush(f) != 0) return errno;
   auto job = std::make_shared<SyncJob>();
   job->f = f;
-  std::thread([job] {
-    const int err = fsync(fileno(job->f)) != 0 && errno != EINVAL ? errno : 0;
-    std::lock_guard<std::mutex> lock(job->m);
-    job->done = true;
-    job->err = err;
-    if (job->abandoned) std::fclose(job->f);
-    job->cv.notify_all();
-  }).detach();
+  try {
+    std::thread([job] {
+      const int err = fsync(fileno(job->f)) != 0 && errno != EINVAL ? errno : 0;
+      std::lock_guard<std::mutex> lock(job->m);
+      job->done = true;
+      job->err = err;
+      if (job->abandoned) std::fclose(job->f);
+      job->cv.notify_all();
+    }).detach();
+  } catch (const std::system_error&) {  // no thread to be had: the sync here, unpolled
+    return fsync(fileno(f)) != 0 && errno != EINVAL ? errno : 0;
+  }
   std::unique_lock<std::mutex> lock(job->m);
   while (!job->done) {
     job->cv.wait_for(lock, std::chrono::milliseconds(5));

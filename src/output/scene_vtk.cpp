@@ -1,4 +1,5 @@
 #include "output/scene_vtk.hpp"
+#include "core/interrupt.hpp"
 #include "physics/triangle_mesh.hpp"
 
 #include <algorithm>
@@ -280,7 +281,12 @@ io::VtkPolyData contactsVtk(const sim::Simulation& s) {
   std::vector<int64_t> a(n), b(n), wall(n);
   std::vector<double> force, normal, tangential, fn(n), overlap(n);
   force.reserve(3 * n), normal.reserve(3 * n), tangential.reserve(3 * n);
+  // Reserved: grown by doubling, a million contacts' points were copied in unpolled calls.
+  d.points.reserve(6 * n);
+  d.lines.reserve(2 * n);
+  InterruptPoll poll("writing the contacts");  // a command's; a run's outputs have no flag set
   for (size_t k = 0; k < n; ++k) {
+    poll();
     const sim::ContactInfo& c = cs[k];
     const Vec3d start = centre(c.a), end = c.b.isNull() ? c.point : centre(c.b);
     d.points.insert(d.points.end(), start.begin(), start.end());
