@@ -57,11 +57,14 @@ struct SyncJob {
 // ("writing "path" interrupted"). Changes f's file on disk.
 int syncPolled(std::FILE* f, const std::string& tmp, const std::string& path) {
   if (std::fflush(f) != 0) return errno;
+  const auto sync = [](std::FILE* file) {
+    return fsync(fileno(file)) != 0 && errno != EINVAL ? errno : 0;
+  };
   auto job = std::make_shared<SyncJob>();
   job->f = f;
   try {
-    std::thread([job] {
-      const int err = fsync(fileno(job->f)) != 0 && errno != EINVAL ? errno : 0;
+    std::thread([job, sync] {
+      const int err = sync(job->f);
       std::lock_guard<std::mutex> lock(job->m);
       job->done = true;
       job->err = err;
@@ -69,7 +72,7 @@ int syncPolled(std::FILE* f, const std::string& tmp, const std::string& path) {
       job->cv.notify_all();
     }).detach();
   } catch (const std::system_error&) {  // no thread to be had: the sync here, unpolled
-    return fsync(fileno(f)) != 0 && errno != EINVAL ? errno : 0;
+    return sync(f);
   }
   std::unique_lock<std::mutex> lock(job->m);
   while (!job->done) {
@@ -148,10 +151,9 @@ void writeFileAtomically(const std::string& path, std::string_view bytes, std::s
       [&](std::FILE* f) -> std::string {
         // In slices with a poll between them: hundreds of megabytes take a tenth of a second
         // to copy into the page cache.
-        constexpr size_t kSlice = size_t(4) << 20;
-        for (size_t at = 0; at < bytes.size(); at += kSlice) {
+        for (size_t at = 0; at < bytes.size(); at += kPollSliceBytes) {
           pollInterrupt("writing \"" + path + "\"");
-          const size_t n = std::min(kSlice, bytes.size() - at);
+          const size_t n = std::min(kPollSliceBytes, bytes.size() - at);
           if (std::fwrite(bytes.data() + at, 1, n, f) != n) return posixMessage(errno ? errno : EIO);
         }
         return "";

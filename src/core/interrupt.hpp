@@ -36,13 +36,17 @@ bool interruptRequested() noexcept;
 // Throws demlab::Error {INTERRUPTED} "<what> interrupted" when interruptRequested().
 void pollInterrupt(std::string_view what);
 
+// The bytes of memory-bound work (a copy, a fill, a write) between two polls: a few
+// milliseconds, page faults included.
+inline constexpr std::size_t kPollSliceBytes = std::size_t(4) << 20;
+
 // Returns n copies of value, the vector's memory first touched in slices of 4 MiB with Ctrl-C
 // polled between them (as `what`): on some machines (virtualised page faults) the first touch
 // of a few hundred megabytes alone takes tenths of a second, which one fill would spend deaf.
 // Throws demlab::Error {INTERRUPTED}, having freed what it made.
 template <class T>
 std::vector<T> polledFill(std::size_t n, const T& value, std::string_view what) {
-  constexpr std::size_t kSlice = (std::size_t(4) << 20) / sizeof(T) + 1;
+  constexpr std::size_t kSlice = kPollSliceBytes / sizeof(T) + 1;
   std::vector<T> v;
   v.reserve(n);
   while (v.size() < n) {

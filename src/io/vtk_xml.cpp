@@ -167,10 +167,9 @@ class Writer {
     std::string out = xml_.str();
     constexpr char kTail[] = "\n</AppendedData>\n</VTKFile>\n";
     out.reserve(out.size() + data_.size() + sizeof kTail);
-    constexpr size_t kSlice = size_t(4) << 20;
-    for (size_t at = 0; at < data_.size(); at += kSlice) {
+    for (size_t at = 0; at < data_.size(); at += kPollSliceBytes) {
       pollInterrupt("writing");
-      out.append(data_, at, std::min(kSlice, data_.size() - at));
+      out.append(data_, at, std::min(kPollSliceBytes, data_.size() - at));
     }
     out += kTail;
     return out;
@@ -209,7 +208,10 @@ std::string vtpBytes(const VtkPolyData& d, VtkCompression c) {
                verts * 16 + d.lines.size() * 8 + lines * 8 +
                (d.polyConnectivity.size() + d.polyOffsets.size()) * 8;
   for (const auto* list : {&d.pointData, &d.cellData}) {
-    for (const VtkArray& a : *list) raw += typeOf(a).count * typeOf(a).size;
+    for (const VtkArray& a : *list) {
+      const TypeInfo t = typeOf(a);
+      raw += t.count * t.size;
+    }
   }
   w.reserve(raw);
   w.xml() << "<PolyData>\n";

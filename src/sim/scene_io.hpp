@@ -26,7 +26,7 @@ namespace demlab::sim {
 // Ctrl-C is polled every kPollBytes written or read (core/interrupt.hpp): a checkpoint, a clone
 // or a digest of a scene of millions of grains and bonds takes a second. The commands that
 // serialize build a new copy or read into a new scene, so stopping part way changes nothing.
-inline constexpr size_t kPollBytes = size_t(1) << 22;
+inline constexpr size_t kPollBytes = kPollSliceBytes;
 
 class Writer {
  public:

@@ -277,6 +277,11 @@ class SimulationManager final : public Simulation {
   // Returns true if a copy of the scene fits beside it: the scene's bytes at most half the
   // memory the system has free (else a long step answers Ctrl-C at its end). Changes nothing.
   bool rollbackFits() const;
+  // Copies the scene into rollback_ (what a long step or relax pass goes back to), with the
+  // scene's abandonOn cleared first (the copy must not carry it): the first time by the
+  // serializing copy, which polls stop, after that by assignment into the last copy's arrays.
+  // Returns false, keeping no copy, if stop ended the first copy. Sets rollbackSeconds_.
+  bool refreshRollback(const std::atomic<bool>* stop);
   // staticCriticalStep() as the last configuration (prepare) found it.
   double staticStep_ = std::numeric_limits<double>::infinity();
   // Removes the live grains ids (distinct), their springs, histories and blocked entries, the

@@ -152,6 +152,17 @@ void SimulationManager<D>::checkFinite() const {
   }
 }
 
+namespace {
+
+// Clears a scene's abandonOn when the scope ends, however it ends: outside a run or a relax
+// nothing may abandon the scene's work.
+struct AbandonOff {
+  const std::atomic<bool>*& flag;
+  ~AbandonOff() { flag = nullptr; }
+};
+
+}  // namespace
+
 template <int D>
 RunReport SimulationManager<D>::run(const RunOptions& options) {
   // The run stops through options.stop, at step boundaries or back to a copy: nothing inside
@@ -181,10 +192,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   // With the copy taken above, the first force pass of an edited scene (a second on a very
   // large one) and the steps until the run keeps a copy of its own can be abandoned too.
   s_.abandonOn = before ? options.stop : nullptr;
-  struct Unset {
-    const std::atomic<bool>*& flag;
-    ~Unset() { flag = nullptr; }
-  } unset{s_.abandonOn};
+  const AbandonOff unset{s_.abandonOn};
   try {
     prepare();
   } catch (const StepAbandoned&) {
@@ -257,18 +265,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
              : static_cast<double>(stepsLeft) * stepSeconds < wait) {
       return true;  // a few long steps (sim step 1 in a loop) pay no copy: each answers at its end
     }
-    s_.abandonOn = nullptr;  // not in the copy
-    if (!rollback_) {
-      // The first copy faults its pages in (a second at half a million grains): made by the
-      // serializing copy, which polls Ctrl-C (stopped there, the run ends at this boundary).
-      // It holds only what a checkpoint holds; the assignment below makes it exact.
-      rollback_ = copySceneUnlessStopped(options.stop);
-      if (!rollback_) return false;
-      now = Clock::now();
-    }
-    *rollback_ = s_;  // into the arrays of the last copy: no new pages to fault in
+    if (!refreshRollback(options.stop)) return false;  // stopped: the run ends at this boundary
     keptAt = Clock::now();
-    rollbackSeconds_ = std::chrono::duration<double>(keptAt - now).count();
     kept = true;
     s_.abandonOn = options.stop;
     return true;
@@ -361,6 +359,22 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   }
   if (trip) throw RunStopped(std::move(*trip), rep);
   return rep;
+}
+
+template <int D>
+bool SimulationManager<D>::refreshRollback(const std::atomic<bool>* stop) {
+  s_.abandonOn = nullptr;  // not in the copy
+  if (!rollback_) {
+    // The first copy faults its pages in (a second at half a million grains): made by the
+    // serializing copy, which polls Ctrl-C. It holds only what a checkpoint holds; the
+    // assignment below makes it exact.
+    rollback_ = copySceneUnlessStopped(stop);
+    if (!rollback_) return false;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  *rollback_ = s_;  // into the arrays of the last copy: no new pages to fault in
+  rollbackSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return true;
 }
 
 template <int D>
@@ -615,20 +629,13 @@ RelaxReport SimulationManager<D>::relax(double fraction, uint64_t maxIterations,
   using Clock = std::chrono::steady_clock;
   constexpr size_t kLargeScene = 100000;  // about where a search and force pass take 50 ms
   std::vector<bool> moved(s_.elements.size(), false), movedAtCopy;
-  struct Unset {
-    const std::atomic<bool>*& flag;
-    ~Unset() { flag = nullptr; }
-  } unset{s_.abandonOn};
+  const AbandonOff unset{s_.abandonOn};
   // Keeps the copy before a pass when lastSeconds says it may be long; returns false if Ctrl-C
   // stopped the process's first copy (then the scene is as it was). Changes rollback_.
   const auto keepCopy = [&](double lastSeconds) {
     s_.abandonOn = nullptr;
     if (!stop || lastSeconds <= longPass || !rollbackFits()) return true;
-    if (!rollback_) {
-      rollback_ = copySceneUnlessStopped(stop);
-      if (!rollback_) return false;
-    }
-    *rollback_ = s_;
+    if (!refreshRollback(stop)) return false;
     movedAtCopy = moved;
     s_.abandonOn = stop;
     return true;
