@@ -15,6 +15,7 @@
 #include <system_error>
 #include <thread>
 
+#include "core/background_work.hpp"
 #include "core/error.hpp"
 #include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
@@ -63,7 +64,7 @@ int syncPolled(std::FILE* f, const std::string& tmp, const std::string& path) {
   auto job = std::make_shared<SyncJob>();
   job->f = f;
   try {
-    std::thread([job, sync] {
+    std::thread([job, sync, work = std::make_unique<BackgroundWork>()] {
       const int err = sync(job->f);
       std::lock_guard<std::mutex> lock(job->m);
       job->done = true;

@@ -12,6 +12,7 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/background_work.hpp"
 #include "core/free_aside.hpp"
 #include "core/validity.hpp"
 #include "physics/material.hpp"
@@ -407,9 +408,24 @@ std::vector<std::string> completions(Tcl_Interp* interp, const std::string& line
 
 using namespace demlab;
 
+namespace {
+
+// Tcl's exit handler: lets work that stopped commands left running finish before the process
+// exits (Tcl runs it before exit(), so before the C libraries' own exit handlers).
+extern "C" void awaitBackgroundWorkAtExit(ClientData) {
+  awaitBackgroundWork(10.0);
+}
+
+}  // namespace
+
 extern "C" int Demlab_Init(Tcl_Interp* interp) {
   if (!Tcl_InitStubs(interp, "8.6", 0)) return TCL_ERROR;
   if (tcl::stateOf(interp)) return Tcl_PkgProvide(interp, "demlab", DEMLAB_PKG_VERSION);
+  static const bool exitHandled = [] {
+    Tcl_CreateExitHandler(awaitBackgroundWorkAtExit, nullptr);
+    return true;
+  }();
+  (void)exitHandled;
   cmd::setListSplitter(tcl::tclSplit);
   auto* st = new tcl::InterpState;
   st->interp = interp;

@@ -4,6 +4,7 @@
 #ifdef DEMLAB_HAVE_RENDER
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <future>
@@ -14,6 +15,7 @@
 #include <unordered_set>
 
 #include "cmd/commands/snapshot_contacts.hpp"
+#include "core/background_work.hpp"
 #include "core/interrupt.hpp"
 #include "render/colour_map.hpp"
 #include "render/image_file.hpp"
@@ -50,29 +52,33 @@ void compactRows(std::vector<T>& v, size_t width, const std::vector<char>& keep)
 // command stopped meanwhile leaves it being made for the next; a failure to make it is raised
 // by the command waiting and the next one tries again. Throws demlab::Error {INTERRUPTED}.
 render::Renderer& theRenderer() {
-  static render::Renderer* r = nullptr;
-  static std::shared_future<render::Renderer*> making;
-  if (r) return *r;
+  // Set by the thread that makes it, so that a renderer made after its command was stopped is
+  // held by this static pointer and not only by the future's state, which the exit frees.
+  static std::atomic<render::Renderer*> made{nullptr};
+  static std::shared_future<void> making;
+  if (render::Renderer* r = made.load()) return *r;
   if (!making.valid()) {
-    std::promise<render::Renderer*> made;
-    making = made.get_future().share();
-    std::thread([made = std::move(made)]() mutable {
+    std::promise<void> done;
+    making = done.get_future().share();
+    // Counted from before the thread starts: an exit waits for it (core/background_work.hpp).
+    std::thread([done = std::move(done), work = std::make_unique<BackgroundWork>()]() mutable {
       try {
-        made.set_value(render::makeRenderer().release());
+        made.store(render::makeRenderer().release());
+        done.set_value();
       } catch (...) {
-        made.set_exception(std::current_exception());
+        done.set_exception(std::current_exception());
       }
     }).detach();
   }
   while (making.wait_for(std::chrono::milliseconds(5)) != std::future_status::ready)
     pollInterrupt("snapshot");
   try {
-    r = making.get();
+    making.get();
   } catch (...) {
     making = {};
     throw;
   }
-  return *r;
+  return *made.load();
 }
 
 Vec3 v3(const sim::Vec3d& a) {
