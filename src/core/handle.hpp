@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/interrupt.hpp"
 
 namespace demlab {
 
@@ -169,6 +170,13 @@ class HandlePool {
   void reserve(uint32_t n) {
     slots_.reserve(n);
     dense_.reserve(n);
+  }
+
+  // Makes the reserved room for n handles resident, the pool unchanged (touchRoom,
+  // core/interrupt.hpp). Throws {INTERRUPTED}, the pool as it was.
+  void touchRoom(uint32_t n, std::string_view what) {
+    demlab::touchRoom(slots_, n, Slot{0, 0}, what);
+    demlab::touchRoom(dense_, n, HandleT{}, what);
   }
 
   // Returns the bytes of heap the pool's tables hold (their capacity).

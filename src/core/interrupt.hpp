@@ -56,6 +56,28 @@ std::vector<T> polledFill(std::size_t n, const T& value, std::string_view what) 
   return v;
 }
 
+// Returns nothing; makes the memory of v's room for n elements resident (its pages first
+// touched now, written with `fill` in polled slices of 4 MiB, as `what`) and leaves v's size and
+// contents as they were, so that appending up to n elements later takes no page fault: a
+// commit that cannot be interrupted (elements added to a scene) then runs at memory speed.
+// Room beyond v.capacity() is not made. Throws demlab::Error {INTERRUPTED}, v as it was.
+template <class T>
+void touchRoom(std::vector<T>& v, std::size_t n, const T& fill, std::string_view what) {
+  const std::size_t n0 = v.size();
+  n = std::min(n, v.capacity());
+  constexpr std::size_t kSlice = kPollSliceBytes / sizeof(T) + 1;
+  try {
+    while (v.size() < n) {
+      pollInterrupt(what);
+      v.resize(std::min(n, v.size() + kSlice), fill);
+    }
+  } catch (...) {
+    v.erase(v.begin() + std::ptrdiff_t(n0), v.end());
+    throw;
+  }
+  v.erase(v.begin() + std::ptrdiff_t(n0), v.end());
+}
+
 // Counts the iterations of a loop and polls once every 4096 of them, so a tight loop pays an
 // increment and a test. Not for use from pool threads: it throws.
 class InterruptPoll {

@@ -200,27 +200,41 @@ void meshWall(const sim::WallState& w, int dim, const std::array<Vec3d, 2>& boun
 }  // namespace
 
 io::VtkPolyData elementsVtk(const sim::Simulation& s) {
-  const sim::ElementTable t = s.elementTable();
+  // The table's arrays are moved into the file's, not copied: copies of half a million
+  // elements' arrays (with their first page faults) were a long unpolled stretch.
+  sim::ElementTable t = s.elementTable();
   const size_t n = t.ids.size();
+  InterruptPoll poll("writing the elements");
   VtkPolyData d;
-  d.points = t.position;
+  d.points = std::move(t.position);
   d.vertexPerPoint = true;
   std::vector<int64_t> ids(n);
-  for (size_t i = 0; i < n; ++i) ids[i] = t.ids[i].scriptId();
+  for (size_t i = 0; i < n; ++i) {
+    poll();
+    ids[i] = t.ids[i].scriptId();
+  }
   d.pointData.push_back({"id", 1, std::move(ids)});
   for (size_t k = 0; k < t.tagNames.size(); ++k)
-    d.pointData.push_back({"tag_" + t.tagNames[k], 1, t.tagged[k]});
-  d.pointData.push_back({"material", 1, std::vector<int32_t>(t.material.begin(), t.material.end())});
-  d.pointData.push_back({"shape", 1, std::vector<int32_t>(t.shape.begin(), t.shape.end())});
+    d.pointData.push_back({"tag_" + t.tagNames[k], 1, std::move(t.tagged[k])});
+  const auto int32s = [&](const std::vector<uint32_t>& from) {
+    std::vector<int32_t> to(from.size());
+    for (size_t i = 0; i < from.size(); ++i) {
+      poll();
+      to[i] = int32_t(from[i]);
+    }
+    return to;
+  };
+  d.pointData.push_back({"material", 1, int32s(t.material)});
+  d.pointData.push_back({"shape", 1, int32s(t.shape)});
   if (t.shapeParamCount > 0)
-    d.pointData.push_back({"shape_params", int(t.shapeParamCount), t.shapeParams});
-  d.pointData.push_back({"radius", 1, t.radius});
-  d.pointData.push_back({"mass", 1, t.mass});
-  d.pointData.push_back({"velocity", 3, t.velocity});
-  d.pointData.push_back({"angular_velocity", 3, t.angularVelocity});
-  d.pointData.push_back({"force", 3, t.force});
-  d.pointData.push_back({"torque", 3, t.torque});
-  d.pointData.push_back({"orientation", 4, t.orientation});
+    d.pointData.push_back({"shape_params", int(t.shapeParamCount), std::move(t.shapeParams)});
+  d.pointData.push_back({"radius", 1, std::move(t.radius)});
+  d.pointData.push_back({"mass", 1, std::move(t.mass)});
+  d.pointData.push_back({"velocity", 3, std::move(t.velocity)});
+  d.pointData.push_back({"angular_velocity", 3, std::move(t.angularVelocity)});
+  d.pointData.push_back({"force", 3, std::move(t.force)});
+  d.pointData.push_back({"torque", 3, std::move(t.torque)});
+  d.pointData.push_back({"orientation", 4, std::move(t.orientation)});
   d.fieldStrings.push_back({"material_names", t.materialNames});
   d.fieldStrings.push_back({"shape_names", t.shapeNames});
   stamp(s, d);

@@ -7,9 +7,12 @@
 #include <cstdint>
 #include <numbers>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "core/handle.hpp"
+#include "core/interrupt.hpp"
 #include "core/math.hpp"
 #include "core/name_lookup.hpp"
 #include "core/tag_table.hpp"
@@ -61,6 +64,15 @@ struct ElementArrays {
     forEachArray(*this, [n](auto& arr) { arr.reserve(n); });
   }
 
+  // Makes the arrays' reserved room for n grains resident, their contents unchanged (see
+  // touchRoom, core/interrupt.hpp). Throws {INTERRUPTED}, every array as it was.
+  void touchRoom(size_t n, std::string_view what) {
+    forEachArray(*this, [&](auto& arr) {
+      using T = typename std::decay_t<decltype(arr)>::value_type;
+      demlab::touchRoom(arr, n, blank<T>(), what);
+    });
+  }
+
   // Returns the bytes of heap the arrays hold (their capacity).
   size_t heapBytes() const {
     size_t bytes = 0;
@@ -74,6 +86,20 @@ struct ElementArrays {
     fn(self.x), fn(self.v), fn(self.f), fn(self.fPrev), fn(self.q), fn(self.w), fn(self.t);
     fn(self.tPrev), fn(self.r), fn(self.invMass), fn(self.invInertia), fn(self.material);
     fn(self.slot), fn(self.geometry);
+  }
+
+  // Returns a defined value of an array's type: zero, or the identity rotation.
+  template <class T>
+  static T blank() {
+    if constexpr (std::is_arithmetic_v<T>) {
+      return T(0);
+    } else if constexpr (requires { T::Zero(); }) {
+      return T::Zero();
+    } else if constexpr (requires { T::Identity(); }) {
+      return T::Identity();
+    } else {
+      return T::identity();
+    }
   }
 
   static RotationD<D> identityRotation() {

@@ -481,6 +481,12 @@ std::vector<ElementId> SimulationManager<D>::addElements(const std::vector<Eleme
   // Batches after the first grow the arrays by half (not to exactly n1: a reallocation per
   // batch would copy every grain each time); reserveElements() sizes them exactly.
   if (a.x.capacity() < n1) reserveElements(n0 == 0 ? n1 : std::max(n1, n0 + n0 / 2));
+  // The room's pages first touched while Ctrl-C is still polled: the commit below, which
+  // cannot stop half way, then takes no page fault (most of its time where faults are slow).
+  a.touchRoom(n1, "adding elements");
+  s_.elements.pool().touchRoom(static_cast<uint32_t>(std::min<size_t>(n1, UINT32_MAX)),
+                               "adding elements");
+  touchRoom(ids, defs.size(), ElementId{}, "adding elements");
   for (size_t k = 0; k < defs.size(); ++k) {
     const CheckedElement& c = checked[k];
     ids.push_back(s_.elements.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,

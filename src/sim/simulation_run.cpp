@@ -925,6 +925,7 @@ ElementTable SimulationManager<D>::elementTable() const {
   t.torque = three([&](size_t i) { return fromAngular(a.t[i]); });
   t.orientation.reserve(4 * n);
   for (size_t i = 0; i < n; ++i) {
+    poll();
     std::array<double, 4> o = fromRotation(a.q[i]);
     // A 2D angle as the quaternion of the same turn about z, so one glyph filter serves both.
     if constexpr (D == 2) o = {std::cos(0.5 * o[0]), 0, 0, std::sin(0.5 * o[0])};
@@ -932,7 +933,10 @@ ElementTable SimulationManager<D>::elementTable() const {
   }
   t.radius = a.r;
   t.mass.resize(n);
-  for (size_t i = 0; i < n; ++i) t.mass[i] = 1 / a.invMass[i];
+  for (size_t i = 0; i < n; ++i) {
+    poll();
+    t.mass[i] = 1 / a.invMass[i];
+  }
   t.material = a.material;
   t.materialNames = s_.materialNames;
   // Shapes: the ball first, then the types in the order elements use them.
@@ -951,6 +955,7 @@ ElementTable SimulationManager<D>::elementTable() const {
   t.shape.resize(n);
   t.shapeParams.assign(n * t.shapeParamCount, 0.0);
   for (size_t i = 0; i < n; ++i) {
+    poll();
     const Geometry<D>& g = *s_.geometries[a.geometry[i]];
     t.shape[i] = shapeIndex(g.shape);
     std::copy(g.params.begin(), g.params.end(), t.shapeParams.begin() + i * t.shapeParamCount);

@@ -194,9 +194,45 @@ void setupSession(Tcl_Interp* interp, InterpState* st) {
   };
 }
 
+// The half-made results of conversions Ctrl-C stopped, freed a slice at a time: freeing a list
+// of 300 000 small lists at once took a quarter of a second, which the stopped command would
+// spend before it returns. Tcl objects belong to their thread, so the lists wait in this
+// thread's queue; each demlab command frees a few slices before it starts, and an idle
+// handler (the console's event loop, `update`) frees the rest.
+thread_local std::vector<Tcl_Obj*> t_halfMade;
+constexpr int kFreeSlice = 1024;  // elements of a list freed at once: about a millisecond
+
+// Frees up to kFreeSlice elements of the last queued list (the list itself once empty).
+// Returns true while some remain queued.
+bool freeHalfMadeSlice() {
+  if (t_halfMade.empty()) return false;
+  Tcl_Obj* list = t_halfMade.back();
+  int n = 0;
+  Tcl_ListObjLength(nullptr, list, &n);
+  const int k = std::min(n, kFreeSlice);
+  if (k > 0) Tcl_ListObjReplace(nullptr, list, n - k, k, 0, nullptr);
+  if (n - k == 0) {
+    Tcl_DecrRefCount(list);
+    t_halfMade.pop_back();
+  }
+  return !t_halfMade.empty();
+}
+
+extern "C" void freeHalfMadeWhenIdle(ClientData) {
+  if (freeHalfMadeSlice()) Tcl_DoWhenIdle(freeHalfMadeWhenIdle, nullptr);
+}
+
+// Queues list (holding one reference, which the queue takes) to be freed a slice at a time.
+void freeLater(Tcl_Obj* list) {
+  if (t_halfMade.empty()) Tcl_DoWhenIdle(freeHalfMadeWhenIdle, nullptr);
+  t_halfMade.push_back(list);
+}
+
 extern "C" int dispatch(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
   Bound* b = static_cast<Bound*>(cd);
   InterpState* st = stateOf(interp);
+  for (int k = 0; k < 4 && freeHalfMadeSlice(); ++k) {
+  }
   if (!st)
     return fail(interp, "demlab is not initialised in this interpreter", {"DEMLAB", "STATE"});
   std::vector<std::string> words;
@@ -295,7 +331,11 @@ Tcl_Obj* listOf(std::size_t n, InterruptPoll* poll, const Make& make) {
       Tcl_ListObjAppendElement(nullptr, o, make(k));
     }
   } catch (...) {
-    Tcl_DecrRefCount(o);
+    if (poll) {  // stopped: freed later, a slice at a time
+      freeLater(o);
+    } else {
+      Tcl_DecrRefCount(o);
+    }
     throw;
   }
   return disown(o);

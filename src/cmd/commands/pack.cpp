@@ -8,6 +8,7 @@
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 #include "core/memory_budget.hpp"
 #include "core/tag_table.hpp"
@@ -212,12 +213,69 @@ using sim::kMaxPack;
 // arrays, search boxes and a few contacts), rounded up: the memory check before a packing.
 constexpr double kBytesPerElement = 1024;
 
+// Adds the elements the check phase defined; returns their ids. The definitions are taken
+// out of the call (any_cast by value copied them: half a second, unpolled, for half a million)
+// and freed on a thread of their own however the commit ends.
 Value addAll(Call& c) {
-  auto ids = session(c).scene().addElements(std::any_cast<std::vector<sim::ElementDef>>(c.prepared));
+  std::vector<sim::ElementDef> defs =
+      std::any_cast<std::vector<sim::ElementDef>>(std::move(c.prepared));
+  c.prepared.reset();
+  const FreeAsideOnThrow aside(defs);
+  // The result's room made while Ctrl-C is polled: after the commit nothing may stop.
   List l;
-  l.reserve(ids.size());
+  l.reserve(defs.size());
+  touchRoom(l, defs.size(), Value(), "adding elements");
+  auto ids = session(c).scene().addElements(defs);
+  freeAside(std::move(defs));
   for (auto g : ids) l.emplace_back(scriptId(g));
   return l;
+}
+
+// Returns the spheres of an xyzr file (one a line: centre, radius, and optionally a velocity;
+// # starts a comment) in dimension dim, as a data file's: diameters, positions, velocities (all
+// zero when no line gives one) and lines; moving says which lines gave a velocity. Throws
+// {IO FORMAT} or {VALUE NUMBER} naming the file and line, {INTERRUPTED}.
+io::SphereData readXyzr(const std::string& path, int dim, std::vector<char>& moving) {
+  io::SphereData data;
+  io::LineReader in(path);
+  std::string_view line;
+  const std::size_t d = std::size_t(dim);
+  bool anyMoving = false;
+  while (in.next(line)) {
+    std::vector<std::string> f = splitList(std::string(line.substr(0, line.find('#'))));
+    if (f.empty()) continue;
+    const std::size_t n = f.size();
+    if (n != d + 1 && n != 2 * d + 1) {
+      throw Error("expected " + std::to_string(d + 1) + " or " + std::to_string(2 * d + 1) +
+                      " numbers (centre, radius, ?velocity?) but got " + std::to_string(n),
+                  {"IO", "FORMAT"})
+          .within(in.where());
+    }
+    double x[7] = {0, 0, 0, 0, 0, 0, 0};
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!readReal(f[j], x[j]) || !std::isfinite(x[j])) {
+        throw Error("expected floating-point number but got \"" + f[j] + "\"", {"VALUE", "NUMBER"})
+            .within(in.where());
+      }
+    }
+    Vec3 p = Vec3::Zero(), v = Vec3::Zero();
+    for (std::size_t j = 0; j < d; ++j) p[Eigen::Index(j)] = x[j];
+    const bool given = n == 2 * d + 1;
+    if (given)
+      for (std::size_t j = 0; j < d; ++j) v[Eigen::Index(j)] = x[d + 1 + j];
+    data.ids.push_back(std::int64_t(data.ids.size() + 1));
+    data.diameters.push_back(2 * x[d]);
+    data.positions.push_back(p);
+    data.velocities.push_back(v);
+    data.lines.push_back(in.lineNumber());
+    moving.push_back(given);
+    anyMoving = anyMoving || given;
+  }
+  if (!anyMoving) {
+    data.velocities.clear();
+    moving.clear();
+  }
+  return data;
 }
 
 }  // namespace
@@ -252,9 +310,12 @@ void registerPackCommands(Registry& r) {
                       "a lattice of " + formatReal(sim::latticeCandidates(lattice, d)) + " sites");
     sim::ElementDef base = baseDef(c, s);
     base.radius = rad;
+    const std::vector<Vec3d> sites = sim::latticeSites(lattice, d);
     std::vector<sim::ElementDef> defs;
+    const FreeAsideOnThrow aside(defs);
+    defs.reserve(sites.size());
     InterruptPoll poll("pack");
-    for (const Vec3d& p : sim::latticeSites(lattice, d)) {
+    for (const Vec3d& p : sites) {
       poll();
       base.position = p;
       defs.push_back(base);
@@ -329,8 +390,11 @@ void registerPackCommands(Registry& r) {
     sim::SplitMix64 turn{turnState};
     const bool randomTurn = c.has("orientation") && c.str("orientation") == "random";
     std::vector<sim::ElementDef> defs;
+    const FreeAsideOnThrow aside(defs);
     defs.reserve(radii.size());
+    InterruptPoll poll("pack");
     for (std::size_t k = 0; k < sites.size(); ++k) {
+      poll();
       base.position = sites[k];
       if (ball) {
         base.radius = radii[k];
@@ -378,54 +442,33 @@ void registerPackCommands(Registry& r) {
       };
       fmtName = ends(".data") || ends(".data.gz") || ends(".lmp") ? "lammps" : "xyzr";
     }
+    std::vector<char> moving;  // xyzr: whether each line gives a velocity
+    const io::SphereData data =
+        fmtName == "lammps" ? io::readLammpsData(path) : readXyzr(path, d, moving);
+    if (data.size() == 0) throw Error("no elements in \"" + path + "\"", {"IO", "FORMAT"});
     sim::ElementDef base = baseDef(c, s);
+    const Vec3d velocity = base.velocity;  // of a line that gives none
+    // Made to size (grown by doubling, half a million definitions were moved in unpolled
+    // calls) and freed aside when stopped.
     std::vector<sim::ElementDef> defs;
-    if (fmtName == "lammps") {
-      io::SphereData data = io::readLammpsData(path);
-      InterruptPoll poll("pack");
-      for (std::size_t a = 0; a < data.size(); ++a) {
-        poll();
-        base.radius = k * data.diameters[a] / 2;
-        for (int j = 0; j < 3; ++j) base.position[std::size_t(j)] = k * data.positions[a][j];
-        if (!data.velocities.empty()) {
-          for (int j = 0; j < 3; ++j) base.velocity[std::size_t(j)] = k * data.velocities[a][j];
-          for (int j = 0; j < 3; ++j)
-            base.angularVelocity[std::size_t(j)] = data.angularVelocities[a][j];
-        }
-        base.origin = "file \"" + path + "\" line " + std::to_string(data.lines[a]);
-        defs.push_back(base);
+    const FreeAsideOnThrow aside(defs);
+    defs.reserve(data.size());
+    const std::string origin = "file \"" + path + "\" line ";
+    InterruptPoll poll("pack");
+    for (std::size_t a = 0; a < data.size(); ++a) {
+      poll();
+      base.radius = k * data.diameters[a] / 2;
+      for (int j = 0; j < 3; ++j) base.position[std::size_t(j)] = k * data.positions[a][j];
+      const bool given = !data.velocities.empty() && (moving.empty() || moving[a]);
+      for (int j = 0; j < 3; ++j)
+        base.velocity[std::size_t(j)] = given ? k * data.velocities[a][j] : velocity[std::size_t(j)];
+      if (!data.angularVelocities.empty()) {
+        for (int j = 0; j < 3; ++j)
+          base.angularVelocity[std::size_t(j)] = data.angularVelocities[a][j];
       }
-    } else {
-      io::LineReader in(path);
-      std::string_view line;
-      while (in.next(line)) {
-        std::string text(line.substr(0, line.find('#')));
-        std::vector<std::string> f = splitList(text);
-        if (f.empty()) continue;
-        std::size_t n = f.size();
-        if (n != std::size_t(d + 1) && n != std::size_t(2 * d + 1)) {
-          throw Error("expected " + std::to_string(d + 1) + " or " + std::to_string(2 * d + 1) +
-                          " numbers (centre, radius, ?velocity?) but got " + std::to_string(n),
-                      {"IO", "FORMAT"})
-              .within(in.where());
-        }
-        std::vector<double> x(n);
-        for (std::size_t j = 0; j < n; ++j)
-          if (!readReal(f[j], x[j]) || !std::isfinite(x[j])) {
-            throw Error("expected floating-point number but got \"" + f[j] + "\"",
-                        {"VALUE", "NUMBER"})
-                .within(in.where());
-          }
-        base.position = {0, 0, 0};
-        for (int j = 0; j < d; ++j) base.position[std::size_t(j)] = k * x[std::size_t(j)];
-        base.radius = k * x[std::size_t(d)];
-        if (n == std::size_t(2 * d + 1))
-          for (int j = 0; j < d; ++j) base.velocity[std::size_t(j)] = k * x[std::size_t(d + 1 + j)];
-        base.origin = in.where();
-        defs.push_back(base);
-      }
+      base.origin = origin + std::to_string(data.lines[a]);
+      defs.push_back(base);
     }
-    if (defs.empty()) throw Error("no elements in \"" + path + "\"", {"IO", "FORMAT"});
     c.prepared = std::move(defs);
   });
   file.run(addAll);
