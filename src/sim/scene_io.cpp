@@ -816,8 +816,10 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     w.u32(c.j);
   });
   // One spring per candidate (zero for those without a slot): the format predates the pool.
-  w.list(s.pairSprings.perCandidate(),
-         [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
+  // Written straight from the pool: a vector of them made first (millions of candidates) was
+  // a long stretch that neither polled nor wrote.
+  w.u64(s.pairSprings.size());
+  for (size_t k = 0; k < s.pairSprings.size(); ++k) w.vec<D>(s.pairSprings.spring(k));
   w.u64(s.wallSprings.size());
   for (const auto& l : s.wallSprings) {
     w.list(l, [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
@@ -1056,6 +1058,11 @@ void readScene(Reader& r, Scene<D>& s) {
   readPool(r, s.elements.pool());
   ElementArrays<D>& a = s.elements.a;
   const uint32_t n = s.elements.pool().size();
+  // Made to size and filled as read (Reader polls): grown by doubling, the arrays were copied
+  // whole in single calls (0.14 s at the last doubling of half a million). A damaged count
+  // reserves no more than the bytes left can hold.
+  constexpr size_t kGrainBytes = (4 * D + (D == 2 ? 1 : 4) + 3 * (D == 2 ? 1 : 3) + 3) * 8 + 4;
+  a.reserve(std::min<size_t>(n, r.remaining() / kGrainBytes));
   for (uint32_t i = 0; i < n; ++i) {
     const VecD<D> x = r.vec<D>(), v = r.vec<D>(), f = r.vec<D>(), fp = r.vec<D>();
     const RotationD<D> q = r.rot<RotationD<D>>();
@@ -1117,8 +1124,11 @@ void readScene(Reader& r, Scene<D>& s) {
     s.histories.touch(p, q).state.spring = r.vec<D>();
   }
   s.histories.sweep();
-  s.candidates.resize(r.count(8));
-  for (auto& c : s.candidates) {
+  const size_t nCandidates = r.count(8);
+  s.candidates.clear();
+  s.candidates.reserve(nCandidates);  // made as read (Reader polls), not zeroed in one call
+  for (size_t k = 0; k < nCandidates; ++k) {
+    CandidatePair& c = s.candidates.emplace_back();
     c.i = r.u32();
     c.j = r.u32();
     if (c.i >= n || c.j >= n) Reader::bad("candidate pair index");
@@ -1134,6 +1144,16 @@ void readScene(Reader& r, Scene<D>& s) {
   for (size_t k = 0; k < nSprings; ++k) springsRead.push_back(r.vec<D>());
   s.pairSprings.reset(nSprings, true);
   InterruptPoll poll("reading the scene");  // no bytes read here: a third of a second at 3 10^6
+  // The pool made to size first: grown an eighth at a time as slots were handed out below, it
+  // was copied whole, unpolled, at each growth (nine times its size in all).
+  size_t slots = 0;
+  for (const VecD<D>& sp : springsRead) {
+    poll();
+    bool anySign = false;
+    for (int c = 0; c < D; ++c) anySign |= std::signbit(sp[c]);
+    slots += sp.squaredNorm() != 0 || anySign;
+  }
+  s.pairSprings.reserve(slots);
   for (size_t k = 0; k < nSprings; ++k) {
     poll();
     // A zero spring is no slot (PairSprings::set), except one with a -0.0 in it: only a slot

@@ -142,6 +142,8 @@ class Reader {
     }
   }
   bool atEnd() const { return pos_ == bytes_.size(); }
+  // Returns the bytes not read yet.
+  size_t remaining() const { return bytes_.size() - pos_; }
   // Returns the next n bytes (n from count(1), so they are there) and moves past them. A view
   // in place, not a copy: a section is read by a Reader of its own (a bond section of hundreds
   // of megabytes took a tenth of a second to copy).
