@@ -180,7 +180,15 @@ std::vector<uint32_t> SimulationManager<D>::makeBonds(
   }
   std::vector<uint32_t> ids;
   ids.reserve(made.size());
-  for (const Bond<D>& b : made) ids.push_back(b.id);
+  for (const Bond<D>& b : made) {
+    poll();
+    ids.push_back(b.id);
+  }
+  // The room first touched while Ctrl-C is polled: the append below cannot stop half way.
+  if (s_.bonds.bonds.capacity() < s_.bonds.bonds.size() + made.size())
+    s_.bonds.bonds.reserve(s_.bonds.bonds.size() + made.size());
+  touchRoom(s_.bonds.bonds, s_.bonds.bonds.size() + made.size(), made.empty() ? Bond<D>{} : made.front(),
+            "bond add");
   s_.bonds.bonds.insert(s_.bonds.bonds.end(), made.begin(), made.end());
   s_.bonds.nextId = next;
   if (!ids.empty()) touchConfig();
@@ -219,12 +227,22 @@ std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<Ele
     throwBad("gap", physics::formatReal(gap), "must be >= 0 and finite");
   }
   const uint32_t m = bondModelIndex(model);
+  // Every loop polls, from the first: before the search, half a million elements' indices,
+  // radii and boxes were a tenth of a second deaf.
+  InterruptPoll poll("bond add");  // before any bond is made
   std::vector<uint32_t> idx;
   if (among.empty()) {
-    for (uint32_t i = 0; i < s_.elements.size(); ++i) idx.push_back(i);
+    idx.reserve(s_.elements.size());
+    for (uint32_t i = 0; i < s_.elements.size(); ++i) {
+      poll();
+      idx.push_back(i);
+    }
   } else {
-    for (ElementId id : among) idx.push_back(s_.elements.index(id));
-    std::sort(idx.begin(), idx.end());
+    for (ElementId id : among) {
+      poll();
+      idx.push_back(s_.elements.index(id));
+    }
+    polledSort(idx, "bond add");
     idx.erase(std::unique(idx.begin(), idx.end()), idx.end());
   }
   const ElementArrays<D>& a = s_.elements.a;
@@ -232,7 +250,10 @@ std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<Ele
   // would pass through the elements between and every pair of a crowd would be bonded (a gap
   // of 1e308 m made 4.5 million bonds of 3000 elements before failing for lack of time).
   Real rmax = 0;
-  for (uint32_t i : idx) rmax = std::max(rmax, a.r[i]);
+  for (uint32_t i : idx) {
+    poll();
+    rmax = std::max(rmax, a.r[i]);
+  }
   if (gap > 2 * rmax) {
     throwBad("gap", physics::formatReal(gap),
              "must be at most the largest diameter of the elements bonded (" +
@@ -240,7 +261,6 @@ std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<Ele
   }
   // The pairs bonded already, as sorted keys (a std::set of a million pairs took half a
   // second to build).
-  InterruptPoll poll("bond add");  // before any bond is made
   const auto key = [](uint32_t p, uint32_t q) {
     return uint64_t(std::min(p, q)) << 32 | std::max(p, q);
   };
@@ -250,12 +270,15 @@ std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<Ele
     poll();
     bonded.push_back(key(b.a.index, b.b.index));
   }
-  std::sort(bonded.begin(), bonded.end());
+  polledSort(bonded, "bond add");
   // Candidates from CGrid over each element's box grown by half the gap: a pair within the
   // gap has overlapping boxes. (A sweep along x alone met n^(2/3) elements per element in a
   // dense block: minutes for 10^6.)
-  std::vector<search::Box<D, double>> boxes(idx.size());
+  std::vector<search::Box<D, double>> boxes;
+  boxes.reserve(idx.size());
   for (size_t k = 0; k < idx.size(); ++k) {
+    poll();
+    boxes.emplace_back();
     const uint32_t i = idx[k];
     const double reach = a.r[i] + gap / 2;
     for (int c = 0; c < D; ++c) {
@@ -272,7 +295,7 @@ std::vector<uint32_t> SimulationManager<D>::addBondsWithin(const std::vector<Ele
     if (std::binary_search(bonded.begin(), bonded.end(), key(a.slot[i], a.slot[j]))) return;
     pairs.emplace_back(std::min(i, j), std::max(i, j));
   });
-  std::sort(pairs.begin(), pairs.end());
+  polledSort(pairs, "bond add");
   return makeBonds(pairs, m);
 }
 

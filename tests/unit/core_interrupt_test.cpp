@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <random>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -64,6 +67,28 @@ TEST(TouchRoom, StoppedPartWayLeavesTheVectorAsItWas) {
   EXPECT_EQ(v[0].x, 4.0);
   EXPECT_EQ(v[1].x, 5.0);
   g_stop.store(false);
+}
+
+TEST(PolledSort, GivesStdSortsOrderOnRandomInputsOfEverySize) {
+  std::mt19937_64 rng(7);
+  for (size_t n : {size_t(0), size_t(1), size_t(5), size_t(65535), size_t(65536), size_t(65537),
+                   size_t(200000), size_t(1) << 18}) {
+    std::vector<std::pair<uint32_t, uint32_t>> v(n);
+    for (auto& p : v) p = {uint32_t(rng() % 1000), uint32_t(rng() % 1000)};  // many equal
+    auto expected = v;
+    std::sort(expected.begin(), expected.end());
+    polledSort(v, "test");
+    EXPECT_EQ(v, expected) << n;
+  }
+}
+
+TEST(PolledSort, StoppedLeavesAPermutation) {
+  std::atomic<bool> stop{true};
+  const InterruptScope scope(&stop);
+  std::vector<int> v = {3, 1, 2};
+  EXPECT_THROW(polledSort(v, "sorting"), Error);
+  std::sort(v.begin(), v.end());
+  EXPECT_EQ(v, (std::vector<int>{1, 2, 3}));
 }
 
 }  // namespace
