@@ -13,6 +13,7 @@
 #include "search/cgrid.hpp"
 #include "sim/bond_module.hpp"
 #include "sim/convert.hpp"
+#include "core/free_aside.hpp"
 #include "sim/simulation_manager.hpp"
 
 namespace demlab::sim {
@@ -394,6 +395,7 @@ std::vector<BondInfo> SimulationManager<D>::bonds() const {
   std::unordered_map<uint32_t, const BondBreak<D>*> broke;
   for (const BondBreak<D>& r : s_.bonds.breaks) broke[r.bond] = &r;
   std::vector<BondInfo> out;
+  const FreeAsideOnThrow aside(out);  // stopped: hundreds of megabytes to give back
   out.reserve(s_.bonds.bonds.size());
   InterruptPoll poll("bond");  // a query's: a run's outputs read them with nothing to poll
   for (const Bond<D>& b : s_.bonds.bonds) {

@@ -8,6 +8,7 @@
 #include "analysis/region_geometry.hpp"
 #include "cmd/commands/commands.hpp"
 #include "cmd/words.hpp"
+#include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 #include "io/line_reader.hpp"
 #include "sim/bond_model.hpp"
@@ -196,9 +197,13 @@ void registerBondCommands(Registry& r) {
   Command& list = r.add("bond list", "Returns the bonds as a list of dicts {id a b model intact}.");
   list.changesScene = false;
   list.run([](Call& c) {
+    std::vector<sim::BondInfo> bonds = session(c).scene().bonds();
     List l;
+    // Stopped, a million small dicts and the bonds' states are freed on a thread of their own.
+    const FreeAsideOnThrow asideBonds(bonds);
+    const FreeAsideOnThrow aside(l);
     InterruptPoll poll("bond list");
-    for (const sim::BondInfo& b : session(c).scene().bonds()) {
+    for (const sim::BondInfo& b : bonds) {
       poll();
       l.emplace_back(Dict{{"id", static_cast<std::int64_t>(b.id)},
                           {"a", scriptId(b.a)},

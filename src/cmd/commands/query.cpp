@@ -1,5 +1,6 @@
 // Queries of the whole scene: the energy ledger, contacts, bounds, counts.
 #include "cmd/commands/commands.hpp"
+#include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 
 namespace demlab::cmd {
@@ -50,10 +51,14 @@ void registerQueryCommands(Registry& r) {
     if (c.flag("count") && !one) return Value(s.contactCount());
     const sim::ElementId e = one ? c.get<sim::ElementId>("element") : sim::ElementId{};
     int d = s.dim();
+    std::vector<sim::ContactInfo> contacts = s.contacts();
     List l;
+    // Stopped, hundreds of thousands of dicts and the contacts are freed on a thread of their own.
+    const FreeAsideOnThrow asideContacts(contacts);
+    const FreeAsideOnThrow aside(l);
     std::size_t n = 0;
     InterruptPoll poll("query contacts");
-    for (const auto& k : s.contacts()) {
+    for (const auto& k : contacts) {
       poll();
       if (one && !(k.a == e || k.b == e)) continue;
       ++n;
