@@ -1061,7 +1061,8 @@ void readScene(Reader& r, Scene<D>& s) {
   // Made to size and filled as read (Reader polls): grown by doubling, the arrays were copied
   // whole in single calls (0.14 s at the last doubling of half a million). A damaged count
   // reserves no more than the bytes left can hold.
-  constexpr size_t kGrainBytes = (4 * D + (D == 2 ? 1 : 4) + 3 * (D == 2 ? 1 : 3) + 3) * 8 + 4;
+  constexpr size_t kGrainBytes = 4 * sizeof(VecD<D>) + sizeof(RotationD<D>) +
+                                 3 * sizeof(AngularD<D>) + 3 * sizeof(Real) + sizeof(uint32_t);
   a.reserve(std::min<size_t>(n, r.remaining() / kGrainBytes));
   for (uint32_t i = 0; i < n; ++i) {
     const VecD<D> x = r.vec<D>(), v = r.vec<D>(), f = r.vec<D>(), fp = r.vec<D>();
@@ -1144,24 +1145,25 @@ void readScene(Reader& r, Scene<D>& s) {
   for (size_t k = 0; k < nSprings; ++k) springsRead.push_back(r.vec<D>());
   s.pairSprings.reset(nSprings, true);
   InterruptPoll poll("reading the scene");  // no bytes read here: a third of a second at 3 10^6
+  // A zero spring is no slot (PairSprings::set), except one with a -0.0 in it: only a slot
+  // holds that (a law's rounding), and keeping it there makes the scene write its bytes.
+  const auto signedZero = [](const VecD<D>& sp) {
+    bool any = false;
+    for (int c = 0; c < D; ++c) any |= std::signbit(sp[c]);
+    return sp.squaredNorm() == 0 && any;
+  };
   // The pool made to size first: grown an eighth at a time as slots were handed out below, it
   // was copied whole, unpolled, at each growth (nine times its size in all).
   size_t slots = 0;
   for (const VecD<D>& sp : springsRead) {
     poll();
-    bool anySign = false;
-    for (int c = 0; c < D; ++c) anySign |= std::signbit(sp[c]);
-    slots += sp.squaredNorm() != 0 || anySign;
+    slots += sp.squaredNorm() != 0 || signedZero(sp);
   }
   s.pairSprings.reserve(slots);
   for (size_t k = 0; k < nSprings; ++k) {
     poll();
-    // A zero spring is no slot (PairSprings::set), except one with a -0.0 in it: only a slot
-    // holds that (a law's rounding), and keeping it there makes the scene write its bytes.
     const VecD<D> sp = springsRead[moved.empty() ? k : moved[k]];
-    bool signedZero = false;
-    for (int c = 0; c < D; ++c) signedZero |= std::signbit(sp[c]);
-    if (sp.squaredNorm() == 0 && signedZero) {
+    if (signedZero(sp)) {
       s.pairSprings.at(k)->spring = sp;
     } else {
       s.pairSprings.set(k, sp);

@@ -186,10 +186,9 @@ std::vector<uint32_t> SimulationManager<D>::makeBonds(
     ids.push_back(b.id);
   }
   // The room first touched while Ctrl-C is polled: the append below cannot stop half way.
-  if (s_.bonds.bonds.capacity() < s_.bonds.bonds.size() + made.size())
-    s_.bonds.bonds.reserve(s_.bonds.bonds.size() + made.size());
-  touchRoom(s_.bonds.bonds, s_.bonds.bonds.size() + made.size(), made.empty() ? Bond<D>{} : made.front(),
-            "bond add");
+  const size_t total = s_.bonds.bonds.size() + made.size();
+  s_.bonds.bonds.reserve(total);
+  touchRoom(s_.bonds.bonds, total, Bond<D>{}, "bond add");
   s_.bonds.bonds.insert(s_.bonds.bonds.end(), made.begin(), made.end());
   s_.bonds.nextId = next;
   if (!ids.empty()) touchConfig();

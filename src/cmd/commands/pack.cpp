@@ -219,7 +219,6 @@ constexpr double kBytesPerElement = 1024;
 Value addAll(Call& c) {
   std::vector<sim::ElementDef> defs =
       std::any_cast<std::vector<sim::ElementDef>>(std::move(c.prepared));
-  c.prepared.reset();
   const FreeAsideOnThrow aside(defs);
   // The result's room made while Ctrl-C is polled: after the commit nothing may stop.
   List l;
