@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <concepts>
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
@@ -40,20 +41,43 @@ void pollInterrupt(std::string_view what);
 // milliseconds, page faults included.
 inline constexpr std::size_t kPollSliceBytes = std::size_t(4) << 20;
 
-// Returns n copies of value, the vector's memory first touched in slices of 4 MiB with Ctrl-C
-// polled between them (as `what`): on some machines (virtualised page faults) the first touch
-// of a few hundred megabytes alone takes tenths of a second, which one fill would spend deaf.
-// Throws demlab::Error {INTERRUPTED}, having freed what it made.
-template <class T>
-std::vector<T> polledFill(std::size_t n, const T& value, std::string_view what) {
+// Returns n copies of value, the vector's memory first touched in slices of 4 MiB with poll()
+// called before each (poll stops the work by throwing): on some machines (virtualised page
+// faults) the first touch of a few hundred megabytes alone takes tenths of a second, which one
+// fill would spend deaf. What it made is freed when poll throws.
+template <class T, class Poll>
+  requires std::invocable<Poll&>
+std::vector<T> polledFill(std::size_t n, const T& value, Poll&& poll) {
   constexpr std::size_t kSlice = kPollSliceBytes / sizeof(T) + 1;
   std::vector<T> v;
   v.reserve(n);
   while (v.size() < n) {
-    pollInterrupt(what);
+    poll();
     v.resize(std::min(n, v.size() + kSlice), value);
   }
   return v;
+}
+
+// The same, polling Ctrl-C as `what`: throws demlab::Error {INTERRUPTED}.
+template <class T>
+std::vector<T> polledFill(std::size_t n, const T& value, std::string_view what) {
+  return polledFill(n, value, [what] { pollInterrupt(what); });
+}
+
+// The loop iterations between two poll() calls of polledFor: a millisecond or less of the
+// simple per-pair work it serves.
+inline constexpr std::size_t kPolledForChunk = std::size_t(1) << 16;
+
+// Returns nothing; runs body(k) for k = 0 .. n-1 in order, calling poll() before every
+// kPolledForChunk of them (poll stops the loop by throwing). For loops over millions of pairs
+// whose single pass would be deaf for a large part of a second.
+template <class Poll, class Body>
+void polledFor(std::size_t n, Poll&& poll, Body&& body) {
+  for (std::size_t at = 0; at < n; at += kPolledForChunk) {
+    poll();
+    const std::size_t end = std::min(n, at + kPolledForChunk);
+    for (std::size_t k = at; k < end; ++k) body(k);
+  }
 }
 
 // Returns nothing; makes the memory of v's room for n elements resident (its pages first

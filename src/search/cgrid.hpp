@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -92,7 +93,15 @@ class CGrid final : public BroadPhase<D, T> {
   // which report the same pairs in the same order; for the tests that compare the two.
   void useWideScans(bool on) { wide_ = on && wideAvailable(); }
 
+  // Sets the flag that stops a search part way (Ctrl-C), or none (nullptr, the default). A
+  // search that saw it set leaves its output empty and stopped() true.
+  void setStop(const std::atomic<bool>* stop) { stop_ = stop; }
+
+  // Returns true if the last search stopped part way at the stop flag.
+  bool stopped() const { return stopped_; }
+
   void findPairs(std::span<const Box<D, T>> boxes, std::vector<IndexPair>& out) override {
+    stopped_ = false;
     if (boxes.size() < 2 || boxes.size() > kIndexMask) {
       out.clear();
       validateBoxes<D, T>(boxes);
@@ -128,10 +137,11 @@ class CGrid final : public BroadPhase<D, T> {
     const std::size_t want = lastPairs_ + lastPairs_ / 8 + 1024;
     out.resize(out.capacity() >= 1024 ? std::min(out.capacity(), want) : want);
     lane_.stats = {};
-    lane_.sink = {&out, out.data(), out.data() + out.size()};
+    lane_.sink = {&out, out.data(), out.data() + out.size(), stop_};
     subdivideFirstAxis();
-    lastPairs_ = static_cast<std::size_t>(lane_.sink.next - out.data());
-    out.resize(lastPairs_);
+    stopped_ = lane_.sink.stopped;
+    lastPairs_ = stopped_ ? lastPairs_ : static_cast<std::size_t>(lane_.sink.next - out.data());
+    out.resize(stopped_ ? 0 : lastPairs_);
     lane_.sink = {};
     stats_ = lane_.stats;
   }
@@ -221,6 +231,7 @@ class CGrid final : public BroadPhase<D, T> {
     std::vector<IndexPair> pairs;    // the slab's pairs, in the serial search's order
     std::size_t pairCount = 0;       // how many of `pairs` this search wrote
     std::size_t lastPairs = 0;       // pairs of the last search, to size the next one's room
+    bool stopped = false;            // the sweep stopped part way at the stop flag
     std::vector<uint32_t> near;      // objects reaching the next slab but not the one after
     std::vector<uint32_t> far;       // objects reaching past the next slab
     uint32_t farReach = 0;           // the highest axis-0 bucket an object of `far` reaches
@@ -497,13 +508,41 @@ class CGrid final : public BroadPhase<D, T> {
       total += slabs_[s].pairCount;
       stats_.forwarded += slabs_[s].lane.stats.forwarded;
       stats_.maskEntries += slabs_[s].lane.stats.maskEntries;
+      stopped_ = stopped_ || slabs_[s].stopped;
+    }
+    // With a stop flag, the output is sized and the slabs' pairs copied into it a slice at a
+    // time, the flag looked at between (hundreds of megabytes with a wide skin).
+    constexpr std::size_t kSlice = mask::PairSink::kSlice;
+    const auto halted = [&] { return stop_ != nullptr && stop_->load(std::memory_order_relaxed); };
+    if (stop_ != nullptr && !stopped_) {
+      if (out.capacity() < total) {
+        out.clear();
+        out.reserve(total);
+      }
+      while (out.size() < total && !(stopped_ = halted())) {
+        out.resize(std::min(total, out.size() + kSlice));
+      }
+      if (out.size() > total) out.resize(total);
+    }
+    if (stopped_) {
+      out.clear();
+      return;
     }
     out.resize(total);
     pool.forEach(slabCount, [&](std::size_t s, unsigned) {
       std::size_t at = 0;
       for (std::size_t r = 0; r < s; ++r) at += slabs_[r].pairCount;
-      std::copy_n(slabs_[s].pairs.data(), slabs_[s].pairCount, out.data() + at);
+      for (std::size_t done = 0; done < slabs_[s].pairCount; done += kSlice) {
+        if (halted()) return;
+        std::copy_n(slabs_[s].pairs.data() + done, std::min(kSlice, slabs_[s].pairCount - done),
+                    out.data() + at + done);
+      }
     });
+    if (halted()) {
+      stopped_ = true;
+      out.clear();
+      return;
+    }
     lastPairs_ = total;
   }
 
@@ -582,15 +621,16 @@ class CGrid final : public BroadPhase<D, T> {
       const std::size_t want = std::max(slab.lastPairs + slab.lastPairs / 8 + 1024,
                                         slab.pairs.capacity());
       if (slab.pairs.size() < want) slab.pairs.resize(want);
-      lane.sink = {&slab.pairs, slab.pairs.data(), slab.pairs.data() + slab.pairs.size()};
+      lane.sink = {&slab.pairs, slab.pairs.data(), slab.pairs.data() + slab.pairs.size(), stop_};
       // The slab's part of the serial lane's input array: its positions, written here rather
       // than in one pass before, so that they are in this thread's cache when swept.
       const uint32_t begin = slabBegin_[s], end = slabBegin_[s + 1];
       uint32_t* in = lane_.subdividers[0].input.data() + begin;
       std::iota(in, in + (end - begin), begin);
       sweepBuckets<0>(lane, in, end - begin);
+      slab.stopped = lane.sink.stopped;
       slab.pairCount = static_cast<std::size_t>(lane.sink.next - slab.pairs.data());
-      slab.lastPairs = slab.pairCount;
+      if (!slab.stopped) slab.lastPairs = slab.pairCount;
       lane.sink = {};
     }
   }
@@ -649,7 +689,7 @@ class CGrid final : public BroadPhase<D, T> {
   template <int K>
   void sweepBuckets(Lane& lane, const uint32_t* in, std::size_t m) {
     Subdivider& s = lane.subdividers[K];
-    for (std::size_t begin = 0; begin < m;) {
+    for (std::size_t begin = 0; begin < m && !lane.sink.halted();) {
       const uint32_t c = cells_[in[begin] & kIndexMask].lo[K];
       std::size_t end = begin + 1;
       while (end < m && cells_[in[end] & kIndexMask].lo[K] == c) ++end;
@@ -776,6 +816,8 @@ class CGrid final : public BroadPhase<D, T> {
   std::size_t lastSlabs_ = 0;
   bool wide_ = wideAvailable();
   std::size_t lastPairs_ = 0;  // pairs of the last search, to size the next one's output
+  const std::atomic<bool>* stop_ = nullptr;  // see setStop()
+  bool stopped_ = false;
 };
 
 // Compiled once, in src/search (see search/configs.hpp).

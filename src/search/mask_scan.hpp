@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -248,30 +249,67 @@ struct PairSink {
   std::vector<IndexPair>* out = nullptr;
   IndexPair* next = nullptr;
   IndexPair* end = nullptr;
+  // A flag that asks the search to stop part way (Ctrl-C), or none; stopped once it was seen.
+  const std::atomic<bool>* stop = nullptr;
+  bool stopped = false;
+
+  // The pairs a grown output takes over (or is extended by) between two looks at the stop
+  // flag: 4 MiB, a few milliseconds with its page faults.
+  static constexpr std::size_t kSlice = (std::size_t(4) << 20) / sizeof(IndexPair);
+
+  // Returns true if the search is to stop: the stop flag is set now or was before. Changes
+  // `stopped`.
+  bool halted() {
+    if (!stopped && stop != nullptr && stop->load(std::memory_order_relaxed)) stopped = true;
+    return stopped;
+  }
 
   // Makes room for `need` more pairs after o, within the vector's capacity first (so a warm
-  // search allocates nothing). Changes o, end and the vector when it has to grow.
-  void grow(IndexPair*& o, std::size_t need) {
+  // search allocates nothing). Changes o, end and the vector when it has to grow. With a stop
+  // flag, a new buffer takes the pairs and its zeros a slice at a time, the flag looked at
+  // between slices (one copy of a gigabyte of pairs is deaf for a second): returns false, the
+  // vector as it was, if it stopped; else true.
+  bool grow(IndexPair*& o, std::size_t need) {
     const std::size_t used = static_cast<std::size_t>(o - out->data());
     std::size_t size = std::max(out->capacity(), used + need);
     if (size == out->size()) size = std::max(2 * size, used + need);
-    out->resize(size);
+    if (stop == nullptr || size <= out->capacity()) {
+      out->resize(size);
+    } else {
+      // Doubled, as resize() would: grown by `need` alone, each grow would copy everything.
+      size = std::max(size, 2 * out->capacity());
+      std::vector<IndexPair> bigger;
+      bigger.reserve(size);
+      for (std::size_t at = 0; at < used; at += kSlice) {
+        if (halted()) return false;
+        const auto from = out->begin() + static_cast<std::ptrdiff_t>(at);
+        bigger.insert(bigger.end(), from, from + static_cast<std::ptrdiff_t>(std::min(kSlice, used - at)));
+      }
+      while (bigger.size() < size) {
+        if (halted()) return false;
+        bigger.resize(std::min(size, bigger.size() + kSlice));
+      }
+      out->swap(bigger);
+    }
     o = out->data() + used;
     end = out->data() + out->size();
+    return true;
   }
 };
 
 // Checks every pair of the m entries (plus sentinels) of c, sorted by the last axis's minimum:
 // each entry meets the later entries that start before it ends and keeps those its label
 // allows. Wide: with scanAvx2 (the caller runs it only where AVX2 code runs). Appends to the
-// sink.
+// sink; stops part way, the sink's pairs so far kept, when the sink halts.
 template <bool Wide, int D, class T>
 [[gnu::always_inline]] inline void sweepWith(const Columns<D, T>& c, std::size_t m,
                                              PairSink& sink) {
   IndexPair* o = sink.next;
   for (std::size_t i = 0; i < m; ++i) {
+    // A run of a wide skin's search holds thousands of entries, each meeting thousands.
+    if ((i & 255) == 255 && sink.halted()) break;
     const std::size_t need = m - i + kPad;
-    if (static_cast<std::size_t>(sink.end - o) < need) sink.grow(o, need);
+    if (static_cast<std::size_t>(sink.end - o) < need && !sink.grow(o, need)) break;
     o = scanWith<Wide>(Probe<D, T>::of(c, i), c, i + 1, o);
   }
   sink.next = o;

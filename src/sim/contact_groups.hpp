@@ -15,7 +15,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
-#include <string_view>
 #include <vector>
 
 #include "core/interrupt.hpp"
@@ -48,13 +47,12 @@ struct ContactGroups {
 // order of ContactGroups, keeping the given order within each group, and sets *groups; when
 // moved is not null, sets (*moved)[new position] = old position (for what is kept per pair).
 // Changes pairs, *groups and *moved. A list already in that order keeps it.
-// Polls Ctrl-C (the process-wide flag, core/interrupt.hpp) between its passes: a few tenths of
-// a second for millions of pairs read from a checkpoint. Throws {INTERRUPTED} then, pairs and
-// *groups left half made.
-template <class Pair>
-void groupCandidates(std::vector<Pair>& pairs, ContactGroups* groups,
-                     std::vector<uint32_t>* moved = nullptr) {
-  constexpr std::string_view kWhat = "sorting the candidate pairs";
+// Calls poll() between slices of a millisecond or less of its passes (polledFor, polledFill):
+// the passes over millions of pairs take seconds in all. When poll throws, pairs are as they
+// were and *groups and *moved half made.
+template <class Pair, class Poll>
+void groupCandidates(std::vector<Pair>& pairs, ContactGroups* groups, std::vector<uint32_t>* moved,
+                     Poll&& poll) {
   constexpr uint32_t B = ContactGroups::kBlockElements;
   const size_t nc = pairs.size();
   groups->clear();
@@ -64,10 +62,12 @@ void groupCandidates(std::vector<Pair>& pairs, ContactGroups* groups,
   // The distinct block pairs: per lower block, the higher blocks met (a handful each, found
   // by a linear scan); a pair's local index into its lower block's list kept for the ranks.
   uint32_t blocks = 0;
-  for (size_t k = 0; k < nc; ++k) blocks = std::max({blocks, pairs[k].i / B + 1, pairs[k].j / B + 1});
+  polledFor(nc, poll, [&](size_t k) {
+    blocks = std::max({blocks, pairs[k].i / B + 1, pairs[k].j / B + 1});
+  });
   std::vector<std::vector<uint32_t>> higher(blocks);
-  std::vector<uint32_t> local(nc);
-  for (size_t k = 0; k < nc; ++k) {
+  std::vector<uint32_t> local = polledFill(nc, 0u, poll);
+  polledFor(nc, poll, [&](size_t k) {
     const uint32_t a = pairs[k].i / B, b = pairs[k].j / B;
     const uint32_t lo = std::min(a, b), hi = std::max(a, b);
     std::vector<uint32_t>& h = higher[lo];
@@ -75,8 +75,8 @@ void groupCandidates(std::vector<Pair>& pairs, ContactGroups* groups,
     while (at < h.size() && h[at] != hi) ++at;
     if (at == h.size()) h.push_back(hi);
     local[k] = at;
-  }
-  pollInterrupt(kWhat);
+  });
+  poll();
   // The edges in (lo, hi) order; edgeOf[lo][local index] their number.
   struct Edge {
     uint32_t lo, hi;
@@ -94,7 +94,7 @@ void groupCandidates(std::vector<Pair>& pairs, ContactGroups* groups,
       edges.push_back({lo, h[x]});
     }
   }
-  pollInterrupt(kWhat);
+  poll();
   // Colours: the one-block groups 0 (phase 0), the others greedily in (lo, hi) order, each
   // the lowest colour free at both its blocks.
   std::vector<uint32_t> colour(edges.size(), 0);
@@ -122,30 +122,32 @@ void groupCandidates(std::vector<Pair>& pairs, ContactGroups* groups,
                    [&](uint32_t a, uint32_t b) { return colour[a] < colour[b]; });
   std::vector<uint32_t> rankOfEdge(edges.size());
   for (uint32_t r = 0; r < byRank.size(); ++r) rankOfEdge[byRank[r]] = r;
-  std::vector<uint32_t> rank(nc);
-  for (size_t k = 0; k < nc; ++k) {
+  poll();
+  // Each pair's rank, written over its local index, which is not needed after.
+  std::vector<uint32_t>& rank = local;
+  polledFor(nc, poll, [&](size_t k) {
     const uint32_t lo = std::min(pairs[k].i, pairs[k].j) / B;
     rank[k] = rankOfEdge[edgeOf[lo][local[k]]];
-  }
-  pollInterrupt(kWhat);
+  });
   // A stable counting sort by rank.
   std::vector<uint32_t> start(edges.size() + 1, 0);
-  for (size_t k = 0; k < nc; ++k) start[rank[k] + 1] += 1;
+  polledFor(nc, poll, [&](size_t k) { start[rank[k] + 1] += 1; });
   for (size_t r = 0; r < edges.size(); ++r) start[r + 1] += start[r];
-  std::vector<uint32_t> order(nc);
+  std::vector<uint32_t> order = polledFill(nc, 0u, poll);
   {
     std::vector<uint32_t> at(start.begin(), start.end() - 1);
-    for (size_t k = 0; k < nc; ++k) order[at[rank[k]]++] = static_cast<uint32_t>(k);
+    polledFor(nc, poll, [&](size_t k) { order[at[rank[k]]++] = static_cast<uint32_t>(k); });
   }
-  pollInterrupt(kWhat);
   bool same = true;
-  for (size_t k = 0; k < nc && same; ++k) same = order[k] == k;
+  polledFor(nc, poll, [&](size_t k) { same = same && order[k] == k; });
   if (!same) {
-    std::vector<Pair> sorted(nc);
-    for (size_t k = 0; k < nc; ++k) sorted[k] = pairs[order[k]];
+    std::vector<Pair> sorted = polledFill(nc, Pair{}, poll);
+    polledFor(nc, poll, [&](size_t k) { sorted[k] = pairs[order[k]]; });
     pairs.swap(sorted);
   }
-  if (moved != nullptr) moved->assign(order.begin(), order.end());
+  if (moved != nullptr) {
+    moved->swap(order);
+  }
   groups->groups.resize(edges.size());
   for (size_t r = 0; r < edges.size(); ++r) groups->groups[r] = {start[r], start[r + 1]};
   // The phases: runs of groups of one colour.

@@ -179,6 +179,8 @@ class DetectionModule final : public SimModule<D> {
     if (s.periodic.any()) addImageBoxes(s, corner, half);
     pairs_.reserve(lastPairs_ + lastPairs_ / 8);
     pollStep(s);
+    // The search stops part way when Ctrl-C comes and the step may be abandoned.
+    grid_.setStop(s.abandonOn);
     grid_.findPairs(boxes_, pairs_);
     pollStep(s);
     lastPairs_ = pairs_.size();
@@ -195,6 +197,8 @@ class DetectionModule final : public SimModule<D> {
     searchedBefore_ = true;
     lastSearchStep_ = s.steps;
     s.wallCandidates.assign(nw, {});
+    // Ctrl-C between slices of the passes over the pairs, tens of millions with a wide skin.
+    const auto poll = [&s] { pollStep(s); };
     // The grain pairs kept are compacted to the front of pairs_ and then copied once into a
     // candidate array of exactly their number (grown by doubling it would hold up to twice).
     size_t kept = 0, touching = 0, wallPairs = 0;
@@ -204,14 +208,15 @@ class DetectionModule final : public SimModule<D> {
     s.shapeWallCandidates.clear();
     const bool shapes = s.anyShapes;
     const auto isShape = [&](uint32_t i) { return a.geometry[i] != 0; };
-    for (search::IndexPair p : pairs_) {
+    polledFor(pairs_.size(), poll, [&](size_t at) {
+      search::IndexPair p = pairs_[at];
       if (p.second >= firstImage) {
         // An element and another's image: the pair of the two elements, measured through
         // the boundary (the nearest image) from here on. Walls and images do not meet.
-        if (p.first >= n && p.first < firstImage) continue;
-        if (p.first >= firstImage) continue;
+        if (p.first >= n && p.first < firstImage) return;
+        if (p.first >= firstImage) return;
         p.second = imageOwner_[p.second - firstImage];
-        if (p.second == p.first) continue;
+        if (p.second == p.first) return;
       }
       if (p.second < n) {
         // Boxes overlap for pairs up to sqrt(D) times farther apart than spheres can come
@@ -220,14 +225,14 @@ class DetectionModule final : public SimModule<D> {
                    reach = rs + (wide ? margin_[p.first] + margin_[p.second] : s.skin);
         const VecD<D> raw = a.x[p.second] - a.x[p.first];
         const Real d2 = (s.periodic.any() ? s.periodic.nearest(raw) : raw).squaredNorm();
-        if (d2 > reach * reach) continue;
+        if (d2 > reach * reach) return;
         if (d2 < rs * rs) touching += 1;
         // The lower slot first: the contact loop keeps each spring in that orientation.
         const search::IndexPair q =
             a.slot[p.first] < a.slot[p.second] ? p : search::IndexPair{p.second, p.first};
         if (shapes && (isShape(q.first) || isShape(q.second))) {
           s.shapeCandidates.push_back({q.first, q.second});
-          continue;
+          return;
         }
         pairs_[kept++] = q;
       } else if (shapes && p.first < n &&
@@ -238,11 +243,10 @@ class DetectionModule final : public SimModule<D> {
         s.wallCandidates[wallOfBox_[p.second - n]].push_back(p.first);
         wallPairs += 1;
       }
-    }
-    s.candidates.resize(kept);
-    for (size_t k = 0; k < kept; ++k) s.candidates[k] = {pairs_[k].first, pairs_[k].second};
-    pollStep(s);
-    groupCandidates(s.candidates, &s.contactGroups);
+    });
+    s.candidates.reserve(kept);
+    polledFor(kept, poll, [&](size_t k) { s.candidates.push_back({pairs_[k].first, pairs_[k].second}); });
+    groupCandidates(s.candidates, &s.contactGroups, nullptr, poll);
     pollStep(s);
     for (auto& list : s.wallCandidates) std::sort(list.begin(), list.end());
     std::vector<search::IndexPair>().swap(pairs_);

@@ -1137,7 +1137,8 @@ void readScene(Reader& r, Scene<D>& s) {
   // The candidates in the threaded pass's order (a scene written by this version has it
   // already); the springs follow their pairs.
   std::vector<uint32_t> moved;
-  groupCandidates(s.candidates, &s.contactGroups, &moved);
+  groupCandidates(s.candidates, &s.contactGroups, &moved,
+                  [] { pollInterrupt("sorting the candidate pairs"); });
   const size_t nSprings = r.count(8 * D);
   if (nSprings != 0 && nSprings != s.candidates.size()) Reader::bad("pair springs");
   std::vector<VecD<D>> springsRead;

@@ -4,9 +4,12 @@
 // lowered so that they still cut into many slabs.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/thread_pool.hpp"
@@ -210,6 +213,89 @@ TEST(CGridThreads, SmallInputsAndOneThreadStaySerial) {
   ThreadPool::global().setThreads(1);
   grid.findPairs(boxes, out);
   EXPECT_EQ(grid.lastSlabs(), 1u);
+}
+
+// A stop flag that stays clear changes nothing: the output grows a slice at a time then, and
+// the pairs are the serial search's, serially and threaded.
+TEST(CGridThreads, ClearStopFlagChangesNothing) {
+  const auto list = scenes<3>(81);
+  const std::atomic<bool> clear{false};
+  for (const auto& [name, boxes] : list) {
+    std::vector<IndexPair> serial;
+    {
+      PoolThreads one(1);
+      CGrid<3, double> grid;
+      grid.setThreadedSearch(kMinBoxes, kObjectsPerSlab);
+      grid.findPairs(boxes, serial);
+    }
+    for (unsigned threads : {1u, 2u, 3u}) {
+      PoolThreads pool(threads);
+      CGrid<3, double> grid;
+      grid.setThreadedSearch(kMinBoxes, kObjectsPerSlab);
+      grid.setStop(&clear);
+      std::vector<IndexPair> got;
+      grid.findPairs(boxes, got);
+      EXPECT_FALSE(grid.stopped()) << name;
+      EXPECT_EQ(got, serial) << name << " threads " << threads;
+    }
+  }
+}
+
+// A set stop flag stops the search: no pairs and stopped(); the same grid, the flag cleared,
+// then searches as a new one does.
+TEST(CGridThreads, SetStopFlagStopsTheSearch) {
+  const auto boxes = scenes<3>(91)[1].second;
+  std::vector<IndexPair> serial;
+  {
+    PoolThreads one(1);
+    CGrid<3, double>().findPairs(boxes, serial);
+  }
+  for (unsigned threads : {1u, 2u}) {
+    PoolThreads pool(threads);
+    std::atomic<bool> stop{true};
+    CGrid<3, double> grid;
+    grid.setThreadedSearch(kMinBoxes, kObjectsPerSlab);
+    grid.setStop(&stop);
+    std::vector<IndexPair> got = {{1, 2}};
+    grid.findPairs(boxes, got);
+    EXPECT_TRUE(grid.stopped()) << "threads " << threads;
+    EXPECT_TRUE(got.empty()) << "threads " << threads;
+    stop = false;
+    grid.findPairs(boxes, got);
+    EXPECT_FALSE(grid.stopped());
+    EXPECT_EQ(got, serial) << "threads " << threads;
+  }
+}
+
+// A flag set by another thread while a search of many pairs runs stops it part way or not at
+// all: either no pairs and stopped(), or every pair.
+TEST(CGridThreads, StopFlagSetDuringTheSearch) {
+  std::mt19937_64 rng(95);
+  const auto boxes =
+      randomBoxes<3, double>(rng, 20000, 40.0, [](std::mt19937_64&) { return 2.0; });
+  std::vector<IndexPair> serial;
+  CGrid<3, double>().findPairs(boxes, serial);
+  for (unsigned threads : {1u, 2u}) {
+    PoolThreads pool(threads);
+    for (int delayUs : {0, 200, 2000, 20000}) {
+      std::atomic<bool> stop{false};
+      CGrid<3, double> grid;
+      grid.setThreadedSearch(kMinBoxes, kObjectsPerSlab);
+      grid.setStop(&stop);
+      std::vector<IndexPair> got;
+      std::thread setter([&] {
+        std::this_thread::sleep_for(std::chrono::microseconds(delayUs));
+        stop = true;
+      });
+      grid.findPairs(boxes, got);
+      setter.join();
+      if (grid.stopped()) {
+        EXPECT_TRUE(got.empty()) << threads << " " << delayUs;
+      } else {
+        EXPECT_EQ(got, serial) << threads << " " << delayUs;
+      }
+    }
+  }
 }
 
 }  // namespace cgrid_threads_test
