@@ -80,7 +80,7 @@ configure_file(${CMAKE_CURRENT_BINARY_DIR}/generated/demlab_library.cpp.tmp
   ${CMAKE_CURRENT_BINARY_DIR}/generated/demlab_library.cpp COPYONLY)
 
 # The binding, compiled once against the stubs table for both the package and the executable.
-add_library(demlab_tcl_obj OBJECT src/tcl/binding.cpp src/tcl/interrupt.cpp
+add_library(demlab_tcl_obj OBJECT src/tcl/binding.cpp src/tcl/interrupt.cpp src/tcl/int_list_obj.cpp
   ${CMAKE_CURRENT_BINARY_DIR}/generated/demlab_library.cpp)
 target_compile_definitions(demlab_tcl_obj PUBLIC USE_TCL_STUBS DEMLAB_PKG_VERSION="${DEMLAB_PKG_VERSION}")
 target_include_directories(demlab_tcl_obj PUBLIC ${DEMLAB_TCL_INCLUDE})

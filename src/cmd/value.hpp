@@ -1,6 +1,6 @@
 // cmd::Value: what a command returns, as a small tree (empty, boolean, integer, real, string,
-// list, dict, a flat array of reals that reads as a list or as a list of fixed-size tuples, and
-// binary bytes).
+// list, dict, a flat array of reals that reads as a list or as a list of fixed-size tuples, a
+// flat array of integers (ids) that reads as a list, and binary bytes).
 // The command layer knows nothing of Tcl; the binding (src/tcl) turns a Value into Tcl_Obj
 // without going through strings, so reals keep every bit and bulk queries stay cheap.
 #pragma once
@@ -24,13 +24,20 @@ struct Reals {
   int stride = 0;
 };
 
+// A flat array of integers that reads as a list: the ids a command made (half a million
+// elements, millions of bonds), which the binding hands to Tcl without an object each.
+struct Ints {
+  std::vector<std::int64_t> data;
+};
+
 // Binary data (an image's bytes): a Tcl byte array, no text conversion.
 struct Bytes {
   std::vector<std::uint8_t> data;
 };
 
 struct Value {
-  std::variant<std::monostate, bool, std::int64_t, double, std::string, List, Dict, Reals, Bytes>
+  std::variant<std::monostate, bool, std::int64_t, double, std::string, List, Dict, Reals, Ints,
+               Bytes>
       v;
 
   Value() = default;
@@ -47,6 +54,7 @@ struct Value {
   Value(List l) : v(std::move(l)) {}
   Value(Dict d) : v(std::move(d)) {}
   Value(Reals r) : v(std::move(r)) {}
+  Value(Ints i) : v(std::move(i)) {}
   Value(Bytes b) : v(std::move(b)) {}
 
   bool empty() const { return std::holds_alternative<std::monostate>(v); }

@@ -499,6 +499,14 @@ std::string toString(const Value& v) {
       }
       return out;
     }
+    std::string operator()(const Ints& l) const {
+      std::string out;
+      for (std::size_t k = 0; k < l.data.size(); ++k) {
+        if (k) out += ' ';
+        out += std::to_string(l.data[k]);
+      }
+      return out;
+    }
     std::string operator()(const Reals& r) const {
       std::string out;
       if (r.stride <= 0) {

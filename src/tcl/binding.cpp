@@ -15,6 +15,7 @@
 #include "core/background_work.hpp"
 #include "core/free_aside.hpp"
 #include "core/validity.hpp"
+#include "tcl/int_list_obj.hpp"
 #include "physics/material.hpp"
 
 extern const char* const demlabTclLibrary;  // tcl/demlab.tcl, compiled in (generated)
@@ -24,6 +25,10 @@ extern const char* const demlabTclLibrary;  // tcl/demlab.tcl, compiled in (gene
 #endif
 
 namespace demlab::tcl {
+
+// The fewest integers a result hands over unconverted (tcl/int_list_obj.hpp): fewer are made
+// Tcl objects at once, a few milliseconds.
+constexpr std::size_t kLazyIntList = 16384;
 
 void beginRun(std::atomic<bool>* stop);
 void endRun();
@@ -252,7 +257,11 @@ extern "C" int dispatch(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* co
     Tcl_Obj* result = nullptr;
     cmd::commandRegistry().invoke(words, st->session, [&](cmd::Value&& v, bool interruptible) {
       if (!interruptible) {
-        result = toObj(v);
+        // A scene-changing command's many ids (nothing may stop it now): taken over, not copied.
+        auto* ints = std::get_if<cmd::Ints>(&v.v);
+        result = ints != nullptr && ints->data.size() >= kLazyIntList && ints->data.size() <= kMaxIntListObj
+                     ? newIntListObj(std::move(ints->data))
+                     : toObj(v);
         return;
       }
       // Stopped while it is converted, a result of a million dicts is freed on a thread of its
@@ -381,6 +390,13 @@ Tcl_Obj* toObj(const cmd::Value& v, InterruptPoll* poll) {
       return listOf(2 * d.size(), nullptr, [&](std::size_t k) {
         return k % 2 == 0 ? keys.get(d[k / 2].first) : of(d[k / 2].second);
       });
+    }
+    // Many ids (a packing's, bond add's) are handed over as one value that becomes a Tcl list
+    // when a script reads it (tcl/int_list_obj.hpp); a few are a list at once.
+    Tcl_Obj* operator()(const cmd::Ints& l) const {
+      const std::size_t n = l.data.size();
+      if (n >= kLazyIntList && n <= kMaxIntListObj) return newIntListObj(l.data);
+      return listOf(n, poll, [&](std::size_t k) { return Tcl_NewWideIntObj(Tcl_WideInt(l.data[k])); });
     }
     Tcl_Obj* operator()(const cmd::Bytes& b) const {
       return Tcl_NewByteArrayObj(b.data.data(), int(b.data.size()));

@@ -75,10 +75,7 @@ void declareModel(Registry& r, const sim::BondModelType& t) {
 
 // Returns bond ids as a Tcl list.
 Value idList(const std::vector<std::uint32_t>& ids) {
-  List l;
-  l.reserve(ids.size());
-  for (std::uint32_t id : ids) l.emplace_back(static_cast<std::int64_t>(id));
-  return Value(std::move(l));
+  return Ints{{ids.begin(), ids.end()}};
 }
 
 // Returns the dict `bond query` gives for b.

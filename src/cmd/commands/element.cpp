@@ -151,9 +151,9 @@ std::vector<sim::AssemblyMemberDef> readAssemblyMembers(const std::string& text)
 }
 
 Value idList(const std::vector<ElementId>& ids) {
-  List l;
-  l.reserve(ids.size());
-  for (ElementId g : ids) l.emplace_back(scriptId(g));
+  Ints l;
+  l.data.reserve(ids.size());
+  for (ElementId g : ids) l.data.push_back(scriptId(g));
   return l;
 }
 

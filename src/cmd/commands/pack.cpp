@@ -221,12 +221,12 @@ Value addAll(Call& c) {
       std::any_cast<std::vector<sim::ElementDef>>(std::move(c.prepared));
   const FreeAsideOnThrow aside(defs);
   // The result's room made while Ctrl-C is polled: after the commit nothing may stop.
-  List l;
-  l.reserve(defs.size());
-  touchRoom(l, defs.size(), Value(), "adding elements");
+  Ints l;
+  l.data.reserve(defs.size());
+  touchRoom(l.data, defs.size(), std::int64_t{0}, "adding elements");
   auto ids = session(c).scene().addElements(defs);
   freeAside(std::move(defs));
-  for (auto g : ids) l.emplace_back(scriptId(g));
+  for (auto g : ids) l.data.push_back(scriptId(g));
   return l;
 }
 
