@@ -67,26 +67,28 @@ flush stdout"
 
 set load "sim load [list $plain]"
 set loadBonded "sim load [list $bonded]"
+# Each case: its label in the CSV, the command, and the setup before it.
 set cases [list \
-    "sim step 1000000" $loadBonded \
-    "sim run -steps 1000000 -quiet" "$loadBonded; sim step 2" \
-    "sim relax -overlap 1e-12 -iterations 1000000" "$loadBonded; element resize -factor 1.01" \
-    "pack file [list $data]" "sim new; material add glass -density 2500 -young 5e6 -poisson 0.3 -restitution 0.5 -friction 0.5" \
-    "bond add -model ps -gap 1e-5" $load \
-    "sim save [list [file join $dir out.ck]]" $loadBonded \
-    "sim digest" $loadBonded \
-    "sim keep copy" $loadBonded \
-    "query contacts" $loadBonded \
-    "bond list" $loadBonded \
-    "dump vtk [list [file join $dir out]]" $loadBonded \
-    "snapshot write [list [file join $dir out.png]] -size 4000x4000" "$loadBonded; snapshot write [list [file join $dir warm.png]] -size 16x16" \
+    "sim step" "sim step 1000000" $loadBonded \
+    "sim step (5 mm skin)" "sim step 1" "$load; module detection -skin 0.005" \
+    "sim run" "sim run -steps 1000000 -quiet" "$loadBonded; sim step 2" \
+    "sim relax" "sim relax -overlap 1e-12 -iterations 1000000" "$loadBonded; element resize -factor 1.01" \
+    "pack file" "pack file [list $data]" "sim new; material add glass -density 2500 -young 5e6 -poisson 0.3 -restitution 0.5 -friction 0.5" \
+    "bond add" "bond add -model ps -gap 1e-5" $load \
+    "sim save" "sim save [list [file join $dir out.ck]]" $loadBonded \
+    "sim digest" "sim digest" $loadBonded \
+    "sim keep" "sim keep copy" $loadBonded \
+    "query contacts" "query contacts" $loadBonded \
+    "bond list" "bond list" $loadBonded \
+    "dump vtk" "dump vtk [list [file join $dir out]]" $loadBonded \
+    "snapshot write" "snapshot write [list [file join $dir out.png]] -size 4000x4000" "$loadBonded; snapshot write [list [file join $dir warm.png]] -size 16x16" \
 ]
 puts "command,delay_ms,latency_ms,outcome"
-foreach {command setup} $cases {
-    if {![string match [dict get $opts -only] $command]} continue
+foreach {label command setup} $cases {
+    if {![string match [dict get $opts -only] $label]} continue
     foreach delay [dict get $opts -delays] {
         lassign [interrupted $setup $command $delay] latency outcome
-        puts "[lindex $command 0] [lindex $command 1],$delay,$latency,$outcome"
+        puts "$label,$delay,$latency,$outcome"
         flush stdout
         if {$outcome eq "finished"} break
     }

@@ -87,6 +87,7 @@ class GlRenderer : public Renderer {
     pollInterrupt("snapshot");
 
     const View view = makeView(scene, options);
+    pollInterrupt("snapshot");
     fillGrains(scene, options, view);
     wallGeometry(scene, sceneBounds(scene), view.anchor, options.wallAlpha, walls_);
     fillChains(scene, view);
@@ -270,6 +271,7 @@ class GlRenderer : public Renderer {
   // Returns nothing; fills grains_ with the 4 vertices of each grain that may be visible.
   void fillGrains(const RenderScene& scene, const RenderOptions& options, const View& view) {
     grainColours(scene, options, colours_);
+    pollInterrupt("snapshot");
     const size_t n = scene.size();
     // A mesh's bounding sphere is no occluder (the shape leaves gaps in it): no culling then.
     if (scene.dim == 3 && options.cullHidden && scene.meshOf.empty()) {

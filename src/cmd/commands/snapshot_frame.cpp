@@ -235,11 +235,16 @@ void applySeriesLock(const SnapOptions& o, render::RenderScene& sc, render::Rend
 // withIds. Reads the scene only.
 void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
                 bool withIds = false) {
+  // Ctrl-C between the gathers (each a copy of an array of the scene: tens of milliseconds at
+  // half a million grains, most of it page faults); a pure read, so any poll may stop it.
+  const auto poll = [] { pollInterrupt("snapshot"); };
   const int d = s.dim();
   f.centres = s.positions();
+  poll();
   if (withIds || !o.highlight.empty())
     for (sim::ElementId id : s.elementIds()) f.ids.push_back(scriptId(id));
   f.radii = s.radii();
+  poll();
   const std::size_t n = f.radii.size();
   render::RenderScene& sc = f.scene;
   sc.dim = d;
@@ -293,6 +298,7 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
         f.field[dense.at(id.bits())] = double(k);
     sc.categoryNames = o.tags;
   }
+  poll();
   // Elements of shapes with a render row are drawn as their meshes.
   sim::Simulation::ElementMeshes m = s.elementMeshes();
   f.meshOf = std::move(m.meshOf);
@@ -303,7 +309,9 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
   }
   if (!f.meshOf.empty() && d == 3) f.orientations = s.orientations();
   if (o.chains) f.chains = forceChains(s, dense, o.chainMin);
+  poll();
   keepDrawn(s, o, dense, f);
+  poll();
   sc.centres = f.centres;
   sc.radii = f.radii;
   sc.colours = o.fixed ? std::span<const float>(f.colours) : std::span<const float>();
