@@ -135,7 +135,10 @@ class CGrid final : public BroadPhase<D, T> {
     // The output is sized ahead (to the last search's count, within its capacity) and cut
     // back at the end, so reporting writes without checks per pair.
     const std::size_t want = lastPairs_ + lastPairs_ / 8 + 1024;
-    out.resize(out.capacity() >= 1024 ? std::min(out.capacity(), want) : want);
+    if (!sizeOutput(out, out.capacity() >= 1024 ? std::min(out.capacity(), want) : want)) {
+      out.clear();
+      return;
+    }
     lane_.stats = {};
     lane_.sink = {&out, out.data(), out.data() + out.size(), stop_};
     subdivideFirstAxis();
@@ -510,25 +513,14 @@ class CGrid final : public BroadPhase<D, T> {
       stats_.maskEntries += slabs_[s].lane.stats.maskEntries;
       stopped_ = stopped_ || slabs_[s].stopped;
     }
-    // With a stop flag, the output is sized and the slabs' pairs copied into it a slice at a
-    // time, the flag looked at between (hundreds of megabytes with a wide skin).
+    // With a stop flag, the slabs' pairs are copied into the output a slice at a time, the
+    // flag looked at between (hundreds of megabytes with a wide skin).
     constexpr std::size_t kSlice = mask::PairSink::kSlice;
     const auto halted = [&] { return stop_ != nullptr && stop_->load(std::memory_order_relaxed); };
-    if (stop_ != nullptr && !stopped_) {
-      if (out.capacity() < total) {
-        out.clear();
-        out.reserve(total);
-      }
-      while (out.size() < total && !(stopped_ = halted())) {
-        out.resize(std::min(total, out.size() + kSlice));
-      }
-      if (out.size() > total) out.resize(total);
-    }
-    if (stopped_) {
+    if (stopped_ || !sizeOutput(out, total)) {
       out.clear();
       return;
     }
-    out.resize(total);
     pool.forEach(slabCount, [&](std::size_t s, unsigned) {
       std::size_t at = 0;
       for (std::size_t r = 0; r < s; ++r) at += slabs_[r].pairCount;
@@ -544,6 +536,26 @@ class CGrid final : public BroadPhase<D, T> {
       return;
     }
     lastPairs_ = total;
+  }
+
+  // Returns true with out resized to n, its old elements kept as far as they go (a grown one
+  // reallocated empty first: they would only be copied to be overwritten). With a stop flag it
+  // grows a 4 MiB slice at a time and looks at the flag between slices (zeroing hundreds of
+  // megabytes is a large part of a second): returns false, stopped_ set, if it stopped.
+  bool sizeOutput(std::vector<IndexPair>& out, std::size_t n) {
+    if (stop_ == nullptr || n <= out.size()) {
+      out.resize(n);
+      return true;
+    }
+    if (out.capacity() < n) {
+      out.clear();
+      out.reserve(n);
+    }
+    while (out.size() < n) {
+      if (stop_->load(std::memory_order_relaxed)) return !(stopped_ = true);
+      out.resize(std::min(n, out.size() + mask::PairSink::kSlice));
+    }
+    return true;
   }
 
   // Returns the first axis-0 bucket of slab s.
