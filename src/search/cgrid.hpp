@@ -515,7 +515,7 @@ class CGrid final : public BroadPhase<D, T> {
     }
     // With a stop flag, the slabs' pairs are copied into the output a slice at a time, the
     // flag looked at between (hundreds of megabytes with a wide skin).
-    constexpr std::size_t kSlice = mask::PairSink::kSlice;
+    constexpr std::size_t kSlice = mask::kPairSlice;
     const auto halted = [&] { return stop_ != nullptr && stop_->load(std::memory_order_relaxed); };
     if (stopped_ || !sizeOutput(out, total)) {
       out.clear();
@@ -539,23 +539,15 @@ class CGrid final : public BroadPhase<D, T> {
   }
 
   // Returns true with out resized to n, its old elements kept as far as they go (a grown one
-  // reallocated empty first: they would only be copied to be overwritten). With a stop flag it
-  // grows a 4 MiB slice at a time and looks at the flag between slices (zeroing hundreds of
-  // megabytes is a large part of a second): returns false, stopped_ set, if it stopped.
+  // reallocated empty first: they would only be copied to be overwritten), in slices with a
+  // stop flag (mask::resizeInSlices): returns false, stopped_ set, if it stopped.
   bool sizeOutput(std::vector<IndexPair>& out, std::size_t n) {
     if (stop_ == nullptr || n <= out.size()) {
       out.resize(n);
       return true;
     }
-    if (out.capacity() < n) {
-      out.clear();
-      out.reserve(n);
-    }
-    while (out.size() < n) {
-      if (stop_->load(std::memory_order_relaxed)) return !(stopped_ = true);
-      out.resize(std::min(n, out.size() + mask::PairSink::kSlice));
-    }
-    return true;
+    const std::size_t keep = out.capacity() >= n ? out.size() : 0;
+    return mask::resizeInSlices(out, keep, n, *stop_) || !(stopped_ = true);
   }
 
   // Returns the first axis-0 bucket of slab s.

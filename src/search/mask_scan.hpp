@@ -245,6 +245,39 @@ template <bool Wide, int D, class T>
 
 // The output of the sweep, written ahead of its size: pairs go to next, the vector holds room
 // up to end.
+// The pairs a search output takes over or is extended by between two looks at a stop flag:
+// 4 MiB, a few milliseconds with their page faults.
+inline constexpr std::size_t kPairSlice = (std::size_t(4) << 20) / sizeof(IndexPair);
+
+// Returns true with v resized to n (at least keep), its first `keep` elements kept and the rest
+// value-initialised, the pairs copied and the zeros written a kPairSlice at a time with `stop`
+// looked at between slices (a gigabyte of pairs copied or zeroed in one call is deaf for a
+// second); a buffer too small is replaced by one of capacity n. Returns false if stop was set:
+// v then still holds its first `keep` elements where they were or, unchanged, all of them.
+inline bool resizeInSlices(std::vector<IndexPair>& v, std::size_t keep, std::size_t n,
+                           const std::atomic<bool>& stop) {
+  const auto stopped = [&] { return stop.load(std::memory_order_relaxed); };
+  std::vector<IndexPair> fresh;
+  std::vector<IndexPair>* into = &v;
+  if (v.capacity() < n) {
+    fresh.reserve(n);
+    for (std::size_t at = 0; at < keep; at += kPairSlice) {
+      if (stopped()) return false;
+      const auto from = v.begin() + static_cast<std::ptrdiff_t>(at);
+      fresh.insert(fresh.end(), from, from + static_cast<std::ptrdiff_t>(std::min(kPairSlice, keep - at)));
+    }
+    into = &fresh;
+  } else {
+    v.resize(std::min(v.size(), keep));
+  }
+  while (into->size() < n) {
+    if (stopped()) return false;
+    into->resize(std::min(n, into->size() + kPairSlice));
+  }
+  if (into != &v) v.swap(fresh);
+  return true;
+}
+
 struct PairSink {
   std::vector<IndexPair>* out = nullptr;
   IndexPair* next = nullptr;
@@ -252,10 +285,6 @@ struct PairSink {
   // A flag that asks the search to stop part way (Ctrl-C), or none; stopped once it was seen.
   const std::atomic<bool>* stop = nullptr;
   bool stopped = false;
-
-  // The pairs a grown output takes over (or is extended by) between two looks at the stop
-  // flag: 4 MiB, a few milliseconds with its page faults.
-  static constexpr std::size_t kSlice = (std::size_t(4) << 20) / sizeof(IndexPair);
 
   // Returns true if the search is to stop: the stop flag is set now or was before. Changes
   // `stopped`.
@@ -266,30 +295,17 @@ struct PairSink {
 
   // Makes room for `need` more pairs after o, within the vector's capacity first (so a warm
   // search allocates nothing). Changes o, end and the vector when it has to grow. With a stop
-  // flag, a new buffer takes the pairs and its zeros a slice at a time, the flag looked at
-  // between slices (one copy of a gigabyte of pairs is deaf for a second): returns false, the
-  // vector as it was, if it stopped; else true.
+  // flag the vector grows in slices (resizeInSlices), doubling as resize() would: returns false,
+  // the pairs before o kept and `stopped` set, if it stopped; else true.
   bool grow(IndexPair*& o, std::size_t need) {
     const std::size_t used = static_cast<std::size_t>(o - out->data());
     std::size_t size = std::max(out->capacity(), used + need);
     if (size == out->size()) size = std::max(2 * size, used + need);
-    if (stop == nullptr || size <= out->capacity()) {
+    if (stop == nullptr) {
       out->resize(size);
     } else {
-      // Doubled, as resize() would: grown by `need` alone, each grow would copy everything.
-      size = std::max(size, 2 * out->capacity());
-      std::vector<IndexPair> bigger;
-      bigger.reserve(size);
-      for (std::size_t at = 0; at < used; at += kSlice) {
-        if (halted()) return false;
-        const auto from = out->begin() + static_cast<std::ptrdiff_t>(at);
-        bigger.insert(bigger.end(), from, from + static_cast<std::ptrdiff_t>(std::min(kSlice, used - at)));
-      }
-      while (bigger.size() < size) {
-        if (halted()) return false;
-        bigger.resize(std::min(size, bigger.size() + kSlice));
-      }
-      out->swap(bigger);
+      if (size > out->capacity()) size = std::max(size, 2 * out->capacity());
+      if (!resizeInSlices(*out, used, size, *stop)) return !(stopped = true);
     }
     o = out->data() + used;
     end = out->data() + out->size();

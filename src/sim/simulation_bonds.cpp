@@ -8,12 +8,12 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 #include "core/name_lookup.hpp"
 #include "search/cgrid.hpp"
 #include "sim/bond_module.hpp"
 #include "sim/convert.hpp"
-#include "core/free_aside.hpp"
 #include "sim/simulation_manager.hpp"
 
 namespace demlab::sim {

@@ -257,11 +257,7 @@ extern "C" int dispatch(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* co
     Tcl_Obj* result = nullptr;
     cmd::commandRegistry().invoke(words, st->session, [&](cmd::Value&& v, bool interruptible) {
       if (!interruptible) {
-        // A scene-changing command's many ids (nothing may stop it now): taken over, not copied.
-        auto* ints = std::get_if<cmd::Ints>(&v.v);
-        result = ints != nullptr && ints->data.size() >= kLazyIntList && ints->data.size() <= kMaxIntListObj
-                     ? newIntListObj(std::move(ints->data))
-                     : toObj(v);
+        result = toObj(v);
         return;
       }
       // Stopped while it is converted, a result of a million dicts is freed on a thread of its
@@ -352,7 +348,7 @@ Tcl_Obj* listOf(std::size_t n, InterruptPoll* poll, const Make& make) {
 
 }  // namespace
 
-Tcl_Obj* toObj(const cmd::Value& v, InterruptPoll* poll) {
+Tcl_Obj* toObj(cmd::Value& v, InterruptPoll* poll) {
   // The dict keys of one result, one object each however many dicts use it (a list of a million
   // contacts repeats eight keys), each holding a reference of the cache's until the end.
   struct Keys {
@@ -372,7 +368,7 @@ Tcl_Obj* toObj(const cmd::Value& v, InterruptPoll* poll) {
   struct Visitor {
     InterruptPoll* poll;
     Keys& keys;
-    Tcl_Obj* of(const cmd::Value& e) const { return std::visit(*this, e.v); }
+    Tcl_Obj* of(cmd::Value& e) const { return std::visit(*this, e.v); }
     Tcl_Obj* operator()(std::monostate) const { return Tcl_NewObj(); }
     Tcl_Obj* operator()(bool b) const { return Tcl_NewBooleanObj(b); }
     Tcl_Obj* operator()(std::int64_t i) const { return Tcl_NewWideIntObj(Tcl_WideInt(i)); }
@@ -380,22 +376,22 @@ Tcl_Obj* toObj(const cmd::Value& v, InterruptPoll* poll) {
     Tcl_Obj* operator()(const std::string& s) const {
       return Tcl_NewStringObj(s.c_str(), int(s.size()));
     }
-    Tcl_Obj* operator()(const cmd::List& l) const {
+    Tcl_Obj* operator()(cmd::List& l) const {
       return listOf(l.size(), poll, [&](std::size_t k) { return of(l[k]); });
     }
     // A dict is made as the list of its keys and values (Tcl makes the hash table when a
     // script first reads it as a dict): a list of a million small dicts is made and freed in a
     // fraction of the time, so Ctrl-C also returns sooner from one half made.
-    Tcl_Obj* operator()(const cmd::Dict& d) const {
+    Tcl_Obj* operator()(cmd::Dict& d) const {
       return listOf(2 * d.size(), nullptr, [&](std::size_t k) {
         return k % 2 == 0 ? keys.get(d[k / 2].first) : of(d[k / 2].second);
       });
     }
-    // Many ids (a packing's, bond add's) are handed over as one value that becomes a Tcl list
-    // when a script reads it (tcl/int_list_obj.hpp); a few are a list at once.
-    Tcl_Obj* operator()(const cmd::Ints& l) const {
+    // Many ids (a packing's, bond add's) are taken over, not copied, as one value that becomes
+    // a Tcl list when a script reads it (tcl/int_list_obj.hpp); a few are a list at once.
+    Tcl_Obj* operator()(cmd::Ints& l) const {
       const std::size_t n = l.data.size();
-      if (n >= kLazyIntList && n <= kMaxIntListObj) return newIntListObj(l.data);
+      if (n >= kLazyIntList && n <= kMaxIntListObj) return newIntListObj(std::move(l.data));
       return listOf(n, poll, [&](std::size_t k) { return Tcl_NewWideIntObj(Tcl_WideInt(l.data[k])); });
     }
     Tcl_Obj* operator()(const cmd::Bytes& b) const {

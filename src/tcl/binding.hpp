@@ -35,10 +35,11 @@ std::string helpersMarkdown();
 // Returns the Session of an interpreter where Demlab_Init ran, or nullptr.
 cmd::Session* sessionOf(Tcl_Interp* interp);
 
-// Returns a new Tcl_Obj (refcount 0) holding v. With a poll, calls it before each element of
-// every list, so Ctrl-C can abandon a large result: throws demlab::Error {INTERRUPTED} then,
-// having freed what it built.
-Tcl_Obj* toObj(const cmd::Value& v, InterruptPoll* poll = nullptr);
+// Returns a new Tcl_Obj (refcount 0) holding v; takes v's large integer arrays over (v is a
+// command's result, consumed). With a poll, calls it before each element of every list, so
+// Ctrl-C can abandon a large result: throws demlab::Error {INTERRUPTED} then, having freed what
+// it built.
+Tcl_Obj* toObj(cmd::Value& v, InterruptPoll* poll = nullptr);
 
 // Returns the completions of the word ending at the end of `line` (console tab completion):
 // demlab commands, subcommands, options and option values from the declarations, and other Tcl

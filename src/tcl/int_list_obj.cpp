@@ -1,7 +1,6 @@
 #include "tcl/int_list_obj.hpp"
 
 #include <charconv>
-#include <cstring>
 #include <utility>
 
 namespace demlab::tcl {
@@ -55,10 +54,6 @@ void dupIntRep(Tcl_Obj* from, Tcl_Obj* to) {
 
 }  // namespace
 
-Tcl_Obj* newIntListObj(const std::vector<std::int64_t>& values) {
-  return newIntListObj(std::vector<std::int64_t>(values));
-}
-
 Tcl_Obj* newIntListObj(std::vector<std::int64_t>&& values) {
   auto* s = new SharedInts{std::move(values), 1};
   Tcl_Obj* o = Tcl_NewObj();
@@ -68,7 +63,5 @@ Tcl_Obj* newIntListObj(std::vector<std::int64_t>&& values) {
   o->typePtr = &kIntListType;
   return o;
 }
-
-bool isUnreadIntList(Tcl_Obj* o) { return o->typePtr == &kIntListType; }
 
 }  // namespace demlab::tcl

@@ -20,15 +20,8 @@ namespace demlab::tcl {
 inline constexpr std::size_t kMaxIntListObj = (std::size_t(INT32_MAX) - 1) / 21;
 
 // Returns a new Tcl object (reference count 0) whose value is the list of `values` in order,
-// its text and list made only when something reads it. Copies the values; at most
-// kMaxIntListObj of them.
-Tcl_Obj* newIntListObj(const std::vector<std::int64_t>& values);
-
-// The same, taking the values over (no copy: a million ids' copy faulted its pages in for tens
-// of milliseconds).
+// its text and list made only when something reads it. Takes the values over (a copy of a
+// million ids faulted its pages in for tens of milliseconds); at most kMaxIntListObj of them.
 Tcl_Obj* newIntListObj(std::vector<std::int64_t>&& values);
-
-// Returns true if o still holds its integers unread (its type is this one's), for tests.
-bool isUnreadIntList(Tcl_Obj* o);
 
 }  // namespace demlab::tcl
