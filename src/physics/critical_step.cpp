@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace demlab::physics {
@@ -25,6 +26,17 @@ Real criticalTimeStep(const PairParams& p, Real mass, Real radius) {
 Real rayleighTimeStep(const MaterialDef& m, Real radius) {
   const Real g = m.young / (2 * (1 + m.poisson));
   return std::numbers::pi * radius * std::sqrt(m.density / g) / (0.1631 * m.poisson + 0.8766);
+}
+
+Real contactDuration(const PairParams& p, Real mass, Real radius, Real speed) {
+  const Real mEff = mass / 2, rEff = radius / 2;
+  if (p.law == LawKind::HertzMindlin) {
+    if (!(speed > 0)) return std::numeric_limits<Real>::infinity();
+    const Real k = p.hertzKn * std::sqrt(rEff);
+    return 2.9432 * std::pow(5 * mEff / (4 * k), 0.4) * std::pow(speed, -0.2);
+  }
+  const Real kn = p.knFixed + p.knPerRadius * rEff;
+  return linearForceDuration(p.dampingRatio) / std::sqrt(kn / mEff);
 }
 
 }  // namespace demlab::physics

@@ -19,6 +19,10 @@
 
 namespace demlab::sim {
 
+// The automatic time step's default accuracy target: a contact lasts at least this many steps
+// (SimulationManager::autoStep; `sim timestep auto -stepspercontact`).
+inline constexpr double kDefaultStepsPerContact = 20;
+
 // An option's value: a boolean, a real, or one of its choices (by name).
 using OptionValue = std::variant<bool, double, std::string>;
 

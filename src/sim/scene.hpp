@@ -26,6 +26,7 @@
 #include "sim/boundaries.hpp"
 #include "sim/contact_groups.hpp"
 #include "sim/obj_manager.hpp"
+#include "sim/options.hpp"
 #include "sim/pair_springs.hpp"
 #include "sim/periodic.hpp"
 #include "sim/shape.hpp"
@@ -238,6 +239,16 @@ struct Scene {
   // is autoFraction x the least of it and the static estimate. Saved with the scene, so a
   // loaded run goes on with the step it had.
   double contactStep = std::numeric_limits<double>::infinity();
+  // The automatic step's bound from motion (SimulationManager::motionBound): at the speed
+  // motionSpeed the fastest element moves at most a share of the watchdog's step limit a
+  // step, and a contact at twice that approach speed lasts stepsPerContact steps. Taken with
+  // the contacts' step and whenever the fastest speed passes motionSpeed; saved with the scene
+  // (with stepsPerContact, when any differs from its default).
+  double stepsPerContact = kDefaultStepsPerContact;
+  double motionStep = std::numeric_limits<double>::infinity();
+  double motionSpeed = 0;
+  // The largest squared element speed, as the watchdog's pass of the last step found it.
+  double fastestSpeed2 = 0;
 
   // ---- contact detection state ----
   std::vector<CandidatePair> candidates;              // grain-grain

@@ -916,6 +916,14 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     body.f64(s.contactStep);
     writeSection(w, kContactStepTag, body);
   }
+  if (std::isfinite(s.motionStep) || s.motionSpeed != 0 ||
+      s.stepsPerContact != kDefaultStepsPerContact) {
+    Writer body;
+    body.f64(s.stepsPerContact);
+    body.f64(s.motionStep);
+    body.f64(s.motionSpeed);
+    writeSection(w, kMotionStepTag, body);
+  }
   if (std::any_of(s.sources.begin(), s.sources.end(),
                   [](const auto& x) { return x.def.randomOrientation; })) {
     Writer body;
@@ -1306,6 +1314,14 @@ void readScene(Reader& r, Scene<D>& s) {
     } else if (std::memcmp(tag, kContactStepTag, 4) == 0) {
       s.contactStep = b.f64();
       if (!(s.contactStep > 0 && std::isfinite(s.contactStep))) Reader::bad("contact step");
+    } else if (std::memcmp(tag, kMotionStepTag, 4) == 0) {
+      s.stepsPerContact = b.f64();
+      s.motionStep = b.f64();
+      s.motionSpeed = b.f64();
+      if (!(s.stepsPerContact >= 0 && std::isfinite(s.stepsPerContact)))
+        Reader::bad("steps per contact");
+      if (!(s.motionStep > 0)) Reader::bad("motion step");  // +inf: no bound
+      if (!(s.motionSpeed >= 0 && std::isfinite(s.motionSpeed))) Reader::bad("motion speed");
     } else if (std::memcmp(tag, kCohesionTag, 4) == 0) {
       if (b.count(8) != s.materials.size()) Reader::bad("cohesion count");
       for (physics::MaterialDef& m : s.materials) {

@@ -206,6 +206,9 @@ inline constexpr char kSourceTag[5] = "SRCE";
 inline constexpr char kEveryTag[5] = "EVRY";
 // The contact critical step (Scene::contactStep), when the scene has one.
 inline constexpr char kContactStepTag[5] = "CSTP";
+// The automatic step's motion bound (Scene::stepsPerContact, motionStep, motionSpeed: three
+// f64), when one of them differs from a new scene's.
+inline constexpr char kMotionStepTag[5] = "MSTP";
 // Which sources turn their elements at random (SourceDef::randomOrientation), when one does:
 // u64 count (the sources'), then a u8 each. Written after SRCE.
 inline constexpr char kSourceOrientationTag[5] = "SORI";

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -544,8 +545,12 @@ class Simulation {
   virtual void setTimeStep(double dt) = 0;
   // Makes the step automatic: fraction x criticalTimeStep(), recomputed whenever grains or
   // materials change and, during a run, after every neighbour search (the contacts' stiffness
-  // at their overlaps then). Throws VALUE FRACTION unless 0 < fraction <= 1.
-  virtual void setAutoTimeStep(double fraction) = 0;
+  // at their overlaps then), and at most the duration of the shortest contact over
+  // stepsPerContact (0: no accuracy target; linear pairs from their stiffness, Hertz pairs at
+  // twice the fastest element's speed, taken again as it grows). Throws VALUE FRACTION unless
+  // 0 < fraction <= 1, VALUE STEPSPERCONTACT unless 0 <= stepsPerContact <= 1e6.
+  virtual void setAutoTimeStep(double fraction, double stepsPerContact) = 0;
+  void setAutoTimeStep(double fraction) { setAutoTimeStep(fraction, kDefaultStepsPerContact); }
   // Returns the step the next run uses. Throws VALUE TIMESTEP if automatic with no grains, and
   // {INTERRUPTED} when Ctrl-C stops its estimate (a pass over the bonds).
   virtual double timeStep() const = 0;
@@ -791,6 +796,14 @@ class Simulation {
   RunReport runSteps(uint64_t n) {
     RunOptions o;
     o.steps = n;
+    return run(o);
+  }
+  // Runs for `seconds` of simulated time as `sim run -time` does (the steps counted again
+  // when the automatic step changes); returns the report.
+  RunReport runTime(double seconds) {
+    RunOptions o;
+    o.steps = static_cast<uint64_t>(std::ceil(seconds / timeStep() * (1 - 1e-12)));
+    o.endTime = time() + seconds;
     return run(o);
   }
 

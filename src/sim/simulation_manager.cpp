@@ -17,6 +17,7 @@
 #include "sim/history_store.hpp"
 #include "sim/rigid_body.hpp"
 #include "sim/option_table.hpp"
+#include "sim/watchdog.hpp"
 
 namespace demlab::sim {
 
@@ -70,23 +71,42 @@ void SimulationManager<D>::setTimeStep(double dt) {
 }
 
 template <int D>
-void SimulationManager<D>::setAutoTimeStep(double fraction) {
+void SimulationManager<D>::setAutoTimeStep(double fraction, double stepsPerContact) {
   if (!(fraction > 0 && fraction <= 1)) {
     throwBad("fraction", physics::formatReal(fraction), "must be in (0, 1]");
   }
+  if (!(stepsPerContact >= 0 && stepsPerContact <= 1e6)) {
+    throwBad("stepspercontact", physics::formatReal(stepsPerContact), "must be in [0, 1e6]");
+  }
   s_.autoFraction = fraction;
+  if (stepsPerContact != s_.stepsPerContact) {
+    s_.stepsPerContact = stepsPerContact;
+    s_.motionStep = std::numeric_limits<double>::infinity();  // taken again at the next run
+    s_.motionSpeed = 0;
+  }
   touchConfig();
 }
 
 template <int D>
 double SimulationManager<D>::timeStep() const {
-  return timeStepFrom(s_.autoFraction > 0 ? staticCriticalStep() : 0);
+  StepSurvey survey;
+  if (s_.autoFraction == 0) return timeStepFrom(survey);
+  staticCriticalStep(false, &survey);
+  const double dt = timeStepFrom(survey);  // throws when there is none
+  // What the run's start will take: the motion bound again if the fastest element outran it.
+  const double speed = std::sqrt(fastestSpeed2(s_));
+  Real rmin = std::numeric_limits<Real>::infinity();
+  for (Real r : s_.elements.a.r) rmin = std::min(rmin, r);
+  const double limit = std::max(0.5 * skinInUse(), 0.5 * rmin);  // watchdogStepLimit's
+  const bool measure = s_.steps % kContactStepEvery == 0;
+  if (!measure && !(speed > s_.motionSpeed && speed * dt > kMoveShare * limit)) return dt;
+  return autoStep(survey, motionBound(kSpeedHeadroom * speed, survey, limit));
 }
 
 template <int D>
-double SimulationManager<D>::timeStepFrom(double staticStep) const {
+double SimulationManager<D>::timeStepFrom(const StepSurvey& survey) const {
   if (s_.autoFraction > 0) {
-    const double dt = autoStep(staticStep);
+    const double dt = autoStep(survey, s_.motionStep);
     if (!std::isfinite(dt)) {
       throw Error("no time step: it is automatic and the scene has no grains and no sources",
                   {"VALUE", "TIMESTEP"});
@@ -103,18 +123,36 @@ double SimulationManager<D>::criticalTimeStep() const {
 }
 
 template <int D>
-double SimulationManager<D>::autoStep(double staticStep) const {
+double SimulationManager<D>::autoStep(const StepSurvey& survey, double motionStep) const {
   // The fraction scales the static estimate, which for Hertz-Mindlin (the Rayleigh step) is
   // a scale for accuracy (LIGGGHTS advises at most 0.2 of it), and the contacts' estimate,
   // which is a stability limit, 2.5 times as far: at the default 0.2 the step stays within half
   // the limit the contacts' overlaps set (an oedometric compression of a soft Hertz bed to 30 %
   // strain then closes its energy balance to 1e-4; doc/design.md, "The time step").
   constexpr double kContactOverStatic = 2.5;
-  return s_.autoFraction * std::min(staticStep, kContactOverStatic * s_.contactStep);
+  const double stable =
+      s_.autoFraction * std::min(survey.critical, kContactOverStatic * s_.contactStep);
+  const double accurate =
+      s_.stepsPerContact > 0 ? survey.linearDuration / s_.stepsPerContact
+                             : std::numeric_limits<double>::infinity();
+  return std::min({stable, accurate, motionStep});
 }
 
 template <int D>
-double SimulationManager<D>::staticCriticalStep(bool polled) const {
+double SimulationManager<D>::motionBound(double speed, const StepSurvey& survey,
+                                         double stepLimit) const {
+  if (!(speed > 0)) return std::numeric_limits<double>::infinity();
+  double bound = kMoveShare * stepLimit / speed;
+  if (s_.stepsPerContact > 0) {
+    // Two elements at the fastest speed, head on: tc scales as v^(-1/5).
+    bound = std::min(bound,
+                     survey.hertzDuration * std::pow(2 * speed, -0.2) / s_.stepsPerContact);
+  }
+  return bound;
+}
+
+template <int D>
+double SimulationManager<D>::staticCriticalStep(bool polled, StepSurvey* survey) const {
   // Per material: the smallest grain, which is also the lightest and has the least inertia
   // (mass ~ density r^D). Each pair of materials in use (walls included) is then taken with
   // the smallest grain of either side against it: the stiffest contact (the pair's constants)
@@ -154,7 +192,20 @@ double SimulationManager<D>::staticCriticalStep(bool polled) const {
     used[src.material] = true;
     rmin[src.material] = std::min(rmin[src.material], Real(src.def.size.minRadius()));
   }
-  Real best = inf;
+  Real best = inf, linearDuration = inf, hertzDuration = inf;
+  // A grain of material `side` (mass, radius) in a contact of pair p: the stable step, the
+  // Rayleigh step (the sphere of a disc's radius and mass in 2D) and how long its contacts last.
+  const auto take = [&](const physics::PairParams& p, size_t side, Real mass, Real r) {
+    const Real rayleigh = physics::rayleighDimensionFactor<D>(r);
+    if (p.law == LawKind::HertzMindlin) {
+      best = std::min(best, rayleigh * physics::criticalTimeStep(p, mass, r));
+      best = std::min(best, rayleigh * physics::rayleighTimeStep(s_.materials[side], r));
+      hertzDuration = std::min(hertzDuration, physics::contactDuration(p, mass, r, 1));
+    } else {
+      best = std::min(best, physics::criticalTimeStep(p, mass, r));
+      linearDuration = std::min(linearDuration, physics::contactDuration(p, mass, r, 1));
+    }
+  };
   for (size_t m = 0; m < nm; ++m) {
     if (!std::isfinite(rmin[m]) && !std::isfinite(shapeR[m])) continue;
     for (size_t k = 0; k < nm; ++k) {
@@ -168,22 +219,15 @@ double SimulationManager<D>::staticCriticalStep(bool polled) const {
       for (const size_t side : {m, k}) {
         if (std::isfinite(rmin[side])) {  // else a wall's material, or shapes only
           const Real r = rmin[side];
-          const Real mass = ballMass<D>(s_.materials[side].density, r);
-          best = std::min(best, physics::criticalTimeStep(p, mass, r));
-          if (law == LawKind::HertzMindlin) {
-            best = std::min(best, physics::rayleighTimeStep(s_.materials[side], r));
-          }
+          take(p, side, ballMass<D>(s_.materials[side].density, r), r);
         }
-        if (std::isfinite(shapeR[side])) {
-          best = std::min(best, physics::criticalTimeStep(p, shapeMass[side], shapeR[side]));
-          if (law == LawKind::HertzMindlin) {
-            best = std::min(best, physics::rayleighTimeStep(s_.materials[side], shapeR[side]));
-          }
-        }
+        if (std::isfinite(shapeR[side])) take(p, side, shapeMass[side], shapeR[side]);
       }
     }
   }
-  return std::min(best, bondCriticalStep(polled));
+  const double critical = std::min(best, bondCriticalStep(polled));
+  if (survey) *survey = {critical, linearDuration, hertzDuration};
+  return critical;
 }
 
 // ---- materials and laws --------------------------------------------------------------------

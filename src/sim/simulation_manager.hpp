@@ -30,7 +30,8 @@ class SimulationManager final : public Simulation {
   int dim() const override { return D; }
 
   void setTimeStep(double dt) override;
-  void setAutoTimeStep(double fraction) override;
+  void setAutoTimeStep(double fraction, double stepsPerContact) override;
+  using Simulation::setAutoTimeStep;
   double timeStep() const override;
   double criticalTimeStep() const override;
   double contactCriticalTimeStep() const override;
@@ -254,13 +255,34 @@ class SimulationManager final : public Simulation {
   // process-wide Ctrl-C flag (throws {INTERRUPTED}); polled: the run's too (pollStep, may throw
   // StepAbandoned), as prepare() in a run may; never from queries.
   double bondCriticalStep(bool polled = false) const;
+  // What the automatic step is made of besides the contacts' and the motion's bounds, from
+  // the materials and the smallest grains (staticCriticalStep's pass).
+  struct StepSurvey {
+    double critical = std::numeric_limits<double>::infinity();  // the static estimate
+    // The shortest contact of a linear pair (the same at any speed), and of a Hertz pair at
+    // an approach speed of 1 m/s (it scales as v^(-1/5)): physics::contactDuration.
+    double linearDuration = std::numeric_limits<double>::infinity();
+    double hertzDuration = std::numeric_limits<double>::infinity();
+  };
   // Returns the static part of criticalTimeStep(): materials, grain sizes, bonds (polled: as
-  // bondCriticalStep).
-  double staticCriticalStep(bool polled = false) const;
-  // Returns timeStep() given staticCriticalStep() (unused for a fixed step). Throws as timeStep.
-  double timeStepFrom(double staticStep) const;
-  // Returns the automatic step for the static estimate staticStep and the contacts' step.
-  double autoStep(double staticStep) const;
+  // bondCriticalStep); fills survey when given.
+  double staticCriticalStep(bool polled = false, StepSurvey* survey = nullptr) const;
+  // Returns timeStep() given the survey (unused for a fixed step). Throws as timeStep.
+  double timeStepFrom(const StepSurvey& survey) const;
+  // Returns the automatic step: autoFraction x the least of the static estimate and 2.5 x the
+  // contacts' step, and at most the linear contacts' duration over stepsPerContact and the
+  // motion bound motionStep (Scene::motionStep in a run).
+  double autoStep(const StepSurvey& survey, double motionStep) const;
+  // Returns the motion bound at speed (m/s): the fastest element moves at most kMoveShare of
+  // stepLimit (the watchdog's) a step, and a Hertz contact of the survey at the approach speed
+  // 2 x speed lasts stepsPerContact steps; +inf at speed 0. Changes nothing.
+  double motionBound(double speed, const StepSurvey& survey, double stepLimit) const;
+  // The share of the watchdog's step limit (SPEED) the fastest element may move in a step:
+  // the bound is taken for kSpeedHeadroom times the fastest speed (so an accelerating element
+  // does not change the step every step), and between the contacts' measures again only when
+  // the element moves more than this share.
+  static constexpr double kMoveShare = 0.5;
+  static constexpr double kSpeedHeadroom = 1.25;
   // How often (steps) a run with the automatic step measures the contacts' stiffness again:
   // one measure costs about a step (bench_sim --contact-step), so about 1 % of a run, and
   // in 100 steps a loaded bed stiffens little against the factor of 2 the step keeps.
@@ -282,8 +304,10 @@ class SimulationManager final : public Simulation {
   // serializing copy, which polls stop, after that by assignment into the last copy's arrays.
   // Returns false, keeping no copy, if stop ended the first copy. Sets rollbackSeconds_.
   bool refreshRollback(const std::atomic<bool>* stop);
-  // staticCriticalStep() as the last configuration (prepare) found it.
-  double staticStep_ = std::numeric_limits<double>::infinity();
+  // staticCriticalStep()'s survey as the last configuration (prepare) found it, and the
+  // watchdog's step limit then (radii and skin change only with the configuration).
+  StepSurvey survey_;
+  double stepLimit_ = std::numeric_limits<double>::infinity();
   // Removes the live grains ids (distinct), their springs, histories and blocked entries, the
   // ledger rebased. Changes the scene and marks the configuration changed.
   void removeElementSet(const std::vector<ElementId>& ids);

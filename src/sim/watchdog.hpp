@@ -108,15 +108,25 @@ std::pair<const ContactRecord<D>*, Real> deepestPlacedRecord(const Scene<D>& s, 
   });
 }
 
+// Returns the largest squared speed of s's elements (0 with none), as watchdogCheck's pass
+// finds it. Changes nothing.
+template <int D>
+Real fastestSpeed2(const Scene<D>& s) {
+  Real v2max = 0;
+  for (const VecD<D>& v : s.elements.a.v) v2max = std::max(v2max, v.squaredNorm());
+  return v2max;
+}
+
 // When a check runs: at the end of a step; before a run that follows edits, when the contacts
 // of what they placed are held to the `placed` limit; before the scene's first step, when every
 // contact is (the scene as set up).
 enum class CheckPoint { Step, BeforeRun, BeforeFirstStep };
 
 // Runs every enabled check on the scene as it is; throws WatchdogHit on the first that fails.
-// stepLimit: watchdogStepLimit(s); when: see CheckPoint. Changes nothing.
+// stepLimit: watchdogStepLimit(s); when: see CheckPoint. Returns the largest squared speed
+// (fastestSpeed2). Changes nothing.
 template <int D>
-void watchdogCheck(const Scene<D>& s, Real stepLimit, CheckPoint when = CheckPoint::Step) {
+Real watchdogCheck(const Scene<D>& s, Real stepLimit, CheckPoint when = CheckPoint::Step) {
   const bool placed = when == CheckPoint::BeforeFirstStep;
   const WatchdogOptions& o = s.watchdog;
   const ElementArrays<D>& a = s.elements.a;
@@ -205,6 +215,7 @@ void watchdogCheck(const Scene<D>& s, Real stepLimit, CheckPoint when = CheckPoi
                           : deepestRecord<false>(s, f);
     if (worst) throw overlapHit(worst, worstRatio, f, placed);
   }
+  return v2max;
 }
 
 // Returns true if the ledger's balance exceeds the watchdog's energy bound now: energy x the
@@ -271,7 +282,7 @@ class WatchdogModule final : public SimModule<D> {
   std::string_view name() const override { return "watchdog"; }
   SimLevel level() const override { return SimLevel::Cleanup; }
   void run(Scene<D>& s) override {
-    watchdogCheck(s, limit_);
+    s.fastestSpeed2 = watchdogCheck(s, limit_);
     // The energy every kEnergyEvery steps, firing when two checks in a row exceed the bound:
     // a balance off by O(1) of a still tiny scale in the first steps (a load rising from zero
     // on a grain at rest) fades, while created energy stays.

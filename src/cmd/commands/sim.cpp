@@ -108,17 +108,24 @@ void registerSimCommands(Registry& r) {
       "recomputed when grains or materials change), and at most fraction x 2.5 x the step the "
       "contacts' overlaps allow, taken again after every neighbour search during a run (a bed "
       "stiffens as it is loaded): at the default fraction 0.2, half the contacts' stability "
-      "limit. A run of -time counts its steps again when the step changes. A fixed step above "
+      "limit. It is also at most the duration of the shortest contact over -stepspercontact: "
+      "a linear pair's from its stiffness, a Hertz pair's at twice the fastest element's speed, "
+      "and the fastest element moves at most half the watchdog's step limit in a step (taken "
+      "again as it speeds up). In 2D the Rayleigh step takes the sphere of a disc's radius and "
+      "mass. A run of -time counts its steps again when the step changes. A fixed step above "
       "the critical estimate makes sim run warn (an error with sim run -strict).";
   ts.optionalArg("dt", stepWord(), "the time step in seconds, or auto").type.unit = "s";
   ts.option("fraction", real().positive().max(1), "with auto: the fraction of the critical step")
       .byDefault("0.2");
+  ts.option("stepspercontact", real().nonNegative().max(1e6),
+            "with auto: the fewest steps a contact lasts (0: no accuracy target)")
+      .byDefault("20");
   ts.run([](Call& c) {
     auto& s = session(c).scene();
     if (c.given("dt")) {
       const std::any& v = c.stack().slot("dt").value;
       if (std::any_cast<std::string>(&v))
-        s.setAutoTimeStep(c.real("fraction"));
+        s.setAutoTimeStep(c.real("fraction"), c.real("stepspercontact"));
       else
         s.setTimeStep(std::any_cast<double>(v));
       return Value();

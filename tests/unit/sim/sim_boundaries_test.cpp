@@ -79,8 +79,8 @@ TEST_P(SimBoundariesDim, SourceKeepsItsMassRateAndSinkCountsWhatLeaves) {
   out.kind = SinkDef::Plane;
   out.normal[static_cast<size_t>(up(d))] = 1;
   s->addSink(out);
-  const RunReport r = s->runSteps(2500);
-  ASSERT_EQ(r.steps, 2500u);
+  const RunReport r = s->runTime(0.12);
+  ASSERT_GT(r.steps, 0u);
   // Enough elements that one (the most the source can be ahead) is well under 1% of the mass.
   EXPECT_GT(s->sources()[0].count, 150u);
   const BoundaryInfo in = s->sources()[0];

@@ -182,12 +182,6 @@ void addFloor(Simulation& s, bool mesh) {
   s.addWall(w);
 }
 
-void runFor(Simulation& s, double t) {
-  RunOptions o;
-  o.steps = static_cast<uint64_t>(std::ceil(t / s.timeStep()));
-  s.run(o);
-}
-
 // A ball rolling and bouncing across a floor of 800 triangles follows the plane floor's path: no
 // doubled force where it crosses their edges and corners.
 TEST(SimMesh, ABallCrossesAMeshFloorAsAPlane) {
@@ -198,7 +192,7 @@ TEST(SimMesh, ABallCrossesAMeshFloorAsAPlane) {
     addFloor(*s, run == 1);
     s->addGravity({0, 0, -9.81});
     const ElementId id = s->addElement(grain({-0.1, -0.05, 0.03}, 0.01, "glass", {0.5, 0.25, 0}));
-    runFor(*s, 0.3);
+    s->runTime(0.3);
     end[run] = s->element(id);
   }
   for (int d = 0; d < 3; ++d) {
@@ -241,7 +235,7 @@ TEST(SimMesh, ShapesRestOnAMeshFloorAsOnAPlane) {
       const ElementId id = s->addElement(e);
       // A level set's face bears on its 5 x 5 nodes: a stiffer contact, a shorter step.
       if (shape == "levelset") s->setTimeStep(s->timeStep() / 5);
-      runFor(*s, 0.4);
+      s->runTime(0.4);
       end[run] = s->element(id);
     }
     // Down on the floor (the cube on a face; the ellipsoid still rocking, on its flattest side).

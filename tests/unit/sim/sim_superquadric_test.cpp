@@ -34,13 +34,6 @@ Superquadric<3> randomShape(std::mt19937_64& rng) {
 }
 
 
-// Runs s for the simulated time t (whole steps at its current step).
-void runFor(Simulation& s, double t) {
-  RunOptions o;
-  o.steps = static_cast<uint64_t>(std::ceil(t / s.timeStep()));
-  s.run(o);
-}
-
 std::vector<double> paramsOf(const Superquadric<3>& s) { return {s.a, s.b, s.c, s.n1, s.n2}; }
 
 // Volume and inertia by quadrature over directions: the body is r <= 1/phi(u) along u.
@@ -270,7 +263,7 @@ TEST(SimSuperquadric, EllipsoidComesToRestOnItsLongestAxis) {
     const Quat q = randomQuat(rng);
     e.orientation = {q.w(), q.x(), q.y(), q.z()};
     const ElementId id = s->addElement(e);
-    runFor(*s, 5);
+    s->runTime(5);
     const ElementState g = s->element(id);
     // Lying on its flattest side: the shortest axis vertical, the longest horizontal, the
     // centre at the shortest half axis (less the overlap).
@@ -326,7 +319,7 @@ TEST(SimSuperquadric, LocalCurvatureGivesTheSurfacesRadii) {
     e.orientation = {up.w(), up.x(), up.y(), up.z()};
     e.blocked = dof::Rx | dof::Ry | dof::Rz | dof::X | dof::Y;
     const ElementId id = s->addElement(e);
-    runFor(*s, 0.5);
+    s->runTime(0.5);
     const ElementState g = s->element(id);
     const double young = 1e7 / (2 * (1 - 0.3 * 0.3));  // E* of two equal materials
     const double radius = local ? 0.005 : std::cbrt(0.02 * 0.01 * 0.01);
@@ -521,7 +514,7 @@ TEST(SimSuperquadric, SuperellipseMeetsDiscsAsADisc) {
   e.shapeParams = {0.02, 0.008, 4};
   e.orientation = {0.9};  // 2D: the angle
   const ElementId id = s->addElement(e);
-  runFor(*s, 3);
+  s->runTime(3);
   const ElementState g = s->element(id);
   EXPECT_NEAR(std::remainder(g.orientation[0], kPi), 0, 1e-3);
   EXPECT_LT(g.position[1], 0.008);
