@@ -18,11 +18,15 @@
 //   - peak_rss_mb: the process's peak resident set (getrusage) after the run, in MiB. It is a
 //     high-water mark, so it describes one run only when the process does one run:
 //     scripts/bench-sim starts one process per scene and variant.
-// Variants ("leave out what a scene does not need", issue 3): "full" is the scene above;
-// "nofriction" sets friction 0 (no tangential history kept); "norotation" turns grain rotation
-// off; "touch" adds the touch module (the sub-step correction of contact onset and release,
-// sim/touch.hpp), so its cost is measured. Their scene names get the suffix "-nofriction",
-// "-norotation" or "-touch".
+// Variants ("leave out what a scene does not need", issue 3): "full" is the scene above in the
+// peers' own physics, the like-for-like mode: plain velocity Verlet (LIGGGHTS's integrator),
+// the Coulomb test on the spring force alone and LIGGGHTS's Hertz damping; "nofriction" sets
+// friction 0 (no tangential history kept); "norotation" turns grain rotation off; "touch" adds
+// the touch module (the sub-step correction of contact onset and release, sim/touch.hpp), so
+// its cost is measured; "default" is the same scene in demlab's defaults (the synchronized
+// integrator, the Coulomb test on the whole force, the calibrated damping, the default modules)
+// at the same step, so the cost of the defaults shows beside the like-for-like figure. Their
+// scene names get the suffix "-nofriction", "-norotation", "-touch" or "-default".
 //
 // On stderr: the modules the scene runs and the wall time of each (RunReport::modules), the
 // contact-search rebuilds and the energy-balance residual; with --digest the state digest after
@@ -66,14 +70,16 @@ struct Variant {
   bool friction;
   bool rotation;
   bool touch;
+  bool peerPhysics;  // the peers' integrator, Coulomb test and damping (else demlab's defaults)
 };
 
 // One row per variant; --variant takes these names.
 constexpr Variant kVariants[] = {
-    {"full", "", true, true, false},
-    {"nofriction", "-nofriction", false, true, false},
-    {"norotation", "-norotation", true, false, false},
-    {"touch", "-touch", true, true, true},
+    {"full", "", true, true, false, true},
+    {"nofriction", "-nofriction", false, true, false, true},
+    {"norotation", "-norotation", true, false, false, true},
+    {"touch", "-touch", true, true, true, true},
+    {"default", "-default", true, true, false, false},
 };
 
 struct Options {
@@ -101,8 +107,10 @@ void usage(std::FILE* f) {
                "                    smallest sphere, which gives the README's values)\n"
                "  --skin M          Verlet skin in metres (default 2.5e-4, as the decks)\n"
                "  --cell-factor F   CGrid cell factor (default: CGrid's own)\n"
-               "  --integrator NAME verlet or synchronized (default: the Simulation's)\n"
-               "  --variant LIST    comma-separated: full, nofriction, norotation, touch\n"
+               "  --integrator NAME verlet or synchronized (default: verlet, the peers', in\n"
+               "                    the like-for-like variants; the Simulation's in default)\n"
+               "  --variant LIST    comma-separated: full, nofriction, norotation, touch,\n"
+               "                    default\n"
                "                    (default full)\n"
                "  --breakdown FILE  append per-module times as CSV scene,module,seconds,share\n"
                "  --cpu FILE        append code,scene,n,steps,cpu_seconds,\n"
@@ -167,7 +175,7 @@ Options parse(int argc, char** argv) {
         if (it == std::end(kVariants)) {
           std::fprintf(stderr,
                        "bench_sim: bad variant \"%.*s\": must be full, nofriction, "
-                       "norotation or touch\n",
+                       "norotation, touch or default\n",
                        static_cast<int>(name.size()), name.data());
           std::exit(2);
         }
@@ -245,11 +253,13 @@ std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Optio
   m.density = d.densities.empty() ? 2500 : d.densities.front();
   s->addMaterial("wall", m);
   s->setContactLaw(sim::LawKind::HertzMindlin);
-  // LIGGGHTS's Coulomb test (the spring force alone), so the scene is the peers' scene.
-  s->setCoulombCriterion(demlab::physics::CoulombCriterion::Spring);
-  // And LIGGGHTS's Hertz damping, not the calibrated default: the peers' physics, so the
-  // contact counts and digests stay comparable with theirs and with earlier records.
-  s->setHertzDamping(demlab::physics::HertzDamping::Liggghts);
+  if (v.peerPhysics) {
+    // LIGGGHTS's Coulomb test (the spring force alone), so the scene is the peers' scene.
+    s->setCoulombCriterion(demlab::physics::CoulombCriterion::Spring);
+    // And LIGGGHTS's Hertz damping, not the calibrated default: the peers' physics, so the
+    // contact counts and digests stay comparable with theirs and with earlier records.
+    s->setHertzDamping(demlab::physics::HertzDamping::Liggghts);
+  }
 
   // Five walls on the box faces, normals pointing into the box; the top stays open.
   const sim::Vec3d lo{d.boxLo.x(), d.boxLo.y(), d.boxLo.z()};
@@ -274,7 +284,11 @@ std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Optio
                  {"touch", "on", v.touch},
                  {"detection", "cellfactor", o.cellFactor},
                  {"detection", "skin", o.skin}});
-  if (!o.integrator.empty()) s->setOption("integrator", "name", o.integrator);
+  if (!o.integrator.empty()) {
+    s->setOption("integrator", "name", o.integrator);
+  } else if (v.peerPhysics) {
+    s->setOption("integrator", "name", std::string("verlet"));  // LIGGGHTS's nve/sphere
+  }
 
   s->reserveElements(d.size());
   std::vector<sim::ElementDef> batch;
