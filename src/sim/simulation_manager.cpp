@@ -141,7 +141,9 @@ double SimulationManager<D>::autoStep(const StepSurvey& survey, double motionSte
 template <int D>
 double SimulationManager<D>::motionBound(double speed, const StepSurvey& survey,
                                          double stepLimit) const {
-  if (!(speed > 0)) return std::numeric_limits<double>::infinity();
+  // A non-finite speed bounds nothing: the watchdog's NAN check (or the run's finiteness
+  // check) reports the state, and a zero step would make a run of -time endless.
+  if (!(speed > 0 && std::isfinite(speed))) return std::numeric_limits<double>::infinity();
   double bound = kMoveShare * stepLimit / speed;
   if (s_.stepsPerContact > 0) {
     // Two elements at the fastest speed, head on: tc scales as v^(-1/5).

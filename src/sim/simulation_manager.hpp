@@ -275,7 +275,8 @@ class SimulationManager final : public Simulation {
   double autoStep(const StepSurvey& survey, double motionStep) const;
   // Returns the motion bound at speed (m/s): the fastest element moves at most kMoveShare of
   // stepLimit (the watchdog's) a step, and a Hertz contact of the survey at the approach speed
-  // 2 x speed lasts stepsPerContact steps; +inf at speed 0. Changes nothing.
+  // 2 x speed lasts stepsPerContact steps; +inf at speed 0 or a non-finite speed. Changes
+  // nothing.
   double motionBound(double speed, const StepSurvey& survey, double stepLimit) const;
   // The share of the watchdog's step limit (SPEED) the fastest element may move in a step:
   // the bound is taken for kSpeedHeadroom times the fastest speed (so an accelerating element

@@ -236,8 +236,12 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     } else if (!(speed > s_.motionSpeed && speed * s_.stepDt > kMoveShare * stepLimit_)) {
       return;
     }
-    s_.motionSpeed = kSpeedHeadroom * speed;
-    s_.motionStep = motionBound(s_.motionSpeed, survey_, stepLimit_);
+    // A non-finite speed (a blown-up state the watchdog, or the run's finiteness check,
+    // reports) leaves the bound as it was: a checkpoint holds only finite ones.
+    if (std::isfinite(kSpeedHeadroom * speed)) {
+      s_.motionSpeed = kSpeedHeadroom * speed;
+      s_.motionStep = motionBound(s_.motionSpeed, survey_, stepLimit_);
+    }
     const double dt = autoStep(survey_, s_.motionStep);
     if (dt == s_.stepDt) return;
     s_.stepDt = dt;
@@ -513,7 +517,11 @@ WatchdogTrip SimulationManager<D>::describeTrip(const WatchdogHit& h, bool atSta
       t.cause = tooLarge ? "the time step is too large for the contacts (" + stepText + ")"
                          : "the integration blew up (" + stepText +
                                "), or a load or a wall motion gave a non-finite value";
-      t.fix = autoFix + "; check the loads";
+      // Under the automatic step, advising it would name the setting in force.
+      t.fix = fixed ? autoFix + "; check the loads"
+                    : "check the loads and the walls' motions for a non-finite value; if the "
+                      "contacts blew up, a smaller fraction (sim timestep auto -fraction " +
+                          num(0.5 * s_.autoFraction) + ")";
       break;
     case WatchdogHit::Speed:
       t.check = "SPEED";

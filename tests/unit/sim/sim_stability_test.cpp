@@ -439,7 +439,32 @@ TEST(Stability, WatchdogCatchesANonFiniteLoad) {
   EXPECT_EQ(s->stepCount(), 11u);
   ASSERT_EQ(t.grains.size(), 1u);
   EXPECT_EQ(t.grains[0], g);
+  // The automatic step is in force: the fix names the loads, not the setting already in use.
+  EXPECT_NE(t.fix.find("check the loads"), std::string::npos) << t.fix;
+  EXPECT_EQ(t.fix.find("use sim timestep auto"), std::string::npos) << t.fix;
   row("a load turning NaN at step 11 (2D)", dt, "WATCHDOG NAN at step 11, naming the element");
+}
+
+// The same with the watchdog off: the automatic step's motion bound ignores the non-finite
+// speed (a zero step would make the run endless), and the run's own finiteness check ends it.
+TEST(Stability, NonFiniteStateLeavesTheAutomaticStepAlone) {
+  auto s = makeSimulation(2);
+  s->addMaterial("m", material(1e8, 0.5, 0.3));
+  s->addElement(grain({0, 0, 0}, 1e-3, "m"));
+  const ElementId g = s->addElement(grain({0.01, 0, 0}, 1e-3, "m", {0.1, 0, 0}));
+  const double dt = s->timeStep();
+  LoadDef l;
+  l.grain = g;
+  l.forceFn[0] = [dt](double t) { return t > 10.5 * dt ? kNaN : 0.0; };
+  s->addLoad(l);
+  WatchdogOptions off;
+  off.enabled = false;
+  setWatchdog(*s, off);
+  EXPECT_THROW(s->runSteps(5000), Error);
+  EXPECT_LE(s->stepCount(), 1100u);
+  const double after = s->timeStep();
+  EXPECT_GT(after, 0);
+  EXPECT_TRUE(std::isfinite(after));
 }
 
 // The same scene runs bit-identically with the watchdog on and off, and the watchdog's options
