@@ -422,17 +422,29 @@ TEST(Stability, WatchdogStopsABlowUp) {
   EXPECT_GT(s->energy().residual, 0.5);
 }
 
-// A load whose function turns NaN: the watchdog names the grain at that step.
-TEST(Stability, WatchdogCatchesANonFiniteLoad) {
+// Two 2D grains, the second at speed v, with a load on it whose function turns NaN after
+// step 10 of the automatic step. Returns the simulation, the loaded grain and the step.
+struct NanLoadScene {
+  std::unique_ptr<Simulation> s;
+  ElementId g;
+  double dt;
+};
+NanLoadScene nanLoadScene(double v) {
   auto s = makeSimulation(2);
   s->addMaterial("m", material(1e8, 0.5, 0.3));
   s->addElement(grain({0, 0, 0}, 1e-3, "m"));
-  const ElementId g = s->addElement(grain({0.01, 0, 0}, 1e-3, "m"));
+  const ElementId g = s->addElement(grain({0.01, 0, 0}, 1e-3, "m", {v, 0, 0}));
   const double dt = s->timeStep();
   LoadDef l;
   l.grain = g;
   l.forceFn[0] = [dt](double t) { return t > 10.5 * dt ? kNaN : 0.0; };
   s->addLoad(l);
+  return {std::move(s), g, dt};
+}
+
+// A load whose function turns NaN: the watchdog names the grain at that step.
+TEST(Stability, WatchdogCatchesANonFiniteLoad) {
+  auto [s, g, dt] = nanLoadScene(0);
   WatchdogTrip t;
   EXPECT_EQ(tripOf([&] { s->runSteps(100); }, &t), "NAN");
   EXPECT_EQ(t.step, 11u);
@@ -448,15 +460,7 @@ TEST(Stability, WatchdogCatchesANonFiniteLoad) {
 // The same with the watchdog off: the automatic step's motion bound ignores the non-finite
 // speed (a zero step would make the run endless), and the run's own finiteness check ends it.
 TEST(Stability, NonFiniteStateLeavesTheAutomaticStepAlone) {
-  auto s = makeSimulation(2);
-  s->addMaterial("m", material(1e8, 0.5, 0.3));
-  s->addElement(grain({0, 0, 0}, 1e-3, "m"));
-  const ElementId g = s->addElement(grain({0.01, 0, 0}, 1e-3, "m", {0.1, 0, 0}));
-  const double dt = s->timeStep();
-  LoadDef l;
-  l.grain = g;
-  l.forceFn[0] = [dt](double t) { return t > 10.5 * dt ? kNaN : 0.0; };
-  s->addLoad(l);
+  auto [s, g, dt] = nanLoadScene(0.1);
   WatchdogOptions off;
   off.enabled = false;
   setWatchdog(*s, off);
