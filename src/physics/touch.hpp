@@ -152,6 +152,16 @@ inline Real zeroFraction(Real before, Real after) {
   return std::clamp<Real>(f, 0, 1);
 }
 
+// Returns x^p for x > 0: the event powers of the Hertz law (p = 3/2 for the spring, 1/4 for
+// the damper, 1/2) from square roots, which are correctly rounded and several times cheaper
+// than pow; std::pow for any other p. Changes nothing.
+inline Real eventPower(Real x, Real p) {
+  if (p == 1.5) return x * std::sqrt(x);
+  if (p == 0.25) return std::sqrt(std::sqrt(x));
+  if (p == 0.5) return std::sqrt(x);
+  return std::pow(x, p);
+}
+
 // Returns the Hurwitz zeta function zeta(s, a) = sum_{k >= 0} (k + a)^-s (continued
 // analytically) for s <= 0 and 0 < a <= 1, by Euler-Maclaurin summation from k = 10 with five
 // Bernoulli terms (error below 1e-12 for s >= -2). Changes nothing.
@@ -161,11 +171,12 @@ inline Real hurwitzZeta(Real s, Real a) {
   if (s == -1) return -0.5 * (a * a - a + 1.0 / 6);
   constexpr int kTerms = 10;
   Real sum = 0;
-  for (int k = 0; k < kTerms; ++k) sum += std::pow(k + a, -s);
+  for (int k = 0; k < kTerms; ++k) sum += eventPower(k + a, -s);
   const Real x = kTerms + a;
-  sum += std::pow(x, 1 - s) / (s - 1) + 0.5 * std::pow(x, -s);
+  const Real xp = eventPower(x, -s);  // x^-s; x^(1-s) = x xp and x^(-s-1) = xp / x
+  sum += x * xp / (s - 1) + 0.5 * xp;
   constexpr Real kBernoulli[] = {1.0 / 6, -1.0 / 30, 1.0 / 42, -1.0 / 30, 5.0 / 66};
-  Real factorial = 1, rising = s, power = std::pow(x, -s - 1);
+  Real factorial = 1, rising = s, power = xp / x;
   for (int j = 1; j <= 5; ++j) {
     factorial *= (2 * j - 1) * (2 * j);
     sum += kBernoulli[j - 1] / factorial * rising * power;
@@ -177,7 +188,7 @@ inline Real hurwitzZeta(Real s, Real a) {
 
 // Returns zeta(-p, theta) / theta^p, the weight of eventImpulse (theta > 0). Changes nothing.
 inline Real eventWeight(Real p, Real theta) {
-  return p == 0 ? hurwitzZeta(0, theta) : hurwitzZeta(-p, theta) / std::pow(theta, p);
+  return p == 0 ? hurwitzZeta(0, theta) : hurwitzZeta(-p, theta) / eventPower(theta, p);
 }
 
 // Returns the impulse to add for a force term ~ (time since the event)^p that is worth F at the
