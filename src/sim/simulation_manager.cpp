@@ -95,12 +95,15 @@ double SimulationManager<D>::timeStep() const {
   const double dt = timeStepFrom(survey);  // throws when there is none
   // What the run's start will take: the motion bound again if the fastest element outran it.
   const double speed = std::sqrt(fastestSpeed2(s_));
-  Real rmin = std::numeric_limits<Real>::infinity();
-  for (Real r : s_.elements.a.r) rmin = std::min(rmin, r);
-  const double limit = std::max(0.5 * skinInUse(), 0.5 * rmin);  // watchdogStepLimit's
-  const bool measure = s_.steps % kContactStepEvery == 0;
-  if (!measure && !(speed > s_.motionSpeed && speed * dt > kMoveShare * limit)) return dt;
+  const double limit = watchdogStepLimit(s_, skinInUse());
+  if (!retakesMotion(s_.steps % kContactStepEvery == 0, speed, dt, limit)) return dt;
   return autoStep(survey, motionBound(kSpeedHeadroom * speed, survey, limit));
+}
+
+template <int D>
+bool SimulationManager<D>::retakesMotion(bool measure, double speed, double dt,
+                                         double stepLimit) const {
+  return measure || (speed > s_.motionSpeed && speed * dt > kMoveShare * stepLimit);
 }
 
 template <int D>

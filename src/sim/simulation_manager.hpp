@@ -278,6 +278,10 @@ class SimulationManager final : public Simulation {
   // 2 x speed lasts stepsPerContact steps; +inf at speed 0 or a non-finite speed. Changes
   // nothing.
   double motionBound(double speed, const StepSurvey& survey, double stepLimit) const;
+  // Returns true if the motion bound is taken again: at a contacts' measure, or when the
+  // fastest element (speed) has outrun the speed the bound was made for and moves more than
+  // kMoveShare of stepLimit in a step of dt. Changes nothing.
+  bool retakesMotion(bool measure, double speed, double dt, double stepLimit) const;
   // The share of the watchdog's step limit (SPEED) the fastest element may move in a step:
   // the bound is taken for kSpeedHeadroom times the fastest speed (so an accelerating element
   // does not change the step every step), and between the contacts' measures again only when

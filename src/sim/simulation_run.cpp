@@ -231,11 +231,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     const bool measure = now || s_.steps % kContactStepEvery == 0;
     const double speed =
         std::sqrt(k > 0 && watched && !changed ? s_.fastestSpeed2 : fastestSpeed2(s_));
-    if (measure) {
-      s_.contactStep = contactCriticalStep(s_);
-    } else if (!(speed > s_.motionSpeed && speed * s_.stepDt > kMoveShare * stepLimit_)) {
-      return;
-    }
+    if (!retakesMotion(measure, speed, s_.stepDt, stepLimit_)) return;
+    if (measure) s_.contactStep = contactCriticalStep(s_);
     // A non-finite speed (a blown-up state the watchdog, or the run's finiteness check,
     // reports) leaves the bound as it was: a checkpoint holds only finite ones.
     if (std::isfinite(kSpeedHeadroom * speed)) {

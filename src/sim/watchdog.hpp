@@ -58,13 +58,18 @@ struct WatchdogHit {
   double value = 0, limit = 0, extra = 0;
 };
 
-// Returns the largest distance a grain may move in one step: the larger of half the skin and
-// half the smallest radius.
+// Returns the largest distance a grain may move in one step: the larger of half the skin
+// (s.skin, or the given one: the skin a configuration about to be prepared will use) and half
+// the smallest radius.
 template <int D>
-Real watchdogStepLimit(const Scene<D>& s) {
+Real watchdogStepLimit(const Scene<D>& s, Real skin) {
   Real rmin = std::numeric_limits<Real>::infinity();
   for (Real r : s.elements.a.r) rmin = std::min(rmin, r);
-  return std::max(0.5 * s.skin, 0.5 * rmin);
+  return std::max(0.5 * skin, 0.5 * rmin);
+}
+template <int D>
+Real watchdogStepLimit(const Scene<D>& s) {
+  return watchdogStepLimit(s, s.skin);
 }
 
 // Returns the contact record of s whose overlap is the largest fraction of the smaller radius
