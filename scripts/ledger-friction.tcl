@@ -5,11 +5,13 @@
 # law,rotation,friction,restitution,residual_0.2,residual_0.1,residual_0.05.
 #   build/demlab scripts/ledger-friction.tcl ?hertz|linear?
 set law [expr {[llength $argv] ? [lindex $argv 0] : "hertz"}]
-proc settle {law rotation fraction mu e} {
+# (scripts/ledger-normal.tcl sources this file for settle, with touch.)
+proc settle {law rotation fraction mu e {touch off}} {
     sim new
     material add glass -density 2500 -young 5e6 -poisson 0.3 -restitution $e -friction $mu
     law default $law
     module rotation $rotation
+    module touch $touch
     foreach {n p} {{1 0 0} {0 0 0} {-1 0 0} {0.012 0 0} {0 1 0} {0 0 0} {0 -1 0} {0 0.012 0} {0 0 1} {0 0 0}} {
         wall add plane -normal $n -point $p
     }
@@ -19,6 +21,7 @@ proc settle {law rotation fraction mu e} {
     sim run -time 0.08 -quiet
     format %.3g [query energy -residual]
 }
+if {[info exists ::ledgerFrictionProcsOnly]} return
 puts "law,rotation,friction,restitution,residual_0.2,residual_0.1,residual_0.05"
 foreach {rotation mu e} {on 0 1  on 0.5 1  off 0.5 1  on 0 0.5  on 0.5 0.5} {
     set row [list $law $rotation $mu $e]
