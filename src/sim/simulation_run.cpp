@@ -327,12 +327,15 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
         }
         followContacts(k + 1, false, changed);
       } catch (const StepAbandoned&) {
-        // Back to the copy: the run's own, or the scene as it was before the run.
-        untouched = !kept;
-        std::optional<Scene<D>>& back = kept ? rollback_ : before;
+        // Back to the copy: the run's own, or the scene as it was before the run, which a run
+        // stopped in its first step takes when it has it (its own copy holds the run's force
+        // pass: the same motion, but not the scene the command was given).
+        const bool toBefore = !kept || (before && k == 0);
+        untouched = toBefore;
+        std::optional<Scene<D>>& back = toBefore ? before : rollback_;
         rep.dropped = s_.steps - back->steps;
         rep.abandoned = true;
-        if (kept) {
+        if (!toBefore) {
           // The copy was prepared as the scene is: only the modules' scratch, left half
           // written, is made anew. The dropped scene's arrays serve the next copy.
           std::swap(s_, *rollback_);
