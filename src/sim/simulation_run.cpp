@@ -299,15 +299,29 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       watchdogCheck(s_, watchdogStepLimit(s_),
                     s_.steps == 0 ? CheckPoint::BeforeFirstStep : CheckPoint::BeforeRun);
     }
+    // Stopped before its first step: the scene as it was before the run, when the run has it
+    // (the force pass above changed forces, candidates and springs, not the motion).
+    const auto stoppedBeforeFirstStep = [&] {
+      rep.interrupted = true;
+      if (!before) return;
+      s_ = std::move(*before);
+      before.reset();
+      configDirty_ = true;
+      untouched = true;
+    };
     // Steps that were long in the last run: the copy before the first (its arrays are kept).
     if (total > 0 && lastStepSeconds_ > options.longStep &&
         !keepCopy(lastStepSeconds_, Clock::now(), total)) {
-      rep.interrupted = true;
+      stoppedBeforeFirstStep();
       total = 0;
     }
     for (uint64_t k = 0; k < total; ++k) {
       if (options.stop && options.stop->load(std::memory_order_relaxed)) {
-        rep.interrupted = true;
+        if (k == 0) {
+          stoppedBeforeFirstStep();
+        } else {
+          rep.interrupted = true;
+        }
         break;
       }
       s_.recordContacts = seen || k + 1 == total || outputsReadNextStep();
