@@ -293,6 +293,13 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   };
   std::optional<WatchdogTrip> trip;
   bool untouched = false;  // back to the scene before the run: nothing below may change it
+  // Puts back the scene as it was before the run (the copy `before`, which must be there).
+  const auto backToBefore = [&] {
+    s_ = std::move(*before);
+    before.reset();
+    configDirty_ = true;
+    untouched = true;
+  };
   try {
     // The scene as set up (placed overlaps, initial speeds) before the first step.
     if (watched) {
@@ -303,11 +310,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     // (the force pass above changed forces, candidates and springs, not the motion).
     const auto stoppedBeforeFirstStep = [&] {
       rep.interrupted = true;
-      if (!before) return;
-      s_ = std::move(*before);
-      before.reset();
-      configDirty_ = true;
-      untouched = true;
+      if (before) backToBefore();
     };
     // Steps that were long in the last run: the copy before the first (its arrays are kept).
     if (total > 0 && lastStepSeconds_ > options.longStep &&
@@ -345,7 +348,6 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
         // stopped in its first step takes when it has it (its own copy holds the run's force
         // pass: the same motion, but not the scene the command was given).
         const bool toBefore = !kept || (before && k == 0);
-        untouched = toBefore;
         std::optional<Scene<D>>& back = toBefore ? before : rollback_;
         rep.dropped = s_.steps - back->steps;
         rep.abandoned = true;
@@ -355,9 +357,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
           std::swap(s_, *rollback_);
           loop_.setModules(makeModules(sceneUse(s_)));
         } else {
-          s_ = std::move(*before);
-          before.reset();
-          configDirty_ = true;
+          backToBefore();
         }
         rep.interrupted = true;
         break;
