@@ -23,8 +23,9 @@
 //
 // Velocity to pass: either the half-step velocity v(n+1/2) that moved the positions (plain
 // velocity Verlet, as LIGGGHTS passes it; set velocityLag = 0.5) or a velocity synchronized
-// with the positions (velocityLag = 0). The shear spring integrates it as the step's
-// displacement.
+// with the positions (velocityLag = 0). The shear spring gains the displacement the positions
+// made, the half-step velocity times dt: given, or recovered from the synchronized ones
+// (TangentialHistory::drift, tangential.hpp).
 //
 // Energy. Per step each law reports the elastic energy its springs hold after the step, the
 // energy dissipated during the step by damping and by Coulomb sliding, and the stiffening work
@@ -34,10 +35,8 @@
 // The normal damping loss is charged at the normal velocity of the force time (see
 // velocityLag), so the normal ledger is second order in dt: the unit tests close head-on
 // impacts to 3e-5 of the kinetic energy at dt = tc/200 with half-step velocities. The
-// tangential losses are charged at the velocity given (the same correction would need the
-// grains' rotational inertia, which a law does not see), so with half-step velocities that
-// part is first order: 7e-4 at tc/200 for grains sliding on a wall, 2e-3 for a fast-spinning
-// grain (stick-slip), halving with dt.
+// tangential spring's losses are booked by the trapezoid identity over the step's displacement,
+// the integrator's own work (tangential.hpp): second order as well.
 // Where the normal force is clamped at 0, the spring energy that disappears without doing work
 // is booked as damping loss (it is what the damper took).
 #pragma once
@@ -71,9 +70,14 @@ struct ContactKinematics {
 // swaps A and B it must negate the spring. spring is the spring's elongation (m): B's
 // tangential displacement relative to A, kept in the current tangent plane; the spring force on
 // B is -kt spring. A new contact starts from zero.
+// drift: with synchronized velocities, the relative velocity of the half-step velocities that
+// moved the positions in the last step, recovered per contact (tangential.hpp,
+// driftDisplacement); read only while spring is not zero, and NaN where it is unknown (a scene
+// saved before it was kept). Unused with half-step velocities.
 template <int D>
 struct TangentialHistory {
   VecD<D> spring = VecD<D>::Zero();
+  VecD<D> drift = VecD<D>::Zero();
 };
 
 template <int D>

@@ -8,7 +8,12 @@
 
 namespace demlab::physics {
 
-Real criticalTimeStep(const PairParams& p, Real mass, Real radius) {
+Real dampedStepFactor(Real zeta, bool synchronized) {
+  const Real z = synchronized ? 2 * zeta : zeta;
+  return std::sqrt(1 + z * z) - z;
+}
+
+Real criticalTimeStep(const PairParams& p, Real mass, Real radius, bool synchronized) {
   if (p.law == LawKind::HertzMindlin) return std::numbers::pi * radius * p.rayleighSlowness;
   // Two equal grains (m* = m/2, R* = R/2) give a faster normal mode than a grain on a wall
   // (m* = m, R* = R): 2 kn(R/2)/m >= kn(R)/m since kn is affine in R* with kn(0) >= 0.
@@ -19,8 +24,7 @@ Real criticalTimeStep(const PairParams& p, Real mass, Real radius) {
     // kt (1/m* + R^2/I + R^2/I) = kt (2 + 2.5 + 2.5)/m = 7 kt/m (6 kt/m for discs).
     omega2 = std::max(omega2, 7 * p.shearRatio * kn / mass);
   }
-  const Real zeta = p.dampingRatio;
-  return 2 / std::sqrt(omega2) * (std::sqrt(1 + zeta * zeta) - zeta);
+  return 2 / std::sqrt(omega2) * dampedStepFactor(p.dampingRatio, synchronized);
 }
 
 Real rayleighTimeStep(const MaterialDef& m, Real radius) {

@@ -74,19 +74,20 @@ template <int D>
     if (p.friction > 0) {
       const VecD<D> vt = k.relativeVelocity - vn * n;
       const Real kt = p.hertzKt * a;
-      // kt = 8 G* sqrt(R* delta) changed with the overlap since the last step (the positions
-      // moved by vn dt): the stored spring gained 1/2 (kt - kt_before) |s|^2 from no force.
-      // (An unloaded spring, as every new contact's, gains nothing: no sqrt for it.)
-      const Real s2 = history->spring.squaredNorm();
-      if (s2 != 0) {
-        const Real before = std::max<Real>(0, g.overlap + vn * dt);
-        const Real ktBefore = p.hertzKt * std::sqrt(k.effectiveRadius * before);
-        out.springWork = 0.5 * (kt - ktBefore) * s2;
+      // kt = 8 G* sqrt(R* delta) at the overlap before the step's normal displacement (only a
+      // loaded spring needs it: no sqrt for a new contact's).
+      Real kt0 = kt;
+      const bool loaded = history->spring.squaredNorm() != 0;
+      Real vnDrift;
+      const VecD<D> u = driftDisplacement<D>(n, vt, vn, k, *history, dt, &vnDrift);
+      if (loaded) {
+        const Real before = std::max<Real>(0, g.overlap + vnDrift * dt);
+        kt0 = p.hertzKt * std::sqrt(k.effectiveRadius * before);
       }
-      coulombSpringStep<SpringFrame::Project, D>(n, vt, kt, p.hertzGammaT * sqrtAm, p.friction * fn,
-                                                 dt, p.coulomb, *history, out);
+      coulombSpringStep<SpringFrame::Project, D>(n, vt, u, kt, kt0, p.hertzGammaT * sqrtAm,
+                                                 p.friction * fn, dt, p.coulomb, *history, out);
     } else {
-      history->spring.setZero();
+      history->spring.setZero();  // (the drift is read only with a spring)
     }
   }
   return out;

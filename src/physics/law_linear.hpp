@@ -69,10 +69,12 @@ template <int D>
     if (p.friction > 0) {
       const VecD<D> vt = k.relativeVelocity - vn * n;
       const Real kt = p.shearRatio * kn;
-      coulombSpringStep<SpringFrame::Rotate, D>(n, vt, kt, beta * kt, p.friction * fn, dt,
+      Real vnDrift;
+      const VecD<D> u = driftDisplacement<D>(n, vt, vn, k, *history, dt, &vnDrift);
+      coulombSpringStep<SpringFrame::Rotate, D>(n, vt, u, kt, kt, beta * kt, p.friction * fn, dt,
                                                 p.coulomb, *history, out);
     } else {
-      history->spring.setZero();
+      history->spring.setZero();  // (the drift is read only with a spring)
     }
   }
   return out;

@@ -2,7 +2,7 @@
 // law_hertz_mindlin.hpp): one step of the incremental shear spring of a contact.
 //
 // Per step: carry the stored spring into the current tangent plane, add the tangential
-// displacement of the step (vt dt), form the spring force -kt s, and if it exceeds the Coulomb
+// displacement of the step (u, the drift's), form the spring force -kt s, and if it exceeds the Coulomb
 // limit mu Fn, scale the force down to the limit and the spring with it (the excess elongation
 // is slip; the energy it held goes to frictionLoss). The tangential dashpot -ct vt acts only
 // while sticking, so a sliding contact's force is exactly mu Fn.
@@ -26,7 +26,8 @@
 //    taken as 1 + x/2 (x = (s.n)^2/|s_t|^2, the squared tangent of the step's tilt; error x^2/8
 //    below 1.3e-15 for x < 1e-7) and with a sqrt only for larger tilts.
 //  - Project (Hertz-Mindlin, as LIGGGHTS: shear += vtr dt, then shear -= (shear.en) en): the
-//    normal component is dropped; the spring energy it held is booked as frictionLoss.
+//    normal component is dropped; the spring energy it held is booked as frictionLoss (the
+//    slip form of the identity below books it).
 #pragma once
 
 #include <cmath>
@@ -39,17 +40,34 @@ namespace demlab::physics {
 enum class SpringFrame { Rotate, Project };
 
 // Returns nothing. Changes h.spring to the spring after this step and adds to out: the
-// tangential force on B (out.force), the spring's energy ½ kt |s|^2 (out.elasticEnergy), and
-// the step's tangential damping and friction losses. n: unit normal; vt: tangential relative
-// velocity (B minus A, orthogonal to n); kt > 0, ct >= 0: spring and dashpot; cap = mu Fn >= 0;
-// criterion: what is compared with the cap (above).
+// tangential force on B (out.force), the spring's energy ½ kt |s|^2 (out.elasticEnergy), the
+// stiffening work (out.springWork) and the step's tangential damping and friction losses.
+// n: unit normal; vt: tangential relative velocity at the force time (B minus A, orthogonal to
+// n), for the dashpot and the Coulomb test; u: the step's tangential displacement, which the
+// spring gains; kt > 0, ct >= 0: spring and dashpot; kt0: the spring's stiffness at its last
+// step (Hertz-Mindlin's follows the overlap; read only when h.spring is not zero); cap = mu Fn
+// >= 0; criterion: what is compared with the cap (above).
+//
+// u is what the drift moved, v(t+dt/2) dt (driftDisplacement): with synchronized
+// velocities vt dt would run ahead of the positions by a dt^2/2 a step, a first-order scheme
+// that damps a stuck contact's vibration numerically (scripts/tangential-schemes.py).
+// The losses are booked by the trapezoid identity, the integrator's own work over u:
+// friction = ½ (kt0 s0 + kt s).u - (½ kt |s|^2 - ½ kt0 |s0|^2) + stiffening, with s0, kt0 the
+// last step's spring and stiffness and the stiffening work ½ (kt - kt0) s0.s (Hertz-Mindlin's
+// kt follows the overlap); rearranged, ½ (kt0 s0 + kt s).((s0 + u) - s), the mean spring force
+// times the slip. (kt0 estimated from the overlap before the drift's normal displacement, the
+// law's, is as good as kept: scripts/ledger-friction.tcl gives the same orders.) The dashpot's
+// loss is ct |vt|^2 dt. So a sticking spring loses nothing, a sliding one cap |u|, and the
+// ledger's tangential part closes at second order in dt.
 template <SpringFrame Frame, int D>
-[[gnu::always_inline]] inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt, Real kt,
-                                                     Real ct, Real cap, Real dt,
-                                                     CoulombCriterion criterion,
+[[gnu::always_inline]] inline void coulombSpringStep(const VecD<D>& n, const VecD<D>& vt,
+                                                     const VecD<D>& u, Real kt, Real kt0, Real ct,
+                                                     Real cap, Real dt, CoulombCriterion criterion,
                                                      TangentialHistory<D>& h,
                                                      ContactForce<D>& out) {
-  VecD<D> s = h.spring;
+  const VecD<D> s0 = h.spring;
+  VecD<D> s = s0;
+  Real sn = 0;  // Project: the normal part dropped
   if constexpr (Frame == SpringFrame::Rotate) {
     const Real sn = s.dot(n);
     if (sn != 0) {
@@ -60,46 +78,82 @@ template <SpringFrame Frame, int D>
         s *= x < 1e-7 ? 1 + 0.5 * x : std::sqrt(1 + x);
       }
     }
-    s += vt * dt;
+    s += u;
   } else {
-    s += vt * dt;
-    const Real sn = s.dot(n);
+    s += u;
+    sn = s.dot(n);
     s -= sn * n;
-    out.frictionLoss += 0.5 * kt * sn * sn;
   }
   const Real s2 = s.squaredNorm();
+  // Project: what the booking needs of the last spring (the SIMD kernels' order).
+  Real s0n = 0, s0s = 0;
+  if constexpr (Frame == SpringFrame::Project) s0n = s0.dot(n), s0s = s0.dot(s);
+  Real r = 1;  // the spring after the step is r s
   const Real f2 = kt * kt * s2;  // |spring force|^2
+  Real elastic;
   if (criterion == CoulombCriterion::Total && f2 <= cap * cap &&
       (kt * s + ct * vt).squaredNorm() > cap * cap) {
     // Spring within the limit, spring and dashpot together beyond it: the contact slides on
     // a spring shorter than the limit's (just after a touch, or a reversal). The dashpot is
-    // off while sliding, so the force is the spring's alone; the spring keeps the step's
-    // elongation u, and the work the motion did beyond the spring's gain (before + kt s.u
-    // - after = 1/2 kt |u|^2) is the slip's loss.
-    const VecD<D> u = vt * dt;
+    // off while sliding, so the force is the spring's alone, and the spring keeps the step's
+    // elongation.
     out.force -= kt * s;
-    out.frictionLoss += 0.5 * kt * u.squaredNorm();
-    out.elasticEnergy += 0.5 * kt * s2;
-    h.spring = s;
-    return;
-  }
-  if (f2 > cap * cap) {
+    elastic = 0.5 * kt * s2;
+  } else if (f2 > cap * cap) {
     // Sliding: the spring force is scaled to the Coulomb limit; the slip |s| - cap/kt
-    // dissipates cap per unit length. (LIGGGHTS zeroes the force if |s| = 0 with cap = 0.)
+    // dissipates. (LIGGGHTS zeroes the force if |s| = 0 with cap = 0.)
     const Real len = std::sqrt(s2);
     const Real ratio = cap / (kt * len);
-    const VecD<D> u = vt * dt;
-    const Real before = 0.5 * kt * (s - u).squaredNorm();
     s *= ratio;
+    r = ratio;
     out.force -= kt * s;
-    out.frictionLoss += before + kt * s.dot(u) - 0.5 * cap * cap / kt;
-    out.elasticEnergy += 0.5 * cap * cap / kt;
+    elastic = 0.5 * cap * cap / kt;
   } else {
     out.force -= kt * s + ct * vt;
     out.dampingLoss += ct * vt.squaredNorm() * dt;
-    out.elasticEnergy += 0.5 * kt * s2;
+    elastic = 0.5 * kt * s2;
   }
+  if constexpr (Frame == SpringFrame::Project) {
+    // The slip (s0 + u) - r s is sn n + (1 - r) s: the identity in scalars.
+    out.frictionLoss += 0.5 * (kt0 * sn * s0n + (1 - r) * (kt0 * s0s + kt * r * s2));
+    out.springWork += 0.5 * (kt - kt0) * r * s0s;
+  } else {
+    out.frictionLoss += 0.5 * (kt0 * s0 + kt * s).dot((s0 + u) - s);
+    out.springWork += 0.5 * (kt - kt0) * s0.dot(s);
+  }
+  out.elasticEnergy += elastic;
   h.spring = s;
+}
+
+// Returns the step's tangential displacement for coulombSpringStep and sets *vnDrift to the
+// normal relative velocity it moved with: the displacement of the half-step velocities that
+// moved the positions (tangential to n), times dt. Changes h.drift (synchronized velocities).
+//
+// With half-step velocities (k.velocityLag != 0) that is the velocity given. With synchronized
+// ones the law sees vS_{n+1} = v_{n+1/2} + a_n dt/2 (src/sim/integrator.hpp), ahead of the
+// positions by a dt^2/2 a step: as the step's displacement it makes a first-order scheme that
+// damps a stuck contact's vibration numerically (scripts/tangential-schemes.py). The half-step
+// velocity is recovered per contact: with D_{n+1} = v_{n+1/2}, D_{n+1} - D_n = a_n dt, so
+// D_{n+1} = (2 vS_{n+1} + D_n) / 3, exactly for any linear motion, and an error in D shrinks
+// by 3 a step. A contact's first step (its spring zero) starts from D = vS. (For the relative
+// velocity at the contact point the normal's turn and the arms' change enter at O(dt) of an
+// O(dt^2) term.) Nothing from the grains: one vector more a spring.
+template <int D>
+[[gnu::always_inline]] inline VecD<D> driftDisplacement(const VecD<D>& n, const VecD<D>& vt,
+                                                        Real vn, const ContactKinematics<D>& k,
+                                                        TangentialHistory<D>& h, Real dt,
+                                                        Real* vnDrift) {
+  if (k.velocityLag != 0) {
+    *vnDrift = vn;
+    return vt * dt;
+  }
+  const VecD<D>& vS = k.relativeVelocity;
+  // (A NaN drift, unknown, fails the test and restarts from vS.)
+  const bool known = h.spring.squaredNorm() != 0 && h.drift.squaredNorm() >= 0;
+  const VecD<D> d = known ? VecD<D>((2 * vS + h.drift) * (1.0 / 3)) : vS;
+  h.drift = d;
+  *vnDrift = d.dot(n);
+  return (d - *vnDrift * n) * dt;
 }
 
 }  // namespace demlab::physics

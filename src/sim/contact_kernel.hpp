@@ -31,8 +31,13 @@ struct HertzPair {
   double kn, kt, gammaN, gammaT, friction;
 };
 
+// The doubles of one spring's slot: the spring and its drift velocity
+// (physics::TangentialHistory<3>).
+constexpr size_t kSpringStride = 6;
+
 // The grain-pair springs (sim/pair_springs.hpp owns them): candidate k's spring is the 3
-// doubles at data + 3 slotOf[k], or zero when slotOf[k] is kNoSlot. A kernel gives a slot back
+// doubles at data + kSpringStride slotOf[k] (its drift the 3 after), or zero when slotOf[k] is
+// kNoSlot. A kernel gives a slot back
 // when its pair stops touching (release) and asks for a zeroed one when a pair without one
 // touches (acquire, which returns data, moved if the pool grew): both go through the owner,
 // once per pair that starts or stops touching.
@@ -113,7 +118,8 @@ struct WallPassArgs {
   const double* invMass = nullptr;
   const uint32_t* material = nullptr;
   // Contact c: geometry[7 c ...] = physics::ContactGeometry<3> (normal, overlap, point), grain
-  // grain[c], spring springs[3 slot[c] ...] (with history).
+  // grain[c], spring springs[kSpringStride slot[c] ...] and its drift the 3 after (with
+  // history).
   const double* geometry = nullptr;
   const uint32_t* grain = nullptr;
   const uint32_t* slot = nullptr;

@@ -181,6 +181,36 @@ DEMLAB_KI void store3(double* q, __m128d xy, __m128d z) {
   _mm_store_sd(q + 2, z);
 }
 
+// Stores lane l of a and b as 6 consecutive doubles at p + o[l] (a spring and its drift).
+template <int W>
+DEMLAB_KI void storeSpringsAndDrifts(double* p, const size_t* o, const V3<W>& a, const V3<W>& b) {
+  if constexpr (W == 2) {
+    const __m128d ax = (__m128d)a.x, ay = (__m128d)a.y, az = (__m128d)a.z;
+    const __m128d bx = (__m128d)b.x, by = (__m128d)b.y, bz = (__m128d)b.z;
+    _mm_storeu_pd(p + o[0], _mm_unpacklo_pd(ax, ay));
+    _mm_storeu_pd(p + o[0] + 2, _mm_unpacklo_pd(az, bx));
+    _mm_storeu_pd(p + o[0] + 4, _mm_unpacklo_pd(by, bz));
+    _mm_storeu_pd(p + o[1], _mm_unpackhi_pd(ax, ay));
+    _mm_storeu_pd(p + o[1] + 2, _mm_unpackhi_pd(az, bx));
+    _mm_storeu_pd(p + o[1] + 4, _mm_unpackhi_pd(by, bz));
+  } else {
+    const __m256d xy0 = _mm256_unpacklo_pd((__m256d)a.x, (__m256d)a.y);  // lanes 0, 2
+    const __m256d xy1 = _mm256_unpackhi_pd((__m256d)a.x, (__m256d)a.y);  // lanes 1, 3
+    const __m256d zx0 = _mm256_unpacklo_pd((__m256d)a.z, (__m256d)b.x);
+    const __m256d zx1 = _mm256_unpackhi_pd((__m256d)a.z, (__m256d)b.x);
+    const __m256d yz0 = _mm256_unpacklo_pd((__m256d)b.y, (__m256d)b.z);
+    const __m256d yz1 = _mm256_unpackhi_pd((__m256d)b.y, (__m256d)b.z);
+    _mm256_storeu_pd(p + o[0], _mm256_permute2f128_pd(xy0, zx0, 0x20));
+    _mm256_storeu_pd(p + o[2], _mm256_permute2f128_pd(xy0, zx0, 0x31));
+    _mm256_storeu_pd(p + o[1], _mm256_permute2f128_pd(xy1, zx1, 0x20));
+    _mm256_storeu_pd(p + o[3], _mm256_permute2f128_pd(xy1, zx1, 0x31));
+    _mm_storeu_pd(p + o[0] + 4, _mm256_castpd256_pd128(yz0));
+    _mm_storeu_pd(p + o[2] + 4, _mm256_extractf128_pd(yz0, 1));
+    _mm_storeu_pd(p + o[1] + 4, _mm256_castpd256_pd128(yz1));
+    _mm_storeu_pd(p + o[3] + 4, _mm256_extractf128_pd(yz1, 1));
+  }
+}
+
 template <int W>
 DEMLAB_KI vd<W> dot(const V3<W>& a, const V3<W>& b) {
   return (a.x * b.x + a.y * b.y) + a.z * b.z;
@@ -426,7 +456,8 @@ template <int W>
 struct LawIn {
   V3<W> n;
   vd<W> overlap, a, sqrtAm, effMass, effRadius;
-  V3<W> vrel, sOld;
+  V3<W> vrel;
+  V3<W> sOld, dOld;  // with history: the spring and (Drift) its drift velocity
   vd<W> kn, kt, gammaN, gammaT, mu;
 };
 // What it gives: the force on B, the step's energies and (with history) the spring after it.
@@ -434,12 +465,13 @@ template <int W>
 struct LawOut {
   V3<W> F;
   vd<W> damping, elastic, friction, springWork;
-  V3<W> sNew;
+  V3<W> sNew, dNew;
 };
 
-// hertzMindlinContactWith with coulombSpringStep<Project> (law_hertz_mindlin.hpp,
-// tangential.hpp), lane by lane.
-template <int W, bool History>
+// hertzMindlinContactWith with driftDisplacement and coulombSpringStep<Project>
+// (law_hertz_mindlin.hpp, tangential.hpp), lane by lane. Drift: synchronized velocities (the
+// springs' drift velocities are read and written); else half-step ones (C.lag).
+template <int W, bool History, bool Drift>
 DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
   const double dt = C.dt;
   const vd<W> zero = splat<W>(0.0);
@@ -466,22 +498,40 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
     const vm<W> rough = pMu > 0.0;
     const V3<W> vt{vrel.x - vn * n.x, vrel.y - vn * n.y, vrel.z - vn * n.z};
     const vd<W> kt = pKt * a;
-    const V3<W> sOld = in.sOld;
-    const vd<W> s2old = dot<W>(sOld, sOld);
-    {
-      const vd<W> reach = overlap + vn * dt;
-      const vd<W> before = zero < reach ? reach : zero;
-      const vd<W> ktBefore = pKt * vsqrt<W>(in.effRadius * before);
-      springWork = s2old != 0.0 ? 0.5 * (kt - ktBefore) * s2old : zero;
-    }
+    const V3<W> s0 = in.sOld;
+    const vm<W> loaded = dot<W>(s0, s0) != 0.0;
     const vd<W> ct = pGt * sqrtAm;
     const vd<W> cap = pMu * fn;
+    // driftDisplacement: the step's displacement.
+    V3<W> u{vt.x * dt, vt.y * dt, vt.z * dt};
+    vd<W> vnDrift = vn;
+    V3<W> d = vrel;
+    if constexpr (Drift) {
+      const V3<W>& d0 = in.dOld;
+      const vm<W> known = loaded & (dot<W>(d0, d0) >= 0.0);
+      const double third = 1.0 / 3;
+      d = select<W>(known,
+                    V3<W>{(2.0 * vrel.x + d0.x) * third, (2.0 * vrel.y + d0.y) * third,
+                          (2.0 * vrel.z + d0.z) * third},
+                    vrel);
+      vnDrift = dot<W>(d, n);
+      u = V3<W>{(d.x - vnDrift * n.x) * dt, (d.y - vnDrift * n.y) * dt, (d.z - vnDrift * n.z) * dt};
+    }
+    // kt at the overlap before the step's normal displacement, for a loaded spring.
+    vd<W> kt0 = kt;
+    {
+      const vd<W> reach = overlap + vnDrift * dt;
+      const vd<W> before = zero < reach ? reach : zero;
+      const vd<W> ktBefore = pKt * vsqrt<W>(in.effRadius * before);
+      kt0 = loaded ? ktBefore : kt;
+    }
     // coulombSpringStep<Project>.
-    V3<W> s{sOld.x + vt.x * dt, sOld.y + vt.y * dt, sOld.z + vt.z * dt};
+    V3<W> s{s0.x + u.x, s0.y + u.y, s0.z + u.z};
     const vd<W> sn = dot<W>(s, n);
     s = V3<W>{s.x - sn * n.x, s.y - sn * n.y, s.z - sn * n.z};
-    const vd<W> fl = zero + 0.5 * kt * sn * sn;
     const vd<W> s2 = dot<W>(s, s);
+    // What the booking needs of the last spring (it is then dead: fewer live registers).
+    const vd<W> s0n = dot<W>(s0, n), s0s = dot<W>(s0, s);
     const vd<W> f2 = kt * kt * s2;
     const vd<W> cap2 = cap * cap;
     const V3<W> stickF{kt * s.x + ct * vt.x, kt * s.y + ct * vt.y, kt * s.z + ct * vt.z};
@@ -489,41 +539,40 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
     // Sticking: force -= kt s + ct vt; the dashpot's loss; the spring's energy.
     V3<W> Ft{F.x - stickF.x, F.y - stickF.y, F.z - stickF.z};
     vd<W> dampT = damping + ct * dot<W>(vt, vt) * dt;
-    vd<W> elT = elastic + 0.5 * kt * s2;
-    vd<W> flT = fl;
+    vd<W> elT = 0.5 * kt * s2;
     V3<W> sT = s;
+    vd<W> r = splat<W>(1.0);  // sT = r s
     if (C.total) {
-      // Sliding on a short spring (Total criterion): force -= kt s, loss 1/2 kt |u|^2.
+      // Sliding on a short spring (Total criterion): force -= kt s.
       const vm<W> shortSlide = (f2 <= cap2) & (dot<W>(stickF, stickF) > cap2);
-      const V3<W> u{vt.x * dt, vt.y * dt, vt.z * dt};
       const V3<W> Fs{F.x - kt * s.x, F.y - kt * s.y, F.z - kt * s.z};
       Ft = select<W>(shortSlide, Fs, Ft);
       dampT = shortSlide ? damping : dampT;
-      flT = shortSlide ? fl + 0.5 * kt * dot<W>(u, u) : flT;
     }
     if (bitsOf<W>(slide) != 0) {
       // Sliding: the spring scaled to the Coulomb limit.
-      const V3<W> u{vt.x * dt, vt.y * dt, vt.z * dt};
       const vd<W> len = vsqrt<W>(s2);
       const vd<W> ratio = cap / (kt * len);
-      const V3<W> su{s.x - u.x, s.y - u.y, s.z - u.z};
-      const vd<W> before = 0.5 * kt * dot<W>(su, su);
       const V3<W> sc{s.x * ratio, s.y * ratio, s.z * ratio};
       const vd<W> capEnergy = 0.5 * cap * cap / kt;
       const V3<W> Fc{F.x - kt * sc.x, F.y - kt * sc.y, F.z - kt * sc.z};
       Ft = select<W>(slide, Fc, Ft);
       dampT = slide ? damping : dampT;
-      flT = slide ? fl + (before + kt * dot<W>(sc, u) - capEnergy) : flT;
-      elT = slide ? elastic + capEnergy : elT;
+      elT = slide ? capEnergy : elT;
       sT = select<W>(slide, sc, sT);
+      r = slide ? ratio : r;
     }
+    // The loss by the trapezoid identity and the stiffening work (tangential.hpp).
+    const vd<W> flT = zero + 0.5 * (kt0 * sn * s0n + (1.0 - r) * (kt0 * s0s + kt * r * s2));
+    const vd<W> swT = zero + 0.5 * (kt - kt0) * r * s0s;
     // A pair without friction: normal force only, its spring zeroed.
     F = select<W>(rough, Ft, F);
     damping = rough ? dampT : damping;
-    elastic = rough ? elT : elastic;
+    elastic = rough ? elastic + elT : elastic;
     friction = rough ? flT : zero;
-    springWork = rough ? springWork : zero;
+    springWork = rough ? swT : zero;
     out.sNew = select<W>(rough, sT, V3<W>{zero, zero, zero});
+    if constexpr (Drift) out.dNew = select<W>(rough, d, in.dOld);
   }
   out.F = F;
   out.damping = damping;
@@ -534,7 +583,7 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
 }
 
 // Stage 3 for the contacts of candidates k[0 .. valid - 1], from stage lanes c ...
-template <int W, bool History, bool Rotation, bool OnePair>
+template <int W, bool History, bool Rotation, bool OnePair, bool Drift>
 DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<W>& st, size_t c,
                    Sums& e, Records* rec, size_t& nRec) {
   size_t kc[W], ok[W];
@@ -543,7 +592,7 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
   double* springs = nullptr;
   if constexpr (History) {
     springs = C.springs->data;
-    for (int l = 0; l < W; ++l) ok[l] = 3 * size_t{C.springs->slotOf[kc[l]]};
+    for (int l = 0; l < W; ++l) ok[l] = kSpringStride * size_t{C.springs->slotOf[kc[l]]};
   }
   vd<W> pKn, pKt, pGn, pGt, pMu;
   if constexpr (OnePair) {
@@ -568,20 +617,24 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
   in.effRadius = st.get(kEffRadius, c);
   in.vrel = V3<W>{st.get(kVx, c), st.get(kVy, c), st.get(kVz, c)};
   if constexpr (History) in.sOld = gather3<W>(springs, ok);
+  if constexpr (Drift) in.dOld = gather3<W>(springs + 3, ok);
   in.kn = pKn;
   in.kt = pKt;
   in.gammaN = pGn;
   in.gammaT = pGt;
   in.mu = pMu;
-  const LawOut<W> lo = hertzLaw<W, History>(C, in);
+  const LawOut<W> lo = hertzLaw<W, History, Drift>(C, in);
   const V3<W>& n = in.n;
   const V3<W>& F = lo.F;
   const vd<W> damping = lo.damping, elastic = lo.elastic, friction = lo.friction,
               springWork = lo.springWork;
-  if constexpr (History) {
+  // (A repeated lane stores its last lane's spring again: the same values, as the lanes'
+  // stores go in lane order.)
+  if constexpr (Drift) {
+    storeSpringsAndDrifts<W>(springs, ok, lo.sNew, lo.dNew);
+  } else if constexpr (History) {
     Lanes3<W> sl;
     split<W>(lo.sNew, sl);
-    // (A repeated lane stores its last lane's spring again.)
     for (int l = 0; l < W; ++l) store3(springs + ok[l], sl.xy[l], sl.z[l]);
   }
   // The grains' forces and torques, lane by lane in candidate order: f_j += F, f_i -= F,
@@ -739,7 +792,7 @@ DEMLAB_KI void touch(const Consts C, size_t kc, size_t valid, uint32_t* bk, size
 // The prefetch level (A.prefetch) only selects stage 1's variant, in the loop below: stages 2
 // and 3, the bulk of the code, are compiled once per History x Rotation x OnePair, not three
 // times more (it was most of the kernels' build time).
-template <int W, bool History, bool Rotation, bool OnePair>
+template <int W, bool History, bool Rotation, bool OnePair, bool Drift>
 void hertzRun(HertzPassArgs& A) {
   const Consts C{
       A.x,       A.v,       A.w,     A.f,    A.t,  A.r,          A.invMass,  A.material,
@@ -773,7 +826,7 @@ void hertzRun(HertzPassArgs& A) {
     for (size_t c = 0; c < full; c += W) geometry<W, Rotation, OnePair>(C, bk + c, W, st, c);
     for (size_t c = 0; c < full; c += W) {
       if (rec != nullptr && nRec + W > Records::kSize) flush();
-      law<W, History, Rotation, OnePair>(C, bk + c, W, st, c, e, rec, nRec);
+      law<W, History, Rotation, OnePair, Drift>(C, bk + c, W, st, c, e, rec, nRec);
     }
     contacts += full;
     for (size_t j = full; j < m; ++j) bk[j - full] = bk[j];
@@ -782,7 +835,7 @@ void hertzRun(HertzPassArgs& A) {
   if (m > 0) {
     if (rec != nullptr && nRec + W > Records::kSize) flush();
     geometry<W, Rotation, OnePair>(C, bk, m, st, 0);
-    law<W, History, Rotation, OnePair>(C, bk, m, st, 0, e, rec, nRec);
+    law<W, History, Rotation, OnePair, Drift>(C, bk, m, st, 0, e, rec, nRec);
     contacts += m;
   }
   if (rec != nullptr) flush();
@@ -792,7 +845,16 @@ void hertzRun(HertzPassArgs& A) {
 
 template <int W, bool History, bool Rotation>
 void hertzPass(HertzPassArgs& a) {
-  a.onePair ? hertzRun<W, History, Rotation, true>(a) : hertzRun<W, History, Rotation, false>(a);
+  // Synchronized velocities: the springs follow their drift velocities (hertzLaw).
+  if constexpr (History) {
+    if (a.lag == 0) {
+      a.onePair ? hertzRun<W, true, Rotation, true, true>(a)
+                : hertzRun<W, true, Rotation, false, true>(a);
+      return;
+    }
+  }
+  a.onePair ? hertzRun<W, History, Rotation, true, false>(a)
+            : hertzRun<W, History, Rotation, false, false>(a);
 }
 
 template <int W>
@@ -806,7 +868,7 @@ HertzPassFn hertzPassFor(bool history, bool rotation) {
 // WallContactModule's loop for contacts c0 .. c0 + valid - 1 of one static wall (valid <= W; the
 // lanes from valid on repeat the last contact and are dropped): the grain is A, the wall B;
 // vWall = 0, so vrel = 0 - v_i - w_i x arm with arm = point - x_i; m* = 1 / invMass_i, R* = r_i.
-template <int W, bool History, bool Rotation, bool OnePair>
+template <int W, bool History, bool Rotation, bool OnePair, bool Drift>
 DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size_t valid,
                          double* wf, Sums& e, Records* rec, size_t& nRec) {
   size_t cs[W], gi[W], oi[W], og[W], os[W];
@@ -816,7 +878,7 @@ DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size
     gi[l] = A.grain[c];
     oi[l] = 3 * gi[l];
     og[l] = 7 * c;
-    if constexpr (History) os[l] = 3 * size_t{A.slot[c]};
+    if constexpr (History) os[l] = kSpringStride * size_t{A.slot[c]};
   }
   const vd<W> zero = splat<W>(0.0);
   LawIn<W> in;
@@ -837,6 +899,7 @@ DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size
     in.vrel = V3<W>{in.vrel.x - cr.x, in.vrel.y - cr.y, in.vrel.z - cr.z};
   }
   if constexpr (History) in.sOld = gather3<W>(A.springs, os);
+  if constexpr (Drift) in.dOld = gather3<W>(A.springs + 3, os);
   if constexpr (OnePair) {
     in.kn = splat<W>(C.one.kn);
     in.kt = splat<W>(C.one.kt);
@@ -853,8 +916,10 @@ DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size
     in.gammaT = gather1<W>(pp + 3, op);
     in.mu = gather1<W>(pp + 4, op);
   }
-  const LawOut<W> lo = hertzLaw<W, History>(C, in);
-  if constexpr (History) {
+  const LawOut<W> lo = hertzLaw<W, History, Drift>(C, in);
+  if constexpr (Drift) {
+    storeSpringsAndDrifts<W>(A.springs, os, lo.sNew, lo.dNew);
+  } else if constexpr (History) {
     Lanes3<W> sl;
     split<W>(lo.sNew, sl);
     for (int l = 0; l < W; ++l) store3(A.springs + os[l], sl.xy[l], sl.z[l]);
@@ -892,7 +957,7 @@ DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size
   }
 }
 
-template <int W, bool History, bool Rotation, bool OnePair>
+template <int W, bool History, bool Rotation, bool OnePair, bool Drift>
 void wallRun(WallPassArgs& A) {
   Consts C{};
   C.dt = A.dt;
@@ -909,11 +974,11 @@ void wallRun(WallPassArgs& A) {
   size_t c = 0;
   for (; c + W <= A.n; c += W) {
     if (rec != nullptr && nRec + W > Records::kSize) flush();
-    wallGroup<W, History, Rotation, OnePair>(C, A, c, W, wf, e, rec, nRec);
+    wallGroup<W, History, Rotation, OnePair, Drift>(C, A, c, W, wf, e, rec, nRec);
   }
   if (c < A.n) {
     if (rec != nullptr && nRec + W > Records::kSize) flush();
-    wallGroup<W, History, Rotation, OnePair>(C, A, c, A.n - c, wf, e, rec, nRec);
+    wallGroup<W, History, Rotation, OnePair, Drift>(C, A, c, A.n - c, wf, e, rec, nRec);
   }
   if (rec != nullptr) flush();
   for (int k = 0; k < 3; ++k) A.wallForce[k] = wf[k];
@@ -922,7 +987,15 @@ void wallRun(WallPassArgs& A) {
 
 template <int W, bool History, bool Rotation>
 void wallPass(WallPassArgs& a) {
-  a.onePair ? wallRun<W, History, Rotation, true>(a) : wallRun<W, History, Rotation, false>(a);
+  if constexpr (History) {
+    if (a.lag == 0) {
+      a.onePair ? wallRun<W, true, Rotation, true, true>(a)
+                : wallRun<W, true, Rotation, false, true>(a);
+      return;
+    }
+  }
+  a.onePair ? wallRun<W, History, Rotation, true, false>(a)
+            : wallRun<W, History, Rotation, false, false>(a);
 }
 
 template <int W>

@@ -35,18 +35,18 @@ void parkSprings(Scene<D>& s) {
   const ElementArrays<D>& a = s.elements.a;
   const size_t n = std::min(s.pairSprings.size(), s.candidates.size());
   for (size_t k = 0; k < n; ++k) {
-    const VecD<D> sp = s.pairSprings.spring(k);
-    if (sp.squaredNorm() == 0) continue;
+    const physics::TangentialHistory<D> h = s.pairSprings.history(k);
+    if (h.spring.squaredNorm() == 0) continue;
     const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
     // The loop keeps each spring in the orientation of the lower slot (A) to the higher.
-    s.histories.touch(std::min(p, q), std::max(p, q)).state.spring = sp;
+    s.histories.touch(std::min(p, q), std::max(p, q)).state = h;
   }
   for (size_t w = 0; w < s.wallSprings.size() && w < s.wallCandidates.size(); ++w) {
     const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
     const auto& springs = s.wallSprings[w];
     for (size_t k = 0; k < springs.size() && k < s.wallCandidates[w].size(); ++k) {
       if (springs[k].spring.squaredNorm() == 0) continue;
-      s.histories.touch(a.slot[s.wallCandidates[w][k]], wid).state.spring = springs[k].spring;
+      s.histories.touch(a.slot[s.wallCandidates[w][k]], wid).state = springs[k];
     }
   }
   s.pairSprings.clear();
@@ -67,7 +67,7 @@ void unparkSprings(Scene<D>& s) {
   for (size_t k = 0; k < s.candidates.size(); ++k) {
     const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
     if (const auto* h = s.histories.find(std::min(p, q), std::max(p, q))) {
-      s.pairSprings.set(k, h->spring);
+      s.pairSprings.set(k, *h);
     }
   }
   for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
@@ -100,30 +100,30 @@ class SpringTransfer {
     auto each = [&](auto&& put) {
       const size_t n = std::min(s.pairSprings.size(), s.candidates.size());
       for (size_t k = 0; k < n; ++k) {
-        const VecD<D> sp = s.pairSprings.spring(k);
-        if (sp.squaredNorm() == 0) continue;
+        const physics::TangentialHistory<D> h = s.pairSprings.history(k);
+        if (h.spring.squaredNorm() == 0) continue;
         const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
-        put(std::min(p, q), std::max(p, q), sp);
+        put(std::min(p, q), std::max(p, q), h);
       }
       for (size_t w = 0; w < s.wallSprings.size() && w < s.wallCandidates.size(); ++w) {
         const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
         const auto& springs = s.wallSprings[w];
         for (size_t k = 0; k < springs.size() && k < s.wallCandidates[w].size(); ++k) {
           if (springs[k].spring.squaredNorm() == 0) continue;
-          put(a.slot[s.wallCandidates[w][k]], wid, springs[k].spring);
+          put(a.slot[s.wallCandidates[w][k]], wid, springs[k]);
         }
       }
     };
     size_t total = 0;
-    each([&](uint32_t row, uint32_t, const VecD<D>&) {
+    each([&](uint32_t row, uint32_t, const physics::TangentialHistory<D>&) {
       rowStart_[row + 1] += 1;
       total += 1;
     });
     for (uint32_t r = 0; r < rows; ++r) rowStart_[r + 1] += rowStart_[r];
     entries_.resize(total);
     std::vector<uint32_t> fill(rowStart_.begin(), rowStart_.end() - 1);
-    each([&](uint32_t row, uint32_t partner, const VecD<D>& sp) {
-      entries_[fill[row]++] = {partner, sp};
+    each([&](uint32_t row, uint32_t partner, const physics::TangentialHistory<D>& h) {
+      entries_[fill[row]++] = {partner, h};
     });
     // Freed, not just emptied: give() allocates the new arrays, and holding the old ones
     // through the search would add their size to the run's peak memory.
@@ -152,7 +152,7 @@ class SpringTransfer {
       if (lo + size_t{1} < rowStart_.size()) {
         for (uint32_t e = rowStart_[lo]; e < rowStart_[lo + 1]; ++e) {
           if (entries_[e].partner == hi) {
-            out.spring = entries_[e].spring;
+            out = entries_[e].history;
             return;
           }
         }
@@ -166,7 +166,7 @@ class SpringTransfer {
         const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
         physics::TangentialHistory<D> h;
         lookup(std::min(p, q), std::max(p, q), h);
-        s.pairSprings.set(k, h.spring);
+        s.pairSprings.set(k, h);
       }
       for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
         const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
@@ -188,7 +188,7 @@ class SpringTransfer {
  private:
   struct Entry {
     uint32_t partner;  // the higher slot, or the wall's pair id
-    VecD<D> spring;
+    physics::TangentialHistory<D> history;
   };
   std::vector<Entry> entries_;
   std::vector<uint32_t> rowStart_;  // per lower slot: first entry; one more for the end

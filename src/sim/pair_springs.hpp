@@ -22,6 +22,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/math.hpp"
@@ -80,12 +81,21 @@ class PairSprings {
     return &pool_[slotOf_[k]];
   }
 
-  // Sets candidate k's spring to sp: a zero sp gives the slot back. Changes the pool.
+  // Returns candidate k's history (empty when it has no slot).
+  History history(size_t k) const { return slotOf_[k] == kNoSlot ? History{} : pool_[slotOf_[k]]; }
+
+  // Sets candidate k's spring to sp, its drift velocity unknown (NaN): a zero sp gives the
+  // slot back. Changes the pool.
   void set(size_t k, const VecD<D>& sp) {
-    if (sp.squaredNorm() == 0) {
+    set(k, History{sp, VecD<D>::Constant(std::numeric_limits<Real>::quiet_NaN())});
+  }
+
+  // Sets candidate k's history to h: a zero spring gives the slot back. Changes the pool.
+  void set(size_t k, const History& h) {
+    if (h.spring.squaredNorm() == 0) {
       release(k);
     } else {
-      at(k)->spring = sp;
+      *at(k) = h;
     }
   }
 
@@ -104,7 +114,7 @@ class PairSprings {
   // nothing but the kernel changes it.
   // base: the first candidate the pass sees (a group's), whose slot is slotOf[0].
   kernel::SpringSlots slots(size_t base = 0) {
-    static_assert(sizeof(History) == D * sizeof(double));
+    static_assert(D != 3 || sizeof(History) == kernel::kSpringStride * sizeof(double));
     kernel::SpringSlots s;
     s.slotOf = slotOf_.data() + base;
     s.base = base;
@@ -115,10 +125,10 @@ class PairSprings {
     return s;
   }
 
-  // Returns the springs one per candidate (zero without a slot), as a checkpoint writes them.
+  // Returns the histories one per candidate (empty without a slot).
   std::vector<History> perCandidate() const {
     std::vector<History> out(slotOf_.size());
-    for (size_t k = 0; k < slotOf_.size(); ++k) out[k].spring = spring(k);
+    for (size_t k = 0; k < slotOf_.size(); ++k) out[k] = history(k);
     return out;
   }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 #include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
@@ -17,6 +18,38 @@
 namespace demlab::sim {
 
 namespace {
+
+// Writes a tangential history: the spring, then its drift velocity (zero with a zero spring,
+// which never reads it: a pair that stopped touching may keep its last one, a reloaded scene
+// has none, and the bytes must not differ).
+template <int D>
+void writeHistory(Writer& w, const physics::TangentialHistory<D>& h) {
+  w.vec<D>(h.spring);
+  w.vec<D>(h.spring.squaredNorm() == 0 ? VecD<D>::Zero() : h.drift);
+}
+
+// Returns the bytes writeHistory wrote in r's format (version 2 kept no drift velocity).
+template <int D>
+size_t historyBytes(const Reader& r) {
+  return (r.version >= 3 ? 16 : 8) * D;
+}
+
+// Reads a tangential history (a version 2 scene's drift velocity is unknown: NaN, which the
+// laws restart from the contact's velocity). Throws {LOAD FORMAT} for a non-finite spring or an
+// infinite drift velocity.
+template <int D>
+physics::TangentialHistory<D> readHistory(Reader& r) {
+  physics::TangentialHistory<D> h;
+  h.spring = r.vec<D>();
+  if (!h.spring.allFinite()) Reader::bad("spring");
+  if (r.version >= 3) {
+    h.drift = r.vec<D>();
+    if (h.drift.array().isInf().any()) Reader::bad("spring drift velocity");
+  } else {
+    h.drift.setConstant(std::numeric_limits<Real>::quiet_NaN());
+  }
+  return h;
+}
 
 // A mesh's triangles as corner coordinates, which TriangleMesh::build turns back into the same
 // mesh (corners numbered alike).
@@ -664,7 +697,7 @@ void writeShapes(Writer& w, const Scene<D>& s) {
     w.u32(k.a);
     w.u32(k.b);
     w.u32(k.point);
-    w.vec<D>(h.spring);
+    writeHistory<D>(w, h);
   }
 }
 
@@ -712,15 +745,13 @@ void readShapes(Reader& r, Scene<D>& s) {
     c.second = r.u32();
     if (c.first >= g.size() || c.second >= s.walls.size()) Reader::bad("shape candidate index");
   }
-  const uint64_t n = r.count(12 + 8 * D);
+  const uint64_t n = r.count(12 + historyBytes<D>(r));
   for (uint64_t k = 0; k < n; ++k) {
     ShapeSpringKey key;
     key.a = r.u32();
     key.b = r.u32();
     key.point = r.u32();
-    const VecD<D> spring = r.vec<D>();
-    if (!spring.allFinite()) Reader::bad("shape spring");
-    s.shapeSprings.put(key, {spring});
+    s.shapeSprings.put(key, readHistory<D>(r));
   }
 }
 
@@ -808,7 +839,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   hist.forEach([&](const auto& p, const physics::TangentialHistory<D>& h) {
     w.u32(p.first);
     w.u32(p.second);
-    w.vec<D>(h.spring);
+    writeHistory<D>(w, h);
   });
   // Contact detection state, with the springs of the candidate pairs.
   w.list(s.candidates, [&](const CandidatePair& c) {
@@ -819,10 +850,10 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
   // Written straight from the pool: a vector of them made first (millions of candidates) was
   // a long stretch that neither polled nor wrote.
   w.u64(s.pairSprings.size());
-  for (size_t k = 0; k < s.pairSprings.size(); ++k) w.vec<D>(s.pairSprings.spring(k));
+  for (size_t k = 0; k < s.pairSprings.size(); ++k) writeHistory<D>(w, s.pairSprings.history(k));
   w.u64(s.wallSprings.size());
   for (const auto& l : s.wallSprings) {
-    w.list(l, [&](const physics::TangentialHistory<D>& h) { w.vec<D>(h.spring); });
+    w.list(l, [&](const physics::TangentialHistory<D>& h) { writeHistory<D>(w, h); });
   }
   w.u64(s.wallCandidates.size());
   for (const auto& l : s.wallCandidates) w.list(l, [&](uint32_t i) { w.u32(i); });
@@ -1037,7 +1068,10 @@ void readScene(Reader& r, Scene<D>& s) {
   char magic[8];
   for (char& c : magic) c = static_cast<char>(r.u8());
   if (std::memcmp(magic, kMagic, 8) != 0) Reader::bad("not a demlab checkpoint");
-  if (r.u32() != kFormatVersion) Reader::bad("unknown format version");
+  r.version = r.u32();
+  if (r.version < kOldestFormatVersion || r.version > kFormatVersion) {
+    Reader::bad("unknown format version");
+  }
   const uint32_t dim = r.u32();
   if (dim != D) {
     throw Error("can't load a " + std::to_string(dim) + "D checkpoint into a " + std::to_string(D) +
@@ -1126,11 +1160,11 @@ void readScene(Reader& r, Scene<D>& s) {
   const size_t buckets = r.u64();
   const size_t mostBuckets = std::bit_ceil(64 * std::max<size_t>(n, 16));
   if (buckets > mostBuckets || (buckets & (buckets - 1)) != 0) Reader::bad("history table size");
-  const size_t nh = r.count(8 + 8 * D);
+  const size_t nh = r.count(8 + historyBytes<D>(r));
   s.histories.reserveBuckets(buckets);
   for (size_t k = 0; k < nh; ++k) {
     const uint32_t p = r.u32(), q = r.u32();
-    s.histories.touch(p, q).state.spring = r.vec<D>();
+    s.histories.touch(p, q).state = readHistory<D>(r);
   }
   s.histories.sweep();
   const size_t nCandidates = r.count(8);
@@ -1147,11 +1181,11 @@ void readScene(Reader& r, Scene<D>& s) {
   std::vector<uint32_t> moved;
   groupCandidates(s.candidates, &s.contactGroups, &moved,
                   [] { pollInterrupt("sorting the candidate pairs"); });
-  const size_t nSprings = r.count(8 * D);
+  const size_t nSprings = r.count(historyBytes<D>(r));
   if (nSprings != 0 && nSprings != s.candidates.size()) Reader::bad("pair springs");
-  std::vector<VecD<D>> springsRead;
+  std::vector<physics::TangentialHistory<D>> springsRead;
   springsRead.reserve(nSprings);  // made as read (Reader polls), not zeroed in one call
-  for (size_t k = 0; k < nSprings; ++k) springsRead.push_back(r.vec<D>());
+  for (size_t k = 0; k < nSprings; ++k) springsRead.push_back(readHistory<D>(r));
   s.pairSprings.reset(nSprings, true);
   InterruptPoll poll("reading the scene");  // no bytes read here: a third of a second at 3 10^6
   // A zero spring is no slot (PairSprings::set), except one with a -0.0 in it: only a slot
@@ -1164,24 +1198,24 @@ void readScene(Reader& r, Scene<D>& s) {
   // The pool made to size first: grown an eighth at a time as slots were handed out below, it
   // was copied whole, unpolled, at each growth (nine times its size in all).
   size_t slots = 0;
-  for (const VecD<D>& sp : springsRead) {
+  for (const auto& h : springsRead) {
     poll();
-    slots += sp.squaredNorm() != 0 || signedZero(sp);
+    slots += h.spring.squaredNorm() != 0 || signedZero(h.spring);
   }
   s.pairSprings.reserve(slots);
   for (size_t k = 0; k < nSprings; ++k) {
     poll();
-    const VecD<D> sp = springsRead[moved.empty() ? k : moved[k]];
-    if (signedZero(sp)) {
-      s.pairSprings.at(k)->spring = sp;
+    const physics::TangentialHistory<D>& h = springsRead[moved.empty() ? k : moved[k]];
+    if (signedZero(h.spring)) {
+      *s.pairSprings.at(k) = h;
     } else {
-      s.pairSprings.set(k, sp);
+      s.pairSprings.set(k, h);
     }
   }
   s.wallSprings.resize(r.count(8));
   for (auto& l : s.wallSprings) {
-    l.resize(r.count(8 * D));
-    for (auto& h : l) h.spring = r.vec<D>();
+    l.resize(r.count(historyBytes<D>(r)));
+    for (auto& h : l) h = readHistory<D>(r);
   }
   s.wallCandidates.resize(r.count(8));
   if (s.wallCandidates.size() > nw) Reader::bad("wall candidate lists");
@@ -1237,6 +1271,7 @@ void readScene(Reader& r, Scene<D>& s) {
   while (tagged) {
     const std::string_view body = r.bytesOf(r.count(1));
     Reader b(body);
+    b.version = r.version;
     if (std::memcmp(tag, kBlockedTag, 4) == 0) {
       readBlocked(b, s);
     } else if (std::memcmp(tag, kPairTag, 4) == 0) {

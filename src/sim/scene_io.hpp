@@ -28,6 +28,9 @@ namespace demlab::sim {
 // serialize build a new copy or read into a new scene, so stopping part way changes nothing.
 inline constexpr size_t kPollBytes = kPollSliceBytes;
 
+inline constexpr uint32_t kFormatVersion = 3;  // 3: the springs' drift velocities
+inline constexpr uint32_t kOldestFormatVersion = 2;  // 2: the Coulomb criterion
+
 class Writer {
  public:
   std::string bytes;
@@ -156,6 +159,8 @@ class Reader {
   [[noreturn]] static void bad(const std::string& why) {
     throw Error("bad checkpoint: " + why, {"LOAD", "FORMAT"});
   }
+  // The format version of the bytes (the header's; a section's Reader is given it).
+  uint32_t version = kFormatVersion;
 
  private:
   std::string_view bytes_;
@@ -168,7 +173,6 @@ class Reader {
 enum class IoMode { Checkpoint, Digest, Clone };
 
 inline constexpr char kMagic[9] = "DEMLABCK";
-inline constexpr uint32_t kFormatVersion = 2;  // 2: the Coulomb criterion
 // Starts the optional last section (the watchdog's options when not the defaults).
 inline constexpr char kWatchdogTag[5] = "WDOG";
 // Starts the optional section after it: the touch correction, when on (sim/touch.hpp).

@@ -96,7 +96,7 @@ double SimulationManager<D>::timeStep() const {
   // What the run's start will take: the motion bound again if the fastest element outran it.
   const double speed = std::sqrt(fastestSpeed2(s_));
   const double limit = watchdogStepLimit(s_, skinInUse());
-  if (!retakesMotion(s_.steps % kContactStepEvery == 0, speed, dt, limit)) return dt;
+  if (!retakesMotion(measuresContacts(s_.steps), speed, dt, limit)) return dt;
   return autoStep(survey, motionBound(kSpeedHeadroom * speed, survey, limit));
 }
 
@@ -200,14 +200,15 @@ double SimulationManager<D>::staticCriticalStep(bool polled, StepSurvey* survey)
   Real best = inf, linearDuration = inf, hertzDuration = inf;
   // A grain of material `side` (mass, radius) in a contact of pair p: the stable step, the
   // Rayleigh step (the sphere of a disc's radius and mass in 2D) and how long its contacts last.
+  const bool synchronized = s_.integrator == IntegratorKind::Synchronized;
   const auto take = [&](const physics::PairParams& p, size_t side, Real mass, Real r) {
     const Real rayleigh = physics::rayleighDimensionFactor<D>(r);
     if (p.law == LawKind::HertzMindlin) {
-      best = std::min(best, rayleigh * physics::criticalTimeStep(p, mass, r));
+      best = std::min(best, rayleigh * physics::criticalTimeStep(p, mass, r, synchronized));
       best = std::min(best, rayleigh * physics::rayleighTimeStep(s_.materials[side], r));
       hertzDuration = std::min(hertzDuration, physics::contactDuration(p, mass, r, 1));
     } else {
-      best = std::min(best, physics::criticalTimeStep(p, mass, r));
+      best = std::min(best, physics::criticalTimeStep(p, mass, r, synchronized));
       linearDuration = std::min(linearDuration, physics::contactDuration(p, mass, r, 1));
     }
   };

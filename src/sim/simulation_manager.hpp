@@ -292,6 +292,13 @@ class SimulationManager final : public Simulation {
   // one measure costs about a step (bench_sim --contact-step), so about 1 % of a run, and
   // in 100 steps a loaded bed stiffens little against the factor of 2 the step keeps.
   static constexpr uint64_t kContactStepEvery = 100;
+  // Returns true at the scene's step counts where the automatic step measures the contacts:
+  // every kContactStepEvery, and at 1, 2, 4, ..., 64 as well, so that the first contacts of a
+  // new scene (a level-set disc landing on its nodes, whose multi-point contact the static
+  // estimate cannot foresee) set the step within a few steps of touching, not after a hundred.
+  static bool measuresContacts(uint64_t steps) {
+    return steps % kContactStepEvery == 0 || (steps < kContactStepEvery && (steps & (steps - 1)) == 0);
+  }
   // A run with long steps keeps a copy of the scene to go back to (RunOptions::longStep),
   // taken again once the run has spent kCopyEvery times the last copy's time since: copies
   // cost at most 4 % of the run, and a stop drops at most that many copies' time of steps.

@@ -212,8 +212,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   loop_.resetTimers();
   const auto t0 = std::chrono::steady_clock::now();
   uint64_t total = options.steps;
-  // The automatic step follows the contacts: every kContactStepEvery steps of the scene's step
-  // count, and when the run's first force pass searched (an edited scene), it is taken again
+  // The automatic step follows the contacts: at the scene's step counts measuresContacts names,
+  // and when the run's first force pass searched (an edited scene), it is taken again
   // from their overlaps (sim/contact_stiffness.hpp) for the steps after, with the static part
   // as the last configuration (prepare, also within the run) made it. The count alone says
   // when, so a run continued from a checkpoint goes on with the same steps.
@@ -228,7 +228,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   // changed: the step's deferred changes were applied after the watchdog looked.
   const auto followContacts = [&](uint64_t k, bool now, bool changed) {
     if (!adaptive) return;
-    const bool measure = now || s_.steps % kContactStepEvery == 0;
+    const bool measure = now || measuresContacts(s_.steps);
     const double speed =
         std::sqrt(k > 0 && watched && !changed ? s_.fastestSpeed2 : fastestSpeed2(s_));
     if (!retakesMotion(measure, speed, s_.stepDt, stepLimit_)) return;

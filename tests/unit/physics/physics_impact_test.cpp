@@ -277,7 +277,10 @@ Real obliqueLedger(LawKind lawKind, Real e, Real mu, Real tangentialSpeed, Real 
       // (contact.hpp) may differ in sign for one step: a loss of order dt^2 below 0 (1e-8 of
       // the energy here).
       EXPECT_GE(c.dampingLoss, -1e-7 * ke0);
-      EXPECT_GE(c.frictionLoss, 0);
+      // The friction loss is booked by the trapezoid identity (tangential.hpp): a step in
+      // which the spring turns back books the trapezoid's share, which may dip below 0 by
+      // O(dt^2) (1e-8 of the energy here).
+      EXPECT_GE(c.frictionLoss, -1e-7 * ke0);
     } else if (started) {
       vel = hv;
       w = hw;
@@ -303,23 +306,23 @@ Real obliqueLedger(LawKind lawKind, Real e, Real mu, Real tangentialSpeed, Real 
   return (ke0 - ke1 - damping - friction + springWork) / ke0;
 }
 
-// The tangential part of the ledger is first order in dt: the slip and the dashpot are charged
-// at the half-step velocity, and placing them at the force time would need the grains'
-// rotational inertia, which a law does not see. The normal part is second order (see above).
+// The tangential part of the ledger is booked by the trapezoid identity over the step's
+// displacement (tangential.hpp), the integrator's own work: it closes to 1e-4 of the energy
+// at tc/200 (it was first order, 2.5e-3 for the spinning grain, when the slip was charged at
+// the half-step velocity).
 TEST(PhysicsImpact, ObliqueLedgerWithFriction) {
   for (LawKind law : {LawKind::Linear, LawKind::HertzMindlin}) {
     // Sliding throughout (fast tangential motion), sticking then sliding (slow), pure spin.
-    EXPECT_LT(std::abs(obliqueLedger<3>(law, 0.5, 0.5, 2.0, 0)), 1e-3);
-    EXPECT_LT(std::abs(obliqueLedger<3>(law, 0.7, 0.3, 0.1, 50)), 1e-3);
-    EXPECT_LT(std::abs(obliqueLedger<2>(law, 0.5, 0.5, 2.0, 0)), 1e-3);
-    EXPECT_LT(std::abs(obliqueLedger<2>(law, 0.7, 0.3, 0.1, -80)), 1e-3);
-    // The worst case, a fast-spinning elastic grain (stick-slip): < 2.5e-3 at tc/200 and
-    // falling as dt.
+    EXPECT_LT(std::abs(obliqueLedger<3>(law, 0.5, 0.5, 2.0, 0)), 1e-4);
+    EXPECT_LT(std::abs(obliqueLedger<3>(law, 0.7, 0.3, 0.1, 50)), 1e-4);
+    EXPECT_LT(std::abs(obliqueLedger<2>(law, 0.5, 0.5, 2.0, 0)), 1e-4);
+    EXPECT_LT(std::abs(obliqueLedger<2>(law, 0.7, 0.3, 0.1, -80)), 1e-4);
+    // The worst case, a fast-spinning elastic grain (stick-slip): < 1e-4 at tc/200 and
+    // falling with dt.
     const Real coarse = obliqueLedger<3>(law, 1.0, 0.5, 0.0, 300, 200);
     const Real fine = obliqueLedger<3>(law, 1.0, 0.5, 0.0, 300, 800);
-    EXPECT_LT(std::abs(coarse), 2.5e-3);
+    EXPECT_LT(std::abs(coarse), 1e-4);
     EXPECT_LT(std::abs(fine), std::abs(coarse) / 3);
-    EXPECT_LT(std::abs(fine), 1e-3);
   }
 }
 

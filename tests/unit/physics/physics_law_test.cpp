@@ -142,7 +142,8 @@ TEST(PhysicsLaw, CoulombCapAndSlidingLoss) {
 
 // Random contact states (springs of any length and direction, tangential velocities of any
 // size, approaching and separating): with the Total criterion the tangential force never
-// exceeds mu Fn and no step books a negative loss; with Spring the first can fail.
+// exceeds mu Fn and only a spring turning back books a negative loss; with Spring the first
+// can fail.
 TEST(PhysicsLaw, TotalCriterionHoldsCoulombEverywhere) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<Real> u(-1, 1), pos(0, 1);
@@ -158,6 +159,7 @@ TEST(PhysicsLaw, TotalCriterionHoldsCoulombEverywhere) {
         TangentialHistory<3> h;
         const Vec3 s0(u(rng), u(rng), u(rng));
         h.spring = (s0 - s0.dot(n) * n) * 1e-6 * pos(rng);
+        const Vec3 h0 = h.spring;
         const ContactForce<3> f =
             law == LawKind::Linear
                 ? linearContact<3>(p, ContactGeometry<3>{n, delta, Vec3::Zero()},
@@ -167,7 +169,12 @@ TEST(PhysicsLaw, TotalCriterionHoldsCoulombEverywhere) {
         const Real fn = f.force.dot(n), ft = (f.force - fn * n).norm();
         if (c == CoulombCriterion::Total) {
           ASSERT_LE(ft, p.friction * fn * (1 + 1e-12) + 1e-300) << "trial " << trial;
-          ASSERT_GE(f.frictionLoss, -1e-12 * f.elasticEnergy) << "trial " << trial;
+          // A loss below 0 (the trapezoid identity's share, tangential.hpp) only where the
+          // spring turns back within the step (these springs have no step yet: u = vt dt).
+          const Vec3 reach = h0 + (v - v.dot(n) * n) * dt;
+          if (f.frictionLoss < -1e-12 * f.elasticEnergy) {
+            ASSERT_LT(h0.dot(reach), 0) << "trial " << trial;
+          }
         } else if (ft > p.friction * fn * (1 + 1e-9)) {
           ++springExceeded;
         }
@@ -203,7 +210,8 @@ TEST(PhysicsLaw, HistoryFollowsTheTangentPlane) {
           // the O(angle^2) by which dropping the normal part and restoring the length differs
           // from the exact rotation (which would need the previous normal).
           EXPECT_NEAR(h.spring.dot(axis), before.dot(axis), angle * angle * len) << angle;
-          EXPECT_EQ(f.frictionLoss, 0);
+          const Real kt = p.shearRatio * (p.knFixed + p.knPerRadius * 5e-4);
+          EXPECT_NEAR(f.frictionLoss, 0, 1e-12 * kt * len * len) << angle;  // rounding
         } else {
           const Real sn = before.dot(n);
           EXPECT_NEAR(h.spring.norm(), std::sqrt(before.squaredNorm() - sn * sn), 1e-12 * len);

@@ -218,19 +218,23 @@ TEST(PhysicsMaterial, TimeSteps) {
   EXPECT_NEAR(rayleighTimeStep(m, r),
               std::numbers::pi * r * std::sqrt(2500 / g) / (0.1631 * 0.3 + 0.8766), 1e-18);
   const PairParams hm = mixPair(LawKind::HertzMindlin, m, m);
-  EXPECT_DOUBLE_EQ(criticalTimeStep(hm, 1.0, r), rayleighTimeStep(m, r));
+  EXPECT_DOUBLE_EQ(criticalTimeStep(hm, 1.0, r, false), rayleighTimeStep(m, r));
+  EXPECT_DOUBLE_EQ(criticalTimeStep(hm, 1.0, r, true), rayleighTimeStep(m, r));
   // Linear, frictionless, explicit kn: omega^2 = 2 kn / m (two equal grains).
   MaterialDef s = m;
   s.friction = 0;
   s.normalStiffness = 1e4;
   const PairParams lin = mixPair(LawKind::Linear, s, s);
   const Real mass = 1e-5, w = std::sqrt(2 * 1e4 / mass), z = lin.dampingRatio;
-  EXPECT_NEAR(criticalTimeStep(lin, mass, r), 2 / w * (std::sqrt(1 + z * z) - z), 1e-18);
+  EXPECT_NEAR(criticalTimeStep(lin, mass, r, false), 2 / w * (std::sqrt(1 + z * z) - z), 1e-18);
+  // Synchronized velocities: the damper's part doubled (dampedStepFactor).
+  EXPECT_NEAR(criticalTimeStep(lin, mass, r, true),
+              2 / w * (std::sqrt(1 + 4 * z * z) - 2 * z), 1e-18);
   // With friction the tangential-rotational mode 7 kt/m is faster (kt = 0.82 kn).
   s.friction = 0.5;
   const PairParams fr = mixPair(LawKind::Linear, s, s);
   const Real wt = std::sqrt(7 * fr.shearRatio * 1e4 / mass);
-  EXPECT_NEAR(criticalTimeStep(fr, mass, r), 2 / wt * (std::sqrt(1 + z * z) - z), 1e-18);
+  EXPECT_NEAR(criticalTimeStep(fr, mass, r, false), 2 / wt * (std::sqrt(1 + z * z) - z), 1e-18);
 }
 
 }  // namespace physics_material_test

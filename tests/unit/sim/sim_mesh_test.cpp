@@ -242,9 +242,13 @@ TEST(SimMesh, ShapesRestOnAMeshFloorAsOnAPlane) {
     for (int run = 0; run < 2; ++run) {
       EXPECT_LT(end[run].position[2], shape == "superquadric" ? 0.01 : 0.0102) << shape << run;
     }
+    // The ellipsoid still rocks, and a mesh keys its contact springs by triangle, so they start
+    // again where a contact point crosses an edge, as a plane's never do: micrometres apart
+    // (the springs follow the drift's displacement, which damps no rocking; physics/tangential.hpp).
+    const bool rocking = shape == "superquadric";
     for (int d = 0; d < 3; ++d) {
-      EXPECT_NEAR(end[1].position[d], end[0].position[d], 1e-6) << shape << d;
-      EXPECT_NEAR(end[1].velocity[d], end[0].velocity[d], 1e-4) << shape << d;
+      EXPECT_NEAR(end[1].position[d], end[0].position[d], rocking ? 2e-5 : 1e-6) << shape << d;
+      EXPECT_NEAR(end[1].velocity[d], end[0].velocity[d], rocking ? 1e-3 : 1e-4) << shape << d;
     }
   }
 }

@@ -320,8 +320,11 @@ TEST_F(SimShape, DroppedTiltedBoxLandsAndTheLedgerConverges) {
     EXPECT_GT(e.frictionLoss, 0.001);
     residual[k] = std::abs(e.residual);
   }
-  EXPECT_LT(residual[1], 3e-3);
-  EXPECT_GT(residual[0] / residual[1], 5);
+  // Second order: 0.048 and 3.1e-3, 4x apart in dt. (With the springs lengthened by the
+  // synchronized velocity, first order, it was 0.045 and 1.1e-3: their error cancelled part of
+  // the dampers'; physics/tangential.hpp.)
+  EXPECT_LT(residual[1], 4e-3) << residual[0];
+  EXPECT_GT(residual[0] / residual[1], 10);
 }
 
 TEST_F(SimShape, CheckpointContinuesBitForBit) {
