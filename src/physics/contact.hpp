@@ -41,6 +41,9 @@
 // is booked as damping loss (it is what the damper took).
 #pragma once
 
+#include <cmath>
+#include <limits>
+
 #include "core/math.hpp"
 #include "physics/pair_params.hpp"
 
@@ -72,12 +75,14 @@ struct ContactKinematics {
 // B is -kt spring. A new contact starts from zero.
 // drift: with synchronized velocities, the relative velocity of the half-step velocities that
 // moved the positions in the last step, recovered per contact (tangential.hpp,
-// driftDisplacement); read only while spring is not zero, and NaN where it is unknown (a scene
-// saved before it was kept). Unused with half-step velocities.
+// driftDisplacement); NaN where there is none yet (a new contact, a scene saved before it was
+// kept, half-step velocities). A history with a zero spring and no drift is empty: the contact
+// pools keep none.
 template <int D>
 struct TangentialHistory {
   VecD<D> spring = VecD<D>::Zero();
-  VecD<D> drift = VecD<D>::Zero();
+  VecD<D> drift = VecD<D>::Constant(std::numeric_limits<Real>::quiet_NaN());
+  bool empty() const { return spring.squaredNorm() == 0 && std::isnan(drift[0]); }
 };
 
 template <int D>

@@ -74,20 +74,16 @@ template <int D>
     if (p.friction > 0) {
       const VecD<D> vt = k.relativeVelocity - vn * n;
       const Real kt = p.hertzKt * a;
-      // kt = 8 G* sqrt(R* delta) at the overlap before the step's normal displacement (only a
-      // loaded spring needs it: no sqrt for a new contact's).
-      Real kt0 = kt;
-      const bool loaded = history->spring.squaredNorm() != 0;
+      // kt = 8 G* sqrt(R* delta) at the overlap before the step's normal displacement (what
+      // the booking needs of a loaded spring; an unloaded one's terms vanish).
       Real vnDrift;
       const VecD<D> u = driftDisplacement<D>(n, vt, vn, k, *history, dt, &vnDrift);
-      if (loaded) {
-        const Real before = std::max<Real>(0, g.overlap + vnDrift * dt);
-        kt0 = p.hertzKt * std::sqrt(k.effectiveRadius * before);
-      }
+      const Real before = std::max<Real>(0, g.overlap + vnDrift * dt);
+      const Real kt0 = p.hertzKt * std::sqrt(k.effectiveRadius * before);
       coulombSpringStep<SpringFrame::Project, D>(n, vt, u, kt, kt0, p.hertzGammaT * sqrtAm,
                                                  p.friction * fn, dt, p.coulomb, *history, out);
     } else {
-      history->spring.setZero();  // (the drift is read only with a spring)
+      history->spring.setZero();
     }
   }
   return out;

@@ -74,7 +74,7 @@ template <int D>
       coulombSpringStep<SpringFrame::Rotate, D>(n, vt, u, kt, kt, beta * kt, p.friction * fn, dt,
                                                 p.coulomb, *history, out);
     } else {
-      history->spring.setZero();  // (the drift is read only with a spring)
+      history->spring.setZero();
     }
   }
   return out;

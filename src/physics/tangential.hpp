@@ -135,7 +135,7 @@ template <SpringFrame Frame, int D>
 // damps a stuck contact's vibration numerically (scripts/tangential-schemes.py). The half-step
 // velocity is recovered per contact: with D_{n+1} = v_{n+1/2}, D_{n+1} - D_n = a_n dt, so
 // D_{n+1} = (2 vS_{n+1} + D_n) / 3, exactly for any linear motion, and an error in D shrinks
-// by 3 a step. A contact's first step (its spring zero) starts from D = vS. (For the relative
+// by 3 a step. A contact's first step (no drift yet: NaN) starts from D = vS. (For the relative
 // velocity at the contact point the normal's turn and the arms' change enter at O(dt) of an
 // O(dt^2) term.) Nothing from the grains: one vector more a spring.
 template <int D>
@@ -148,8 +148,8 @@ template <int D>
     return vt * dt;
   }
   const VecD<D>& vS = k.relativeVelocity;
-  // (A NaN drift, unknown, fails the test and restarts from vS.)
-  const bool known = h.spring.squaredNorm() != 0 && h.drift.squaredNorm() >= 0;
+  // A contact's first step, or a drift unknown (NaN), starts from vS.
+  const bool known = !std::isnan(h.drift[0]);
   const VecD<D> d = known ? VecD<D>((2 * vS + h.drift) * (1.0 / 3)) : vS;
   h.drift = d;
   *vnDrift = d.dot(n);

@@ -181,6 +181,35 @@ DEMLAB_KI void store3(double* q, __m128d xy, __m128d z) {
   _mm_store_sd(q + 2, z);
 }
 
+// Loads lane l of a and b from the 6 consecutive doubles at p + o[l] (a spring and its drift).
+template <int W>
+DEMLAB_KI void loadSpringsAndDrifts(const double* p, const size_t* o, V3<W>& a, V3<W>& b) {
+  if constexpr (W == 2) {
+    const __m128d xy0 = _mm_loadu_pd(p + o[0]), zx0 = _mm_loadu_pd(p + o[0] + 2),
+                  yz0 = _mm_loadu_pd(p + o[0] + 4);
+    const __m128d xy1 = _mm_loadu_pd(p + o[1]), zx1 = _mm_loadu_pd(p + o[1] + 2),
+                  yz1 = _mm_loadu_pd(p + o[1] + 4);
+    a = {(vd<2>)_mm_unpacklo_pd(xy0, xy1), (vd<2>)_mm_unpackhi_pd(xy0, xy1),
+         (vd<2>)_mm_unpacklo_pd(zx0, zx1)};
+    b = {(vd<2>)_mm_unpackhi_pd(zx0, zx1), (vd<2>)_mm_unpacklo_pd(yz0, yz1),
+         (vd<2>)_mm_unpackhi_pd(yz0, yz1)};
+  } else {
+    // Rows (sx sy sz dx) of lanes 0 .. 3, transposed; then (dy dz) of lanes 0, 2 | 1, 3.
+    const __m256d r0 = _mm256_loadu_pd(p + o[0]), r1 = _mm256_loadu_pd(p + o[1]);
+    const __m256d r2 = _mm256_loadu_pd(p + o[2]), r3 = _mm256_loadu_pd(p + o[3]);
+    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+    const __m256d u0 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + o[0] + 4)),
+                                            _mm_loadu_pd(p + o[2] + 4), 1);
+    const __m256d u1 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + o[1] + 4)),
+                                            _mm_loadu_pd(p + o[3] + 4), 1);
+    a = {(vd<4>)_mm256_permute2f128_pd(t0, t2, 0x20), (vd<4>)_mm256_permute2f128_pd(t1, t3, 0x20),
+         (vd<4>)_mm256_permute2f128_pd(t0, t2, 0x31)};
+    b = {(vd<4>)_mm256_permute2f128_pd(t1, t3, 0x31), (vd<4>)_mm256_unpacklo_pd(u0, u1),
+         (vd<4>)_mm256_unpackhi_pd(u0, u1)};
+  }
+}
+
 // Stores lane l of a and b as 6 consecutive doubles at p + o[l] (a spring and its drift).
 template <int W>
 DEMLAB_KI void storeSpringsAndDrifts(double* p, const size_t* o, const V3<W>& a, const V3<W>& b) {
@@ -488,7 +517,9 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
   vd<W> fn = spring - gn * vn;
   fn = fn < 0.0 ? zero : fn;
   vd<W> vForce = vn;
-  if (C.lag) vForce = vn + C.lagDt * fn / in.effMass;
+  if constexpr (!Drift) {
+    if (C.lag) vForce = vn + C.lagDt * fn / in.effMass;  // (Drift: synchronized, no lag)
+  }
   vd<W> damping = (spring - fn) * vForce * dt;
   V3<W> F{fn * n.x, fn * n.y, fn * n.z};
   vd<W> elastic = 0.4 * spring * overlap;
@@ -499,7 +530,6 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
     const V3<W> vt{vrel.x - vn * n.x, vrel.y - vn * n.y, vrel.z - vn * n.z};
     const vd<W> kt = pKt * a;
     const V3<W> s0 = in.sOld;
-    const vm<W> loaded = dot<W>(s0, s0) != 0.0;
     const vd<W> ct = pGt * sqrtAm;
     const vd<W> cap = pMu * fn;
     // driftDisplacement: the step's displacement.
@@ -508,7 +538,7 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
     V3<W> d = vrel;
     if constexpr (Drift) {
       const V3<W>& d0 = in.dOld;
-      const vm<W> known = loaded & (dot<W>(d0, d0) >= 0.0);
+      const vm<W> known = d0.x == d0.x;  // (no drift yet: NaN)
       const double third = 1.0 / 3;
       d = select<W>(known,
                     V3<W>{(2.0 * vrel.x + d0.x) * third, (2.0 * vrel.y + d0.y) * third,
@@ -517,14 +547,9 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
       vnDrift = dot<W>(d, n);
       u = V3<W>{(d.x - vnDrift * n.x) * dt, (d.y - vnDrift * n.y) * dt, (d.z - vnDrift * n.z) * dt};
     }
-    // kt at the overlap before the step's normal displacement, for a loaded spring.
-    vd<W> kt0 = kt;
-    {
-      const vd<W> reach = overlap + vnDrift * dt;
-      const vd<W> before = zero < reach ? reach : zero;
-      const vd<W> ktBefore = pKt * vsqrt<W>(in.effRadius * before);
-      kt0 = loaded ? ktBefore : kt;
-    }
+    // kt at the overlap before the step's normal displacement.
+    const vd<W> reach = overlap + vnDrift * dt;
+    const vd<W> kt0 = pKt * vsqrt<W>(in.effRadius * (zero < reach ? reach : zero));
     // coulombSpringStep<Project>.
     V3<W> s{s0.x + u.x, s0.y + u.y, s0.z + u.z};
     const vd<W> sn = dot<W>(s, n);
@@ -616,8 +641,11 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
   in.effMass = st.get(kEffMass, c);
   in.effRadius = st.get(kEffRadius, c);
   in.vrel = V3<W>{st.get(kVx, c), st.get(kVy, c), st.get(kVz, c)};
-  if constexpr (History) in.sOld = gather3<W>(springs, ok);
-  if constexpr (Drift) in.dOld = gather3<W>(springs + 3, ok);
+  if constexpr (Drift) {
+    loadSpringsAndDrifts<W>(springs, ok, in.sOld, in.dOld);
+  } else if constexpr (History) {
+    in.sOld = gather3<W>(springs, ok);
+  }
   in.kn = pKn;
   in.kt = pKt;
   in.gammaN = pGn;
@@ -898,8 +926,11 @@ DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size
     const V3<W> cr = cross<W>(gather3<W>(A.w, oi), arm);
     in.vrel = V3<W>{in.vrel.x - cr.x, in.vrel.y - cr.y, in.vrel.z - cr.z};
   }
-  if constexpr (History) in.sOld = gather3<W>(A.springs, os);
-  if constexpr (Drift) in.dOld = gather3<W>(A.springs + 3, os);
+  if constexpr (Drift) {
+    loadSpringsAndDrifts<W>(A.springs, os, in.sOld, in.dOld);
+  } else if constexpr (History) {
+    in.sOld = gather3<W>(A.springs, os);
+  }
   if constexpr (OnePair) {
     in.kn = splat<W>(C.one.kn);
     in.kt = splat<W>(C.one.kt);

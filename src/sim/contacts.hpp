@@ -778,7 +778,7 @@ class WallContactModule final : public SimModule<D> {
     for (size_t c = 0; c < m; ++c) {
       const uint32_t i = ch.touched[c];
       if constexpr (History) {
-        while (which[kc] != i) springs[kc++].spring.setZero();
+        while (which[kc] != i) springs[kc++] = {};
       }
       const physics::ContactGeometry<D>& g = ch.geoms[c];
       const VecD<D> vWall = wall.surfaceVelocity(g.point);
@@ -806,7 +806,7 @@ class WallContactModule final : public SimModule<D> {
       if (sink.any()) sink.put({i, static_cast<uint32_t>(w), true, f.force});
     }
     if constexpr (History) {
-      while (kc < nWhich) springs[kc++].spring.setZero();
+      while (kc < nWhich) springs[kc++] = {};
     }
   }
 
@@ -849,10 +849,10 @@ class WallContactModule final : public SimModule<D> {
       ch.slots.resize(m);
       size_t kc = 0;
       for (size_t c = 0; c < m; ++c) {
-        while (which[kc] != ch.touched[c]) springs[kc++].spring.setZero();
+        while (which[kc] != ch.touched[c]) springs[kc++] = {};
         ch.slots[c] = static_cast<uint32_t>(kc++);
       }
-      while (kc < nWhich) springs[kc++].spring.setZero();
+      while (kc < nWhich) springs[kc++] = {};
       k.slot = ch.slots.data();
       k.springs = reinterpret_cast<double*>(springs);
     }

@@ -36,7 +36,7 @@ void parkSprings(Scene<D>& s) {
   const size_t n = std::min(s.pairSprings.size(), s.candidates.size());
   for (size_t k = 0; k < n; ++k) {
     const physics::TangentialHistory<D> h = s.pairSprings.history(k);
-    if (h.spring.squaredNorm() == 0) continue;
+    if (h.empty()) continue;
     const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
     // The loop keeps each spring in the orientation of the lower slot (A) to the higher.
     s.histories.touch(std::min(p, q), std::max(p, q)).state = h;
@@ -45,7 +45,7 @@ void parkSprings(Scene<D>& s) {
     const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
     const auto& springs = s.wallSprings[w];
     for (size_t k = 0; k < springs.size() && k < s.wallCandidates[w].size(); ++k) {
-      if (springs[k].spring.squaredNorm() == 0) continue;
+      if (springs[k].empty()) continue;
       s.histories.touch(a.slot[s.wallCandidates[w][k]], wid).state = springs[k];
     }
   }
@@ -101,7 +101,7 @@ class SpringTransfer {
       const size_t n = std::min(s.pairSprings.size(), s.candidates.size());
       for (size_t k = 0; k < n; ++k) {
         const physics::TangentialHistory<D> h = s.pairSprings.history(k);
-        if (h.spring.squaredNorm() == 0) continue;
+        if (h.empty()) continue;
         const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
         put(std::min(p, q), std::max(p, q), h);
       }
@@ -109,7 +109,7 @@ class SpringTransfer {
         const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
         const auto& springs = s.wallSprings[w];
         for (size_t k = 0; k < springs.size() && k < s.wallCandidates[w].size(); ++k) {
-          if (springs[k].spring.squaredNorm() == 0) continue;
+          if (springs[k].empty()) continue;
           put(a.slot[s.wallCandidates[w][k]], wid, springs[k]);
         }
       }

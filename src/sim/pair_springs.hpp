@@ -22,7 +22,6 @@
 
 #include <atomic>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include "core/math.hpp"
@@ -84,15 +83,13 @@ class PairSprings {
   // Returns candidate k's history (empty when it has no slot).
   History history(size_t k) const { return slotOf_[k] == kNoSlot ? History{} : pool_[slotOf_[k]]; }
 
-  // Sets candidate k's spring to sp, its drift velocity unknown (NaN): a zero sp gives the
-  // slot back. Changes the pool.
-  void set(size_t k, const VecD<D>& sp) {
-    set(k, History{sp, VecD<D>::Constant(std::numeric_limits<Real>::quiet_NaN())});
-  }
+  // Sets candidate k's spring to sp, without a drift velocity: a zero sp gives the slot back.
+  // Changes the pool.
+  void set(size_t k, const VecD<D>& sp) { set(k, History{sp}); }
 
-  // Sets candidate k's history to h: a zero spring gives the slot back. Changes the pool.
+  // Sets candidate k's history to h: an empty one gives the slot back. Changes the pool.
   void set(size_t k, const History& h) {
-    if (h.spring.squaredNorm() == 0) {
+    if (h.empty()) {
       release(k);
     } else {
       *at(k) = h;

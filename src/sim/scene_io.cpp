@@ -19,13 +19,11 @@ namespace demlab::sim {
 
 namespace {
 
-// Writes a tangential history: the spring, then its drift velocity (zero with a zero spring,
-// which never reads it: a pair that stopped touching may keep its last one, a reloaded scene
-// has none, and the bytes must not differ).
+// Writes a tangential history: the spring, then its drift velocity.
 template <int D>
 void writeHistory(Writer& w, const physics::TangentialHistory<D>& h) {
   w.vec<D>(h.spring);
-  w.vec<D>(h.spring.squaredNorm() == 0 ? VecD<D>::Zero() : h.drift);
+  w.vec<D>(h.drift);
 }
 
 // Returns the bytes writeHistory wrote in r's format (version 2 kept no drift velocity).
@@ -34,9 +32,9 @@ size_t historyBytes(const Reader& r) {
   return (r.version >= 3 ? 16 : 8) * D;
 }
 
-// Reads a tangential history (a version 2 scene's drift velocity is unknown: NaN, which the
-// laws restart from the contact's velocity). Throws {LOAD FORMAT} for a non-finite spring or an
-// infinite drift velocity.
+// Reads a tangential history (a version 2 scene has no drift velocities: NaN, which the laws
+// restart from the contact's velocity). Throws {LOAD FORMAT} for a non-finite spring or a
+// drift velocity neither finite nor unknown (all NaN).
 template <int D>
 physics::TangentialHistory<D> readHistory(Reader& r) {
   physics::TangentialHistory<D> h;
@@ -44,9 +42,7 @@ physics::TangentialHistory<D> readHistory(Reader& r) {
   if (!h.spring.allFinite()) Reader::bad("spring");
   if (r.version >= 3) {
     h.drift = r.vec<D>();
-    if (h.drift.array().isInf().any()) Reader::bad("spring drift velocity");
-  } else {
-    h.drift.setConstant(std::numeric_limits<Real>::quiet_NaN());
+    if (!h.drift.allFinite() && !h.drift.array().isNaN().all()) Reader::bad("spring drift velocity");
   }
   return h;
 }
@@ -1188,8 +1184,9 @@ void readScene(Reader& r, Scene<D>& s) {
   for (size_t k = 0; k < nSprings; ++k) springsRead.push_back(readHistory<D>(r));
   s.pairSprings.reset(nSprings, true);
   InterruptPoll poll("reading the scene");  // no bytes read here: a third of a second at 3 10^6
-  // A zero spring is no slot (PairSprings::set), except one with a -0.0 in it: only a slot
-  // holds that (a law's rounding), and keeping it there makes the scene write its bytes.
+  // An empty history is no slot (PairSprings::set), except a zero spring with a -0.0 in it:
+  // only a slot holds that (a law's rounding), and keeping it there makes the scene write its
+  // bytes.
   const auto signedZero = [](const VecD<D>& sp) {
     bool any = false;
     for (int c = 0; c < D; ++c) any |= std::signbit(sp[c]);
@@ -1200,7 +1197,7 @@ void readScene(Reader& r, Scene<D>& s) {
   size_t slots = 0;
   for (const auto& h : springsRead) {
     poll();
-    slots += h.spring.squaredNorm() != 0 || signedZero(h.spring);
+    slots += !h.empty() || signedZero(h.spring);
   }
   s.pairSprings.reserve(slots);
   for (size_t k = 0; k < nSprings; ++k) {
