@@ -96,7 +96,7 @@ double SimulationManager<D>::timeStep() const {
   // What the run's start will take: the motion bound again if the fastest element outran it.
   const double speed = std::sqrt(fastestSpeed2(s_));
   const double limit = watchdogStepLimit(s_, skinInUse());
-  if (!retakesMotion(measuresContacts(s_.steps), speed, dt, limit)) return dt;
+  if (!retakesMotion(s_.steps % kContactStepEvery == 0, speed, dt, limit)) return dt;
   return autoStep(survey, motionBound(kSpeedHeadroom * speed, survey, limit));
 }
 

@@ -212,8 +212,9 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   loop_.resetTimers();
   const auto t0 = std::chrono::steady_clock::now();
   uint64_t total = options.steps;
-  // The automatic step follows the contacts: at the scene's step counts measuresContacts names,
-  // and when the run's first force pass searched (an edited scene), it is taken again
+  // The automatic step follows the contacts: every kContactStepEvery steps of the scene's step
+  // count (and at the counts checksContactsEarly names, where the step is found unstable), and
+  // when the run's first force pass searched (an edited scene), it is taken again
   // from their overlaps (sim/contact_stiffness.hpp) for the steps after, with the static part
   // as the last configuration (prepare, also within the run) made it. The count alone says
   // when, so a run continued from a checkpoint goes on with the same steps.
@@ -228,11 +229,24 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   // changed: the step's deferred changes were applied after the watchdog looked.
   const auto followContacts = [&](uint64_t k, bool now, bool changed) {
     if (!adaptive) return;
-    const bool measure = now || measuresContacts(s_.steps);
+    bool measure = now || s_.steps % kContactStepEvery == 0;
+    const bool early = !measure && checksContactsEarly(s_.steps);
+    double contacts = std::numeric_limits<double>::infinity();
+    if (measure) {
+      contacts = contactCriticalStep(s_);
+    } else if (early) {
+      // Taken only where the step is beyond the contacts' stability limit: each change of the
+      // step within a contact costs an elastic impact its symmetry (above).
+      contacts = contactCriticalStep(s_);
+      measure = s_.stepDt > contacts;
+    }
     const double speed =
         std::sqrt(k > 0 && watched && !changed ? s_.fastestSpeed2 : fastestSpeed2(s_));
-    if (!retakesMotion(measure, speed, s_.stepDt, stepLimit_)) return;
-    if (measure) s_.contactStep = contactCriticalStep(s_);
+    // Early, the motion bound is taken again for an element faster than it was made for (a
+    // scene starting at rest under gravity: its first impacts come at the speed it gained).
+    const bool faster = early && speed > s_.motionSpeed;
+    if (!retakesMotion(measure || faster, speed, s_.stepDt, stepLimit_)) return;
+    if (measure) s_.contactStep = contacts;
     // A non-finite speed (a blown-up state the watchdog, or the run's finiteness check,
     // reports) leaves the bound as it was: a checkpoint holds only finite ones.
     if (std::isfinite(kSpeedHeadroom * speed)) {
