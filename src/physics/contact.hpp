@@ -77,11 +77,15 @@ struct ContactKinematics {
 // moved the positions in the last step, recovered per contact (tangential.hpp,
 // driftDisplacement); NaN where there is none yet (a new contact, a scene saved before it was
 // kept, half-step velocities). A history with a zero spring and no drift is empty: the contact
-// pools keep none.
+// pools keep none. damperImpulse, damperPending: with the drift, the last step's normal damper
+// force times dt, and the part of its loss still to book once the next drift velocity is known
+// (tangential.hpp, damperCatchUp); zero otherwise.
 template <int D>
 struct TangentialHistory {
   VecD<D> spring = VecD<D>::Zero();
   VecD<D> drift = VecD<D>::Constant(std::numeric_limits<Real>::quiet_NaN());
+  Real damperImpulse = 0;
+  Real damperPending = 0;
   bool empty() const { return spring.squaredNorm() == 0 && std::isnan(drift[0]); }
 };
 

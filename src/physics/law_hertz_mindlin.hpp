@@ -71,13 +71,14 @@ template <int D>
   out.frictionLoss = 0;
   out.springWork = 0;
   if (history != nullptr) {
+    // The drift velocity (tangential.hpp).
+    const Real vnDrift = advanceDrift<D>(n, vn, k, *history);
     if (p.friction > 0) {
       const VecD<D> vt = k.relativeVelocity - vn * n;
       const Real kt = p.hertzKt * a;
+      const VecD<D> u = driftDisplacement<D>(n, vt, vnDrift, k, *history, dt);
       // kt = 8 G* sqrt(R* delta) at the overlap before the step's normal displacement (what
       // the booking needs of a loaded spring; an unloaded one's terms vanish).
-      Real vnDrift;
-      const VecD<D> u = driftDisplacement<D>(n, vt, vn, k, *history, dt, &vnDrift);
       const Real before = std::max<Real>(0, g.overlap + vnDrift * dt);
       const Real kt0 = p.hertzKt * std::sqrt(k.effectiveRadius * before);
       coulombSpringStep<SpringFrame::Project, D>(n, vt, u, kt, kt0, p.hertzGammaT * sqrtAm,
@@ -85,6 +86,8 @@ template <int D>
     } else {
       history->spring.setZero();
     }
+    // The damper's loss by the integrator's own work (tangential.hpp).
+    if (k.velocityLag == 0) out.dampingLoss += damperCatchUp<D>(spring - fn, vn, vnDrift, dt, *history);
   }
   return out;
 }

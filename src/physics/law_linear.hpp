@@ -66,16 +66,19 @@ template <int D>
   out.frictionLoss = 0;
   out.springWork = 0;
   if (history != nullptr) {
+    // The drift velocity (tangential.hpp).
+    const Real vnDrift = advanceDrift<D>(n, vn, k, *history);
     if (p.friction > 0) {
       const VecD<D> vt = k.relativeVelocity - vn * n;
       const Real kt = p.shearRatio * kn;
-      Real vnDrift;
-      const VecD<D> u = driftDisplacement<D>(n, vt, vn, k, *history, dt, &vnDrift);
+      const VecD<D> u = driftDisplacement<D>(n, vt, vnDrift, k, *history, dt);
       coulombSpringStep<SpringFrame::Rotate, D>(n, vt, u, kt, kt, beta * kt, p.friction * fn, dt,
                                                 p.coulomb, *history, out);
     } else {
       history->spring.setZero();
     }
+    // The damper's loss by the integrator's own work (tangential.hpp).
+    if (k.velocityLag == 0) out.dampingLoss += damperCatchUp<D>(spring - fn, vn, vnDrift, dt, *history);
   }
   return out;
 }

@@ -125,35 +125,55 @@ template <SpringFrame Frame, int D>
   h.spring = s;
 }
 
-// Returns the step's tangential displacement for coulombSpringStep and sets *vnDrift to the
-// normal relative velocity it moved with: the displacement of the half-step velocities that
-// moved the positions (tangential to n), times dt. Changes h.drift (synchronized velocities).
+// Returns the normal relative velocity the step's drift moved with; with synchronized velocities
+// (k.velocityLag == 0) sets h.drift to the half-step relative velocity that moved the positions
+// in this step's drift, recovered per contact; with half-step velocities that is the velocity
+// given (vn returned, h.drift untouched).
 //
-// With half-step velocities (k.velocityLag != 0) that is the velocity given. With synchronized
-// ones the law sees vS_{n+1} = v_{n+1/2} + a_n dt/2 (src/sim/integrator.hpp), ahead of the
-// positions by a dt^2/2 a step: as the step's displacement it makes a first-order scheme that
-// damps a stuck contact's vibration numerically (scripts/tangential-schemes.py). The half-step
-// velocity is recovered per contact: with D_{n+1} = v_{n+1/2}, D_{n+1} - D_n = a_n dt, so
+// With synchronized velocities the law sees vS_{n+1} = v_{n+1/2} + a_n dt/2
+// (src/sim/integrator.hpp), ahead of the positions by a dt^2/2 a step: as a spring's increment
+// it makes a first-order scheme that damps a stuck contact's vibration numerically
+// (scripts/tangential-schemes.py). With D_{n+1} = v_{n+1/2}, D_{n+1} - D_n = a_n dt, so
 // D_{n+1} = (2 vS_{n+1} + D_n) / 3, exactly for any linear motion, and an error in D shrinks
 // by 3 a step. A contact's first step (no drift yet: NaN) starts from D = vS. (For the relative
 // velocity at the contact point the normal's turn and the arms' change enter at O(dt) of an
-// O(dt^2) term.) Nothing from the grains: one vector more a spring.
+// O(dt^2) term.) Nothing from the grains: one vector more a contact.
+template <int D>
+[[gnu::always_inline]] inline Real advanceDrift(const VecD<D>& n, Real vn,
+                                                const ContactKinematics<D>& k,
+                                                TangentialHistory<D>& h) {
+  if (k.velocityLag != 0) return vn;
+  const VecD<D>& vS = k.relativeVelocity;
+  h.drift = std::isnan(h.drift[0]) ? vS : VecD<D>((2 * vS + h.drift) * (1.0 / 3));
+  return h.drift.dot(n);
+}
+
+// Returns the step's tangential displacement for coulombSpringStep: the drift's (h.drift, after
+// advanceDrift, less its normal part vnDrift) times dt, or vt dt with half-step velocities.
 template <int D>
 [[gnu::always_inline]] inline VecD<D> driftDisplacement(const VecD<D>& n, const VecD<D>& vt,
-                                                        Real vn, const ContactKinematics<D>& k,
-                                                        TangentialHistory<D>& h, Real dt,
-                                                        Real* vnDrift) {
-  if (k.velocityLag != 0) {
-    *vnDrift = vn;
-    return vt * dt;
-  }
-  const VecD<D>& vS = k.relativeVelocity;
-  // A contact's first step, or a drift unknown (NaN), starts from vS.
-  const bool known = !std::isnan(h.drift[0]);
-  const VecD<D> d = known ? VecD<D>((2 * vS + h.drift) * (1.0 / 3)) : vS;
-  h.drift = d;
-  *vnDrift = d.dot(n);
-  return (d - *vnDrift * n) * dt;
+                                                        Real vnDrift,
+                                                        const ContactKinematics<D>& k,
+                                                        const TangentialHistory<D>& h, Real dt) {
+  if (k.velocityLag != 0) return vt * dt;
+  return (h.drift - vnDrift * n) * dt;
+}
+
+// Returns the normal damper's loss still owed for the last step, and sets what this step's owes.
+// For synchronized velocities only (k.velocityLag == 0: the caller's test). The law books each step's damper loss at the
+// force time's velocity, fd vn dt (fd = spring - fn, the damper's share of the normal force); the
+// integrator's own work of that force is fd dt times the mean of the drift velocities before
+// and after the force time, (D_n + D_{n+1}) / 2 . n, a rectangle against a trapezoid that left
+// damped beds a second-order residual with a large constant. D_{n+1} is known a step later, so
+// the difference is booked then: this step's pending part fd dt (D_n.n / 2 - vn), the rest
+// fd dt D_{n+1}.n / 2 at the next. vnDrift: advanceDrift's value this step.
+template <int D>
+[[gnu::always_inline]] inline Real damperCatchUp(Real fd, Real vn, Real vnDrift, Real dt,
+                                                 TangentialHistory<D>& h) {
+  const Real owed = h.damperPending + h.damperImpulse * (0.5 * vnDrift);
+  h.damperImpulse = fd * dt;
+  h.damperPending = h.damperImpulse * (0.5 * vnDrift - vn);
+  return owed;
 }
 
 }  // namespace demlab::physics

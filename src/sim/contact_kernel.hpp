@@ -31,9 +31,9 @@ struct HertzPair {
   double kn, kt, gammaN, gammaT, friction;
 };
 
-// The doubles of one spring's slot: the spring and its drift velocity
-// (physics::TangentialHistory<3>).
-constexpr size_t kSpringStride = 6;
+// The doubles of one spring's slot: the spring, its drift velocity, the damper's last impulse
+// and the part of its loss still owed (physics::TangentialHistory<3>).
+constexpr size_t kSpringStride = 8;
 
 // The grain-pair springs (sim/pair_springs.hpp owns them): candidate k's spring is the 3
 // doubles at data + kSpringStride slotOf[k] (its drift the 3 after), or zero when slotOf[k] is

@@ -32,6 +32,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <utility>
 
 #include "sim/contact_kernel.hpp"
 
@@ -181,7 +182,11 @@ DEMLAB_KI void store3(double* q, __m128d xy, __m128d z) {
   _mm_store_sd(q + 2, z);
 }
 
-// Loads lane l of a and b from the 6 consecutive doubles at p + o[l] (a spring and its drift).
+// A contact's slot (kSpringStride doubles, physics::TangentialHistory<3>): the spring and its
+// drift velocity (6 doubles), the damper's last impulse and the part of its loss still owed
+// (2 doubles); lane l at p + o[l].
+
+// Loads lane l's spring a and drift b: one 256-bit load (sx sy sz dx) and one 128-bit (dy dz).
 template <int W>
 DEMLAB_KI void loadSpringsAndDrifts(const double* p, const size_t* o, V3<W>& a, V3<W>& b) {
   if constexpr (W == 2) {
@@ -194,7 +199,6 @@ DEMLAB_KI void loadSpringsAndDrifts(const double* p, const size_t* o, V3<W>& a, 
     b = {(vd<2>)_mm_unpackhi_pd(zx0, zx1), (vd<2>)_mm_unpacklo_pd(yz0, yz1),
          (vd<2>)_mm_unpackhi_pd(yz0, yz1)};
   } else {
-    // Rows (sx sy sz dx) of lanes 0 .. 3, transposed; then (dy dz) of lanes 0, 2 | 1, 3.
     const __m256d r0 = _mm256_loadu_pd(p + o[0]), r1 = _mm256_loadu_pd(p + o[1]);
     const __m256d r2 = _mm256_loadu_pd(p + o[2]), r3 = _mm256_loadu_pd(p + o[3]);
     const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
@@ -238,6 +242,51 @@ DEMLAB_KI void storeSpringsAndDrifts(double* p, const size_t* o, const V3<W>& a,
     _mm_storeu_pd(p + o[1] + 4, _mm256_castpd256_pd128(yz1));
     _mm_storeu_pd(p + o[3] + 4, _mm256_extractf128_pd(yz1, 1));
   }
+}
+
+// Loads lane l's two doubles at p + o[l] into a and b.
+template <int W>
+DEMLAB_KI void loadPairs(const double* p, const size_t* o, vd<W>& a, vd<W>& b) {
+  if constexpr (W == 2) {
+    const __m128d r0 = _mm_loadu_pd(p + o[0]), r1 = _mm_loadu_pd(p + o[1]);
+    a = (vd<2>)_mm_unpacklo_pd(r0, r1);
+    b = (vd<2>)_mm_unpackhi_pd(r0, r1);
+  } else {
+    const __m256d u0 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + o[0])),
+                                            _mm_loadu_pd(p + o[2]), 1);
+    const __m256d u1 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + o[1])),
+                                            _mm_loadu_pd(p + o[3]), 1);
+    a = (vd<4>)_mm256_unpacklo_pd(u0, u1);
+    b = (vd<4>)_mm256_unpackhi_pd(u0, u1);
+  }
+}
+
+// Stores lane l of a and b as two doubles at p + o[l].
+template <int W>
+DEMLAB_KI void storePairs(double* p, const size_t* o, vd<W> a, vd<W> b) {
+  if constexpr (W == 2) {
+    _mm_storeu_pd(p + o[0], _mm_unpacklo_pd((__m128d)a, (__m128d)b));
+    _mm_storeu_pd(p + o[1], _mm_unpackhi_pd((__m128d)a, (__m128d)b));
+  } else {
+    const __m256d ab0 = _mm256_unpacklo_pd((__m256d)a, (__m256d)b);  // lanes 0, 2
+    const __m256d ab1 = _mm256_unpackhi_pd((__m256d)a, (__m256d)b);  // lanes 1, 3
+    _mm_storeu_pd(p + o[0], _mm256_castpd256_pd128(ab0));
+    _mm_storeu_pd(p + o[2], _mm256_extractf128_pd(ab0, 1));
+    _mm_storeu_pd(p + o[1], _mm256_castpd256_pd128(ab1));
+    _mm_storeu_pd(p + o[3], _mm256_extractf128_pd(ab1, 1));
+  }
+}
+
+// damperCatchUp (tangential.hpp) for the lanes of a law's output lo, its slots' last two
+// doubles at p + o[l] + 6: returns the loss owed for the last step; stores this step's.
+template <int W, class Out>
+DEMLAB_KI vd<W> damperCatchUp(double* p, const size_t* o, const Out& lo, double dt) {
+  vd<W> impulse, pending;
+  loadPairs<W>(p + 6, o, impulse, pending);
+  const vd<W> owed = pending + impulse * (0.5 * lo.vnDrift);
+  const vd<W> now = lo.damperForce * dt;
+  storePairs<W>(p + 6, o, now, now * (0.5 * lo.vnDrift - lo.vn));
+  return owed;
 }
 
 template <int W>
@@ -486,7 +535,7 @@ struct LawIn {
   V3<W> n;
   vd<W> overlap, a, sqrtAm, effMass, effRadius;
   V3<W> vrel;
-  V3<W> sOld, dOld;  // with history: the spring and (Drift) its drift velocity
+  V3<W> sOld, dOld;  // with history: the spring; Drift: its drift velocity
   vd<W> kn, kt, gammaN, gammaT, mu;
 };
 // What it gives: the force on B, the step's energies and (with history) the spring after it.
@@ -494,7 +543,11 @@ template <int W>
 struct LawOut {
   V3<W> F;
   vd<W> damping, elastic, friction, springWork;
-  V3<W> sNew, dNew;
+  V3<W> sNew;
+  // Drift: the drift velocity after the step, its normal part, the damper's force (spring -
+  // fn) and the synchronized normal velocity, for damperCatchUp.
+  V3<W> dNew;
+  vd<W> vnDrift, damperForce, vn;
 };
 
 // hertzMindlinContactWith with driftDisplacement and coulombSpringStep<Project>
@@ -532,7 +585,7 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
     const V3<W> s0 = in.sOld;
     const vd<W> ct = pGt * sqrtAm;
     const vd<W> cap = pMu * fn;
-    // driftDisplacement: the step's displacement.
+    // advanceDrift and damperCatchUp (every pair with history), driftDisplacement.
     V3<W> u{vt.x * dt, vt.y * dt, vt.z * dt};
     vd<W> vnDrift = vn;
     V3<W> d = vrel;
@@ -541,10 +594,11 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
       const vm<W> known = d0.x == d0.x;  // (no drift yet: NaN)
       const double third = 1.0 / 3;
       d = select<W>(known,
-                    V3<W>{(2.0 * vrel.x + d0.x) * third, (2.0 * vrel.y + d0.y) * third,
-                          (2.0 * vrel.z + d0.z) * third},
-                    vrel);
+                                V3<W>{(2.0 * vrel.x + d0.x) * third, (2.0 * vrel.y + d0.y) * third,
+                                      (2.0 * vrel.z + d0.z) * third},
+                                vrel);
       vnDrift = dot<W>(d, n);
+
       u = V3<W>{(d.x - vnDrift * n.x) * dt, (d.y - vnDrift * n.y) * dt, (d.z - vnDrift * n.z) * dt};
     }
     // kt at the overlap before the step's normal displacement.
@@ -597,7 +651,12 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
     friction = rough ? flT : zero;
     springWork = rough ? swT : zero;
     out.sNew = select<W>(rough, sT, V3<W>{zero, zero, zero});
-    if constexpr (Drift) out.dNew = select<W>(rough, d, in.dOld);
+    if constexpr (Drift) {
+      out.dNew = d;
+      out.vnDrift = vnDrift;
+      out.damperForce = spring - fn;
+      out.vn = vn;
+    }
   }
   out.F = F;
   out.damping = damping;
@@ -654,12 +713,13 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
   const LawOut<W> lo = hertzLaw<W, History, Drift>(C, in);
   const V3<W>& n = in.n;
   const V3<W>& F = lo.F;
-  const vd<W> damping = lo.damping, elastic = lo.elastic, friction = lo.friction,
-              springWork = lo.springWork;
+  vd<W> damping = lo.damping;
+  const vd<W> elastic = lo.elastic, friction = lo.friction, springWork = lo.springWork;
   // (A repeated lane stores its last lane's spring again: the same values, as the lanes'
   // stores go in lane order.)
   if constexpr (Drift) {
     storeSpringsAndDrifts<W>(springs, ok, lo.sNew, lo.dNew);
+    damping = damping + damperCatchUp<W>(springs, ok, lo, C.dt);
   } else if constexpr (History) {
     Lanes3<W> sl;
     split<W>(lo.sNew, sl);
@@ -947,9 +1007,10 @@ DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size
     in.gammaT = gather1<W>(pp + 3, op);
     in.mu = gather1<W>(pp + 4, op);
   }
-  const LawOut<W> lo = hertzLaw<W, History, Drift>(C, in);
+  LawOut<W> lo = hertzLaw<W, History, Drift>(C, in);
   if constexpr (Drift) {
     storeSpringsAndDrifts<W>(A.springs, os, lo.sNew, lo.dNew);
+    lo.damping = lo.damping + damperCatchUp<W>(A.springs, os, lo, C.dt);
   } else if constexpr (History) {
     Lanes3<W> sl;
     split<W>(lo.sNew, sl);

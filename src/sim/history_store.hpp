@@ -123,7 +123,7 @@ class SpringTransfer {
     entries_.resize(total);
     std::vector<uint32_t> fill(rowStart_.begin(), rowStart_.end() - 1);
     each([&](uint32_t row, uint32_t partner, const physics::TangentialHistory<D>& h) {
-      entries_[fill[row]++] = {partner, h};
+      entries_[fill[row]++] = {partner, h.spring, h.drift};
     });
     // Freed, not just emptied: give() allocates the new arrays, and holding the old ones
     // through the search would add their size to the run's peak memory.
@@ -152,7 +152,7 @@ class SpringTransfer {
       if (lo + size_t{1} < rowStart_.size()) {
         for (uint32_t e = rowStart_[lo]; e < rowStart_[lo + 1]; ++e) {
           if (entries_[e].partner == hi) {
-            out = entries_[e].history;
+            out = {entries_[e].spring, entries_[e].drift};
             return;
           }
         }
@@ -186,9 +186,12 @@ class SpringTransfer {
   }
 
  private:
+  // A spring and its drift velocity across the search: the damper's owed loss (the history's
+  // last two numbers, one step's O(dt^2) correction) is dropped, so the table, at the search's
+  // memory peak beside the new pool, stays at 56 bytes a contact in 3D instead of 72.
   struct Entry {
     uint32_t partner;  // the higher slot, or the wall's pair id
-    physics::TangentialHistory<D> history;
+    VecD<D> spring, drift;
   };
   std::vector<Entry> entries_;
   std::vector<uint32_t> rowStart_;  // per lower slot: first entry; one more for the end

@@ -19,17 +19,20 @@ namespace demlab::sim {
 
 namespace {
 
-// Writes a tangential history: the spring, then its drift velocity.
+// Writes a tangential history: the spring, its drift velocity, the damper's last impulse and
+// its loss still owed.
 template <int D>
 void writeHistory(Writer& w, const physics::TangentialHistory<D>& h) {
   w.vec<D>(h.spring);
   w.vec<D>(h.drift);
+  w.f64(h.damperImpulse);
+  w.f64(h.damperPending);
 }
 
 // Returns the bytes writeHistory wrote in r's format (version 2 kept no drift velocity).
 template <int D>
 size_t historyBytes(const Reader& r) {
-  return (r.version >= 3 ? 16 : 8) * D;
+  return r.version >= 3 ? 16 * D + 16 : 8 * D;
 }
 
 // Reads a tangential history (a version 2 scene has no drift velocities: NaN, which the laws
@@ -43,6 +46,11 @@ physics::TangentialHistory<D> readHistory(Reader& r) {
   if (r.version >= 3) {
     h.drift = r.vec<D>();
     if (!h.drift.allFinite() && !h.drift.array().isNaN().all()) Reader::bad("spring drift velocity");
+    h.damperImpulse = r.f64();
+    h.damperPending = r.f64();
+    if (!std::isfinite(h.damperImpulse) || !std::isfinite(h.damperPending)) {
+      Reader::bad("spring damper loss");
+    }
   }
   return h;
 }

@@ -28,7 +28,7 @@ namespace demlab::sim {
 // serialize build a new copy or read into a new scene, so stopping part way changes nothing.
 inline constexpr size_t kPollBytes = kPollSliceBytes;
 
-inline constexpr uint32_t kFormatVersion = 3;  // 3: the springs' drift velocities
+inline constexpr uint32_t kFormatVersion = 3;  // 3: the springs' drift velocities, dampers
 inline constexpr uint32_t kOldestFormatVersion = 2;  // 2: the Coulomb criterion
 
 class Writer {
