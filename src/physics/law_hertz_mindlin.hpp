@@ -87,7 +87,9 @@ template <int D>
       history->spring.setZero();
     }
     // The damper's loss by the integrator's own work (tangential.hpp).
-    if (k.velocityLag == 0) out.dampingLoss += damperCatchUp<D>(spring - fn, vn, vnDrift, dt, *history);
+    if (k.velocityLag == 0) {
+      out.dampingLoss += damperCatchUp<D>(spring - fn, vn, vnDrift, dt, *history);
+    }
   }
   return out;
 }

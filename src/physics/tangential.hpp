@@ -2,9 +2,9 @@
 // law_hertz_mindlin.hpp): one step of the incremental shear spring of a contact.
 //
 // Per step: carry the stored spring into the current tangent plane, add the tangential
-// displacement of the step (u, the drift's), form the spring force -kt s, and if it exceeds the Coulomb
-// limit mu Fn, scale the force down to the limit and the spring with it (the excess elongation
-// is slip; the energy it held goes to frictionLoss). The tangential dashpot -ct vt acts only
+// displacement of the step (u, the drift's), form the spring force -kt s, and if it exceeds the
+// Coulomb limit mu Fn, scale the force down to the limit and the spring with it (the excess
+// elongation is slip; the energy it held goes to frictionLoss). The tangential dashpot -ct vt acts only
 // while sticking, so a sliding contact's force is exactly mu Fn.
 //
 // What "exceeds the limit" means, two ways (PairParams::coulomb, a run-time choice):
@@ -159,14 +159,15 @@ template <int D>
   return (h.drift - vnDrift * n) * dt;
 }
 
-// Returns the normal damper's loss still owed for the last step, and sets what this step's owes.
-// For synchronized velocities only (k.velocityLag == 0: the caller's test). The law books each step's damper loss at the
-// force time's velocity, fd vn dt (fd = spring - fn, the damper's share of the normal force); the
-// integrator's own work of that force is fd dt times the mean of the drift velocities before
-// and after the force time, (D_n + D_{n+1}) / 2 . n, a rectangle against a trapezoid that left
-// damped beds a second-order residual with a large constant. D_{n+1} is known a step later, so
-// the difference is booked then: this step's pending part fd dt (D_n.n / 2 - vn), the rest
-// fd dt D_{n+1}.n / 2 at the next. vnDrift: advanceDrift's value this step.
+// Returns the normal damper's loss still owed for the last step, and sets what this step's owes
+// (h.damperImpulse, h.damperPending). For synchronized velocities only (k.velocityLag == 0: the
+// caller tests it). The law books each step's damper loss at the force time's velocity,
+// fd vn dt (fd = spring - fn, the damper's share of the normal force); the integrator's own
+// work of that force is fd dt times the mean of the drift velocities before and after the force
+// time, (D_n + D_{n+1}) / 2 . n, a rectangle against a trapezoid that left damped beds a
+// second-order residual with a large constant. D_{n+1} is known a step later, so the difference
+// is booked then: this step's pending part fd dt (D_n.n / 2 - vn), the rest fd dt D_{n+1}.n / 2
+// at the next. vnDrift: advanceDrift's value this step.
 template <int D>
 [[gnu::always_inline]] inline Real damperCatchUp(Real fd, Real vn, Real vnDrift, Real dt,
                                                  TangentialHistory<D>& h) {

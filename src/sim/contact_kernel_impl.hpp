@@ -32,7 +32,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <utility>
 
 #include "sim/contact_kernel.hpp"
 
@@ -594,11 +593,10 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
       const vm<W> known = d0.x == d0.x;  // (no drift yet: NaN)
       const double third = 1.0 / 3;
       d = select<W>(known,
-                                V3<W>{(2.0 * vrel.x + d0.x) * third, (2.0 * vrel.y + d0.y) * third,
-                                      (2.0 * vrel.z + d0.z) * third},
-                                vrel);
+                    V3<W>{(2.0 * vrel.x + d0.x) * third, (2.0 * vrel.y + d0.y) * third,
+                          (2.0 * vrel.z + d0.z) * third},
+                    vrel);
       vnDrift = dot<W>(d, n);
-
       u = V3<W>{(d.x - vnDrift * n.x) * dt, (d.y - vnDrift * n.y) * dt, (d.z - vnDrift * n.z) * dt};
     }
     // kt at the overlap before the step's normal displacement.
@@ -931,18 +929,25 @@ void hertzRun(HertzPassArgs& A) {
   storeSums(e, A);
 }
 
-template <int W, bool History, bool Rotation>
-void hertzPass(HertzPassArgs& a) {
-  // Synchronized velocities: the springs follow their drift velocities (hertzLaw).
+// Calls run.template operator()<OnePair, Drift>() with the pass's variant: one material pair or
+// several, and with history and synchronized velocities (lag 0) the springs following their
+// drift velocities (hertzLaw).
+template <bool History, class Args, class Run>
+void byVariant(const Args& a, Run&& run) {
   if constexpr (History) {
     if (a.lag == 0) {
-      a.onePair ? hertzRun<W, true, Rotation, true, true>(a)
-                : hertzRun<W, true, Rotation, false, true>(a);
+      a.onePair ? run.template operator()<true, true>() : run.template operator()<false, true>();
       return;
     }
   }
-  a.onePair ? hertzRun<W, History, Rotation, true, false>(a)
-            : hertzRun<W, History, Rotation, false, false>(a);
+  a.onePair ? run.template operator()<true, false>() : run.template operator()<false, false>();
+}
+
+template <int W, bool History, bool Rotation>
+void hertzPass(HertzPassArgs& a) {
+  byVariant<History>(a, [&]<bool OnePair, bool Drift>() {
+    hertzRun<W, History, Rotation, OnePair, Drift>(a);
+  });
 }
 
 template <int W>
@@ -1079,15 +1084,9 @@ void wallRun(WallPassArgs& A) {
 
 template <int W, bool History, bool Rotation>
 void wallPass(WallPassArgs& a) {
-  if constexpr (History) {
-    if (a.lag == 0) {
-      a.onePair ? wallRun<W, true, Rotation, true, true>(a)
-                : wallRun<W, true, Rotation, false, true>(a);
-      return;
-    }
-  }
-  a.onePair ? wallRun<W, History, Rotation, true, false>(a)
-            : wallRun<W, History, Rotation, false, false>(a);
+  byVariant<History>(a, [&]<bool OnePair, bool Drift>() {
+    wallRun<W, History, Rotation, OnePair, Drift>(a);
+  });
 }
 
 template <int W>

@@ -23,10 +23,10 @@
 // its normal and its tangent with the lever arms' terms, (r x n).I^-1 (r x n) (in 3D the
 // tangent's worst case, |r|^2 over the least principal moment). The points of one pair act in
 // parallel, so their stiffnesses and their dampers add before the damping factor is taken
-// (nine equal dampers in parallel triple zeta); the pairs then add as the balls' do. Nine nodes of a level-set disc
-// resting on a floor make its rocking mode 27 times stiffer than one node's normal mode: at
-// the static estimate's step it was unstable, held only by the Coulomb cap, and fed the ledger
-// energy the motion never had.
+// (nine equal dampers in parallel triple zeta); the pairs then add as the balls' do. Nine
+// nodes of a level-set disc resting on a floor make its rocking mode 27 times stiffer than one
+// node's normal mode: at the static estimate's step it was unstable, held only by the Coulomb
+// cap, and fed the ledger energy the motion never had.
 #pragma once
 
 #include <algorithm>
@@ -208,9 +208,7 @@ Real contactCriticalStep(const Scene<D>& s) {
       }
       return e;
     };
-    const auto radiusOf = [&](const ContactPoint<D>& p) {
-      return s.curvatureModel == 1 && p.localRadius > 0 ? p.localRadius : p.effRadius;
-    };
+    const bool localCurvature = s.curvatureModel == 1;
     ContactPoint<D> pts[kMaxContactPoints];
     for (const CandidatePair& c : s.shapeCandidates) {
       const uint32_t i = c.i, j = c.j;
@@ -222,7 +220,8 @@ Real contactCriticalStep(const Scene<D>& s) {
         const VecD<D> ra = pts[k].g.point - a.x[i], rb = pts[k].g.point - a.x[j];
         const Real muN = inverseMassAt(s, i, ra, nrm, false) + inverseMassAt(s, j, rb, nrm, false);
         const Real muT = inverseMassAt(s, i, ra, nrm, true) + inverseMassAt(s, j, rb, nrm, true);
-        pair.add(contactModes(p, pts[k].g.overlap, radiusOf(pts[k]), muN, muT, tangential));
+        const Real radius = pts[k].hertzRadius(localCurvature);
+        pair.add(contactModes(p, pts[k].g.overlap, radius, muN, muT, tangential));
       }
       const Real k2 = fastestRate(pair, sync);
       rate[i] += k2;
@@ -237,7 +236,7 @@ Real contactCriticalStep(const Scene<D>& s) {
       for (int k = 0; k < m; ++k) {
         const VecD<D>& nrm = pts[k].g.normal;
         const VecD<D> ra = pts[k].g.point - a.x[i];
-        pair.add(contactModes(p, pts[k].g.overlap, radiusOf(pts[k]),
+        pair.add(contactModes(p, pts[k].g.overlap, pts[k].hertzRadius(localCurvature),
                               inverseMassAt(s, i, ra, nrm, false),
                               inverseMassAt(s, i, ra, nrm, true), tangential));
       }

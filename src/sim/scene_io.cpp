@@ -45,7 +45,9 @@ physics::TangentialHistory<D> readHistory(Reader& r) {
   if (!h.spring.allFinite()) Reader::bad("spring");
   if (r.version >= 3) {
     h.drift = r.vec<D>();
-    if (!h.drift.allFinite() && !h.drift.array().isNaN().all()) Reader::bad("spring drift velocity");
+    if (!h.drift.allFinite() && !h.drift.array().isNaN().all()) {
+      Reader::bad("spring drift velocity");
+    }
     h.damperImpulse = r.f64();
     h.damperPending = r.f64();
     if (!std::isfinite(h.damperImpulse) || !std::isfinite(h.damperPending)) {

@@ -157,6 +157,11 @@ struct ContactPoint {
   // The pair's Hertz radius from the two surfaces' own curvature at the point (law -curvature
   // local), or 0 where the row has none (the scene then takes effRadius).
   Real localRadius = 0;
+  // Returns the Hertz radius the law takes: localRadius when the scene asks for the local
+  // curvature and the row has one, else effRadius.
+  Real hertzRadius(bool localCurvature) const {
+    return localCurvature && localRadius > 0 ? localRadius : effRadius;
+  }
 };
 
 // Returns the radius of the ball (the disc in 2D) of geometry g's volume (area): the Hertz

@@ -140,7 +140,7 @@ class ShapeContactModule final : public SimModule<D> {
         // A new point starts from a zero spring; the map allocates only then.
         h = s.shapeSprings.touch(key);
       }
-      const Real radius = localCurvature && p.localRadius > 0 ? p.localRadius : p.effRadius;
+      const Real radius = p.hertzRadius(localCurvature);
       const physics::ContactKinematics<D> k{vrel, effMass, radius, lag};
       const physics::ContactForce<D> f = s.pairLawFn[pair](s.pairParams[pair], p.g, k, h, dt);
       e.add(f);

@@ -231,15 +231,11 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     if (!adaptive) return;
     bool measure = now || s_.steps % kContactStepEvery == 0;
     const bool early = !measure && checksContactsEarly(s_.steps);
-    double contacts = std::numeric_limits<double>::infinity();
-    if (measure) {
-      contacts = contactCriticalStep(s_);
-    } else if (early) {
-      // Taken only where the step is beyond the contacts' stability limit: each change of the
-      // step within a contact costs an elastic impact its symmetry (above).
-      contacts = contactCriticalStep(s_);
-      measure = s_.stepDt > contacts;
-    }
+    const double contacts =
+        measure || early ? contactCriticalStep(s_) : std::numeric_limits<double>::infinity();
+    // Early, taken only where the step is beyond the contacts' stability limit: each change of
+    // the step within a contact costs an elastic impact its symmetry (above).
+    if (early) measure = s_.stepDt > contacts;
     const double speed =
         std::sqrt(k > 0 && watched && !changed ? s_.fastestSpeed2 : fastestSpeed2(s_));
     // Early, the motion bound is taken again for an element faster than it was made for (a
