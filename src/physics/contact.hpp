@@ -101,6 +101,9 @@ struct ContactForce {
   // The per-contact ledger: elasticEnergy(now) - elasticEnergy(before) = work done on the
   // contact by the bodies + springWork - dampingLoss - frictionLoss.
   Real springWork;
+  // True when the pair touches and the law clamped its normal force to zero (a damped force
+  // cut off as the grains part): the touch correction's event (sim/touch.hpp).
+  bool cutOff = false;
 };
 
 // A contact law: returns the force on B and the energy figures for one contact and one step of

@@ -67,6 +67,7 @@ template <int D>
   const Real vForce = k.velocityLag != 0 ? vn + k.velocityLag * dt * fn / k.effectiveMass : vn;
   out.dampingLoss = (spring - fn) * vForce * dt;
   out.force = fn * n;
+  out.cutOff = fn == 0;
   out.elasticEnergy = 0.4 * spring * g.overlap;
   out.frictionLoss = 0;
   out.springWork = 0;

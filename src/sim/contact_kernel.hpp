@@ -98,12 +98,18 @@ struct HertzPassArgs {
   void* recordContext = nullptr;
   // A periodic scene's cell, else null.
   const PeriodicCell* periodic = nullptr;
+  // When not null, one byte per candidate (Scene::touchNow): kTouching and kCutOff below.
+  uint8_t* touchState = nullptr;
   // Out: the number of contacts; in and out: the energy sums, added contact by contact.
   size_t contacts = 0;
   double elastic = 0, damping = 0, friction = 0, springWork = 0;
 };
 
 using HertzPassFn = void (*)(HertzPassArgs&);
+
+// HertzPassArgs::touchState's bits (Scene::touchNow).
+constexpr uint8_t kTouching = 1;  // the pair's distance is below its reach
+constexpr uint8_t kCutOff = 2;    // touching, and the law clamped the normal force to zero
 
 // The contacts of one static wall with grains (WallContactModule, contacts.hpp), Hertz-Mindlin,
 // in the order of the wall's candidates: the narrow phase's geometry given, the law and the
@@ -132,6 +138,9 @@ struct WallPassArgs {
   double dt = 0;
   double lag = 0;
   bool springCriterion = false;
+  // When not null, cutOff[c] is set to 1 where the law clamped contact c's normal force to
+  // zero (the caller zeroes it).
+  uint8_t* cutOff = nullptr;
   // As HertzPassArgs::record; cand[c] is the contact's index (0 .. n - 1).
   void (*record)(void* context, const uint32_t* cand, const double* force, size_t n) = nullptr;
   void* recordContext = nullptr;

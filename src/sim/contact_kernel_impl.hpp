@@ -29,6 +29,7 @@
 // and the rotation update, the drift and the kick over W grains at a time.
 #include <immintrin.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -322,6 +323,7 @@ struct Consts {
   bool lag, total;
   HertzPair one;
   const PeriodicCell* periodic;  // null: not periodic
+  uint8_t* touchState;           // null: not kept (HertzPassArgs::touchState)
 };
 
 struct Sums {
@@ -547,6 +549,7 @@ struct LawOut {
   // fn) and the synchronized normal velocity, for damperCatchUp.
   V3<W> dNew;
   vd<W> vnDrift, damperForce, vn;
+  vd<W> fn;  // the normal force's magnitude (0: cut off)
 };
 
 // hertzMindlinContactWith with driftDisplacement and coulombSpringStep<Project>
@@ -661,6 +664,7 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
   out.elastic = elastic;
   out.friction = friction;
   out.springWork = springWork;
+  out.fn = fn;
   return out;
 }
 
@@ -722,6 +726,15 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
     Lanes3<W> sl;
     split<W>(lo.sNew, sl);
     for (int l = 0; l < W; ++l) store3(springs + ok[l], sl.xy[l], sl.z[l]);
+  }
+  if (C.touchState != nullptr) {
+    // (Rare: a damped force cut off while the grains still overlap.)
+    const unsigned cut = bitsOf<W>(lo.fn == 0.0) & ((1u << valid) - 1);
+    if (cut != 0) [[unlikely]] {
+      for (size_t l = 0; l < valid; ++l) {
+        if ((cut >> l) & 1) C.touchState[kc[l]] |= kCutOff;
+      }
+    }
   }
   // The grains' forces and torques, lane by lane in candidate order: f_j += F, f_i -= F,
   // t_i -= armA (n x F), t_j -= armB (n x F); -(a b) is (-a) b exactly.
@@ -883,7 +896,7 @@ void hertzRun(HertzPassArgs& A) {
   const Consts C{
       A.x,       A.v,       A.w,     A.f,    A.t,  A.r,          A.invMass,  A.material,
       A.cand,    A.springs, A.pairs, A.nMat, A.dt, A.lag * A.dt, A.lag != 0, !A.springCriterion,
-      A.pairs[0], A.periodic};
+      A.pairs[0], A.periodic, A.touchState};
   const size_t nc = A.nCand;
   Sums e = sumsOf(A);
   Records records;
@@ -898,6 +911,7 @@ void hertzRun(HertzPassArgs& A) {
   for (size_t k0 = 0; k0 < nc; k0 += kBatch) {
     const size_t kEnd = nc < k0 + kBatch ? nc : k0 + kBatch;
     size_t kc = k0;
+    const size_t mBatch = m;  // (bk[0 .. mBatch - 1]: the last batch's, carried over)
     // (Prefetching looks kAhead candidates on: the last ones go without it.)
     const size_t kFast =
         A.prefetch > 0 ? (nc > kAhead ? (kEnd < nc - kAhead ? kEnd : nc - kAhead) : 0) : kEnd;
@@ -908,6 +922,12 @@ void hertzRun(HertzPassArgs& A) {
     }
     for (; kc + W <= kEnd; kc += W) touch<W, History, Rotation, 0>(C, kc, W, bk, m);
     if (kc < kEnd) touch<W, History, Rotation, 0>(C, kc, kEnd - kc, bk, m);
+    if (C.touchState != nullptr) {
+      // Here, once a batch, not in stage 1: a byte store there may alias anything, and the
+      // loop would reload what it keeps in registers.
+      std::memset(C.touchState + k0, 0, kEnd - k0);
+      for (size_t j = mBatch; j < m; ++j) C.touchState[bk[j]] = kTouching;
+    }
     const size_t full = m - m % W;
     for (size_t c = 0; c < full; c += W) geometry<W, Rotation, OnePair>(C, bk + c, W, st, c);
     for (size_t c = 0; c < full; c += W) {
@@ -1013,6 +1033,14 @@ DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size
     in.mu = gather1<W>(pp + 4, op);
   }
   LawOut<W> lo = hertzLaw<W, History, Drift>(C, in);
+  if (A.cutOff != nullptr) {
+    const unsigned cut = bitsOf<W>(lo.fn == 0.0) & ((1u << valid) - 1);
+    if (cut != 0) [[unlikely]] {
+      for (size_t l = 0; l < valid; ++l) {
+        if ((cut >> l) & 1) A.cutOff[cs[l]] = 1;
+      }
+    }
+  }
   if constexpr (Drift) {
     storeSpringsAndDrifts<W>(A.springs, os, lo.sNew, lo.dNew);
     lo.damping = lo.damping + damperCatchUp<W>(A.springs, os, lo, C.dt);

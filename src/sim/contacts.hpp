@@ -11,8 +11,10 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <type_traits>
+#include <utility>
 
 #include "core/thread_pool.hpp"
 #include "core/type_interaction.hpp"
@@ -322,6 +324,12 @@ class BallContactModule final : public SimModule<D> {
     if constexpr (History) {
       if (threaded) s.pairSprings.prepareConcurrent();
     }
+    if (s.touchCorrection) {
+      // The last step's states become the previous ones; this pass writes every byte of now.
+      std::swap(s.touchNow, s.touchPrev);
+      s.touchPrevValid = s.touchNowValid && s.touchPrev.size() == s.candidates.size();
+      s.touchNow.resize(s.candidates.size());
+    }
     bool ran = false;
     // Periodic scenes measure each pair to the nearest image (sim/periodic.hpp), in both.
     const bool periodic = s.periodic.any();
@@ -339,6 +347,7 @@ class BallContactModule final : public SimModule<D> {
         }
       });
     }
+    s.touchNowValid = s.touchCorrection;
     PassEnergy e;
     for (size_t g = 0; g < groups; ++g) e.merge(out_[g].energy);
     // The work of Lees-Edwards images (zero otherwise).
@@ -373,6 +382,12 @@ class BallContactModule final : public SimModule<D> {
     DeepestContact<D> deepest;
   };
   std::vector<GroupOut> out_;
+
+  // Returns the candidates' touch states to write (Scene::touchNow), or null when the touch
+  // correction is off. Changes nothing.
+  static uint8_t* touchStateOf(Scene<D>& s) {
+    return s.touchCorrection ? s.touchNow.data() : nullptr;
+  }
 
   // Returns where group g's contacts go: the scene's records (one thread), the group's (several),
   // the group's deepest contact, or nowhere.
@@ -465,6 +480,7 @@ class BallContactModule final : public SimModule<D> {
       return pf != nullptr && pf[0] >= '0' && pf[0] <= '2' ? pf[0] - '0' : -1;
     }();
     if (forced >= 0) base.prefetch = forced;
+    base.touchState = touchStateOf(s);
     const uint32_t* cand = reinterpret_cast<const uint32_t*>(s.candidates.data());
     kernel::PeriodicCell cell;
     if (s.periodic.any()) {
@@ -483,6 +499,7 @@ class BallContactModule final : public SimModule<D> {
       kernel::HertzPassArgs k = base;
       k.cand = cand + 2 * begin;
       k.nCand = end - begin;
+      if (base.touchState != nullptr) k.touchState = base.touchState + begin;
       kernel::SpringSlots slots;
       if constexpr (History) {
         slots = s.pairSprings.slots(begin);
@@ -535,6 +552,7 @@ class BallContactModule final : public SimModule<D> {
     const uint32_t* __restrict material = a.material.data();
     const CandidatePair* __restrict cand = s.candidates.data();
     PairSprings<D>& springs = s.pairSprings;
+    uint8_t* state = touchStateOf(s);
     const size_t nc = end;
     physics::PairParams one;
     if constexpr (OnePair) one = s.pairParams[static_cast<size_t>(grainPair_)];
@@ -571,6 +589,10 @@ class BallContactModule final : public SimModule<D> {
         if constexpr (History) {
           if (!touch) springs.release(kc);
         }
+      }
+      if (state != nullptr) {
+        std::memset(state + k0, 0, kEnd - k0);
+        for (size_t c = 0; c < m; ++c) state[bk[c]] = kernel::kTouching;
       }
       for (size_t c = 0; c < m; ++c) {
         const uint32_t i = cand[bk[c]].i, j = cand[bk[c]].j;
@@ -632,6 +654,7 @@ class BallContactModule final : public SimModule<D> {
           torque[j] -= armB * cn;
         }
         e.add(f);
+        if (state != nullptr && f.cutOff) state[k0] |= kernel::kCutOff;
         if constexpr (Periodic) {
           if (bn[c] != 0) e.wallWork += box.imageWork(bn[c], f.force[box.flow], dt);
         }
@@ -659,6 +682,15 @@ class WallContactModule final : public SimModule<D> {
   // the bits are the same for any number of threads.
   void run(Scene<D>& s) override {
     const bool threaded = ThreadPool::global().threads() > 1;
+    if (s.touchCorrection) {
+      // As the grain pass's touch states (BallContactModule::run), per wall.
+      std::swap(s.wallTouchNow, s.wallTouchPrev);
+      s.wallTouchPrevValid = s.wallTouchNowValid;
+      s.wallTouchNow.resize(s.walls.size());
+      for (size_t w = 0; w < s.walls.size(); ++w) {
+        s.wallTouchNow[w].resize(w < s.wallCandidates.size() ? s.wallCandidates[w].size() : 0);
+      }
+    }
     PassEnergy e;
     for (size_t w = 0; w < s.walls.size(); ++w) {
       Wall<D>& wall = s.walls.items[w];
@@ -701,6 +733,7 @@ class WallContactModule final : public SimModule<D> {
         for (size_t c = 0; c < chunks; ++c) std::vector<ContactRecord<D>>().swap(chunks_[c].records);
       }
     }
+    s.wallTouchNowValid = s.touchCorrection;
     e.bookTo(s.ledger);
     s.ledger.wallWork += e.wallWork;
   }
@@ -710,6 +743,7 @@ class WallContactModule final : public SimModule<D> {
     for (const Chunk& k : chunks_) {
       bytes += k.geoms.capacity() * sizeof(physics::ContactGeometry<D>) +
                (k.touched.capacity() + k.slots.capacity()) * sizeof(uint32_t) +
+               k.cut.capacity() +
                k.records.capacity() * sizeof(ContactRecord<D>) +
                k.pairs.capacity() * sizeof(kernel::HertzPair);
     }
@@ -726,6 +760,7 @@ class WallContactModule final : public SimModule<D> {
   struct alignas(64) Chunk {
     std::vector<physics::ContactGeometry<D>> geoms;
     std::vector<uint32_t> touched, slots;
+    std::vector<uint8_t> cut;  // with touch states: the kernel's cut-offs, per contact
     std::vector<kernel::HertzPair> pairs;
     std::vector<ContactRecord<D>> records;
     VecD<D> force = VecD<D>::Zero();
@@ -769,8 +804,21 @@ class WallContactModule final : public SimModule<D> {
     if constexpr (OnePair) one = s.pairParams[wallPair];
     physics::TangentialHistory<D>* __restrict springs = nullptr;
     if constexpr (History) springs = s.wallSprings[w].data() + begin;
+    // With the touch correction: the candidates' states, touching first (the laws add the
+    // cut-offs); ch.slots maps each contact to its candidate.
+    uint8_t* state = s.touchCorrection ? s.wallTouchNow[w].data() + begin : nullptr;
+    if (state != nullptr) {
+      std::memset(state, 0, nWhich);
+      ch.slots.resize(m);
+      size_t kc = 0;
+      for (size_t c = 0; c < m; ++c) {
+        while (which[kc] != ch.touched[c]) ++kc;
+        ch.slots[c] = static_cast<uint32_t>(kc);
+        state[kc++] = kernel::kTouching;
+      }
+    }
     if constexpr (kKernel) {
-      if (!wall.moving && kernelWall(s, w, m, which, nWhich, springs, ch, sink)) return;
+      if (!wall.moving && kernelWall(s, w, m, which, nWhich, springs, ch, sink, state)) return;
     }
     // touched lists the grains in contact in the order of `which`: walk both to find each
     // contact's candidate index (its spring slot), zeroing the springs of those not touched.
@@ -801,6 +849,7 @@ class WallContactModule final : public SimModule<D> {
       if constexpr (Rotation) torque[i] -= cross(arm, f.force);
       ch.force += f.force;
       e.add(f);
+      if (state != nullptr && f.cutOff) state[ch.slots[c]] |= kernel::kCutOff;
       // Work done by the moving wall on the grain over the step.
       if (wall.moving) e.wallWork -= f.force.dot(vWall) * dt;
       if (sink.any()) sink.put({i, static_cast<uint32_t>(w), true, f.force});
@@ -825,9 +874,10 @@ class WallContactModule final : public SimModule<D> {
 
   // Returns false, changing nothing, when no kernel is active; else runs the chunk's m
   // contacts (ch.geoms, ch.touched; candidates which[0 .. nWhich), springs from springs[0])
-  // through it.
+  // through it, adding the cut-offs to the candidates' touch states when state is not null.
   bool kernelWall(Scene<D>& s, size_t w, size_t m, const uint32_t* which, size_t nWhich,
-                  physics::TangentialHistory<D>* springs, Chunk& ch, const ContactSink<D>& sink) {
+                  physics::TangentialHistory<D>* springs, Chunk& ch, const ContactSink<D>& sink,
+                  uint8_t* state) {
     kernel::Isa isa;
     if (!kernel::activeIsa(&isa)) return false;
     const kernel::WallPassFn fn = kernel::wallPass(isa, History, Rotation);
@@ -870,7 +920,17 @@ class WallContactModule final : public SimModule<D> {
       k.record = &appendRecords;
       k.recordContext = &rs;
     }
+    if (state != nullptr) {
+      ch.cut.assign(m, 0);
+      k.cutOff = ch.cut.data();
+    }
     if (m > 0) fn(k);
+    if (state != nullptr) {
+      // (ch.slots: the candidate of each contact, as above)
+      for (size_t c = 0; c < m; ++c) {
+        if (ch.cut[c] != 0) state[ch.slots[c]] |= kernel::kCutOff;
+      }
+    }
     for (int c = 0; c < D; ++c) ch.force[c] = k.wallForce[c];
     ch.energy = {k.elastic, k.damping, k.friction, k.springWork, 0};
     return true;

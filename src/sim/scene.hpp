@@ -267,6 +267,18 @@ struct Scene {
   // needs them); edits of the scene clear it and the next run computes them first.
   bool forcesReady = false;
   uint64_t rebuilds = 0;
+  // With the touch correction on: per grain-grain candidate, what the contact pass found
+  // (kTouching: within reach; kCutOff: touching with the law's normal force clamped to zero),
+  // this step's and the last step's. The touch module compares the two to find the step's
+  // events (sim/touch.hpp). Valid only while the candidates are the ones they were written for:
+  // a search, a load without them, or an edit of the candidates clears touchNowValid.
+  std::vector<uint8_t> touchNow, touchPrev;
+  bool touchNowValid = false;
+  bool touchPrevValid = false;  // set by the contact pass: touchPrev describes the candidates
+  // The same for each wall's candidates (wallCandidates), written by the wall contact pass.
+  std::vector<std::vector<uint8_t>> wallTouchNow, wallTouchPrev;
+  bool wallTouchNowValid = false;
+  bool wallTouchPrevValid = false;
 
   // ---- pair state (sim/history_store.hpp) ----
   PairSprings<D> pairSprings;                                           // per contact

@@ -996,6 +996,22 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     body.list(s.marginWeight, [&](Real x) { body.f64(x); });
     writeSection(w, kMarginTag, body);
   }
+  const bool grainStates = s.touchNowValid && s.touchNow.size() == s.candidates.size();
+  bool wallStates = s.wallTouchNowValid && s.wallTouchNow.size() == s.walls.size();
+  for (size_t k = 0; wallStates && k < s.walls.size(); ++k) {
+    const size_t n = k < s.wallCandidates.size() ? s.wallCandidates[k].size() : 0;
+    wallStates = s.wallTouchNow[k].size() == n;
+  }
+  if (s.touchCorrection && s.forcesReady && (grainStates || wallStates)) {
+    Writer body;
+    body.u8(static_cast<uint8_t>((grainStates ? 1 : 0) | (wallStates ? 2 : 0)));
+    const auto states = [&](const std::vector<uint8_t>& v) {
+      body.list(v, [&](uint8_t x) { body.u8(x); });
+    };
+    if (grainStates) states(s.touchNow);
+    if (wallStates) body.list(s.wallTouchNow, states);
+    writeSection(w, kTouchStateTag, body);
+  }
   if (mode == IoMode::Digest && scriptedWalls) {
     Writer body;
     body.list(s.walls.items, [&](const Wall<D>& x) {
@@ -1175,6 +1191,7 @@ void readScene(Reader& r, Scene<D>& s) {
   s.histories.sweep();
   const size_t nCandidates = r.count(8);
   s.candidates.clear();
+  s.touchNowValid = s.wallTouchNowValid = false;  // (unless the touch state section follows)
   s.candidates.reserve(nCandidates);  // made as read (Reader polls), not zeroed in one call
   for (size_t k = 0; k < nCandidates; ++k) {
     CandidatePair& c = s.candidates.emplace_back();
@@ -1350,6 +1367,36 @@ void readScene(Reader& r, Scene<D>& s) {
       for (Real& x : s.marginWeight) {
         x = b.f64();
         if (!(x > 0 && x <= 1)) Reader::bad("margin weight");
+      }
+    } else if (std::memcmp(tag, kTouchStateTag, 4) == 0) {
+      // One state per candidate, each a touch and perhaps its force cut off.
+      const uint8_t flags = b.u8();
+      if (flags == 0 || flags > 3) Reader::bad("touch state flags");
+      const auto states = [&](size_t n) {
+        if (b.count(1) != n) Reader::bad("touch state count");
+        std::vector<uint8_t> read(n);
+        for (uint8_t& x : read) {
+          x = b.u8();
+          if (x != 0 && x != kernel::kTouching && x != (kernel::kTouching | kernel::kCutOff)) {
+            Reader::bad("touch state");
+          }
+        }
+        return read;
+      };
+      if (flags & 1) {
+        // In the order the candidates were sorted into above.
+        const std::vector<uint8_t> read = states(s.candidates.size());
+        s.touchNow.resize(read.size());
+        for (size_t k = 0; k < read.size(); ++k) s.touchNow[k] = read[moved.empty() ? k : moved[k]];
+        s.touchNowValid = true;
+      }
+      if (flags & 2) {
+        if (b.count(8) != s.walls.size()) Reader::bad("touch state wall count");
+        s.wallTouchNow.resize(s.walls.size());
+        for (size_t k = 0; k < s.walls.size(); ++k) {
+          s.wallTouchNow[k] = states(k < s.wallCandidates.size() ? s.wallCandidates[k].size() : 0);
+        }
+        s.wallTouchNowValid = true;
       }
     } else if (std::memcmp(tag, kOptionTag, 4) == 0) {
       readOptionSection(b, s);

@@ -229,6 +229,12 @@ inline constexpr char kWallHoleTag[5] = "HOLE";
 // The grains' margin weights at the last search (Scene::marginWeight), when any: u64 count (the
 // positions at the search's), then one f64 each.
 inline constexpr char kMarginTag[5] = "MRGN";
+// With the touch correction on, after a step: the candidates' touch states of that step (what
+// the touch module compares the next step's with): u8 flags (1: the grain pairs', 2: the
+// walls'), then with flag 1 Scene::touchNow (u64 count, the candidates', then one u8 each:
+// kernel::kTouching, kCutOff bits), with flag 2 Scene::wallTouchNow (u64 walls, then per wall
+// its candidates' count and states).
+inline constexpr char kTouchStateTag[5] = "TSTA";
 // The digest's only (never in a checkpoint or a clone's bytes): which walls' motion components
 // are scripted, and the angle each turned since the last search.
 inline constexpr char kScriptedWallTag[5] = "SCRW";

@@ -753,6 +753,7 @@ template <int D>
 void SimulationManager<D>::forgetCandidates() {
   parkSprings(s_);
   s_.candidates.clear();
+  s_.touchNowValid = s_.wallTouchNowValid = false;
   s_.contactGroups.clear();
   s_.wallCandidates.clear();
   s_.shapeCandidates.clear();

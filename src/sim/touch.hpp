@@ -18,19 +18,28 @@
 // relative to the wall's surface velocity, which is exact for walls that translate during the
 // step and approximate for turning ones (drums, rotating plates: O(dt^2) in the gap).
 //
-// Cost: one more pass over the candidates (two squared distances and two velocity dots each,
-// no branch per test; then a sqrt for the few that change state or a damped one separating),
-// two narrow-phase calls per wall candidate and three arrays per grain; about 0.8x a dense
-// step (doc/performance.md). Nothing when the scene leaves it off (the default).
+// Which grain pairs have an event comes from the contact passes: with the module on they write
+// one state per candidate (Scene::touchNow: touching, and touching with the normal force cut
+// off), and the pairs whose state changed since the last step are the step's events, found by
+// comparing eight states at a time. Only those are reconstructed. The first step after the
+// candidates change (a neighbour search, an edit) has no states to compare with: it takes the
+// full pass, every candidate tested from its reconstructed start (two squared distances and
+// two velocity dots each, then a square root for the few that change state or a damped one
+// separating), which is also the tests' oracle. A checkpoint keeps the states, so a loaded run
+// takes the events its parent would have. Walls take two narrow-phase calls per candidate.
+// Cost on a dense bed: about a tenth of a step, most of it the walls' (doc/performance.md);
+// nothing when the scene leaves the module off (the default).
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "physics/touch.hpp"
+#include "sim/contact_kernel.hpp"
 #include "sim/contacts.hpp"
 #include "sim/integrator.hpp"
 #include "sim/scene.hpp"
@@ -54,9 +63,13 @@ class TouchModule final : public SimModule<D> {
     const Real dt = s.stepDt;
     if (!(dt > 0)) return;  // the force pass before a run: no step, no event
     kicks_.clear();
-    velocities(s);
     double loss = 0, wallWork = 0;
-    grainPairs(s, loss);
+    if (s.touchPrevValid && s.touchNowValid && s.touchNow.size() == s.candidates.size()) {
+      grainEvents(s, loss);
+    } else {
+      velocities(s);
+      grainPairs(s, loss);
+    }
     walls(s, loss, wallWork);
     VecD<D>* v = s.elements.a.v.data();
     for (const auto& [i, dv] : kicks_) v[i] += dv;
@@ -65,35 +78,39 @@ class TouchModule final : public SimModule<D> {
   }
 
  private:
-  // Fills vHalf_ with the grains' half-step velocities (the drift's), xBefore_ with their
-  // positions at the step's start and vBefore_ with the velocities the laws saw then (see the
-  // file's comment), once per step rather than once per candidate.
-  void velocities(const Scene<D>& s) {
+  // A grain at the step's start, reconstructed from its state at the end (see the file's
+  // comment): its half-step velocity (the drift's), its position, and the velocity the laws
+  // saw then.
+  struct Start {
+    VecD<D> vHalf, x, v;
+  };
+
+  // Returns grain i's Start. Changes nothing.
+  static Start startOf(const Scene<D>& s, size_t i) {
     const ElementArrays<D>& a = s.elements.a;
-    const size_t n = a.size();
     const Real dt = s.stepDt, h = 0.5 * dt;
-    vHalf_.resize(n);
+    Start g;
+    if (s.integrator == IntegratorKind::Synchronized) {
+      g.vHalf = a.v[i] - (h * a.invMass[i]) * a.fPrev[i];
+      g.v = g.vHalf - (h * a.invMass[i]) * a.fPrev[i];
+    } else {
+      g.vHalf = a.v[i];
+      g.v = g.vHalf - (dt * a.invMass[i]) * a.fPrev[i];
+    }
+    g.x = a.x[i] - dt * g.vHalf;
+    return g;
+  }
+
+  // Fills xBefore_ and vBefore_ with every grain's Start, for the full pass.
+  void velocities(const Scene<D>& s) {
+    const size_t n = s.elements.a.size();
     xBefore_.resize(n);
     vBefore_.resize(n);
-    const VecD<D>* __restrict x = a.x.data();
-    const VecD<D>* __restrict v = a.v.data();
-    const VecD<D>* __restrict f = a.fPrev.data();
-    const Real* __restrict invMass = a.invMass.data();
-    VecD<D>* __restrict vh = vHalf_.data();
-    VecD<D>* __restrict x0 = xBefore_.data();
-    if (s.integrator == IntegratorKind::Synchronized) {
-      for (size_t i = 0; i < n; ++i) {
-        vh[i] = v[i] - (h * invMass[i]) * f[i];
-        x0[i] = x[i] - dt * vh[i];
-      }
-    } else {
-      for (size_t i = 0; i < n; ++i) {
-        vh[i] = v[i];
-        x0[i] = x[i] - dt * v[i];
-      }
+    for (size_t i = 0; i < n; ++i) {
+      const Start g = startOf(s, i);
+      xBefore_[i] = g.x;
+      vBefore_[i] = g.v;
     }
-    const Real back = s.integrator == IntegratorKind::Verlet ? dt : h;
-    for (size_t i = 0; i < n; ++i) vBefore_[i] = vh[i] - (back * invMass[i]) * f[i];
   }
 
   // The drift moves both grains on straight lines: the step's touch (or release) is where
@@ -120,7 +137,6 @@ class TouchModule final : public SimModule<D> {
 
   void grainPairs(const Scene<D>& s, double& loss) {
     const ElementArrays<D>& a = s.elements.a;
-    const Real dt = s.stepDt, lag = velocityLag(s);
     const size_t nMat = s.nMat();
     const VecD<D>* __restrict x = a.x.data();
     const VecD<D>* __restrict x0 = xBefore_.data();
@@ -194,15 +210,88 @@ class TouchModule final : public SimModule<D> {
           !physics::cutOff(p, e1, effMass, effRadius)) {
         continue;
       }
-      if (touch0 != touch1) straightLineEnds(d0, d1, rs, e0, e1);
-      const physics::TouchCorrection k =
-          physics::touchCorrection(p, effMass, effRadius, dt, lag, e0, e1);
-      if (!k.any()) continue;
-      const VecD<D> J = k.impulse * (k.atEnd ? n1 : n0);
-      kicks_.emplace_back(i, -a.invMass[i] * J);
-      kicks_.emplace_back(j, a.invMass[j] * J);
-      loss += k.loss;
+      correctPair(s, i, j, p, {d0, d1, n0, n1, rs, effMass, effRadius}, e0, e1, loss);
     }
+  }
+
+  // A grain pair's centre lines at the step's two ends, its reach and effective mass, radius.
+  struct PairEnds {
+    VecD<D> d0, d1, n0, n1;
+    Real rs, effMass, effRadius;
+  };
+
+  // Adds the correction of grains i and j (pair parameters p) for the step whose ends are e0
+  // and e1: the touch or release point on the straight lines first (straightLineEnds). Changes
+  // kicks_ and loss.
+  void correctPair(const Scene<D>& s, uint32_t i, uint32_t j, const physics::PairParams& p,
+                   const PairEnds& g, physics::ContactEnd e0, physics::ContactEnd e1,
+                   double& loss) {
+    if (e0.touch != e1.touch) straightLineEnds(g.d0, g.d1, g.rs, e0, e1);
+    const physics::TouchCorrection k = physics::touchCorrection(
+        p, g.effMass, g.effRadius, s.stepDt, velocityLag(s), e0, e1);
+    if (!k.any()) return;
+    const VecD<D> J = k.impulse * (k.atEnd ? g.n1 : g.n0);
+    kicks_.emplace_back(i, -s.elements.a.invMass[i] * J);
+    kicks_.emplace_back(j, s.elements.a.invMass[j] * J);
+    loss += k.loss;
+  }
+
+  // The grain pairs from the contact passes' states (Scene::touchNow, touchPrev): only the
+  // candidates whose state changed, in candidate order, each with the full pass's arithmetic
+  // for its two grains. The touch and cut-off at each end are the laws' own decisions; the
+  // overlaps and velocities at the start are reconstructed, each overlap clamped to the side
+  // its state gives (they differ only by rounding at the boundary, where the correction is
+  // continuous).
+  void grainEvents(const Scene<D>& s, double& loss) {
+    const size_t nMat = s.nMat();
+    const uint8_t* __restrict now = s.touchNow.data();
+    const uint8_t* __restrict prev = s.touchPrev.data();
+    const size_t nc = s.candidates.size();
+    size_t k = 0;
+    // Eight states at a time: in a bed nearly all are unchanged.
+    for (; k + 8 <= nc; k += 8) {
+      uint64_t u, w;
+      std::memcpy(&u, now + k, 8);
+      std::memcpy(&w, prev + k, 8);
+      if (u == w) continue;
+      for (size_t l = k; l < k + 8; ++l) {
+        if (now[l] != prev[l]) grainEvent(s, l, prev[l], now[l], nMat, loss);
+      }
+    }
+    for (; k < nc; ++k) {
+      if (now[k] != prev[k]) grainEvent(s, k, prev[k], now[k], nMat, loss);
+    }
+  }
+
+  // Candidate k's event from its states at the step's start (was) and end (is). Changes
+  // kicks_ and loss.
+  void grainEvent(const Scene<D>& s, size_t k, uint8_t was, uint8_t is, size_t nMat,
+                  double& loss) {
+    const bool touch0 = was & kernel::kTouching, touch1 = is & kernel::kTouching;
+    const bool cut0 = was & kernel::kCutOff, cut1 = is & kernel::kCutOff;
+    // No force at either end: a cut-off contact parting, a touch with its force cut off.
+    if ((touch0 && !touch1 && cut0) || (!touch0 && touch1 && cut1)) return;
+    const ElementArrays<D>& a = s.elements.a;
+    const uint32_t i = s.candidates[k].i, j = s.candidates[k].j;
+    const Start gi = startOf(s, i), gj = startOf(s, j);
+    const Real rs = a.r[i] + a.r[j];
+    const VecD<D> d1 = a.x[j] - a.x[i];
+    const VecD<D> d0 = gj.x - gi.x;
+    const Real dist1 = std::sqrt(d1.squaredNorm()), dist0 = std::sqrt(d0.squaredNorm());
+    if (!(dist1 > 0 && dist0 > 0)) return;  // coincident centres: no normal to speak of
+    const Real sumInv = a.invMass[i] + a.invMass[j];
+    if (!(sumInv > 0)) return;  // two fixed grains: nothing moves
+    const physics::PairParams& p = s.pairParams[a.material[i] * nMat + a.material[j]];
+    const VecD<D> n1 = d1 * (1 / dist1), n0 = d0 * (1 / dist0);
+    const Real effMass = 1 / sumInv, effRadius = a.r[i] * a.r[j] / rs;
+    // Each overlap on its state's side: a touching end's may not be negative (the Hertz
+    // terms take its root).
+    const auto side = [](bool touch, Real overlap) {
+      return touch ? std::max<Real>(overlap, 0) : std::min<Real>(overlap, 0);
+    };
+    physics::ContactEnd e0{touch0, side(touch0, rs - dist0), (gj.v - gi.v).dot(n0)};
+    physics::ContactEnd e1{touch1, side(touch1, rs - dist1), (a.v[j] - a.v[i]).dot(n1)};
+    correctPair(s, i, j, p, {d0, d1, n0, n1, rs, effMass, effRadius}, e0, e1, loss);
   }
 
   void walls(const Scene<D>& s, double& loss, double& wallWork) {
@@ -215,11 +304,22 @@ class TouchModule final : public SimModule<D> {
       const Wall<D>& wall = s.walls.items[w];
       const auto& entry = np.table.get(np.sphere, np.byShape[static_cast<int>(wall.kind)]).fn;
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
-      for (const uint32_t i : s.wallCandidates[w]) {
+      const std::vector<uint32_t>& list = s.wallCandidates[w];
+      // With both steps' states (the wall pass's), only the candidates whose state changed.
+      const bool events = s.wallTouchPrevValid && s.wallTouchNowValid &&
+                          w < s.wallTouchNow.size() && w < s.wallTouchPrev.size() &&
+                          s.wallTouchNow[w].size() == list.size() &&
+                          s.wallTouchPrev[w].size() == list.size();
+      const uint8_t* stateNow = events ? s.wallTouchNow[w].data() : nullptr;
+      const uint8_t* statePrev = events ? s.wallTouchPrev[w].data() : nullptr;
+      for (size_t c = 0; c < list.size(); ++c) {
+        if (events && stateNow[c] == statePrev[c]) continue;
+        const uint32_t i = list[c];
         const physics::SphereShape<D> now{a.x[i], a.r[i]};
         const auto g1 = entry.one(&now, shape);
         const VecD<D> vWall = wall.surfaceVelocity(g1 ? g1->point : a.x[i]);
-        const VecD<D>& vh = vHalf_[i];
+        const Start start = startOf(s, i);
+        const VecD<D>& vh = start.vHalf;
         // The grain at the step's start, relative to the wall where it is now.
         const physics::SphereShape<D> before{a.x[i] + dt * (vWall - vh), a.r[i]};
         const auto g0 = entry.one(&before, shape);
@@ -227,7 +327,7 @@ class TouchModule final : public SimModule<D> {
         if (!(a.invMass[i] > 0)) continue;  // a fixed grain: nothing moves
         const physics::PairParams& p = s.pairParams[a.material[i] * nMat + wall.material];
         const VecD<D> v1 = vWall - a.v[i];
-        const VecD<D> v0 = vWall - vBefore_[i];
+        const VecD<D> v0 = vWall - start.v;
         // Touching at both ends: only a damped force separating at one end can be cut off.
         if (g0 && g1 && (!dampsNormal(p) || (v1.dot(g1->normal) <= 0 && v0.dot(g1->normal) <= 0))) {
           continue;
@@ -256,7 +356,7 @@ class TouchModule final : public SimModule<D> {
   }
 
   std::vector<std::pair<uint32_t, VecD<D>>> kicks_;  // grain, velocity change: applied last
-  std::vector<VecD<D>> vHalf_, xBefore_, vBefore_;   // per grain, this step (velocities())
+  std::vector<VecD<D>> xBefore_, vBefore_;           // per grain, this step (velocities())
   std::vector<uint8_t> damped_;                      // per material pair: dampsNormal
   std::vector<uint32_t> picked_;                     // grainPairs' candidates with an event
   bool dense_ = true;  // more than a quarter of the candidates touched in the last step

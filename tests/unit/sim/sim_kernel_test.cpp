@@ -3,6 +3,7 @@
 // the CPU runs (SSE2, the portable x86-64 one, always; AVX2 and AVX-512 where present) must
 // give the Eigen loop's bits on the same random contact batches and grains, and whole runs the
 // same state digest.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -129,6 +130,8 @@ Scene<3> randomBatch(const BatchOptions& o) {
     }
   }
   s.recordContacts = true;
+  // Odd seeds keep the candidates' touch states (the touch correction's).
+  s.touchCorrection = o.seed % 2 == 1;
   return s;
 }
 
@@ -147,8 +150,19 @@ template <bool History, bool Rotation>
 void compareContactPasses(const BatchOptions& o) {
   KernelChoice restore;
   const Scene<3> ref = contactPass<History, Rotation>(o, false, kernel::Isa::Sse2);
-  // The batch exercises what it should: contacts, sliding and sticking springs.
+  // The batch exercises what it should: contacts, sliding and sticking springs; with touch
+  // states, some forces cut off.
   ASSERT_GT(ref.contacts.size(), 100u);
+  if (ref.touchCorrection) {
+    EXPECT_EQ(ref.touchNow.size(), ref.candidates.size());
+    EXPECT_EQ(std::count(ref.touchNow.begin(), ref.touchNow.end(), kernel::kTouching) +
+                  std::count(ref.touchNow.begin(), ref.touchNow.end(),
+                             kernel::kTouching | kernel::kCutOff),
+              static_cast<std::ptrdiff_t>(ref.contacts.size()));
+    EXPECT_GT(std::count(ref.touchNow.begin(), ref.touchNow.end(),
+                         kernel::kTouching | kernel::kCutOff),
+              0);
+  }
   if (History && !o.fresh) {
     EXPECT_GT(ref.ledger.frictionLoss, 0);
     EXPECT_GT(ref.ledger.dampingLoss, 0);
@@ -161,6 +175,7 @@ void compareContactPasses(const BatchOptions& o) {
     EXPECT_TRUE(sameBits(a.f, b.f));
     EXPECT_TRUE(sameBits(a.t, b.t));
     EXPECT_TRUE(sameBits(s.pairSprings.perCandidate(), ref.pairSprings.perCandidate()));
+    EXPECT_EQ(s.touchNow, ref.touchNow);
     // A slot for each contact and none for the others (the pool's count, the spring values
     // aside: a contact's new spring may be zero).
     if (History) {
