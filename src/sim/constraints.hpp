@@ -1,7 +1,8 @@
 // The "constraints" module: blocked degrees of freedom (fixed elements, elements that may only
 // slide along an axis or only turn). It runs after every force of the step (contacts,
-// behaviors, the touch correction) and cancels the force and torque components along the
-// blocked degrees of freedom, so both halves of the velocity-Verlet kick leave those velocity
+// behaviors) and cancels the force and torque components along the blocked degrees of
+// freedom (the touch correction, which kicks velocities, holds its own kicks to the free ones:
+// TouchModule::holdBlocked), so both halves of the velocity-Verlet kick leave those velocity
 // components as they are: a fixed element at rest stays where it is, one given a velocity moves
 // at it, as a kinematic body. What it cancels is the constraint's reaction; its work, reaction
 // times velocity, goes to the ledger's behaviour work, so the energy balance still closes for

@@ -71,6 +71,7 @@ class TouchModule final : public SimModule<D> {
       grainPairs(s, loss);
     }
     walls(s, loss, wallWork);
+    if (!s.blocked.empty() && !kicks_.empty()) holdBlocked(s);
     VecD<D>* v = s.elements.a.v.data();
     for (const auto& [i, dv] : kicks_) v[i] += dv;
     s.ledger.dampingLoss += loss;
@@ -355,7 +356,33 @@ class TouchModule final : public SimModule<D> {
     }
   }
 
+  // Removes the kicks' components along blocked degrees of freedom (ConstraintModule cancels
+  // the forces there, which the kicks bypass), booking the constraint's reaction impulse times
+  // the velocity as its work, as that module books its forces'. Changes kicks_ and the ledger.
+  void holdBlocked(Scene<D>& s) {
+    blockedDofs_.clear();
+    for (const BlockedElement& b : s.blocked) {
+      const uint32_t i = s.elements.pool().findDense(b.id);
+      if (i != HandlePool<ElementKind>::kNpos) blockedDofs_.emplace_back(i, b.dofs);
+    }
+    std::sort(blockedDofs_.begin(), blockedDofs_.end());
+    const ElementArrays<D>& a = s.elements.a;
+    double work = 0;
+    for (auto& [i, dv] : kicks_) {
+      const auto it = std::lower_bound(blockedDofs_.begin(), blockedDofs_.end(),
+                                       std::pair<uint32_t, uint8_t>{i, 0});
+      if (it == blockedDofs_.end() || it->first != i) continue;
+      for (int k = 0; k < D; ++k) {
+        if (!(it->second & (dof::X << k))) continue;
+        if (a.invMass[i] > 0) work -= dv[k] / a.invMass[i] * a.v[i][k];
+        dv[k] = 0;
+      }
+    }
+    s.ledger.behaviorWork += work;
+  }
+
   std::vector<std::pair<uint32_t, VecD<D>>> kicks_;  // grain, velocity change: applied last
+  std::vector<std::pair<uint32_t, uint8_t>> blockedDofs_;  // dense index, dof mask (sorted)
   std::vector<VecD<D>> xBefore_, vBefore_;           // per grain, this step (velocities())
   std::vector<uint8_t> damped_;                      // per material pair: dampsNormal
   std::vector<uint32_t> picked_;                     // grainPairs' candidates with an event

@@ -29,10 +29,10 @@ Vec3d along(int axis, double x) {
   return v;
 }
 
-TEST_P(SimConstraint, FixedElementHoldsAFallingOne) {
-  const int d = GetParam();
+void fixedElementHoldsAFallingOne(int d, bool touch) {
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e7, 0.5, 0.5));
+  s->setOption("touch", "on", touch);
   ElementDef base = grain({0, 0, 0}, 0.01, "glass");
   base.blocked = dof::all(d);
   const ElementId fixedId = s->addElement(base);
@@ -83,10 +83,10 @@ TEST_P(SimConstraint, BlockedAxisKeepsItsVelocityFreeAxisFalls) {
   EXPECT_LT(s->energy().residual, 1e-9);
 }
 
-TEST_P(SimConstraint, KinematicPusherKeepsTheLedgerClosed) {
-  const int d = GetParam();
+void kinematicPusherKeepsTheLedgerClosed(int d, bool touch) {
   auto s = makeSimulation(d);
   s->addMaterial("glass", material(1e7, 0.5, 0.5));
+  s->setOption("touch", "on", touch);
   // Elastic and frictionless, so the only open term of the ledger would be the constraint's
   // work: the free grain gains a kinetic energy of the scale's order from it.
   s->setMaterial("glass", material(1e7, 1.0, 0.0));
@@ -102,6 +102,22 @@ TEST_P(SimConstraint, KinematicPusherKeepsTheLedgerClosed) {
   EXPECT_EQ(s->element(p).velocity[0], 0.2);
   EXPECT_GT(s->element(free).velocity[0], 0.2);
   EXPECT_LT(s->energy().residual, 1e-4);
+}
+
+// With the touch correction on or off: its kicks bypass the forces the constraints cancel, and
+// are held to the free degrees of freedom on their own.
+TEST_P(SimConstraint, FixedElementHoldsAFallingOne) {
+  for (const bool touch : {false, true}) {
+    SCOPED_TRACE(touch ? "touch on" : "touch off");
+    fixedElementHoldsAFallingOne(GetParam(), touch);
+  }
+}
+
+TEST_P(SimConstraint, KinematicPusherKeepsTheLedgerClosed) {
+  for (const bool touch : {false, true}) {
+    SCOPED_TRACE(touch ? "touch on" : "touch off");
+    kinematicPusherKeepsTheLedgerClosed(GetParam(), touch);
+  }
 }
 
 TEST_P(SimConstraint, SetBlockedFreesAndModulesFollow) {
