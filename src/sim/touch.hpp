@@ -86,6 +86,12 @@ class TouchModule final : public SimModule<D> {
     VecD<D> vHalf, x, v;
   };
 
+  // Returns the vector from a grain at xi to one at xj: to its nearest image in a periodic
+  // scene (the contact passes' measure). Changes nothing.
+  static VecD<D> between(const Scene<D>& s, const VecD<D>& xi, const VecD<D>& xj) {
+    return s.periodic.any() ? s.periodic.nearest(xj - xi) : VecD<D>(xj - xi);
+  }
+
   // Returns grain i's Start. Changes nothing.
   static Start startOf(const Scene<D>& s, size_t i) {
     const ElementArrays<D>& a = s.elements.a;
@@ -162,8 +168,8 @@ class TouchModule final : public SimModule<D> {
       for (size_t k = 0; k < nc; ++k) {
         const uint32_t i = cand[k].i, j = cand[k].j;
         const Real rs = r[i] + r[j];
-        const VecD<D> d1 = x[j] - x[i];
-        const VecD<D> d0 = x0[j] - x0[i];
+        const VecD<D> d1 = between(s, x[i], x[j]);
+        const VecD<D> d0 = between(s, x0[i], x0[j]);
         // The contact module's test (contacts.hpp), at both ends. (Keeping the test of the
         // last step instead would save the start's distance, but a scene loaded from a
         // checkpoint has no last step: its run would not stay bit-identical to one that never
@@ -190,8 +196,8 @@ class TouchModule final : public SimModule<D> {
     for (size_t c = 0; c < m; ++c) {
       const uint32_t i = cand[picked_[c]].i, j = cand[picked_[c]].j;
       const Real rs = r[i] + r[j];
-      const VecD<D> d1 = x[j] - x[i];
-      const VecD<D> d0 = x0[j] - x0[i];
+      const VecD<D> d1 = between(s, x[i], x[j]);
+      const VecD<D> d0 = between(s, x0[i], x0[j]);
       const Real q1 = d1.squaredNorm(), q0 = d0.squaredNorm();
       const bool touch1 = q1 < rs * rs, touch0 = q0 < rs * rs;
       const physics::PairParams& p = s.pairParams[material[i] * nMat + material[j]];
@@ -276,8 +282,8 @@ class TouchModule final : public SimModule<D> {
     const uint32_t i = s.candidates[k].i, j = s.candidates[k].j;
     const Start gi = startOf(s, i), gj = startOf(s, j);
     const Real rs = a.r[i] + a.r[j];
-    const VecD<D> d1 = a.x[j] - a.x[i];
-    const VecD<D> d0 = gj.x - gi.x;
+    const VecD<D> d1 = between(s, a.x[i], a.x[j]);
+    const VecD<D> d0 = between(s, gi.x, gj.x);
     const Real dist1 = std::sqrt(d1.squaredNorm()), dist0 = std::sqrt(d0.squaredNorm());
     if (!(dist1 > 0 && dist0 > 0)) return;  // coincident centres: no normal to speak of
     const Real sumInv = a.invMass[i] + a.invMass[j];
