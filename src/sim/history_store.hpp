@@ -20,7 +20,9 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "sim/scene.hpp"
@@ -114,16 +116,23 @@ class SpringTransfer {
         }
       }
     };
+    // (Drift velocities only where a history has one, the synchronized integrator's springs:
+    // the plain Verlet scenes' table stays at a spring a contact.)
     size_t total = 0;
-    each([&](uint32_t row, uint32_t, const physics::TangentialHistory<D>&) {
+    bool drifts = false;
+    each([&](uint32_t row, uint32_t, const physics::TangentialHistory<D>& h) {
       rowStart_[row + 1] += 1;
       total += 1;
+      drifts = drifts || !std::isnan(h.drift[0]);
     });
     for (uint32_t r = 0; r < rows; ++r) rowStart_[r + 1] += rowStart_[r];
     entries_.resize(total);
+    drifts_.assign(drifts ? total : 0, VecD<D>::Constant(std::numeric_limits<Real>::quiet_NaN()));
     std::vector<uint32_t> fill(rowStart_.begin(), rowStart_.end() - 1);
     each([&](uint32_t row, uint32_t partner, const physics::TangentialHistory<D>& h) {
-      entries_[fill[row]++] = {partner, h.spring, h.drift};
+      const uint32_t e = fill[row]++;
+      entries_[e] = {partner, h.spring};
+      if (drifts) drifts_[e] = h.drift;
     });
     // Freed, not just emptied: give() allocates the new arrays, and holding the old ones
     // through the search would add their size to the run's peak memory.
@@ -152,7 +161,8 @@ class SpringTransfer {
       if (lo + size_t{1} < rowStart_.size()) {
         for (uint32_t e = rowStart_[lo]; e < rowStart_[lo + 1]; ++e) {
           if (entries_[e].partner == hi) {
-            out = {entries_[e].spring, entries_[e].drift};
+            out.spring = entries_[e].spring;
+            if (!drifts_.empty()) out.drift = drifts_[e];
             return;
           }
         }
@@ -177,23 +187,27 @@ class SpringTransfer {
     }
     if (parked) s.histories.clear();
     std::vector<Entry>().swap(entries_);
+    std::vector<VecD<D>>().swap(drifts_);
     std::vector<uint32_t>().swap(rowStart_);
   }
 
   // Returns the bytes of the table (none between searches: give() frees it).
   size_t workingBytes() const {
-    return entries_.capacity() * sizeof(Entry) + rowStart_.capacity() * sizeof(uint32_t);
+    return entries_.capacity() * sizeof(Entry) + drifts_.capacity() * sizeof(VecD<D>) +
+           rowStart_.capacity() * sizeof(uint32_t);
   }
 
  private:
-  // A spring and its drift velocity across the search: the damper's owed loss (the history's
-  // last two numbers, one step's O(dt^2) correction) is dropped, so the table, at the search's
-  // memory peak beside the new pool, stays at 56 bytes a contact in 3D instead of 72.
+  // A spring across the search, and beside it (drifts_, when any history has one) its drift
+  // velocity: the damper's owed loss (the history's last two numbers, one step's O(dt^2)
+  // correction) is dropped, so the table, at the search's memory peak beside the new pool,
+  // stays at 32 bytes a contact in 3D (56 with drifts) instead of 72.
   struct Entry {
     uint32_t partner;  // the higher slot, or the wall's pair id
-    VecD<D> spring, drift;
+    VecD<D> spring;
   };
   std::vector<Entry> entries_;
+  std::vector<VecD<D>> drifts_;  // per entry, or empty
   std::vector<uint32_t> rowStart_;  // per lower slot: first entry; one more for the end
 };
 
