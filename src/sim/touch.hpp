@@ -26,9 +26,10 @@
 // full pass, every candidate tested from its reconstructed start (two squared distances and
 // two velocity dots each, then a square root for the few that change state or a damped one
 // separating), which is also the tests' oracle. A checkpoint keeps the states, so a loaded run
-// takes the events its parent would have. Walls take two narrow-phase calls per candidate.
-// Cost on a dense bed: about a tenth of a step, most of it the walls' (doc/performance.md);
-// nothing when the scene leaves the module off (the default).
+// takes the events its parent would have. The walls' candidates likewise (the wall pass
+// writes their states), with the narrow phase at both ends for the events only. Cost on a
+// dense bed: 3 to 4 % of a step (doc/performance.md, Run 19); nothing when the scene leaves
+// the module off (the default).
 #pragma once
 
 #include <algorithm>
