@@ -73,11 +73,13 @@ template <int D>
   out.springWork = 0;
   if (history != nullptr) {
     // The drift velocity (tangential.hpp).
+    const bool first = k.velocityLag == 0 && firstStep(*history);
     const Real vnDrift = advanceDrift<D>(n, vn, k, *history);
     if (p.friction > 0) {
       const VecD<D> vt = k.relativeVelocity - vn * n;
       const Real kt = p.hertzKt * a;
-      const VecD<D> u = driftDisplacement<D>(n, vt, vnDrift, k, *history, dt);
+      VecD<D> u = driftDisplacement<D>(n, vt, vnDrift, k, *history, dt);
+      if (first) u *= touchingFraction(g.overlap, vnDrift, dt);  // (tangential.hpp)
       // kt = 8 G* sqrt(R* delta) at the overlap before the step's normal displacement (what
       // the booking needs of a loaded spring; an unloaded one's terms vanish).
       const Real before = std::max<Real>(0, g.overlap + vnDrift * dt);

@@ -68,11 +68,13 @@ template <int D>
   out.springWork = 0;
   if (history != nullptr) {
     // The drift velocity (tangential.hpp).
+    const bool first = k.velocityLag == 0 && firstStep(*history);
     const Real vnDrift = advanceDrift<D>(n, vn, k, *history);
     if (p.friction > 0) {
       const VecD<D> vt = k.relativeVelocity - vn * n;
       const Real kt = p.shearRatio * kn;
-      const VecD<D> u = driftDisplacement<D>(n, vt, vnDrift, k, *history, dt);
+      VecD<D> u = driftDisplacement<D>(n, vt, vnDrift, k, *history, dt);
+      if (first) u *= touchingFraction(g.overlap, vnDrift, dt);  // (tangential.hpp)
       coulombSpringStep<SpringFrame::Rotate, D>(n, vt, u, kt, kt, beta * kt, p.friction * fn, dt,
                                                 p.coulomb, *history, out);
     } else {

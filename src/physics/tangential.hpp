@@ -148,6 +148,25 @@ template <int D>
   return h.drift.dot(n);
 }
 
+// Returns the fraction of the step a contact that began in it spent touching: its overlap
+// over what the step's normal drift added to it (from overlap + vnDrift dt at the start, < 0:
+// apart), 1 if it was not apart at the start. A new contact's spring grows from the touch,
+// not from the step's start: scaling its first increment by this fraction makes the spring
+// second order in dt where a whole step's increment made it first order, the error the
+// oblique impacts of doc/verification.md showed (the tangential force's share of a touch).
+// Changes nothing.
+[[gnu::always_inline]] inline Real touchingFraction(Real overlap, Real vnDrift, Real dt) {
+  const Real before = overlap + vnDrift * dt;
+  return before < 0 ? overlap / (overlap - before) : Real{1};
+}
+
+// Returns true if history h has no drift velocity yet (a contact's first step under the
+// synchronized integrator, before advanceDrift). Changes nothing.
+template <int D>
+[[gnu::always_inline]] inline bool firstStep(const TangentialHistory<D>& h) {
+  return std::isnan(h.drift[0]);
+}
+
 // Returns the step's tangential displacement for coulombSpringStep: the drift's (h.drift, after
 // advanceDrift, less its normal part vnDrift) times dt, or vt dt with half-step velocities.
 template <int D>

@@ -601,6 +601,14 @@ DEMLAB_KI LawOut<W> hertzLaw(const Consts& C, const LawIn<W>& in) {
                     vrel);
       vnDrift = dot<W>(d, n);
       u = V3<W>{(d.x - vnDrift * n.x) * dt, (d.y - vnDrift * n.y) * dt, (d.z - vnDrift * n.z) * dt};
+      if (bitsOf<W>(known) != (1u << W) - 1) [[unlikely]] {
+        // A contact's first step: its increment from the touch on (touchingFraction).
+        const vd<W> before = overlap + vnDrift * dt;
+        const vd<W> one = splat<W>(1.0);
+        vd<W> theta = before < 0.0 ? overlap / (overlap - before) : one;
+        theta = known ? one : theta;
+        u = V3<W>{u.x * theta, u.y * theta, u.z * theta};
+      }
     }
     // kt at the overlap before the step's normal displacement.
     const vd<W> reach = overlap + vnDrift * dt;

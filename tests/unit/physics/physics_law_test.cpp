@@ -224,6 +224,45 @@ TEST(PhysicsLaw, HistoryFollowsTheTangentPlane) {
   }
 }
 
+// A contact's first step under synchronized velocities (no drift velocity yet) adds to its
+// spring only the part of the step's tangential displacement made while touching: the overlap
+// over what the step's approach added. Later steps, plain Verlet's contacts, and a contact
+// already touching at the step's start add the whole step's.
+TEST(PhysicsLaw, NewContactSpringStartsAtTheTouch) {
+  const Real dt = 1e-6, vn = -0.5, vt = 0.2;
+  const Vec3 n(0, 0, 1);
+  for (LawKind kind : {LawKind::Linear, LawKind::HertzMindlin}) {
+    const PairParams p = pair(kind, 0.5, 100.0);  // high mu: sticks
+    const ContactLawFn<3> law = contactLawFor<3>(kind);
+    const ContactKinematics<3> sync{Vec3(vt, 0, vn), 1e-5, 5e-4, 0.0};
+    for (Real share : {0.1, 0.3, 0.9}) {
+      SCOPED_TRACE(share);
+      const Real overlap = share * -vn * dt;  // touching for `share` of the step
+      TangentialHistory<3> h;
+      law(p, ContactGeometry<3>{n, overlap, Vec3::Zero()}, sync, &h, dt);
+      EXPECT_NEAR(h.spring.x(), share * vt * dt, 1e-12 * vt * dt);
+      EXPECT_EQ(h.spring.y(), 0);
+      // The next step: the whole step's displacement (the drift now known, equal to vS).
+      const Real before = h.spring.x();
+      law(p, ContactGeometry<3>{n, overlap - vn * dt, Vec3::Zero()}, sync, &h, dt);
+      EXPECT_NEAR(h.spring.x() - before, vt * dt, 1e-12 * vt * dt);
+      // Plain Verlet's contacts carry no first-step mark: the whole step.
+      TangentialHistory<3> v;
+      ContactKinematics<3> verlet = sync;
+      verlet.velocityLag = 0.5;
+      law(p, ContactGeometry<3>{n, overlap, Vec3::Zero()}, verlet, &v, dt);
+      EXPECT_NEAR(v.spring.x(), vt * dt, 1e-12 * vt * dt);
+    }
+    // Touching at the step's start already (a new slot for an old contact): the whole step.
+    TangentialHistory<3> h;
+    law(p, ContactGeometry<3>{n, 2 * -vn * dt, Vec3::Zero()}, sync, &h, dt);
+    EXPECT_NEAR(h.spring.x(), vt * dt, 1e-12 * vt * dt);
+  }
+  EXPECT_EQ(touchingFraction(1.0, -4.0, 1.0), 0.25);
+  EXPECT_EQ(touchingFraction(1.0, 2.0, 1.0), 1.0);  // parting: not a touch
+  EXPECT_EQ(touchingFraction(1.0, -1.0, 1.0), 1.0);  // touching at the start (overlap 0)
+}
+
 TEST(PhysicsLaw, HistoryInTwoDimensionsKeepsItsSide) {
   const PairParams p = pair(LawKind::Linear, 1.0, 100.0);
   TangentialHistory<2> h;
