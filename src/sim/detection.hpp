@@ -92,7 +92,8 @@ class DetectionModule final : public SimModule<D> {
     // not needed through the search: freed, the search's scratch reuses their memory instead
     // of adding to the run's peak.
     std::vector<CandidatePair>().swap(s.candidates);
-    s.touchNowValid = s.wallTouchNowValid = false;  // (they describe the old candidates)
+    // (The touch states describe the old candidates: springs_ carries them to the new.)
+    s.touchNowValid = s.wallTouchNowValid = false;
     std::vector<ContactRecord<D>>().swap(s.contacts);
     std::vector<VecD<D>>().swap(s.xAtBuild);
     std::vector<Real>().swap(s.marginWeight);

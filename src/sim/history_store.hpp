@@ -84,35 +84,48 @@ void unparkSprings(Scene<D>& s) {
 }
 
 // Carries the tangential springs across a neighbor search, keyed by handle slots so the dense
-// order may change in between (sim/reorder.hpp).
+// order may change in between (sim/reorder.hpp); and with the touch correction, the
+// candidates' touch states (Scene::touchNow, wallTouchNow), so the first step after a search
+// can take its events from them as any other (sim/touch.hpp).
 template <int D>
 class SpringTransfer {
  public:
-  // Moves every nonzero spring of the current candidates into this table and empties the
-  // per-candidate arrays (keeping their capacity). Call before the candidates or the dense
-  // order change.
+  // Moves every nonzero spring and every touching state of the current candidates into this
+  // table and empties the per-candidate spring arrays (keeping their capacity). Call before
+  // the candidates or the dense order change.
   void collect(Scene<D>& s) {
     entries_.clear();
     rowStart_.clear();
-    if (!s.keepHistory) return;
+    grainStates_ = s.touchCorrection && s.touchNowValid && s.touchNow.size() == s.candidates.size();
+    wallStates_ = s.touchCorrection && s.wallTouchNowValid &&
+                  s.wallTouchNow.size() >= s.wallCandidates.size();
+    for (size_t w = 0; wallStates_ && w < s.wallCandidates.size(); ++w) {
+      wallStates_ = s.wallTouchNow[w].size() == s.wallCandidates[w].size();
+    }
+    if (!s.keepHistory && !grainStates_ && !wallStates_) return;
     const ElementArrays<D>& a = s.elements.a;
     const uint32_t rows = s.elements.pool().slotCount();
     rowStart_.assign(static_cast<size_t>(rows) + 1, 0);
-    // Pass 1 counts the springs per row (lower slot), pass 2 places them.
+    // Pass 1 counts the entries per row (lower slot), pass 2 places them.
+    const physics::TangentialHistory<D> none;
     auto each = [&](auto&& put) {
-      const size_t n = std::min(s.pairSprings.size(), s.candidates.size());
-      for (size_t k = 0; k < n; ++k) {
-        const physics::TangentialHistory<D> h = s.pairSprings.history(k);
-        if (h.empty()) continue;
+      const size_t nSprings = s.keepHistory ? s.pairSprings.size() : 0;
+      for (size_t k = 0; k < s.candidates.size(); ++k) {
+        const physics::TangentialHistory<D> h = k < nSprings ? s.pairSprings.history(k) : none;
+        const uint8_t state = grainStates_ ? s.touchNow[k] : 0;
+        if (h.empty() && state == 0) continue;
         const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
-        put(std::min(p, q), std::max(p, q), h);
+        put(std::min(p, q), std::max(p, q), h, state);
       }
-      for (size_t w = 0; w < s.wallSprings.size() && w < s.wallCandidates.size(); ++w) {
+      for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
         const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
-        const auto& springs = s.wallSprings[w];
-        for (size_t k = 0; k < springs.size() && k < s.wallCandidates[w].size(); ++k) {
-          if (springs[k].empty()) continue;
-          put(a.slot[s.wallCandidates[w][k]], wid, springs[k]);
+        const auto* springs = s.keepHistory && w < s.wallSprings.size() ? &s.wallSprings[w] : nullptr;
+        for (size_t k = 0; k < s.wallCandidates[w].size(); ++k) {
+          const physics::TangentialHistory<D>& h =
+              springs != nullptr && k < springs->size() ? (*springs)[k] : none;
+          const uint8_t state = wallStates_ ? s.wallTouchNow[w][k] : 0;
+          if (h.empty() && state == 0) continue;
+          put(a.slot[s.wallCandidates[w][k]], wid, h, state);
         }
       }
     };
@@ -120,7 +133,7 @@ class SpringTransfer {
     // the plain Verlet scenes' table stays at a spring a contact.)
     size_t total = 0;
     bool drifts = false;
-    each([&](uint32_t row, uint32_t, const physics::TangentialHistory<D>& h) {
+    each([&](uint32_t row, uint32_t, const physics::TangentialHistory<D>& h, uint8_t) {
       rowStart_[row + 1] += 1;
       total += 1;
       drifts = drifts || !std::isnan(h.drift[0]);
@@ -129,22 +142,89 @@ class SpringTransfer {
     entries_.resize(total);
     drifts_.assign(drifts ? total : 0, VecD<D>::Constant(std::numeric_limits<Real>::quiet_NaN()));
     std::vector<uint32_t> fill(rowStart_.begin(), rowStart_.end() - 1);
-    each([&](uint32_t row, uint32_t partner, const physics::TangentialHistory<D>& h) {
+    each([&](uint32_t row, uint32_t partner, const physics::TangentialHistory<D>& h, uint8_t state) {
       const uint32_t e = fill[row]++;
-      entries_[e] = {partner, h.spring};
+      entries_[e] = {partner, state, h.spring};
       if (drifts) drifts_[e] = h.drift;
     });
     // Freed, not just emptied: give() allocates the new arrays, and holding the old ones
     // through the search would add their size to the run's peak memory.
-    s.pairSprings.clear();
-    std::vector<std::vector<physics::TangentialHistory<D>>>().swap(s.wallSprings);
+    if (s.keepHistory) {
+      s.pairSprings.clear();
+      std::vector<std::vector<physics::TangentialHistory<D>>>().swap(s.wallSprings);
+    }
   }
 
   // Gives every candidate its spring (zero if none) from this table, or from s.histories for
-  // springs an edit parked there; then empties both and frees this table's memory. touching:
-  // the grain pairs in contact now, which sizes the spring pool.
+  // springs an edit parked there, and its touch state (0 if none: the old candidates held
+  // every pair touching at the last step); then empties both and frees this table's memory.
+  // touching: the grain pairs in contact now, which sizes the spring pool.
   void give(Scene<D>& s, size_t touching) {
-    if (!s.keepHistory) return;
+    if (s.keepHistory) giveSprings(s, touching);
+    if (grainStates_) {
+      s.touchNow.assign(s.candidates.size(), 0);
+      for (size_t k = 0; k < s.candidates.size(); ++k) {
+        if (const Entry* e = find(s, s.candidates[k])) s.touchNow[k] = e->state;
+      }
+      s.touchNowValid = true;
+    }
+    if (wallStates_) {
+      const ElementArrays<D>& a = s.elements.a;
+      s.wallTouchNow.resize(s.walls.size());
+      for (size_t w = 0; w < s.walls.size(); ++w) {
+        const size_t n = w < s.wallCandidates.size() ? s.wallCandidates[w].size() : 0;
+        s.wallTouchNow[w].assign(n, 0);
+        const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
+        for (size_t k = 0; k < n; ++k) {
+          if (const Entry* e = find(a.slot[s.wallCandidates[w][k]], wid)) {
+            s.wallTouchNow[w][k] = e->state;
+          }
+        }
+      }
+      s.wallTouchNowValid = true;
+    }
+    std::vector<Entry>().swap(entries_);
+    std::vector<VecD<D>>().swap(drifts_);
+    std::vector<uint32_t>().swap(rowStart_);
+  }
+
+  // Returns the bytes of the table (none between searches: give() frees it).
+  size_t workingBytes() const {
+    return entries_.capacity() * sizeof(Entry) + drifts_.capacity() * sizeof(VecD<D>) +
+           rowStart_.capacity() * sizeof(uint32_t);
+  }
+
+ private:
+  // A spring and a touch state across the search, and beside them (drifts_, when any history
+  // has one) the spring's drift velocity: the damper's owed loss (the history's last two
+  // numbers, one step's O(dt^2) correction) is dropped, so the table, at the search's memory
+  // peak beside the new pool, stays at 32 bytes a contact in 3D (56 with drifts) instead of 72.
+  struct Entry {
+    uint32_t partner;  // the higher slot, or the wall's pair id
+    uint8_t state;     // the touch state (0: none kept, or not touching)
+    VecD<D> spring;
+  };
+  std::vector<Entry> entries_;
+  std::vector<VecD<D>> drifts_;     // per entry, or empty
+  std::vector<uint32_t> rowStart_;  // per lower slot: first entry; one more for the end
+  bool grainStates_ = false, wallStates_ = false;  // collect() took the touch states
+
+  // Returns the entry of the pair (lo, hi), or null. Changes nothing.
+  const Entry* find(uint32_t lo, uint32_t hi) const {
+    if (lo + size_t{1} >= rowStart_.size()) return nullptr;
+    for (uint32_t e = rowStart_[lo]; e < rowStart_[lo + 1]; ++e) {
+      if (entries_[e].partner == hi) return &entries_[e];
+    }
+    return nullptr;
+  }
+  // Returns the entry of grain candidate c, or null. Changes nothing.
+  const Entry* find(const Scene<D>& s, CandidatePair c) const {
+    const uint32_t p = s.elements.a.slot[c.i], q = s.elements.a.slot[c.j];
+    return find(std::min(p, q), std::max(p, q));
+  }
+
+  // The springs' part of give().
+  void giveSprings(Scene<D>& s, size_t touching) {
     const ElementArrays<D>& a = s.elements.a;
     s.pairSprings.reset(s.candidates.size(), true);
     // Room for the pairs touching now and a sixteenth more, for the contacts that form before
@@ -158,14 +238,10 @@ class SpringTransfer {
     }
     const bool parked = !s.histories.empty();
     auto lookup = [&](uint32_t lo, uint32_t hi, physics::TangentialHistory<D>& out) {
-      if (lo + size_t{1} < rowStart_.size()) {
-        for (uint32_t e = rowStart_[lo]; e < rowStart_[lo + 1]; ++e) {
-          if (entries_[e].partner == hi) {
-            out.spring = entries_[e].spring;
-            if (!drifts_.empty()) out.drift = drifts_[e];
-            return;
-          }
-        }
+      if (const Entry* e = find(lo, hi)) {
+        out.spring = e->spring;
+        if (!drifts_.empty()) out.drift = drifts_[static_cast<size_t>(e - entries_.data())];
+        return;
       }
       if (parked) {
         if (const auto* h = s.histories.find(lo, hi)) out = *h;
@@ -186,29 +262,7 @@ class SpringTransfer {
       }
     }
     if (parked) s.histories.clear();
-    std::vector<Entry>().swap(entries_);
-    std::vector<VecD<D>>().swap(drifts_);
-    std::vector<uint32_t>().swap(rowStart_);
   }
-
-  // Returns the bytes of the table (none between searches: give() frees it).
-  size_t workingBytes() const {
-    return entries_.capacity() * sizeof(Entry) + drifts_.capacity() * sizeof(VecD<D>) +
-           rowStart_.capacity() * sizeof(uint32_t);
-  }
-
- private:
-  // A spring across the search, and beside it (drifts_, when any history has one) its drift
-  // velocity: the damper's owed loss (the history's last two numbers, one step's O(dt^2)
-  // correction) is dropped, so the table, at the search's memory peak beside the new pool,
-  // stays at 32 bytes a contact in 3D (56 with drifts) instead of 72.
-  struct Entry {
-    uint32_t partner;  // the higher slot, or the wall's pair id
-    VecD<D> spring;
-  };
-  std::vector<Entry> entries_;
-  std::vector<VecD<D>> drifts_;  // per entry, or empty
-  std::vector<uint32_t> rowStart_;  // per lower slot: first entry; one more for the end
 };
 
 }  // namespace demlab::sim

@@ -21,11 +21,12 @@
 // Which grain pairs have an event comes from the contact passes: with the module on they write
 // one state per candidate (Scene::touchNow: touching, and touching with the normal force cut
 // off), and the pairs whose state changed since the last step are the step's events, found by
-// comparing eight states at a time. Only those are reconstructed. The first step after the
-// candidates change (a neighbour search, an edit) has no states to compare with: it takes the
-// full pass, every candidate tested from its reconstructed start (two squared distances and
-// two velocity dots each, then a square root for the few that change state or a damped one
-// separating), which is also the tests' oracle. A checkpoint keeps the states, so a loaded run
+// comparing eight states at a time. Only those are reconstructed. A neighbour search carries
+// the states to the new candidates by pair (SpringTransfer, history_store.hpp). The first step
+// after an edit of the candidates (or a load without states) has none to compare with: it
+// takes the full pass, every candidate tested from its reconstructed start (two squared
+// distances and two velocity dots each, then a square root for the few that change state or
+// a damped one separating), which is also the tests' oracle. A checkpoint keeps the states, so a loaded run
 // takes the events its parent would have. The walls' candidates likewise (the wall pass
 // writes their states), with the narrow phase at both ends for the events only. Cost on a
 // dense bed: 3 to 4 % of a step (doc/performance.md, Run 19); nothing when the scene leaves
