@@ -214,18 +214,23 @@ DEMLAB_KI void loadSpringsAndDrifts(const double* p, const size_t* o, V3<W>& a, 
   }
 }
 
-// Stores lane l of a and b as 6 consecutive doubles at p + o[l] (a spring and its drift).
+// Stores lane l's whole slot at p + o[l]: spring a, drift b, then the two damper figures c
+// and e; as two 256-bit stores a lane (W = 4).
 template <int W>
-DEMLAB_KI void storeSpringsAndDrifts(double* p, const size_t* o, const V3<W>& a, const V3<W>& b) {
+DEMLAB_KI void storeSlots(double* p, const size_t* o, const V3<W>& a, const V3<W>& b, vd<W> c,
+                          vd<W> e) {
   if constexpr (W == 2) {
     const __m128d ax = (__m128d)a.x, ay = (__m128d)a.y, az = (__m128d)a.z;
     const __m128d bx = (__m128d)b.x, by = (__m128d)b.y, bz = (__m128d)b.z;
+    const __m128d cc = (__m128d)c, ee = (__m128d)e;
     _mm_storeu_pd(p + o[0], _mm_unpacklo_pd(ax, ay));
     _mm_storeu_pd(p + o[0] + 2, _mm_unpacklo_pd(az, bx));
     _mm_storeu_pd(p + o[0] + 4, _mm_unpacklo_pd(by, bz));
+    _mm_storeu_pd(p + o[0] + 6, _mm_unpacklo_pd(cc, ee));
     _mm_storeu_pd(p + o[1], _mm_unpackhi_pd(ax, ay));
     _mm_storeu_pd(p + o[1] + 2, _mm_unpackhi_pd(az, bx));
     _mm_storeu_pd(p + o[1] + 4, _mm_unpackhi_pd(by, bz));
+    _mm_storeu_pd(p + o[1] + 6, _mm_unpackhi_pd(cc, ee));
   } else {
     const __m256d xy0 = _mm256_unpacklo_pd((__m256d)a.x, (__m256d)a.y);  // lanes 0, 2
     const __m256d xy1 = _mm256_unpackhi_pd((__m256d)a.x, (__m256d)a.y);  // lanes 1, 3
@@ -233,14 +238,16 @@ DEMLAB_KI void storeSpringsAndDrifts(double* p, const size_t* o, const V3<W>& a,
     const __m256d zx1 = _mm256_unpackhi_pd((__m256d)a.z, (__m256d)b.x);
     const __m256d yz0 = _mm256_unpacklo_pd((__m256d)b.y, (__m256d)b.z);
     const __m256d yz1 = _mm256_unpackhi_pd((__m256d)b.y, (__m256d)b.z);
+    const __m256d ce0 = _mm256_unpacklo_pd((__m256d)c, (__m256d)e);
+    const __m256d ce1 = _mm256_unpackhi_pd((__m256d)c, (__m256d)e);
     _mm256_storeu_pd(p + o[0], _mm256_permute2f128_pd(xy0, zx0, 0x20));
     _mm256_storeu_pd(p + o[2], _mm256_permute2f128_pd(xy0, zx0, 0x31));
     _mm256_storeu_pd(p + o[1], _mm256_permute2f128_pd(xy1, zx1, 0x20));
     _mm256_storeu_pd(p + o[3], _mm256_permute2f128_pd(xy1, zx1, 0x31));
-    _mm_storeu_pd(p + o[0] + 4, _mm256_castpd256_pd128(yz0));
-    _mm_storeu_pd(p + o[2] + 4, _mm256_extractf128_pd(yz0, 1));
-    _mm_storeu_pd(p + o[1] + 4, _mm256_castpd256_pd128(yz1));
-    _mm_storeu_pd(p + o[3] + 4, _mm256_extractf128_pd(yz1, 1));
+    _mm256_storeu_pd(p + o[0] + 4, _mm256_permute2f128_pd(yz0, ce0, 0x20));
+    _mm256_storeu_pd(p + o[2] + 4, _mm256_permute2f128_pd(yz0, ce0, 0x31));
+    _mm256_storeu_pd(p + o[1] + 4, _mm256_permute2f128_pd(yz1, ce1, 0x20));
+    _mm256_storeu_pd(p + o[3] + 4, _mm256_permute2f128_pd(yz1, ce1, 0x31));
   }
 }
 
@@ -261,31 +268,17 @@ DEMLAB_KI void loadPairs(const double* p, const size_t* o, vd<W>& a, vd<W>& b) {
   }
 }
 
-// Stores lane l of a and b as two doubles at p + o[l].
-template <int W>
-DEMLAB_KI void storePairs(double* p, const size_t* o, vd<W> a, vd<W> b) {
-  if constexpr (W == 2) {
-    _mm_storeu_pd(p + o[0], _mm_unpacklo_pd((__m128d)a, (__m128d)b));
-    _mm_storeu_pd(p + o[1], _mm_unpackhi_pd((__m128d)a, (__m128d)b));
-  } else {
-    const __m256d ab0 = _mm256_unpacklo_pd((__m256d)a, (__m256d)b);  // lanes 0, 2
-    const __m256d ab1 = _mm256_unpackhi_pd((__m256d)a, (__m256d)b);  // lanes 1, 3
-    _mm_storeu_pd(p + o[0], _mm256_castpd256_pd128(ab0));
-    _mm_storeu_pd(p + o[2], _mm256_extractf128_pd(ab0, 1));
-    _mm_storeu_pd(p + o[1], _mm256_castpd256_pd128(ab1));
-    _mm_storeu_pd(p + o[3], _mm256_extractf128_pd(ab1, 1));
-  }
-}
-
-// damperCatchUp (tangential.hpp) for the lanes of a law's output lo, its slots' last two
-// doubles at p + o[l] + 6: returns the loss owed for the last step; stores this step's.
+// damperCatchUp (tangential.hpp) for the lanes of a law's output lo, with the slots' store:
+// returns the damper's loss owed for the last step (from the slots' last two doubles at
+// p + o[l] + 6), and stores each lane's slot: the new spring and drift and this step's damper
+// figures.
 template <int W, class Out>
-DEMLAB_KI vd<W> damperCatchUp(double* p, const size_t* o, const Out& lo, double dt) {
+DEMLAB_KI vd<W> storeHistories(double* p, const size_t* o, const Out& lo, double dt) {
   vd<W> impulse, pending;
   loadPairs<W>(p + 6, o, impulse, pending);
   const vd<W> owed = pending + impulse * (0.5 * lo.vnDrift);
   const vd<W> now = lo.damperForce * dt;
-  storePairs<W>(p + 6, o, now, now * (0.5 * lo.vnDrift - lo.vn));
+  storeSlots<W>(p, o, lo.sNew, lo.dNew, now, now * (0.5 * lo.vnDrift - lo.vn));
   return owed;
 }
 
@@ -728,8 +721,7 @@ DEMLAB_KI void law(const Consts C, const uint32_t* k, size_t valid, const Stage<
   // (A repeated lane stores its last lane's spring again: the same values, as the lanes'
   // stores go in lane order.)
   if constexpr (Drift) {
-    storeSpringsAndDrifts<W>(springs, ok, lo.sNew, lo.dNew);
-    damping = damping + damperCatchUp<W>(springs, ok, lo, C.dt);
+    damping = damping + storeHistories<W>(springs, ok, lo, C.dt);
   } else if constexpr (History) {
     Lanes3<W> sl;
     split<W>(lo.sNew, sl);
@@ -1050,8 +1042,7 @@ DEMLAB_KI void wallGroup(const Consts& C, const WallPassArgs& A, size_t c0, size
     }
   }
   if constexpr (Drift) {
-    storeSpringsAndDrifts<W>(A.springs, os, lo.sNew, lo.dNew);
-    lo.damping = lo.damping + damperCatchUp<W>(A.springs, os, lo, C.dt);
+    lo.damping = lo.damping + storeHistories<W>(A.springs, os, lo, C.dt);
   } else if constexpr (History) {
     Lanes3<W> sl;
     split<W>(lo.sNew, sl);
