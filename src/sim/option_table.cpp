@@ -247,8 +247,9 @@ constexpr OptionGroup kGroups[] = {
      "step whatever the phase of the touch, and the energy of an elastic gas stops wandering "
      "by O(dt^2) per collision (doc/design.md, \"Touch and release\"). The tangential force is "
      "not corrected. It covers ball-ball and ball-wall contacts (not those of shaped "
-     "elements), costs 3 to 4 % of a dense bed's step (doc/performance.md) and is refused in a "
-     "Lees-Edwards cell. LIGGGHTS has no such correction: leave it off to reproduce LIGGGHTS. "
+     "elements), in periodic and Lees-Edwards cells too, and costs 3 to 4 % of a dense bed's "
+     "step (doc/performance.md). LIGGGHTS has no such correction: leave it off to reproduce "
+     "LIGGGHTS. "
      "Part of the scene (saved with it).",
      true, true, kTouchTag},
     {"law", "Selects the contact law's sub-models; returns the choice as a dict.",

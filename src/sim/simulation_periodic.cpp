@@ -108,10 +108,6 @@ void SimulationManager<D>::checkPeriodic(double skin) const {
     throw Error("can't run shape elements across periodic boundaries: not supported yet",
                 {"UNSUPPORTED", "PERIODIC"});
   }
-  if (s_.touchCorrection && s_.periodic.sheared())
-    throw Error(
-        "can't run the touch correction with Lees-Edwards boundaries: not supported yet",
-        {"UNSUPPORTED", "PERIODIC"});
   const std::vector<Real>& r = s_.elements.a.r;
   if (r.empty()) return;
   const Real reach = 2 * *std::max_element(r.begin(), r.end()) + skin;

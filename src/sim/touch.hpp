@@ -89,9 +89,23 @@ class TouchModule final : public SimModule<D> {
   };
 
   // Returns the vector from a grain at xi to one at xj: to its nearest image in a periodic
-  // scene (the contact passes' measure). Changes nothing.
-  static VecD<D> between(const Scene<D>& s, const VecD<D>& xi, const VecD<D>& xj) {
-    return s.periodic.any() ? s.periodic.nearest(xj - xi) : VecD<D>(xj - xi);
+  // scene (the contact passes' measure), with *n the Lees-Edwards cells it crosses. start:
+  // the positions are the step's start, when the images' offset was U dt less (the detection
+  // module advanced it before the contact passes). Changes nothing.
+  static VecD<D> between(const Scene<D>& s, const VecD<D>& xi, const VecD<D>& xj, int* n,
+                         bool start) {
+    *n = 0;
+    if (!s.periodic.any()) return xj - xi;
+    VecD<D> d = s.periodic.nearest(xj - xi, n);
+    if (start && *n != 0) d[s.periodic.flow] += *n * s.periodic.shearSpeed() * s.stepDt;
+    return d;
+  }
+  // Returns vj - vi for a pair whose vector crossed n Lees-Edwards cells: the image moves with
+  // -n U along the flow (as the contact passes take it). Changes nothing.
+  static VecD<D> relative(const Scene<D>& s, const VecD<D>& vi, const VecD<D>& vj, int n) {
+    VecD<D> v = vj - vi;
+    if (n != 0) v[s.periodic.flow] -= n * s.periodic.shearSpeed();
+    return v;
   }
 
   // Returns grain i's Start. Changes nothing.
@@ -170,8 +184,9 @@ class TouchModule final : public SimModule<D> {
       for (size_t k = 0; k < nc; ++k) {
         const uint32_t i = cand[k].i, j = cand[k].j;
         const Real rs = r[i] + r[j];
-        const VecD<D> d1 = between(s, x[i], x[j]);
-        const VecD<D> d0 = between(s, x0[i], x0[j]);
+        int cross1, cross0;
+        const VecD<D> d1 = between(s, x[i], x[j], &cross1, false);
+        const VecD<D> d0 = between(s, x0[i], x0[j], &cross0, true);
         // The contact module's test (contacts.hpp), at both ends. (Keeping the test of the
         // last step instead would save the start's distance, but a scene loaded from a
         // checkpoint has no last step: its run would not stay bit-identical to one that never
@@ -182,7 +197,8 @@ class TouchModule final : public SimModule<D> {
           if (!(touch0 | touch1)) continue;
         }
         // Touching at both ends: only a damped force separating at one end can be cut off.
-        const bool separating = !((v[j] - v[i]).dot(d1) <= 0) | !((vb[j] - vb[i]).dot(d0) <= 0);
+        const bool separating = !(relative(s, v[i], v[j], cross1).dot(d1) <= 0) |
+                                !(relative(s, vb[i], vb[j], cross0).dot(d0) <= 0);
         picked_[m] = static_cast<uint32_t>(k);
         m += (touch0 != touch1) |
              (touch0 & touch1 & separating & (damped[material[i] * nMat + material[j]] != 0));
@@ -198,14 +214,15 @@ class TouchModule final : public SimModule<D> {
     for (size_t c = 0; c < m; ++c) {
       const uint32_t i = cand[picked_[c]].i, j = cand[picked_[c]].j;
       const Real rs = r[i] + r[j];
-      const VecD<D> d1 = between(s, x[i], x[j]);
-      const VecD<D> d0 = between(s, x0[i], x0[j]);
+      int cross1, cross0;
+      const VecD<D> d1 = between(s, x[i], x[j], &cross1, false);
+      const VecD<D> d0 = between(s, x0[i], x0[j], &cross0, true);
       const Real q1 = d1.squaredNorm(), q0 = d0.squaredNorm();
       const bool touch1 = q1 < rs * rs, touch0 = q0 < rs * rs;
       const physics::PairParams& p = s.pairParams[material[i] * nMat + material[j]];
       const bool both = touch0 && touch1;
-      const VecD<D> v1 = v[j] - v[i];
-      const VecD<D> v0 = vb[j] - vb[i];
+      const VecD<D> v1 = relative(s, v[i], v[j], cross1);
+      const VecD<D> v0 = relative(s, vb[i], vb[j], cross0);
       const Real dist1 = std::sqrt(q1), dist0 = std::sqrt(q0);
       if (!(dist1 > 0 && dist0 > 0)) continue;  // coincident centres: no normal to speak of
       const VecD<D> n1 = d1 * (1 / dist1), n0 = d0 * (1 / dist0);
@@ -284,8 +301,9 @@ class TouchModule final : public SimModule<D> {
     const uint32_t i = s.candidates[k].i, j = s.candidates[k].j;
     const Start gi = startOf(s, i), gj = startOf(s, j);
     const Real rs = a.r[i] + a.r[j];
-    const VecD<D> d1 = between(s, a.x[i], a.x[j]);
-    const VecD<D> d0 = between(s, gi.x, gj.x);
+    int cross1, cross0;
+    const VecD<D> d1 = between(s, a.x[i], a.x[j], &cross1, false);
+    const VecD<D> d0 = between(s, gi.x, gj.x, &cross0, true);
     const Real dist1 = std::sqrt(d1.squaredNorm()), dist0 = std::sqrt(d0.squaredNorm());
     if (!(dist1 > 0 && dist0 > 0)) return;  // coincident centres: no normal to speak of
     const Real sumInv = a.invMass[i] + a.invMass[j];
@@ -298,8 +316,10 @@ class TouchModule final : public SimModule<D> {
     const auto side = [](bool touch, Real overlap) {
       return touch ? std::max<Real>(overlap, 0) : std::min<Real>(overlap, 0);
     };
-    physics::ContactEnd e0{touch0, side(touch0, rs - dist0), (gj.v - gi.v).dot(n0)};
-    physics::ContactEnd e1{touch1, side(touch1, rs - dist1), (a.v[j] - a.v[i]).dot(n1)};
+    const Real vn0 = relative(s, gi.v, gj.v, cross0).dot(n0);
+    const Real vn1 = relative(s, a.v[i], a.v[j], cross1).dot(n1);
+    physics::ContactEnd e0{touch0, side(touch0, rs - dist0), vn0};
+    physics::ContactEnd e1{touch1, side(touch1, rs - dist1), vn1};
     correctPair(s, i, j, p, {d0, d1, n0, n1, rs, effMass, effRadius}, e0, e1, loss);
   }
 
