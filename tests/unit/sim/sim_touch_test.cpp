@@ -145,6 +145,18 @@ TEST(SimTouch, VerletDampedImpactNoLongerDependsOnThePhase) {
   EXPECT_LT(std::abs(impact(3, true, 0.5, 100, 0.1, true, "verlet").restitution - 0.5), 3e-3);
 }
 
+// Returns a 3D scene with one material "m" (linear law, kn = kKn, restitution e, no
+// friction) and the touch correction on.
+std::unique_ptr<Simulation> linearTouchScene(double e) {
+  auto s = makeSimulation(3);
+  MaterialDef m = material(1e8, e, 0);
+  m.normalStiffness = kKn;
+  s->addMaterial("m", m);
+  s->setContactLaw(LawKind::Linear);
+  s->setOption("touch", "on", true);
+  return s;
+}
+
 // A damped gas of grains falling in a box, the touch correction on (law, friction).
 template <int D>
 std::unique_ptr<Simulation> fallingGas(LawKind law, double friction) {
@@ -234,12 +246,7 @@ TEST(SimTouch, EventsFromTheContactStatesMatchTheFullPass) {
 // touch states the module compares the next step's with), and so is a run split in two.
 TEST(SimTouch, CheckpointContinuationIsBitIdentical) {
   auto gas = [] {
-    auto s = makeSimulation(3);
-    MaterialDef m = material(1e8, 0.7, 0);
-    m.normalStiffness = kKn;
-    s->addMaterial("m", m);
-    s->setContactLaw(LawKind::Linear);
-    s->setOption("touch", "on", true);
+    auto s = linearTouchScene(0.7);
     testing::addBox(*s, 0.06, "m");
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(-1, 1);
@@ -328,11 +335,7 @@ TEST(SimTouch, BadTouchStatesAreRefused) {
 // rebound without it differs).
 TEST(SimTouch, PeriodicPairsMeetAcrossTheBoundaryAsInside) {
   auto rebound = [](bool across, bool touch) {
-    auto s = makeSimulation(3);
-    MaterialDef m = material(1e8, 0.5, 0);
-    m.normalStiffness = kKn;
-    s->addMaterial("m", m);
-    s->setContactLaw(LawKind::Linear);
+    auto s = linearTouchScene(0.5);
     s->setOption("touch", "on", touch);
     PeriodicDef p;
     p.axes = 1;
@@ -364,12 +367,7 @@ TEST(SimTouch, PeriodicPairsMeetAcrossTheBoundaryAsInside) {
 TEST(SimTouch, LeesEdwardsPairsMeetThroughTheSlidingBoundaryAsInside) {
   const double U = 10 * kV0;
   auto afterImpact = [&](bool sheared) {
-    auto s = makeSimulation(3);
-    MaterialDef m = material(1e8, 0.5, 0);
-    m.normalStiffness = kKn;
-    s->addMaterial("m", m);
-    s->setContactLaw(LawKind::Linear);
-    s->setOption("touch", "on", true);
+    auto s = linearTouchScene(0.5);
     const double L = 0.2;
     PeriodicDef p;
     p.axes = 3;
