@@ -326,8 +326,8 @@ class BallContactModule final : public SimModule<D> {
     }
     if (s.touchCorrection) {
       // The last step's states become the previous ones; this pass writes every byte of now.
+      s.touchPrevValid = s.touchNowCurrent();
       std::swap(s.touchNow, s.touchPrev);
-      s.touchPrevValid = s.touchNowValid && s.touchPrev.size() == s.candidates.size();
       s.touchNow.resize(s.candidates.size());
     }
     bool ran = false;
@@ -684,8 +684,8 @@ class WallContactModule final : public SimModule<D> {
     const bool threaded = ThreadPool::global().threads() > 1;
     if (s.touchCorrection) {
       // As the grain pass's touch states (BallContactModule::run), per wall.
+      s.wallTouchPrevValid = s.wallTouchNowCurrent();
       std::swap(s.wallTouchNow, s.wallTouchPrev);
-      s.wallTouchPrevValid = s.wallTouchNowValid;
       s.wallTouchNow.resize(s.walls.size());
       for (size_t w = 0; w < s.walls.size(); ++w) {
         s.wallTouchNow[w].resize(w < s.wallCandidates.size() ? s.wallCandidates[w].size() : 0);

@@ -96,12 +96,8 @@ class SpringTransfer {
   void collect(Scene<D>& s) {
     entries_.clear();
     rowStart_.clear();
-    grainStates_ = s.touchCorrection && s.touchNowValid && s.touchNow.size() == s.candidates.size();
-    wallStates_ = s.touchCorrection && s.wallTouchNowValid &&
-                  s.wallTouchNow.size() >= s.wallCandidates.size();
-    for (size_t w = 0; wallStates_ && w < s.wallCandidates.size(); ++w) {
-      wallStates_ = s.wallTouchNow[w].size() == s.wallCandidates[w].size();
-    }
+    grainStates_ = s.touchCorrection && s.touchNowCurrent();
+    wallStates_ = s.touchCorrection && s.wallTouchNowCurrent();
     if (!s.keepHistory && !grainStates_ && !wallStates_) return;
     const ElementArrays<D>& a = s.elements.a;
     const uint32_t rows = s.elements.pool().slotCount();

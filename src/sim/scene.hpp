@@ -279,6 +279,17 @@ struct Scene {
   std::vector<std::vector<uint8_t>> wallTouchNow, wallTouchPrev;
   bool wallTouchNowValid = false;
   bool wallTouchPrevValid = false;
+  // Return true if touchNow (wallTouchNow) holds a state for each current grain-grain (wall)
+  // candidate. Change nothing.
+  bool touchNowCurrent() const { return touchNowValid && touchNow.size() == candidates.size(); }
+  bool wallTouchNowCurrent() const {
+    if (!wallTouchNowValid || wallTouchNow.size() != walls.size()) return false;
+    for (size_t w = 0; w < walls.size(); ++w) {
+      const size_t n = w < wallCandidates.size() ? wallCandidates[w].size() : 0;
+      if (wallTouchNow[w].size() != n) return false;
+    }
+    return true;
+  }
 
   // ---- pair state (sim/history_store.hpp) ----
   PairSprings<D> pairSprings;                                           // per contact

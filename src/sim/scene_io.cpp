@@ -996,12 +996,7 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     body.list(s.marginWeight, [&](Real x) { body.f64(x); });
     writeSection(w, kMarginTag, body);
   }
-  const bool grainStates = s.touchNowValid && s.touchNow.size() == s.candidates.size();
-  bool wallStates = s.wallTouchNowValid && s.wallTouchNow.size() == s.walls.size();
-  for (size_t k = 0; wallStates && k < s.walls.size(); ++k) {
-    const size_t n = k < s.wallCandidates.size() ? s.wallCandidates[k].size() : 0;
-    wallStates = s.wallTouchNow[k].size() == n;
-  }
+  const bool grainStates = s.touchNowCurrent(), wallStates = s.wallTouchNowCurrent();
   if (s.touchCorrection && s.forcesReady && (grainStates || wallStates)) {
     Writer body;
     body.u8(static_cast<uint8_t>((grainStates ? 1 : 0) | (wallStates ? 2 : 0)));

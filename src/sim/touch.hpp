@@ -66,7 +66,7 @@ class TouchModule final : public SimModule<D> {
     if (!(dt > 0)) return;  // the force pass before a run: no step, no event
     kicks_.clear();
     double loss = 0, wallWork = 0;
-    if (s.touchPrevValid && s.touchNowValid && s.touchNow.size() == s.candidates.size()) {
+    if (s.touchPrevValid && s.touchNowCurrent()) {
       grainEvents(s, loss);
     } else {
       velocities(s);
@@ -213,38 +213,52 @@ class TouchModule final : public SimModule<D> {
     // Stage 2, the candidates picked, in candidate order (the kicks' order is the loss's).
     for (size_t c = 0; c < m; ++c) {
       const uint32_t i = cand[picked_[c]].i, j = cand[picked_[c]].j;
-      const Real rs = r[i] + r[j];
-      int cross1, cross0;
-      const VecD<D> d1 = between(s, x[i], x[j], &cross1, false);
-      const VecD<D> d0 = between(s, x0[i], x0[j], &cross0, true);
-      const Real q1 = d1.squaredNorm(), q0 = d0.squaredNorm();
-      const bool touch1 = q1 < rs * rs, touch0 = q0 < rs * rs;
+      PairEnds g;
+      if (!pairEnds(s, i, j, x0[i], x0[j], vb[i], vb[j], g)) continue;
+      const bool touch1 = g.d1.squaredNorm() < g.rs * g.rs;
+      const bool touch0 = g.d0.squaredNorm() < g.rs * g.rs;
       const physics::PairParams& p = s.pairParams[material[i] * nMat + material[j]];
-      const bool both = touch0 && touch1;
-      const VecD<D> v1 = relative(s, v[i], v[j], cross1);
-      const VecD<D> v0 = relative(s, vb[i], vb[j], cross0);
-      const Real dist1 = std::sqrt(q1), dist0 = std::sqrt(q0);
-      if (!(dist1 > 0 && dist0 > 0)) continue;  // coincident centres: no normal to speak of
-      const VecD<D> n1 = d1 * (1 / dist1), n0 = d0 * (1 / dist0);
-      const Real sumInv = a.invMass[i] + a.invMass[j];
-      if (!(sumInv > 0)) continue;  // two fixed grains: nothing moves
-      const Real effMass = 1 / sumInv, effRadius = r[i] * r[j] / rs;
-      physics::ContactEnd e0{touch0, rs - dist0, v0.dot(n0)};
-      physics::ContactEnd e1{touch1, rs - dist1, v1.dot(n1)};
+      physics::ContactEnd e0{touch0, g.rs - g.dist0, g.vn0};
+      physics::ContactEnd e1{touch1, g.rs - g.dist1, g.vn1};
       // A contact separating in a bed is far from its cut-off at both ends (most are).
-      if (both && !physics::cutOff(p, e0, effMass, effRadius) &&
-          !physics::cutOff(p, e1, effMass, effRadius)) {
+      if (touch0 && touch1 && !physics::cutOff(p, e0, g.effMass, g.effRadius) &&
+          !physics::cutOff(p, e1, g.effMass, g.effRadius)) {
         continue;
       }
-      correctPair(s, i, j, p, {d0, d1, n0, n1, rs, effMass, effRadius}, e0, e1, loss);
+      correctPair(s, i, j, p, g, e0, e1, loss);
     }
   }
 
-  // A grain pair's centre lines at the step's two ends, its reach and effective mass, radius.
+  // A grain pair at the step's two ends: the centre lines, their lengths and normals, the
+  // normal velocities the laws saw, the reach, the effective mass and radius.
   struct PairEnds {
     VecD<D> d0, d1, n0, n1;
-    Real rs, effMass, effRadius;
+    Real dist0, dist1, vn0, vn1, rs, effMass, effRadius;
   };
+
+  // Sets g for grains i and j, given their positions x0i, x0j and law velocities v0i, v0j at
+  // the step's start (the end's are the scene's); returns false, g partly set, if the centres
+  // coincide at an end (no normal) or neither grain moves.
+  static bool pairEnds(const Scene<D>& s, uint32_t i, uint32_t j, const VecD<D>& x0i,
+                       const VecD<D>& x0j, const VecD<D>& v0i, const VecD<D>& v0j, PairEnds& g) {
+    const ElementArrays<D>& a = s.elements.a;
+    g.rs = a.r[i] + a.r[j];
+    int cross1, cross0;
+    g.d1 = between(s, a.x[i], a.x[j], &cross1, false);
+    g.d0 = between(s, x0i, x0j, &cross0, true);
+    g.dist1 = std::sqrt(g.d1.squaredNorm());
+    g.dist0 = std::sqrt(g.d0.squaredNorm());
+    if (!(g.dist1 > 0 && g.dist0 > 0)) return false;  // coincident centres: no normal
+    const Real sumInv = a.invMass[i] + a.invMass[j];
+    if (!(sumInv > 0)) return false;  // two fixed grains: nothing moves
+    g.n1 = g.d1 * (1 / g.dist1);
+    g.n0 = g.d0 * (1 / g.dist0);
+    g.vn1 = relative(s, a.v[i], a.v[j], cross1).dot(g.n1);
+    g.vn0 = relative(s, v0i, v0j, cross0).dot(g.n0);
+    g.effMass = 1 / sumInv;
+    g.effRadius = a.r[i] * a.r[j] / g.rs;
+    return true;
+  }
 
   // Adds the correction of grains i and j (pair parameters p) for the step whose ends are e0
   // and e1: the touch or release point on the straight lines first (straightLineEnds). Changes
@@ -300,27 +314,17 @@ class TouchModule final : public SimModule<D> {
     const ElementArrays<D>& a = s.elements.a;
     const uint32_t i = s.candidates[k].i, j = s.candidates[k].j;
     const Start gi = startOf(s, i), gj = startOf(s, j);
-    const Real rs = a.r[i] + a.r[j];
-    int cross1, cross0;
-    const VecD<D> d1 = between(s, a.x[i], a.x[j], &cross1, false);
-    const VecD<D> d0 = between(s, gi.x, gj.x, &cross0, true);
-    const Real dist1 = std::sqrt(d1.squaredNorm()), dist0 = std::sqrt(d0.squaredNorm());
-    if (!(dist1 > 0 && dist0 > 0)) return;  // coincident centres: no normal to speak of
-    const Real sumInv = a.invMass[i] + a.invMass[j];
-    if (!(sumInv > 0)) return;  // two fixed grains: nothing moves
+    PairEnds g;
+    if (!pairEnds(s, i, j, gi.x, gj.x, gi.v, gj.v, g)) return;
     const physics::PairParams& p = s.pairParams[a.material[i] * nMat + a.material[j]];
-    const VecD<D> n1 = d1 * (1 / dist1), n0 = d0 * (1 / dist0);
-    const Real effMass = 1 / sumInv, effRadius = a.r[i] * a.r[j] / rs;
     // Each overlap on its state's side: a touching end's may not be negative (the Hertz
     // terms take its root).
     const auto side = [](bool touch, Real overlap) {
       return touch ? std::max<Real>(overlap, 0) : std::min<Real>(overlap, 0);
     };
-    const Real vn0 = relative(s, gi.v, gj.v, cross0).dot(n0);
-    const Real vn1 = relative(s, a.v[i], a.v[j], cross1).dot(n1);
-    physics::ContactEnd e0{touch0, side(touch0, rs - dist0), vn0};
-    physics::ContactEnd e1{touch1, side(touch1, rs - dist1), vn1};
-    correctPair(s, i, j, p, {d0, d1, n0, n1, rs, effMass, effRadius}, e0, e1, loss);
+    physics::ContactEnd e0{touch0, side(touch0, g.rs - g.dist0), g.vn0};
+    physics::ContactEnd e1{touch1, side(touch1, g.rs - g.dist1), g.vn1};
+    correctPair(s, i, j, p, g, e0, e1, loss);
   }
 
   void walls(const Scene<D>& s, double& loss, double& wallWork) {
@@ -334,11 +338,9 @@ class TouchModule final : public SimModule<D> {
       const auto& entry = np.table.get(np.sphere, np.byShape[static_cast<int>(wall.kind)]).fn;
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, wall.shape);
       const std::vector<uint32_t>& list = s.wallCandidates[w];
-      // With both steps' states (the wall pass's), only the candidates whose state changed.
-      const bool events = s.wallTouchPrevValid && s.wallTouchNowValid &&
-                          w < s.wallTouchNow.size() && w < s.wallTouchPrev.size() &&
-                          s.wallTouchNow[w].size() == list.size() &&
-                          s.wallTouchPrev[w].size() == list.size();
+      // With both steps' states (the wall pass's, one per candidate of each wall), only the
+      // candidates whose state changed.
+      const bool events = s.wallTouchPrevValid && s.wallTouchNowValid;
       const uint8_t* stateNow = events ? s.wallTouchNow[w].data() : nullptr;
       const uint8_t* statePrev = events ? s.wallTouchPrev[w].data() : nullptr;
       for (size_t c = 0; c < list.size(); ++c) {
