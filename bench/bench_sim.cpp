@@ -24,11 +24,11 @@
 // friction 0 (no tangential history kept); "norotation" turns grain rotation off; "touch" adds
 // the touch module (the sub-step correction of contact onset and release, sim/touch.hpp), so
 // its cost is measured; "default" is the same scene in demlab's defaults (the synchronized
-// integrator, the Coulomb test on the whole force, the calibrated damping, the default modules)
-// at the same step, so the cost of the defaults shows beside the like-for-like figure;
-// "default-touch" adds the touch module to the defaults (what they would cost with it on).
-// Their scene names get the suffix "-nofriction", "-norotation", "-touch", "-default" or
-// "-default-touch".
+// integrator, the Coulomb test on the whole force, the calibrated damping, the default modules,
+// the touch module among them) at the same step, so the cost of the defaults shows beside the
+// like-for-like figure; "default-notouch" leaves the touch module out of the defaults. Their
+// scene names get the suffix "-nofriction", "-norotation", "-touch", "-default" or
+// "-default-notouch".
 //
 // On stderr: the modules the scene runs and the wall time of each (RunReport::modules), the
 // contact-search rebuilds and the energy-balance residual; with --digest the state digest after
@@ -81,8 +81,8 @@ constexpr Variant kVariants[] = {
     {"nofriction", "-nofriction", false, true, false, true},
     {"norotation", "-norotation", true, false, false, true},
     {"touch", "-touch", true, true, true, true},
-    {"default", "-default", true, true, false, false},
-    {"default-touch", "-default-touch", true, true, true, false},
+    {"default", "-default", true, true, true, false},
+    {"default-notouch", "-default-notouch", true, true, false, false},
 };
 
 struct Options {
@@ -113,7 +113,7 @@ void usage(std::FILE* f) {
                "  --integrator NAME verlet or synchronized (default: verlet, the peers', in\n"
                "                    the like-for-like variants; the Simulation's in default)\n"
                "  --variant LIST    comma-separated: full, nofriction, norotation, touch,\n"
-               "                    default, default-touch\n"
+               "                    default, default-notouch\n"
                "                    (default full)\n"
                "  --breakdown FILE  append per-module times as CSV scene,module,seconds,share\n"
                "  --cpu FILE        append code,scene,n,steps,cpu_seconds,\n"
@@ -178,7 +178,7 @@ Options parse(int argc, char** argv) {
         if (it == std::end(kVariants)) {
           std::fprintf(stderr,
                        "bench_sim: bad variant \"%.*s\": must be full, nofriction, "
-                       "norotation, touch, default or default-touch\n",
+                       "norotation, touch, default or default-notouch\n",
                        static_cast<int>(name.size()), name.data());
           std::exit(2);
         }

@@ -12,11 +12,12 @@ namespace demlab::sim {
 
 namespace {
 
-// Returns true if g's record is its tag alone: a group of one boolean that is off by default
-// (the touch flag) writes the tag when it is on, and nothing after it.
+// Returns true if g's record is its tag alone: a group of one boolean (the touch flag) writes
+// the tag when it is on, and nothing after it; a file without the tag has it off, whatever
+// today's default (files written while it was off by default keep their meaning).
 bool tagAlone(const OptionGroup& g) {
   const auto opts = groupOptions(g.name);
-  return opts.size() == 1 && opts[0]->type == OptionType::Boolean && !std::get<bool>(opts[0]->def);
+  return opts.size() == 1 && opts[0]->type == OptionType::Boolean;
 }
 
 // Returns x read as o's value from r (u8 for a boolean or choice, f64 for a real), checked.
@@ -66,17 +67,28 @@ template <int D>
 void writeTaggedOptions(Writer& w, const Scene<D>& s) {
   for (const OptionGroup& g : optionGroups()) {
     if (*g.tag == 0) continue;
-    bool differs = false;
+    const bool alone = tagAlone(g);
+    bool write = false;
     for (const OptionRow<D>& row : optionTable<D>()) {
-      if (row.spec.group == g.name && row.get(s) != optionRaw(row.spec, row.spec.def)) {
-        differs = true;
-      }
+      if (row.spec.group != g.name) continue;
+      const double x = row.get(s);
+      write |= alone ? x != 0 : x != optionRaw(row.spec, row.spec.def);
     }
-    if (!differs) continue;
+    if (!write) continue;
     w.bytes.append(g.tag, 4);
-    if (tagAlone(g)) continue;
+    if (alone) continue;
     for (const OptionRow<D>& row : optionTable<D>()) {
       if (row.spec.group == g.name) writeRaw(w, row.spec, row.get(s));
+    }
+  }
+}
+
+template <int D>
+void clearTagAloneOptions(Scene<D>& s) {
+  for (const OptionGroup& g : optionGroups()) {
+    if (*g.tag == 0 || !tagAlone(g)) continue;
+    for (const OptionRow<D>& row : optionTable<D>()) {
+      if (row.spec.group == g.name) row.set(s, 0.0);
     }
   }
 }
@@ -150,6 +162,8 @@ template void readHeaderOptions<2>(Reader&, Scene<2>&);
 template void readHeaderOptions<3>(Reader&, Scene<3>&);
 template void writeTaggedOptions<2>(Writer&, const Scene<2>&);
 template void writeTaggedOptions<3>(Writer&, const Scene<3>&);
+template void clearTagAloneOptions<2>(Scene<2>&);
+template void clearTagAloneOptions<3>(Scene<3>&);
 template bool readTaggedOptions<2>(Reader&, Scene<2>&, const char*);
 template bool readTaggedOptions<3>(Reader&, Scene<3>&, const char*);
 template bool writeOptionSection<2>(Writer&, const Scene<2>&);

@@ -171,8 +171,8 @@ struct Rows {
       {{.group = "touch",
         .name = "on",
         .type = OptionType::Boolean,
-        .def = false,
-        .help = "integrate each contact's onset and release within its step (default 0)",
+        .def = true,
+        .help = "integrate each contact's onset and release within its step (default 1)",
         .store = kTagged},
        getField<D, &S::touchCorrection>,
        setField<D, &S::touchCorrection>},
@@ -240,15 +240,16 @@ constexpr OptionGroup kGroups[] = {
     {"touch",
      "Turns the sub-step treatment of contact onset and release on or off, or returns whether "
      "it is on.",
-     "Off by default. On, the step in which a contact's normal force begins or ends (a touch, "
+     "On by default. On, the step in which a contact's normal force begins or ends (a touch, "
      "a release, a damped force reaching its cut-off) receives the integral of the force over "
      "the part of the step the force acted instead of the trapezoid's half step, and the "
      "energy ledger books the damper's loss to match: impacts become second order in the time "
      "step whatever the phase of the touch, and the energy of an elastic gas stops wandering "
      "by O(dt^2) per collision (doc/design.md, \"Touch and release\"). The tangential force is "
      "not corrected. It covers ball-ball and ball-wall contacts (not those of shaped "
-     "elements), in periodic and Lees-Edwards cells too, and costs 3 to 4 % of a dense bed's "
-     "step (doc/performance.md). LIGGGHTS has no such correction: leave it off to reproduce "
+     "elements: a shape equal to a ball follows the ball's path only with it off), in periodic "
+     "and Lees-Edwards cells too, and costs 2 to 4 % of a dense bed's step "
+     "(doc/performance.md). LIGGGHTS has no such correction: turn it off to reproduce "
      "LIGGGHTS. "
      "Part of the scene (saved with it).",
      true, true, kTouchTag},

@@ -42,10 +42,14 @@ void writeHeaderOptions(Writer& w, const Scene<D>& s);
 // Reads them back into s. Throws {LOAD FORMAT} on a value out of its range.
 template <int D>
 void readHeaderOptions(Reader& r, Scene<D>& s);
-// Writes the tagged records of the groups with a tag whose options differ from the defaults,
-// in table order. Changes w.
+// Writes the tagged records of the groups with a tag whose options differ from the defaults
+// (a group of one boolean: its tag alone, when the option is on), in table order. Changes w.
 template <int D>
 void writeTaggedOptions(Writer& w, const Scene<D>& s);
+// Turns off the options whose record is their tag alone: a file without the tag has them off.
+// Called before the tags are read. Changes s.
+template <int D>
+void clearTagAloneOptions(Scene<D>& s);
 // Returns true if tag starts a group's tagged record, which it then reads into s (false: r
 // and s unchanged). Throws {LOAD FORMAT} on a value out of its range.
 template <int D>

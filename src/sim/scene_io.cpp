@@ -1283,6 +1283,7 @@ void readScene(Reader& r, Scene<D>& s) {
     return true;
   };
   bool tagged = readTag();
+  clearTagAloneOptions(s);
   while (tagged && readTaggedOptions(r, s, tag)) tagged = readTag();
   const bool calibrated = tagged && std::memcmp(tag, kDampingTag, 4) == 0;
   s.hertzDamping = calibrated ? physics::HertzDamping::Calibrated : physics::HertzDamping::Liggghts;

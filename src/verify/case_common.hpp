@@ -105,12 +105,13 @@ class Runner {
 };
 
 // Sets the scene's integrator from a suite integrator name (integrators(): a Simulation
-// integrator, with "+touch" for the sub-step touch correction on). Changes the scene.
+// integrator with the sub-step touch correction on, as by default, or with "-notouch" off).
+// Changes the scene.
 inline void setIntegrator(sim::Simulation& s, const std::string& name) {
-  constexpr std::string_view kTouch = "+touch";
-  const bool touch = name.size() > kTouch.size() && name.ends_with(kTouch);
-  s.setOptions({{"integrator", "name", touch ? name.substr(0, name.size() - kTouch.size()) : name},
-                {"touch", "on", touch}});
+  constexpr std::string_view kOff = "-notouch";
+  const bool off = name.size() > kOff.size() && name.ends_with(kOff);
+  s.setOptions({{"integrator", "name", off ? name.substr(0, name.size() - kOff.size()) : name},
+                {"touch", "on", !off}});
 }
 
 // Returns a Quantity.

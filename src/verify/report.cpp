@@ -55,9 +55,11 @@ void writeReport(std::ostream& out, const std::vector<Study>& studies, const Rep
          "the slope between consecutive rows. A case passes when its error at the checked "
          "time step is within the stated tolerance (and, where one is asserted, its observed "
          "order reaches the stated minimum). The integrators are the Simulation's two, "
-         "\"synchronized\" (the default) and \"verlet\", and each again with the sub-step "
-         "treatment of contact onset and release on (\"+touch\": `module touch on`, "
-         "doc/design.md \"Touch and release\"), which is off by default. Sources and plots: "
+         "\"synchronized\" (the default) and \"verlet\", with the default modules (the "
+         "sub-step treatment of contact onset and release on: `module touch`, doc/design.md "
+         "\"Touch and release\"), and each again with it off (\"-notouch\": `module touch off`; "
+         "verlet-notouch is LIGGGHTS's integration). The rows \"synchronized\" are the defaults. "
+         "Sources and plots: "
          "src/verify/, "
          "bench/results-verify/ (CSV: verification.csv, quantities.csv).\n\n";
   // Summary.
@@ -115,8 +117,10 @@ void writeReport(std::ostream& out, const std::vector<Study>& studies, const Rep
       }
     }
     if (!c.knownFailure.empty()) {
-      notes.insert(notes.begin(), std::string("**Known failure** (default integrator") +
-                                      (c.touchFixes ? "; synchronized+touch passes" : "") +
+      notes.insert(notes.begin(), std::string("**Known failure** (") +
+                                      (c.touchFixes ? "with the touch correction off; the "
+                                                      "defaults pass"
+                                                    : "default integrator") +
                                       "): " + c.knownFailure + ".");
     }
     if (!notes.empty()) {

@@ -81,14 +81,14 @@ struct CaseDef {
   // says FAIL; demlab_verify's exit status and the unit tests do not count it as a regression.
   std::string knownFailure;
   std::vector<int> knownFailureDims;  // the dimensions it applies to (empty: all)
-  // True when the sub-step touch correction (the "+touch" integrators) removes the known
-  // failure: with "synchronized+touch" the case must then pass like any other.
+  // True when the sub-step touch correction (on by default; off in the "-notouch"
+  // integrators) removes the known failure: then only the "-notouch" rows may fail.
   bool touchFixes = false;
 
   // Returns true when knownFailure applies in dimension dim. Changes nothing.
   bool knownToFail(int dim) const;
-  // Returns true when knownFailure applies in dimension dim to the named integrator (a
-  // "+touch" integrator escapes it when touchFixes). Changes nothing.
+  // Returns true when knownFailure applies in dimension dim to the named integrator (one with
+  // the touch correction on escapes it when touchFixes). Changes nothing.
   bool knownToFail(int dim, const std::string& integrator) const;
   std::function<CaseResult(const RunSpec&)> run;
 };
@@ -101,13 +101,12 @@ const std::vector<CaseDef>& caseTable();
 const CaseDef& findCase(const std::string& name);
 
 // The integrators the suite runs: those the Simulation API offers (Simulation::setIntegrator),
-// the default first, then each with "+touch": the sub-step touch correction on
+// the default first, then each with "-notouch": the sub-step touch correction off
 // (Simulation::setTouchCorrection).
 const std::vector<std::string>& integrators();
 
 // Returns true when a failure of the named integrator counts against the suite (demlab_verify's
-// exit status): the default one, and the default one with the touch correction. Changes
-// nothing.
+// exit status): the default one, with and without the touch correction. Changes nothing.
 bool assertedIntegrator(const std::string& integrator);
 
 }  // namespace demlab::verify

@@ -3,13 +3,13 @@
 // CSV files and work-precision plots to --out and, with --doc, the Markdown report.
 //
 //   demlab_verify [--short] [--out DIR] [--doc FILE] [--notes FILE] [--cases a,b]
-//                 [--dims 2,3] [--integrators synchronized,verlet,synchronized+touch,...]
+//                 [--dims 2,3] [--integrators synchronized,verlet,synchronized-notouch,...]
 //                 [--no-plots] [--list] [--restitution]
 //
 // --short: the short form (three time steps from the checked one, fewer gas grains) for the
 // test command. Exit status 1 when a study with the default integrator (synchronized) fails,
-// with or without the touch correction ("synchronized+touch"), and is not a known failure (a
-// known failure the correction fixes counts for "+touch", CaseDef::touchFixes); failures of
+// with or without the touch correction ("synchronized-notouch"), and is not a known failure
+// (a known failure the correction fixes counts only without it, CaseDef::touchFixes); failures of
 // plain "verlet" (offered to compare with LIGGGHTS) are reported as findings and do not change
 // the status. 2 on bad usage. --restitution prints the report's restitution section
 // (restitution_table.hpp) and exits.
@@ -157,6 +157,6 @@ int main(int argc, char** argv) {
     }
   }
   std::cerr << studies.size() - fails << " of " << studies.size() << " studies pass; " << asserted
-            << " unexpected failures with the default integrator (with or without +touch)\n";
+            << " unexpected failures with the default integrator (with or without the touch correction)\n";
   return asserted ? 1 : 0;
 }

@@ -116,21 +116,21 @@ TEST_P(SimApi, ModulesFollowTheScene) {
   s->addElements(latticeGrains(d, 8, 0.01, 0.1, 0.1, "slick", 1));
   s->setTimeStep(1e-5);
   using Names = std::vector<std::string>;
-  EXPECT_EQ(s->listModules(),
-            (Names{"integrate", "detection", "contacts", "integrate-correct", "watchdog"}));
+  EXPECT_EQ(s->listModules(), (Names{"integrate", "detection", "contacts", "touch",
+                                     "integrate-correct", "watchdog"}));
   s->addMaterial("rough", material(1e8, 0.5, 0.5));
   s->addElement(grain({0.5, 0.5, d == 3 ? 0.5 : 0.0}, 0.01, "rough"));
   // "rough" against "slick" has no friction (min rule), but rough against rough has.
   EXPECT_EQ(s->listModules(), (Names{"integrate", "rotation", "detection", "contacts-friction",
-                                     "integrate-correct", "watchdog"}));
+                                     "touch", "integrate-correct", "watchdog"}));
   s->setOption("rotation", "on", false);
-  EXPECT_EQ(s->listModules(), (Names{"integrate", "detection", "contacts-friction",
+  EXPECT_EQ(s->listModules(), (Names{"integrate", "detection", "contacts-friction", "touch",
                                      "integrate-correct", "watchdog"}));
   addBox(*s, 1.0, "slick");
   s->addGravity({0, -9.81, 0});
   EXPECT_EQ(s->listModules(),
             (Names{"integrate", "detection", "contacts-friction", "wall-contacts-friction",
-                   "gravity", "integrate-correct", "watchdog"}));
+                   "gravity", "touch", "integrate-correct", "watchdog"}));
   WallDef piston = plane({0, 2, 0}, {0, -1, 0}, "slick");
   piston.motion = WallMotion{.velocity = {0, -0.1, 0}};
   s->addWall(piston);
@@ -139,7 +139,8 @@ TEST_P(SimApi, ModulesFollowTheScene) {
   Names ran;
   for (const ModuleTime& m : rep.modules) ran.push_back(m.module);
   EXPECT_EQ(ran, (Names{"integrate", "walls", "detection", "contacts-friction",
-                        "wall-contacts-friction", "gravity", "integrate-correct", "watchdog"}));
+                        "wall-contacts-friction", "gravity", "touch", "integrate-correct",
+                        "watchdog"}));
   EXPECT_EQ(ran, s->listModules());
   // The watchdog is on by default and can be turned off.
   WatchdogOptions off;

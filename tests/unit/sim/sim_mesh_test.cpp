@@ -183,11 +183,13 @@ void addFloor(Simulation& s, bool mesh) {
 }
 
 // A ball rolling and bouncing across a floor of 800 triangles follows the plane floor's path: no
-// doubled force where it crosses their edges and corners.
+// doubled force where it crosses their edges and corners. (The touch correction, which covers
+// the plane's contacts and not a mesh's, is off in both.)
 TEST(SimMesh, ABallCrossesAMeshFloorAsAPlane) {
   std::array<ElementState, 2> end;
   for (int run = 0; run < 2; ++run) {
     auto s = makeSimulation(3);
+    s->setOption("touch", "on", false);
     s->addMaterial("glass", material(1e7, 0.5, 0.4));
     addFloor(*s, run == 1);
     s->addGravity({0, 0, -9.81});

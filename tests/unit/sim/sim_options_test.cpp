@@ -58,7 +58,7 @@ TEST_P(SimOptions, BadSettingsChangeNothing) {
             }),
             (Code{"VALUE", "ENERGY"}));
   EXPECT_EQ(codeOf([&] {
-              s->setOptions({{"touch", "on", true}, {"detection", "skin", INFINITY}});
+              s->setOptions({{"touch", "on", false}, {"detection", "skin", INFINITY}});
             }),
             (Code{"VALUE", "SKIN"}));
   EXPECT_EQ(codeOf([&] { s->setOption("rotation", "on", std::string("yes")); }),

@@ -124,10 +124,10 @@ class VerifyCase : public ::testing::TestWithParam<std::tuple<std::string, int>>
 TEST_P(VerifyCase, MeetsItsToleranceAtTheCheckedStep) {
   const CaseDef& def = findCase(std::get<0>(GetParam()));
   const int dim = std::get<1>(GetParam());
-  if (def.knownToFail(dim)) GTEST_SKIP() << "known failure: " << def.knownFailure;
   RunSpec spec;
-  spec.dim = dim;
   spec.integrator = integrators().front();
+  if (def.knownToFail(dim, spec.integrator)) GTEST_SKIP() << "known failure: " << def.knownFailure;
+  spec.dim = dim;
   spec.stepsPerTime = def.checkSteps;
   spec.shortRun = true;
   const CaseResult r = def.run(spec);
@@ -140,23 +140,21 @@ TEST_P(VerifyCase, MeetsItsToleranceAtTheCheckedStep) {
   }
 }
 
-// The known failures the touch correction fixes (CaseDef::touchFixes) pass with it: issue 3's
-// elastic gas below 1e-4 at tc/50, the damped impacts within tolerance at every touch phase.
-TEST_P(VerifyCase, PassesWithTheTouchCorrectionWhereItFixesAKnownFailure) {
+// The known failures the touch correction fixes (CaseDef::touchFixes), which pass at the
+// defaults (above), are failures without it, as doc/verification.md reports them.
+TEST_P(VerifyCase, FailsWithoutTheTouchCorrectionWhereItFixesAKnownFailure) {
   const CaseDef& def = findCase(std::get<0>(GetParam()));
   const int dim = std::get<1>(GetParam());
   if (!def.touchFixes) GTEST_SKIP() << "the touch correction fixes no known failure here";
   RunSpec spec;
   spec.dim = dim;
-  spec.integrator = "synchronized+touch";
+  spec.integrator = "synchronized-notouch";
+  ASSERT_TRUE(def.knownToFail(dim, spec.integrator));
   spec.stepsPerTime = def.checkSteps;
   spec.shortRun = true;
   const CaseResult r = def.run(spec);
   ASSERT_FALSE(r.quantities.empty());
-  for (const Quantity& q : r.quantities) {
-    EXPECT_LE(q.error(), def.tolerance)
-        << q.name << ": measured " << q.measured << ", " << q.source << " " << q.reference;
-  }
+  EXPECT_GT(r.error(), def.tolerance);
 }
 
 // The synchronized integrator is second order where the touch falls at mid-step (finding 3 of
