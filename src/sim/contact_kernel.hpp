@@ -100,6 +100,13 @@ struct HertzPassArgs {
   const PeriodicCell* periodic = nullptr;
   // When not null, one byte per candidate (Scene::touchNow): kTouching and kCutOff below.
   uint8_t* touchState = nullptr;
+  // When > 0, the pass keeps its deepest contact as the watchdog measures it (sim/contacts.hpp,
+  // recordOverlapRatio): of the contacts whose overlap exceeds deepLimit of the smaller radius,
+  // the first of the largest ratio in candidate order, in and out as deepRatio (above the
+  // ratio given: -1 for none) and deepCand (its candidate, of this pass's numbering).
+  double deepLimit = 0;
+  double deepRatio = -1;
+  size_t deepCand = 0;
   // Out: the number of contacts; in and out: the energy sums, added contact by contact.
   size_t contacts = 0;
   double elastic = 0, damping = 0, friction = 0, springWork = 0;

@@ -317,6 +317,13 @@ struct Consts {
   HertzPair one;
   const PeriodicCell* periodic;  // null: not periodic
   uint8_t* touchState;           // null: not kept (HertzPassArgs::touchState)
+  double deepLimit;              // HertzPassArgs::deepLimit (0: the deepest is not tracked)
+};
+
+// The pass's deepest contact so far (HertzPassArgs::deepRatio, deepCand).
+struct Deepest {
+  double ratio;
+  size_t cand;
 };
 
 struct Sums {
@@ -441,7 +448,8 @@ DEMLAB_KI void laneCandidates(const uint32_t* k, size_t valid, size_t* kc) {
 
 // Stage 2 for the contacts of candidates k[0 .. valid - 1], into stage lanes c ...
 template <int W, bool Rotation, bool OnePair>
-DEMLAB_KI void geometry(const Consts C, const uint32_t* k, size_t valid, Stage<W>& st, size_t c) {
+DEMLAB_KI void geometry(const Consts C, const uint32_t* k, size_t valid, Stage<W>& st, size_t c,
+                        Deepest& deep) {
   size_t kc[W], si[W], sj[W], oi[W], oj[W];
   laneCandidates<W>(k, valid, kc);
   for (int l = 0; l < W; ++l) {
@@ -475,6 +483,23 @@ DEMLAB_KI void geometry(const Consts C, const uint32_t* k, size_t valid, Stage<W
     overlap = apart ? overlap : rs;
     effMass = apart ? effMass : 1.0 / sumInvMass;
     effRadius = apart ? effRadius : ri * rj / rs;
+  }
+  if (C.deepLimit > 0) {
+    // The watchdog's measure (recordOverlapRatio, operation by operation): the lanes whose
+    // overlap exceeds deepLimit of the smaller radius, in candidate order (rare).
+    const vd<W> small = rj < ri ? rj : ri;
+    const vd<W> t = rs - C.deepLimit * small;
+    unsigned over = bitsOf<W>((t > 0.0) & (d2 < t * t)) & ((1u << valid) - 1);
+    if (over != 0) [[unlikely]] {
+      double ov[W], sm[W];
+      std::memcpy(ov, &overlap, sizeof ov);
+      std::memcpy(sm, &small, sizeof sm);
+      for (size_t l = 0; l < valid; ++l) {
+        if (((over >> l) & 1) == 0) continue;
+        const double ratio = ov[l] / sm[l];
+        if (ratio > deep.ratio) deep = {ratio, kc[l]};
+      }
+    }
   }
   // The law's roots (hertzMindlinRoots).
   const vd<W> a = vsqrt<W>(effRadius * overlap);
@@ -896,8 +921,9 @@ void hertzRun(HertzPassArgs& A) {
   const Consts C{
       A.x,       A.v,       A.w,     A.f,    A.t,  A.r,          A.invMass,  A.material,
       A.cand,    A.springs, A.pairs, A.nMat, A.dt, A.lag * A.dt, A.lag != 0, !A.springCriterion,
-      A.pairs[0], A.periodic, A.touchState};
+      A.pairs[0], A.periodic, A.touchState, A.deepLimit};
   const size_t nc = A.nCand;
+  Deepest deep{A.deepRatio, A.deepCand};
   Sums e = sumsOf(A);
   Records records;
   Records* rec = A.record != nullptr ? &records : nullptr;
@@ -929,7 +955,9 @@ void hertzRun(HertzPassArgs& A) {
       for (size_t j = mBatch; j < m; ++j) C.touchState[bk[j]] = kTouching;
     }
     const size_t full = m - m % W;
-    for (size_t c = 0; c < full; c += W) geometry<W, Rotation, OnePair>(C, bk + c, W, st, c);
+    for (size_t c = 0; c < full; c += W) {
+      geometry<W, Rotation, OnePair>(C, bk + c, W, st, c, deep);
+    }
     for (size_t c = 0; c < full; c += W) {
       if (rec != nullptr && nRec + W > Records::kSize) flush();
       law<W, History, Rotation, OnePair, Drift>(C, bk + c, W, st, c, e, rec, nRec);
@@ -940,12 +968,14 @@ void hertzRun(HertzPassArgs& A) {
   }
   if (m > 0) {
     if (rec != nullptr && nRec + W > Records::kSize) flush();
-    geometry<W, Rotation, OnePair>(C, bk, m, st, 0);
+    geometry<W, Rotation, OnePair>(C, bk, m, st, 0, deep);
     law<W, History, Rotation, OnePair, Drift>(C, bk, m, st, 0, e, rec, nRec);
     contacts += m;
   }
   if (rec != nullptr) flush();
   A.contacts = contacts;
+  A.deepRatio = deep.ratio;
+  A.deepCand = deep.cand;
   storeSums(e, A);
 }
 

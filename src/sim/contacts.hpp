@@ -505,12 +505,18 @@ class BallContactModule final : public SimModule<D> {
         slots = s.pairSprings.slots(begin);
         k.springs = &slots;
       }
-      RecordSink sink{&s, begin, sinkOf(s, g, record, deep, threaded)};
+      // The deepest contact the watchdog reads between records: kept by the kernel itself.
+      if (deep) k.deepLimit = s.watchdog.overlap;
+      RecordSink sink{&s, begin, sinkOf(s, g, record, false, threaded)};
       if (sink.sink.any() || s.periodic.sheared()) {
         k.record = &appendRecords;
         k.recordContext = &sink;
       }
       kernelFn_(k);
+      if (k.deepRatio > out_[g].deepest.ratio) {
+        const CandidatePair p = s.candidates[begin + k.deepCand];
+        out_[g].deepest.consider(k.deepRatio, {p.i, p.j, false, VecD<D>::Zero()});
+      }
       out_[g].contacts = k.contacts;
       out_[g].energy = {k.elastic, k.damping, k.friction, k.springWork, sink.imageWork};
     });

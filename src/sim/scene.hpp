@@ -83,7 +83,9 @@ struct ContactRecord {
 static_assert(sizeof(ContactRecord<3>) == 32);
 
 // The contact whose overlap is the largest fraction of its smaller radius (a wall's: of the
-// grain's), as the watchdog measures it (recordOverlapRatio); ratio -1 when none is known.
+// grain's), as the watchdog measures it (recordOverlapRatio); ratio -1 when none is known. Its
+// record names the pair; the force is not kept (zero: the SIMD kernel finds the deepest contact
+// before its force).
 template <int D>
 struct DeepestContact {
   Real ratio = -1;
@@ -93,6 +95,7 @@ struct DeepestContact {
     if (r > ratio) {
       ratio = r;
       record = c;
+      record.force.setZero();
     }
   }
 };

@@ -18,6 +18,7 @@
 #include "sim/contacts.hpp"
 #include "sim/integrator.hpp"
 #include "sim/scene.hpp"
+#include "sim/watchdog.hpp"
 #include "sim_test_util.hpp"
 
 namespace demlab::sim {
@@ -214,6 +215,54 @@ TEST(SimKernel, ContactBatchesMatchTheEigenLoopBitForBit) {
     SCOPED_TRACE("fresh pool");
     compareContactPasses<true, true>(fresh);
     compareContactPasses<true, false>(fresh);
+  }
+}
+
+// Between records the passes keep only the step's deepest contact for the watchdog: the kernels
+// find it themselves, as the first of the largest ratio in candidate order. It must be the
+// contact the Eigen loop's sink keeps and the one the watchdog finds among a recording run's
+// records, at limits that leave many contacts, a few or none above them.
+TEST(SimKernel, DeepestContactIsTheWatchdogsOnTheRecords) {
+  KernelChoice restore;
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    for (double limit : {0.02, 0.2, 0.6, 1.5, 2.0}) {
+      SCOPED_TRACE("seed " + std::to_string(seed) + " limit " + std::to_string(limit));
+      BatchOptions o;
+      o.seed = seed;
+      o.mixed = seed == 2;
+      Scene<3> recorded = randomBatch(o);
+      recorded.watchdog.overlap = limit;
+      ASSERT_TRUE(kernel::setActive(false, kernel::Isa::Sse2));
+      BallContactModule<3, kHertz, true, true>(o.mixed ? -1 : 0).run(recorded);
+      const auto [worst, ratio] = deepestRecord<false>(recorded, limit);
+      if (limit < 1) {
+        ASSERT_NE(worst, nullptr);  // the batch overlaps deeply enough
+      }
+      auto tracked = [&](bool use, kernel::Isa isa) {
+        Scene<3> s = randomBatch(o);
+        s.watchdog.overlap = limit;
+        s.recordContacts = false;
+        s.trackDeepest = true;
+        EXPECT_TRUE(kernel::setActive(use, isa));
+        BallContactModule<3, kHertz, true, true>(o.mixed ? -1 : 0).run(s);
+        EXPECT_TRUE(s.contacts.empty());
+        return s.deepest;
+      };
+      std::vector<std::pair<std::string, DeepestContact<3>>> runs{
+          {"eigen", tracked(false, kernel::Isa::Sse2)}};
+      for (kernel::Isa isa : kernels()) runs.emplace_back(kernel::isaName(isa), tracked(true, isa));
+      for (const auto& [name, d] : runs) {
+        SCOPED_TRACE(name);
+        if (worst == nullptr) {
+          EXPECT_EQ(d.ratio, -1);
+          continue;
+        }
+        EXPECT_TRUE(sameBits(d.ratio, ratio));
+        EXPECT_EQ(d.record.a, worst->a);
+        EXPECT_EQ(d.record.b, worst->b);
+        EXPECT_FALSE(d.record.wall);
+      }
+    }
   }
 }
 
