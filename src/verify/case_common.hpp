@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -134,6 +135,25 @@ inline double parabolicPeak(double a, double b, double c) {
   const double x = 0.5 * (a - c) / den;
   if (x < -1 || x > 1) return b;
   return b - 0.25 * (a - c) * x;
+}
+
+// Returns where, in steps after the sample f1 (> 0), the parabola through the samples f3, f2,
+// f1 of three consecutive steps crosses zero: its first root in (0, 1], or the line through f2
+// and f1's where the parabola has none there. Changes nothing.
+inline double forceZeroAfter(double f3, double f2, double f1) {
+  const double line = f2 > f1 ? f1 / (f2 - f1) : 0.0;
+  // p(x) = f1 + b x + c x^2 with p(-1) = f2, p(-2) = f3.
+  const double c = 0.5 * (f3 - 2 * f2 + f1);
+  const double b = f1 + c - f2;
+  const double disc = b * b - 4 * c * f1;
+  if (c == 0 || disc < 0) return line;
+  // The roots f1 / q and q / c, q = -(b + sign(b) sqrt(disc)) / 2 (no cancellation).
+  const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+  double best = -1;
+  for (double x : {q != 0 ? f1 / q : -1.0, q / c}) {
+    if (x > 0 && x <= 1 && (best < 0 || x < best)) best = x;
+  }
+  return best > 0 ? best : line;
 }
 
 }  // namespace demlab::verify

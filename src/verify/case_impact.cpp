@@ -108,7 +108,7 @@ ImpactMeasure measureImpact(const ImpactSetup& setup, const RunSpec& spec, CaseR
   ImpactMeasure m;
   m.law = law;
   m.tc = tc;
-  if (!touched || end < 3) {
+  if (!touched || end < 4) {
     m.valid = false;
     return m;
   }
@@ -117,15 +117,16 @@ ImpactMeasure measureImpact(const ImpactSetup& setup, const RunSpec& spec, CaseR
   // Touch: delta is linear in free flight (exact to rounding).
   const double t0 = (first - 1 + -delta[first - 1] / (delta[first] - delta[first - 1])) * dt;
   // End: elastic laws end with the overlap (delta linear there); damped ones when the force
-  // crosses zero (smooth there), extrapolated from the last two positive samples.
+  // crosses zero (smooth there), extrapolated from the last three positive samples by the
+  // parabola through them (a line through two left the measure an O(dt^2) error of its own,
+  // with a sign set by where the zero falls between samples, larger than the run's).
   double t1;
   if (setup.restitution == 1) {
     size_t k = end;
     while (delta[k] > 0) ++k;
     t1 = (k - 1 + delta[k - 1] / (delta[k - 1] - delta[k])) * dt;
   } else {
-    const double f1 = force[end - 1], f2 = force[end - 2];
-    t1 = (end - 1 + (f2 > f1 ? f1 / (f2 - f1) : 0.0)) * dt;
+    t1 = (end - 1 + forceZeroAfter(force[end - 3], force[end - 2], force[end - 1])) * dt;
   }
   m.duration = t1 - t0;
   size_t kd = first, kf = first;

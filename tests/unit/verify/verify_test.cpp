@@ -108,6 +108,18 @@ TEST(VerifyReference, ParabolicPeakIsExactOnAParabola) {
   EXPECT_EQ(parabolicPeak(1, 2, 3), 2);  // no interior extremum: the middle sample
 }
 
+// The end of a damped contact: the zero of the parabola through three force samples (exact
+// for a parabola, its first root after the last sample), else the line's through two.
+TEST(VerifyReference, ForceZeroIsTheParabolasRoot) {
+  auto f = [](double x) { return 0.3 - 0.5 * x - 0.05 * x * x; };  // root at 0.5678
+  const double root = (-0.5 + std::sqrt(0.25 + 4 * 0.05 * 0.3)) / (2 * 0.05);
+  EXPECT_NEAR(forceZeroAfter(f(-2), f(-1), f(0)), root, 1e-14);
+  auto g = [](double x) { return 0.2 - 0.3 * x; };  // a line: its root
+  EXPECT_NEAR(forceZeroAfter(g(-2), g(-1), g(0)), 2.0 / 3, 1e-14);
+  // No root in (0, 1] (the parabola turns up first): the line through the last two.
+  EXPECT_NEAR(forceZeroAfter(0.5, 0.2, 0.1), 1.0, 1e-14);
+}
+
 TEST(VerifyTable, UnknownCaseIsALookupError) {
   try {
     findCase("nope");
