@@ -4,7 +4,7 @@
 //
 //   demlab_verify [--short] [--out DIR] [--doc FILE] [--notes FILE] [--cases a,b]
 //                 [--dims 2,3] [--integrators synchronized,verlet,synchronized-notouch,...]
-//                 [--no-plots] [--list] [--restitution]
+//                 [--no-plots] [--list] [--restitution] [--finest K]
 //
 // --short: the short form (three time steps from the checked one, fewer gas grains) for the
 // test command. Exit status 1 when a study with the default integrator (synchronized) fails,
@@ -12,7 +12,8 @@
 // (a known failure the correction fixes counts only without it, CaseDef::touchFixes); failures of
 // plain "verlet" (offered to compare with LIGGGHTS) are reported as findings and do not change
 // the status. 2 on bad usage. --restitution prints the report's restitution section
-// (restitution_table.hpp) and exits.
+// (restitution_table.hpp) and exits. --finest K: the ladder runs to the checked step / 2^K
+// (default 3), for studies finer than the report's.
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -44,7 +45,7 @@ int usage(const std::string& why) {
   std::cerr << "demlab_verify: " << why
             << "\nusage: demlab_verify ?--short? ?--out DIR? ?--doc FILE? ?--notes FILE? "
                "?--cases LIST? ?--dims LIST? ?--integrators LIST? ?--no-plots? ?--list? "
-               "?--restitution?\n";
+               "?--restitution? ?--finest K?\n";
   return 2;
 }
 
@@ -53,6 +54,7 @@ int usage(const std::string& why) {
 int main(int argc, char** argv) {
   using namespace demlab::verify;
   bool shortRun = false, plots = true;
+  int finest = 3;  // the ladder's finest step: the checked one / 2^finest
   std::string outDir = "bench/results-verify", doc, notes, command = "demlab_verify";
   std::vector<std::string> cases, integ = integrators();
   std::vector<int> dims{2, 3};
@@ -81,6 +83,9 @@ int main(int argc, char** argv) {
         for (const std::string& d : split(value())) dims.push_back(std::stoi(d));
       } else if (a == "--integrators") {
         integ = split(value());
+      } else if (a == "--finest") {
+        finest = std::stoi(value());
+        if (finest < 0 || finest > 8) return usage("bad --finest: must be 0 to 8");
       } else if (a == "--no-plots") {
         plots = false;
       } else if (a == "--restitution") {
@@ -112,7 +117,7 @@ int main(int argc, char** argv) {
   try {
     for (const std::string& name : cases) {
       const CaseDef& def = findCase(name);
-      const std::vector<double> levels = shortRun ? ladder(def, 0, 2) : ladder(def, -1, 3);
+      const std::vector<double> levels = shortRun ? ladder(def, 0, 2) : ladder(def, -1, finest);
       std::vector<Study> mine;
       for (int d : dims) {
         if (std::find(def.dims.begin(), def.dims.end(), d) == def.dims.end()) continue;
