@@ -815,13 +815,8 @@ class WallContactModule final : public SimModule<D> {
     uint8_t* state = s.touchCorrection ? s.wallTouchNow[w].data() + begin : nullptr;
     if (state != nullptr) {
       std::memset(state, 0, nWhich);
-      ch.slots.resize(m);
-      size_t kc = 0;
-      for (size_t c = 0; c < m; ++c) {
-        while (which[kc] != ch.touched[c]) ++kc;
-        ch.slots[c] = static_cast<uint32_t>(kc);
-        state[kc++] = kernel::kTouching;
-      }
+      mapContacts(ch, which, m);
+      for (size_t c = 0; c < m; ++c) state[ch.slots[c]] = kernel::kTouching;
     }
     if constexpr (kKernel) {
       if (!wall.moving && kernelWall(s, w, m, which, nWhich, springs, ch, sink, state)) return;
@@ -878,9 +873,21 @@ class WallContactModule final : public SimModule<D> {
     for (size_t j = 0; j < n; ++j) k.sink.put({k.grain[c[j]], k.wall, true, VecD<D>(force + 3 * j)});
   }
 
+  // Sets ch.slots to the candidate index of each of the chunk's m contacts (ch.touched lists
+  // the touching grains in the order of which). Changes ch.slots.
+  static void mapContacts(Chunk& ch, const uint32_t* which, size_t m) {
+    ch.slots.resize(m);
+    size_t kc = 0;
+    for (size_t c = 0; c < m; ++c) {
+      while (which[kc] != ch.touched[c]) ++kc;
+      ch.slots[c] = static_cast<uint32_t>(kc++);
+    }
+  }
+
   // Returns false, changing nothing, when no kernel is active; else runs the chunk's m
   // contacts (ch.geoms, ch.touched; candidates which[0 .. nWhich), springs from springs[0])
-  // through it, adding the cut-offs to the candidates' touch states when state is not null.
+  // through it, adding the cut-offs to the candidates' touch states when state is not null
+  // (ch.slots then mapped by the caller).
   bool kernelWall(Scene<D>& s, size_t w, size_t m, const uint32_t* which, size_t nWhich,
                   physics::TangentialHistory<D>* springs, Chunk& ch, const ContactSink<D>& sink,
                   uint8_t* state) {
@@ -901,12 +908,13 @@ class WallContactModule final : public SimModule<D> {
     }
     kernel::WallPassArgs k;
     if constexpr (History) {
-      // Each contact's candidate index (its spring slot); the springs of the others zeroed.
-      ch.slots.resize(m);
+      // Each contact's candidate index (its spring slot; mapped already with touch states);
+      // the springs of the others zeroed.
+      if (state == nullptr) mapContacts(ch, which, m);
       size_t kc = 0;
       for (size_t c = 0; c < m; ++c) {
-        while (which[kc] != ch.touched[c]) springs[kc++] = {};
-        ch.slots[c] = static_cast<uint32_t>(kc++);
+        while (kc < ch.slots[c]) springs[kc++] = {};
+        ++kc;
       }
       while (kc < nWhich) springs[kc++] = {};
       k.slot = ch.slots.data();

@@ -29,8 +29,8 @@
 // a damped one separating), which is also the tests' oracle. A checkpoint keeps the states, so a loaded run
 // takes the events its parent would have. The walls' candidates likewise (the wall pass
 // writes their states), with the narrow phase at both ends for the events only. Cost on a
-// dense bed: 3 to 4 % of a step (doc/performance.md, Run 19); nothing when the scene leaves
-// the module off (the default).
+// dense bed: 3 to 4 % of a step (doc/performance.md, Run 19); on by default, nothing when the
+// scene turns the module off.
 #pragma once
 
 #include <algorithm>
