@@ -1,0 +1,37 @@
+# The distributed run's parts (src/mpi, doc/plans/mpi.md): the ranks' communicator, the
+# recursive coordinate bisection of the domain, the ghost reach by size class and the records
+# sent between ranks. Built with MPI when the system has it (Debian: libopenmpi-dev,
+# openmpi-bin); without it the communicator is a single rank and the same code runs serially.
+find_package(MPI COMPONENTS CXX QUIET)
+file(GLOB DEMLAB_MPI_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/mpi/*.cpp)
+add_library(demlab_mpi STATIC ${DEMLAB_MPI_SOURCES})
+demlab_precompile(demlab_mpi)
+target_link_libraries(demlab_mpi PUBLIC demlab_core)
+set_property(TARGET demlab_mpi PROPERTY POSITION_INDEPENDENT_CODE ON)
+if(MPI_CXX_FOUND)
+  target_compile_definitions(demlab_mpi PRIVATE DEMLAB_HAVE_MPI)
+  target_link_libraries(demlab_mpi PUBLIC MPI::MPI_CXX)
+endif()
+
+# The serial tests (one rank: Communicator::self()).
+demlab_add_unit_tests(mpi demlab_mpi_tests mpi/ demlab_mpi)
+
+# The distributed tests, one program run under mpirun on 1, 2 and 3 ranks (3 oversubscribes a
+# 2-core machine, as the test command runs it).
+if(MPI_CXX_FOUND)
+  add_executable(demlab_mpi_rank_tests ${CMAKE_CURRENT_SOURCE_DIR}/tests/mpi/mpi_ranks_test.cpp)
+  target_include_directories(demlab_mpi_rank_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests)
+  target_link_libraries(demlab_mpi_rank_tests PRIVATE demlab_mpi GTest::gtest Threads::Threads)
+  if(DEMLAB_SANITIZE)
+    target_compile_options(demlab_mpi_rank_tests PRIVATE -fno-sanitize=undefined)
+  endif()
+  foreach(np 1 2 3)
+    add_test(NAME mpi.np${np}
+             COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np}
+                     $<TARGET_FILE:demlab_mpi_rank_tests> --gtest_brief=1)
+    # Root in CI containers; more ranks than cores; no cross-memory attach in containers.
+    # OpenMPI's own allocations outlive MPI_Finalize, which LeakSanitizer would report.
+    set_tests_properties(mpi.np${np} PROPERTIES TIMEOUT 300 ENVIRONMENT
+      "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0")
+  endforeach()
+endif()

@@ -1,0 +1,178 @@
+#include "mpi/communicator.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <stdexcept>
+
+#ifdef DEMLAB_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace demlab::mpi {
+
+bool built() {
+#ifdef DEMLAB_HAVE_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+Communicator& Communicator::world() {
+  static Communicator world = [] {
+#ifdef DEMLAB_HAVE_MPI
+    int up = 0;
+    MPI_Initialized(&up);
+    if (up) {
+      int rank = 0, size = 1;
+      MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+      MPI_Comm_size(MPI_COMM_WORLD, &size);
+      return Communicator(rank, size, true);
+    }
+#endif
+    return Communicator(0, 1, false);
+  }();
+  return world;
+}
+
+Communicator& Communicator::self() {
+  static Communicator one(0, 1, false);
+  return one;
+}
+
+#ifdef DEMLAB_HAVE_MPI
+namespace {
+
+// Returns n as an MPI count, or throws if it does not fit.
+int countOf(size_t n) {
+  if (n > static_cast<size_t>(INT_MAX)) throw std::length_error("mpi: message over 2 GiB");
+  return static_cast<int>(n);
+}
+
+template <class T>
+void allreduce(std::vector<T>& values, MPI_Datatype type, MPI_Op op) {
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), countOf(values.size()), type, op, MPI_COMM_WORLD);
+}
+
+}  // namespace
+#endif
+
+void Communicator::sum(std::vector<double>& values) const {
+  if (!world_ || size_ == 1) return;
+#ifdef DEMLAB_HAVE_MPI
+  // Gathered to rank 0 and added there in rank order, then broadcast: MPI_Allreduce may add in
+  // any order, and a run must not depend on how the library reduces.
+  const size_t n = values.size();
+  std::vector<double> all(rank_ == 0 ? n * static_cast<size_t>(size_) : 0);
+  MPI_Gather(values.data(), countOf(n), MPI_DOUBLE, all.data(), countOf(n), MPI_DOUBLE, 0,
+             MPI_COMM_WORLD);
+  if (rank_ == 0) {
+    for (size_t i = 0; i < n; ++i) {
+      double s = all[i];
+      for (int r = 1; r < size_; ++r) s += all[static_cast<size_t>(r) * n + i];
+      values[i] = s;
+    }
+  }
+  MPI_Bcast(values.data(), countOf(n), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+#endif
+}
+
+void Communicator::sum(std::vector<int64_t>& values) const {
+  if (!world_ || size_ == 1) return;
+#ifdef DEMLAB_HAVE_MPI
+  allreduce(values, MPI_INT64_T, MPI_SUM);
+#endif
+}
+
+void Communicator::max(std::vector<double>& values) const {
+  if (!world_ || size_ == 1) return;
+#ifdef DEMLAB_HAVE_MPI
+  allreduce(values, MPI_DOUBLE, MPI_MAX);
+#endif
+}
+
+void Communicator::min(std::vector<double>& values) const {
+  if (!world_ || size_ == 1) return;
+#ifdef DEMLAB_HAVE_MPI
+  allreduce(values, MPI_DOUBLE, MPI_MIN);
+#endif
+}
+
+namespace {
+
+// Returns reduce applied to the one value v (as a vector of one).
+template <class T, class Reduce>
+T reduceOne(T v, Reduce&& reduce) {
+  std::vector<T> one{v};
+  reduce(one);
+  return one[0];
+}
+
+}  // namespace
+
+double Communicator::sum(double v) const {
+  return reduceOne(v, [this](std::vector<double>& x) { sum(x); });
+}
+
+int64_t Communicator::sum(int64_t v) const {
+  return reduceOne(v, [this](std::vector<int64_t>& x) { sum(x); });
+}
+
+double Communicator::max(double v) const {
+  return reduceOne(v, [this](std::vector<double>& x) { max(x); });
+}
+
+double Communicator::min(double v) const {
+  return reduceOne(v, [this](std::vector<double>& x) { min(x); });
+}
+
+std::vector<double> Communicator::gather(const std::vector<double>& values) const {
+  if (!world_ || size_ == 1) return values;
+  std::vector<double> all(values.size() * static_cast<size_t>(size_));
+#ifdef DEMLAB_HAVE_MPI
+  MPI_Allgather(values.data(), countOf(values.size()), MPI_DOUBLE, all.data(),
+                countOf(values.size()), MPI_DOUBLE, MPI_COMM_WORLD);
+#endif
+  return all;
+}
+
+std::vector<std::vector<char>> Communicator::exchange(
+    const std::vector<std::vector<char>>& out) const {
+  if (out.size() != static_cast<size_t>(size_)) {
+    throw std::invalid_argument("mpi: exchange needs one buffer per rank");
+  }
+  if (!world_ || size_ == 1) return out;
+  std::vector<std::vector<char>> in(static_cast<size_t>(size_));
+#ifdef DEMLAB_HAVE_MPI
+  const size_t p = static_cast<size_t>(size_);
+  std::vector<int> sendCount(p), recvCount(p), sendAt(p), recvAt(p);
+  for (size_t k = 0; k < p; ++k) sendCount[k] = countOf(out[k].size());
+  MPI_Alltoall(sendCount.data(), 1, MPI_INT, recvCount.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  size_t sendTotal = 0, recvTotal = 0;
+  for (size_t k = 0; k < p; ++k) {
+    sendAt[k] = countOf(sendTotal);
+    recvAt[k] = countOf(recvTotal);
+    sendTotal += static_cast<size_t>(sendCount[k]);
+    recvTotal += static_cast<size_t>(recvCount[k]);
+  }
+  std::vector<char> send(sendTotal), recv(recvTotal);
+  for (size_t k = 0; k < p; ++k) {
+    std::copy(out[k].begin(), out[k].end(), send.begin() + sendAt[k]);
+  }
+  MPI_Alltoallv(send.data(), sendCount.data(), sendAt.data(), MPI_BYTE, recv.data(),
+                recvCount.data(), recvAt.data(), MPI_BYTE, MPI_COMM_WORLD);
+  for (size_t k = 0; k < p; ++k) {
+    in[k].assign(recv.begin() + recvAt[k], recv.begin() + recvAt[k] + recvCount[k]);
+  }
+#endif
+  return in;
+}
+
+void Communicator::barrier() const {
+  if (!world_ || size_ == 1) return;
+#ifdef DEMLAB_HAVE_MPI
+  MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}
+
+}  // namespace demlab::mpi

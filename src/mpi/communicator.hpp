@@ -1,0 +1,61 @@
+// The ranks of a distributed run and the collective operations the domain decomposition needs
+// (doc/plans/mpi.md): sums and extremes over all ranks, and the exchange of byte buffers
+// between every pair of ranks (each rank hands one buffer per destination and receives one
+// per source). Built with MPI (DEMLAB_MPI), the world communicator once MPI_Init has run;
+// without MPI, or before MPI_Init, a single rank for which every collective is the identity,
+// so the code above it runs unchanged in a serial build.
+//
+// Every collective must be called by every rank, in the same order, with the same sizes where
+// the comment says so: that is MPI's rule, and a rank that skips one deadlocks the others.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace demlab::mpi {
+
+class Communicator {
+ public:
+  // Returns the world: every rank of the run (one, without MPI or before MPI_Init).
+  static Communicator& world();
+
+  // Returns a single-rank communicator, whatever MPI holds: for serial uses and tests.
+  static Communicator& self();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool distributed() const { return size_ > 1; }
+
+  // Replaces each value by its sum (max, min) over the ranks, element by element; every rank
+  // passes the same count. The sums of doubles are taken in rank order on one rank and
+  // broadcast, so every rank gets the same bits for the same inputs.
+  void sum(std::vector<double>& values) const;
+  void sum(std::vector<int64_t>& values) const;
+  void max(std::vector<double>& values) const;
+  void min(std::vector<double>& values) const;
+  double sum(double v) const;
+  int64_t sum(int64_t v) const;
+  double max(double v) const;
+  double min(double v) const;
+
+  // Returns every rank's values, rank by rank (each rank passes the same count).
+  std::vector<double> gather(const std::vector<double>& values) const;
+
+  // Sends out[k] to rank k (out has size() buffers; out[rank()] comes back to this rank
+  // untouched) and returns the buffers the ranks sent here, indexed by source rank.
+  std::vector<std::vector<char>> exchange(const std::vector<std::vector<char>>& out) const;
+
+  // Waits until every rank has come here.
+  void barrier() const;
+
+ private:
+  Communicator(int rank, int size, bool world) : rank_(rank), size_(size), world_(world) {}
+  int rank_ = 0, size_ = 1;
+  bool world_ = false;  // MPI_COMM_WORLD (else the single rank)
+};
+
+// Returns true if this build has MPI.
+bool built();
+
+}  // namespace demlab::mpi

@@ -1,0 +1,191 @@
+// The distributed parts on real ranks (ctest runs this program under mpirun on 1, 2 and 3
+// ranks): the collectives, the bisection of points spread over the ranks against the one rank's
+// bisection of all of them, the migration of elements to their owners, and the ghosts against
+// brute force over the whole scene (every rank makes the same scene from one seed and keeps its
+// share, so each can check its own result against all of it).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include "mpi/communicator.hpp"
+#include "mpi/partition.hpp"
+#include "mpi/reach.hpp"
+#include "mpi/records.hpp"
+
+namespace demlab::mpi {
+namespace {
+
+const Communicator& world() { return Communicator::world(); }
+
+// A grain as the ranks send it.
+struct Grain {
+  int64_t id;
+  Point<3> x;
+  double r;
+  double payload;  // a value only the id determines, to check nothing is mixed up
+};
+
+double payloadOf(int64_t id) { return std::sqrt(static_cast<double>(id) + 0.5); }
+
+// The whole scene (the same on every rank): a bed in the bottom third of a box, radii 1:4,
+// a few large grains.
+std::vector<Grain> scene(size_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Grain> g(n);
+  for (size_t i = 0; i < n; ++i) {
+    g[i].id = static_cast<int64_t>(i);
+    g[i].x = {u(rng), u(rng), u(rng) / 3};
+    g[i].r = i % 500 == 7 ? 0.05 : 0.002 * (1 + 3 * u(rng));
+    g[i].payload = payloadOf(g[i].id);
+  }
+  return g;
+}
+
+TEST(Ranks, SumsAreTakenInRankOrderAndAgreeEverywhere) {
+  const Communicator& c = world();
+  // Values whose sum depends on the order of addition.
+  const double mine = c.rank() % 2 ? 1e16 : 1.0 + c.rank();
+  const std::vector<double> all = c.gather({mine});
+  ASSERT_EQ(all.size(), static_cast<size_t>(c.size()));
+  double expect = all[0];
+  for (size_t k = 1; k < all.size(); ++k) expect += all[k];
+  const double got = c.sum(mine);
+  EXPECT_EQ(got, expect);
+  EXPECT_EQ(c.max(mine), *std::max_element(all.begin(), all.end()));
+  EXPECT_EQ(c.min(mine), *std::min_element(all.begin(), all.end()));
+  EXPECT_EQ(c.sum(int64_t{c.rank() + 1}), int64_t{c.size()} * (c.size() + 1) / 2);
+  // Every rank holds the same bits of the sum.
+  EXPECT_EQ(c.max(got), c.min(got));
+}
+
+TEST(Ranks, TheBisectionOfSpreadPointsIsTheBisectionOfAllOfThem) {
+  const Communicator& c = world();
+  const auto all = scene(20000, 3);
+  std::vector<Point<3>> everything, mine;
+  for (size_t i = 0; i < all.size(); ++i) {
+    everything.push_back(all[i].x);
+    if (static_cast<int>(i % static_cast<size_t>(c.size())) == c.rank()) mine.push_back(all[i].x);
+  }
+  for (int parts : {c.size(), 2 * c.size() + 1}) {
+    const Partition<3> spread = Partition<3>::bisect(mine, {}, parts, c);
+    const Partition<3> one = Partition<3>::bisect(everything, {}, parts, Communicator::self());
+    EXPECT_EQ(spread.parts(), one.parts());
+    for (int k = 0; k < std::min(parts, one.parts()); ++k) {
+      EXPECT_TRUE(spread.box(k) == one.box(k)) << k;
+    }
+  }
+}
+
+// Every rank starts with a share that has nothing to do with the space (by id), sends each grain
+// to the owner of its box, and must end with exactly the grains its box holds, each once, intact.
+TEST(Ranks, MigrationDeliversEachGrainToItsOwnerOnce) {
+  const Communicator& c = world();
+  const auto all = scene(15000, 5);
+  std::vector<Grain> mine;
+  std::vector<Point<3>> centres;
+  for (const Grain& g : all) {
+    if (g.id % c.size() == c.rank()) {
+      mine.push_back(g);
+      centres.push_back(g.x);
+    }
+  }
+  const Partition<3> part = Partition<3>::bisect(centres, {}, c.size(), c);
+  std::vector<std::vector<Grain>> out(static_cast<size_t>(c.size()));
+  for (const Grain& g : mine) out[static_cast<size_t>(part.ownerOf(g.x))].push_back(g);
+  const std::vector<Grain> owned = exchangeRecords(c, out);
+  std::vector<int64_t> want;
+  for (const Grain& g : all) {
+    if (part.box(c.rank()).contains(g.x)) want.push_back(g.id);
+  }
+  std::vector<int64_t> got;
+  for (const Grain& g : owned) {
+    got.push_back(g.id);
+    EXPECT_EQ(g.payload, payloadOf(g.id));
+    EXPECT_EQ(g.x, all[static_cast<size_t>(g.id)].x);
+  }
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(got, want);
+  EXPECT_EQ(c.sum(static_cast<int64_t>(owned.size())), static_cast<int64_t>(all.size()));
+  // Balanced on count: the bed's cuts go through it.
+  const std::vector<double> counts = c.gather({static_cast<double>(owned.size())});
+  EXPECT_LT(Partition<3>::imbalance(counts), 1.01);
+}
+
+// After migration, each rank sends its grains as ghosts to the ranks the reach table names; a
+// rank must then hold, owned or as a ghost, every grain that comes within the skin of one of
+// its own (brute force over the whole scene), and never a ghost of its own grain.
+TEST(Ranks, GhostsCoverEveryPairInReach) {
+  const Communicator& c = world();
+  const double skin = 0.001;
+  const auto all = scene(6000, 9);
+  std::vector<Point<3>> centres;
+  for (const Grain& g : all) {
+    if (g.id % c.size() == c.rank()) centres.push_back(g.x);
+  }
+  const Partition<3> part = Partition<3>::bisect(centres, {}, c.size(), c);
+  std::vector<Grain> owned;
+  for (const Grain& g : all) {
+    if (part.ownerOf(g.x) == c.rank()) owned.push_back(g);
+  }
+  std::vector<Point<3>> x;
+  std::vector<double> r;
+  for (const Grain& g : owned) {
+    x.push_back(g.x);
+    r.push_back(g.r);
+  }
+  const ReachTable<3> table = ReachTable<3>::gather(x, r, c);
+  std::vector<std::vector<Grain>> out(static_cast<size_t>(c.size()));
+  for (const Grain& g : owned) {
+    table.forEachRankNeeding(g.x, g.r, skin, c.rank(),
+                             [&](int k) { out[static_cast<size_t>(k)].push_back(g); });
+  }
+  const std::vector<Grain> ghosts = exchangeRecords(c, out);
+  std::vector<char> held(all.size(), 0);
+  for (const Grain& g : owned) held[static_cast<size_t>(g.id)] = 1;
+  for (const Grain& g : ghosts) {
+    EXPECT_EQ(held[static_cast<size_t>(g.id)], 0) << "a ghost of an owned grain, or twice";
+    held[static_cast<size_t>(g.id)] = 2;
+    EXPECT_EQ(g.payload, payloadOf(g.id));
+  }
+  size_t pairs = 0, missing = 0;
+  for (const Grain& a : owned) {
+    for (const Grain& b : all) {
+      if (b.id == a.id) continue;
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) d2 += (a.x[k] - b.x[k]) * (a.x[k] - b.x[k]);
+      const double reach = a.r + b.r + skin;
+      if (d2 < reach * reach) {
+        ++pairs;
+        missing += held[static_cast<size_t>(b.id)] == 0;
+      }
+    }
+  }
+  EXPECT_EQ(missing, 0u);
+  EXPECT_GT(c.sum(static_cast<int64_t>(pairs)), 0);
+  const int64_t sent = c.sum(static_cast<int64_t>(ghosts.size()));
+  if (c.size() > 1) {
+    EXPECT_GT(sent, 0);
+  }
+}
+
+}  // namespace
+}  // namespace demlab::mpi
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  testing::InitGoogleTest(&argc, argv);
+  // (The tests use no ASSERT before a collective: a rank that left a test early would leave
+  // the others waiting in it.)
+  const int failed = RUN_ALL_TESTS();
+  // The run fails if any rank failed.
+  int anyFailed = 0;
+  MPI_Allreduce(&failed, &anyFailed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return anyFailed;
+}
