@@ -35,3 +35,8 @@ if(MPI_CXX_FOUND)
       "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0")
   endforeach()
 endif()
+
+# What a distributed run of a scene would hold and send, for any number of ranks, measured on
+# one process (the scaling model's inputs; doc/performance.md).
+add_executable(bench_decompose ${DEMLAB_PROGRAM_SCOPE} bench/bench_decompose.cpp)
+target_link_libraries(bench_decompose PRIVATE demlab_mpi demlab_io)

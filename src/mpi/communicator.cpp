@@ -168,6 +168,36 @@ std::vector<std::vector<char>> Communicator::exchange(
   return in;
 }
 
+void Communicator::exchangeWith(const std::vector<int>& to,
+                                const std::vector<std::vector<char>>& out,
+                                const std::vector<int>& from,
+                                std::vector<std::vector<char>>& in) const {
+  if (to.size() != out.size() || from.size() != in.size()) {
+    throw std::invalid_argument("mpi: one buffer per rank named");
+  }
+  if (!world_ || size_ == 1) {
+    // One rank: whatever it sends to itself is what it receives.
+    for (size_t j = 0; j < from.size(); ++j) {
+      for (size_t i = 0; i < to.size(); ++i) {
+        if (to[i] == from[j]) in[j] = out[i];
+      }
+    }
+    return;
+  }
+#ifdef DEMLAB_HAVE_MPI
+  std::vector<MPI_Request> requests(to.size() + from.size());
+  for (size_t j = 0; j < from.size(); ++j) {
+    MPI_Irecv(in[j].data(), countOf(in[j].size()), MPI_BYTE, from[j], 0, MPI_COMM_WORLD,
+              &requests[j]);
+  }
+  for (size_t i = 0; i < to.size(); ++i) {
+    MPI_Isend(out[i].data(), countOf(out[i].size()), MPI_BYTE, to[i], 0, MPI_COMM_WORLD,
+              &requests[from.size() + i]);
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+#endif
+}
+
 void Communicator::barrier() const {
   if (!world_ || size_ == 1) return;
 #ifdef DEMLAB_HAVE_MPI

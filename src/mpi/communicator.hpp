@@ -46,6 +46,14 @@ class Communicator {
   // untouched) and returns the buffers the ranks sent here, indexed by source rank.
   std::vector<std::vector<char>> exchange(const std::vector<std::vector<char>>& out) const;
 
+  // Sends out[i] to rank to[i] and receives in[j] from rank from[j], point to point with those
+  // ranks only (the step's exchange with the neighbouring ranks; exchange() above talks to every
+  // rank). in[j] must already have the size rank from[j] sends: the ranks agree on the lists
+  // beforehand (GhostPlan makes them with one exchange() at a search). Not a collective: only
+  // the ranks named take part, each send matched by a receive.
+  void exchangeWith(const std::vector<int>& to, const std::vector<std::vector<char>>& out,
+                    const std::vector<int>& from, std::vector<std::vector<char>>& in) const;
+
   // Waits until every rank has come here.
   void barrier() const;
 

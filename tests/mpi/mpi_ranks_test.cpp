@@ -13,6 +13,7 @@
 #include <mpi.h>
 
 #include "mpi/communicator.hpp"
+#include "mpi/ghost_plan.hpp"
 #include "mpi/partition.hpp"
 #include "mpi/reach.hpp"
 #include "mpi/records.hpp"
@@ -171,6 +172,68 @@ TEST(Ranks, GhostsCoverEveryPairInReach) {
   const int64_t sent = c.sum(static_cast<int64_t>(ghosts.size()));
   if (c.size() > 1) {
     EXPECT_GT(sent, 0);
+  }
+}
+
+// The plan made at a search sends the owners' states every step: the ghosts a rank receives are
+// exactly the grains the reach table gives it (computed here from the whole scene), and after
+// each step's moves every ghost holds its owner's new position, in the same place every step.
+TEST(Ranks, TheGhostPlanSendsTheOwnersStatesEveryStep) {
+  const Communicator& c = world();
+  const double skin = 0.001;
+  const auto all = scene(8000, 13);
+  std::vector<Point<3>> start;
+  for (const Grain& g : all) {
+    if (g.id % c.size() == c.rank()) start.push_back(g.x);
+  }
+  const Partition<3> part = Partition<3>::bisect(start, {}, c.size(), c);
+  std::vector<Grain> owned;
+  std::vector<Point<3>> x;
+  std::vector<double> r;
+  std::vector<int64_t> ids;
+  for (const Grain& g : all) {
+    if (part.ownerOf(g.x) != c.rank()) continue;
+    owned.push_back(g);
+    x.push_back(g.x);
+    r.push_back(g.r);
+    ids.push_back(g.id);
+  }
+  const ReachTable<3> table = ReachTable<3>::gather(x, r, c);
+  const GhostPlan<3> plan = GhostPlan<3>::make(table, x, r, skin, c);
+  // The ghosts this rank should get: every other rank's grains the table sends here.
+  std::vector<int64_t> want;
+  for (const Grain& g : all) {
+    const int owner = part.ownerOf(g.x);
+    if (owner == c.rank()) continue;
+    bool here = false;
+    table.forEachRankNeeding(g.x, g.r, skin, owner, [&](int k) { here |= k == c.rank(); });
+    if (here) want.push_back(g.id);
+  }
+  const std::vector<int64_t> ghostIds = plan.forward(ids, c);
+  std::vector<int64_t> got = ghostIds;
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(got, want);
+  EXPECT_EQ(plan.ghosts(), want.size());
+  EXPECT_EQ(c.sum(static_cast<int64_t>(plan.sent())), c.sum(static_cast<int64_t>(plan.ghosts())));
+  if (c.size() > 1) {
+    EXPECT_FALSE(plan.receiveRanks().empty());
+  }
+  // Three steps: every grain moves by a function of its id and the step.
+  const auto moved = [](int64_t id, int step, const Point<3>& p) {
+    Point<3> q = p;
+    for (int k = 0; k < 3; ++k) q[k] += 1e-5 * std::sin(0.37 * id + 1.3 * step + k);
+    return q;
+  };
+  for (int step = 1; step <= 3; ++step) {
+    for (size_t i = 0; i < x.size(); ++i) x[i] = moved(ids[i], step, x[i]);
+    const std::vector<Point<3>> ghostX = plan.forward(x, c);
+    size_t wrong = ghostX.size() == ghostIds.size() ? 0 : 1;
+    for (size_t g = 0; g < ghostX.size() && g < ghostIds.size(); ++g) {
+      Point<3> p = all[static_cast<size_t>(ghostIds[g])].x;
+      for (int s = 1; s <= step; ++s) p = moved(ghostIds[g], s, p);
+      wrong += ghostX[g] != p;
+    }
+    EXPECT_EQ(wrong, 0u) << "step " << step;
   }
 }
 
