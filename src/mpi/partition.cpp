@@ -74,9 +74,11 @@ struct Split {
   bool active = false;
 };
 
-// Returns interior edge i (1 .. kBins - 1) of [ea, eb): the same bits on every rank.
+// Returns interior edge i (1 .. kBins - 1) of [ea, eb): the same bits on every rank, rising
+// with i, and no overflow where eb - ea exceeds the largest double (half the width, added twice).
 double edgeOf(const Split& s, int i) {
-  return s.ea + (s.eb - s.ea) * (static_cast<double>(i) / kBins);
+  const double half = (0.5 * s.eb - 0.5 * s.ea) * (static_cast<double>(i) / kBins);
+  return s.ea + half + half;
 }
 
 // Returns a cut inside box b on axis a when the node holds no point: the box's middle where
@@ -101,6 +103,16 @@ Partition<D> Partition<D>::bisect(const std::vector<Point<D>>& points,
     throw std::invalid_argument("partition: one weight per point");
   }
   const auto weightOf = [&](size_t i) { return weights.empty() ? 1.0 : weights[i]; };
+  // Refused on every rank alike (a rank that threw alone would leave the others waiting in the
+  // next reduction): a coordinate that is not finite, a weight that is negative or not finite.
+  int64_t bad = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (int a = 0; a < D; ++a) bad += !std::isfinite(points[i][a]);
+    bad += !(weightOf(i) >= 0 && std::isfinite(weightOf(i)));
+  }
+  if (comm.sum(bad) > 0) {
+    throw std::invalid_argument("partition: a point not finite or a weight not finite and >= 0");
+  }
   Partition out;
   Node root;
   root.box = Box<D>::all();
@@ -173,7 +185,9 @@ Partition<D> Partition<D>::bisect(const std::vector<Point<D>>& points,
         const double x = points[i][sp.axis];
         if (!(sp.ea <= x && x < sp.eb)) continue;
         // The first edge above x: x counts below it and every later one.
-        int bin = std::clamp(static_cast<int>((x - sp.ea) / (sp.eb - sp.ea) * kBins), 0, kBins - 1);
+        // (A guess the two loops below correct.)
+        const double guess = (0.5 * x - 0.5 * sp.ea) / (0.5 * sp.eb - 0.5 * sp.ea) * kBins;
+        int bin = guess >= 0 && guess < kBins ? static_cast<int>(guess) : guess >= kBins ? kBins - 1 : 0;
         while (bin > 0 && x < edgeOf(sp, bin)) --bin;
         while (bin < kBins - 1 && x >= edgeOf(sp, bin + 1)) ++bin;
         if (bin < kBins - 1) below[static_cast<size_t>(s) * (kBins - 1) + bin] += weightOf(i);

@@ -60,6 +60,15 @@ ReachTable<D> ReachTable<D>::of(std::vector<std::vector<Class>> perRank) {
 template <int D>
 ReachTable<D> ReachTable<D>::gather(const std::vector<Point<D>>& centres,
                                     const std::vector<double>& radii, const Communicator& comm) {
+  // Refused on every rank alike (one throwing alone would leave the others in the exchange).
+  int64_t bad = centres.size() != radii.size();
+  for (size_t i = 0; i < centres.size() && i < radii.size(); ++i) {
+    for (int a = 0; a < D; ++a) bad += !std::isfinite(centres[i][a]);
+    bad += !(radii[i] >= 0 && std::isfinite(radii[i]));
+  }
+  if (comm.sum(bad) > 0) {
+    throw std::invalid_argument("reach: a centre not finite or a radius not finite and >= 0");
+  }
   const std::vector<Class> mine = classesOf(centres, radii);
   // Sent to every rank as 2 D + 1 doubles a class.
   constexpr size_t kBytes = (2 * D + 1) * sizeof(double);

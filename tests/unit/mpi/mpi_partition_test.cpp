@@ -4,6 +4,7 @@
 // where a bed fills part of its box, and forEachNear lists exactly the boxes within reach.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <type_traits>
 #include <vector>
@@ -158,10 +159,41 @@ TEST(Partition, ForEachNearListsExactlyTheBoxesWithinReach) {
 }
 
 TEST(Partition, BadArgumentsAreRefused) {
-  const auto points = randomPoints<2>(10, 1);
+  auto points = randomPoints<2>(10, 1);
   EXPECT_THROW(Partition<2>::bisect(points, {}, 0, Communicator::self()), std::invalid_argument);
   EXPECT_THROW(Partition<2>::bisect(points, {1.0, 2.0}, 2, Communicator::self()),
                std::invalid_argument);
+  std::vector<double> weights(points.size(), 1.0);
+  weights[3] = -1;
+  EXPECT_THROW(Partition<2>::bisect(points, weights, 2, Communicator::self()),
+               std::invalid_argument);
+  weights[3] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(Partition<2>::bisect(points, weights, 2, Communicator::self()),
+               std::invalid_argument);
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(),
+                           std::numeric_limits<double>::infinity()}) {
+    auto withBad = points;
+    withBad[4][1] = bad;
+    EXPECT_THROW(Partition<2>::bisect(withBad, {}, 3, Communicator::self()),
+                 std::invalid_argument);
+  }
+}
+
+// Coordinates near the largest doubles (their spread overflows): the bisection still ends,
+// balanced, and every point has one box.
+TEST(Partition, CoordinatesNearTheLargestDoublesStillSplit) {
+  auto points = randomPoints<3>(2000, 21);
+  for (size_t i = 0; i < points.size(); ++i) {
+    points[i][0] = (points[i][0] - 0.5) * 2.0 * 1e308;  // a spread near 2e308: more than DBL_MAX
+    points[i][1] *= i % 2 ? 1e-300 : 1e300;
+  }
+  for (int parts : {2, 5}) {
+    const Partition<3> part = Partition<3>::bisect(points, {}, parts, Communicator::self());
+    for (const auto& p : points) ASSERT_EQ(holders(part, p).size(), 1u);
+    std::vector<double> count(static_cast<size_t>(parts), 0.0);
+    for (const auto& p : points) count[static_cast<size_t>(part.ownerOf(p))] += 1;
+    EXPECT_LT(Partition<3>::imbalance(count), 1.01) << parts;
+  }
 }
 
 }  // namespace mpi_partition_test

@@ -157,5 +157,20 @@ TEST(ReachTable, ALargeElementBringsOnlyWhatItReaches) {
   EXPECT_GT(perRank, 3 * ours);
 }
 
+TEST(ReachTable, BadElementsAreRefused) {
+  const std::vector<Point<3>> c{{0, 0, 0}, {1, 1, 1}};
+  EXPECT_THROW(ReachTable<3>::gather(c, {1.0}, Communicator::self()), std::invalid_argument);
+  EXPECT_THROW(ReachTable<3>::gather(c, {1.0, -1.0}, Communicator::self()), std::invalid_argument);
+  EXPECT_THROW(ReachTable<3>::gather({{0, 0, 0}, {std::nan(""), 0, 0}}, {1.0, 1.0},
+                                     Communicator::self()),
+               std::invalid_argument);
+  EXPECT_THROW(ReachTable<3>::of({}), std::invalid_argument);
+  // A table of one rank sends nothing anywhere.
+  const ReachTable<3> one = ReachTable<3>::gather(c, {1.0, 2.0}, Communicator::self());
+  int calls = 0;
+  one.forEachRankNeeding({0, 0, 0}, 1.0, 0.1, 0, [&](int) { ++calls; });
+  EXPECT_EQ(calls, 0);
+}
+
 }  // namespace mpi_reach_test
 }  // namespace demlab::mpi
