@@ -40,3 +40,10 @@ endif()
 # one process (the scaling model's inputs; doc/performance.md).
 add_executable(bench_decompose ${DEMLAB_PROGRAM_SCOPE} bench/bench_decompose.cpp)
 target_link_libraries(bench_decompose PRIVATE demlab_mpi demlab_io)
+
+# The decomposition's own costs on real ranks: a search's bisection, migration, reach table
+# and ghost plan, and a step's exchange (run under mpirun).
+if(MPI_CXX_FOUND)
+  add_executable(bench_exchange ${DEMLAB_PROGRAM_SCOPE} bench/bench_exchange.cpp)
+  target_link_libraries(bench_exchange PRIVATE demlab_mpi demlab_io)
+endif()
