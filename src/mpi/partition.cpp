@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
@@ -70,7 +71,8 @@ struct Split {
   int node = 0;
   int axis = 0;
   double target = 0;
-  double ea = 0, eb = 0, wa = 0, wb = 0;
+  double ea = 0, eb = 0;
+  int64_t wa = 0, wb = 0;
   bool active = false;
 };
 
@@ -102,17 +104,36 @@ Partition<D> Partition<D>::bisect(const std::vector<Point<D>>& points,
   if (!weights.empty() && weights.size() != points.size()) {
     throw std::invalid_argument("partition: one weight per point");
   }
-  const auto weightOf = [&](size_t i) { return weights.empty() ? 1.0 : weights[i]; };
   // Refused on every rank alike (a rank that threw alone would leave the others waiting in the
   // next reduction): a coordinate that is not finite, a weight that is negative or not finite.
   int64_t bad = 0;
+  double heaviest = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     for (int a = 0; a < D; ++a) bad += !std::isfinite(points[i][a]);
-    bad += !(weightOf(i) >= 0 && std::isfinite(weightOf(i)));
+    if (!weights.empty()) {
+      bad += !(weights[i] >= 0 && std::isfinite(weights[i]));
+      heaviest = std::max(heaviest, weights[i]);
+    }
   }
   if (comm.sum(bad) > 0) {
     throw std::invalid_argument("partition: a point not finite or a weight not finite and >= 0");
   }
+  // The weights as integers, so every sum is exact and reduced by MPI in one step whatever the
+  // number of ranks (a sum of doubles in rank order gathers every rank's histogram to one):
+  // 1 each without weights (counts), else scaled so that all of them sum to at most 2^62.
+  std::vector<int64_t> quantum;
+  if (!weights.empty()) {
+    heaviest = comm.max(heaviest);
+    const double n = static_cast<double>(comm.sum(static_cast<int64_t>(points.size())));
+    if (heaviest > 0) {
+      const double scale = std::ldexp(1.0, 62) / (n * heaviest);
+      quantum.resize(points.size());
+      for (size_t i = 0; i < points.size(); ++i) {
+        quantum[i] = static_cast<int64_t>(weights[i] * scale);
+      }
+    }
+  }
+  const auto weightOf = [&](size_t i) { return quantum.empty() ? int64_t{1} : quantum[i]; };
   Partition out;
   Node root;
   root.box = Box<D>::all();
@@ -135,7 +156,8 @@ Partition<D> Partition<D>::bisect(const std::vector<Point<D>>& points,
     std::vector<int> slot(out.nodes_.size(), -1);
     for (size_t s = 0; s < m; ++s) slot[static_cast<size_t>(splits[s].node)] = static_cast<int>(s);
     // The extent and weight of each node's points, over all ranks.
-    std::vector<double> lo(m * D, kInf), hi(m * D, -kInf), total(m, 0.0);
+    std::vector<double> lo(m * D, kInf), hi(m * D, -kInf);
+    std::vector<int64_t> total(m, 0);
     for (size_t i = 0; i < points.size(); ++i) {
       const int s = slot[static_cast<size_t>(nodeOf[i])];
       if (s < 0) continue;
@@ -159,7 +181,7 @@ Partition<D> Partition<D>::bisect(const std::vector<Point<D>>& points,
         }
       }
       const int lowRanks = node.ranks / 2;
-      sp.target = total[s] * lowRanks / node.ranks;
+      sp.target = static_cast<double>(total[s]) * lowRanks / node.ranks;
       if (!(spread >= 0)) {  // no point: any cut inside the box
         sp.axis = 0;
         sp.ea = sp.eb = emptyCut(node.box, 0);
@@ -172,12 +194,12 @@ Partition<D> Partition<D>::bisect(const std::vector<Point<D>>& points,
       sp.active = sp.target > 0 && std::nextafter(sp.ea, kInf) < sp.eb;
     }
     // Histogram refinement, all the level's nodes in one reduction a round.
-    std::vector<double> below(m * (kBins - 1));
+    std::vector<int64_t> below(m * (kBins - 1));
     for (int round = 0; round < kMaxRounds; ++round) {
       bool any = false;
       for (const Split& sp : splits) any |= sp.active;
       if (!any) break;
-      std::fill(below.begin(), below.end(), 0.0);
+      std::fill(below.begin(), below.end(), int64_t{0});
       for (size_t i = 0; i < points.size(); ++i) {
         const int s = slot[static_cast<size_t>(nodeOf[i])];
         if (s < 0 || !splits[static_cast<size_t>(s)].active) continue;
@@ -196,12 +218,13 @@ Partition<D> Partition<D>::bisect(const std::vector<Point<D>>& points,
       for (size_t s = 0; s < m; ++s) {
         Split& sp = splits[s];
         if (!sp.active) continue;
-        double w = sp.wa, prevEdge = sp.ea, prevW = sp.wa;
+        int64_t w = sp.wa, prevW = sp.wa;
+        double prevEdge = sp.ea;
         bool found = false;
         for (int i = 1; i < kBins; ++i) {
           w += below[s * (kBins - 1) + static_cast<size_t>(i - 1)];
           const double e = edgeOf(sp, i);
-          if (w >= sp.target) {
+          if (static_cast<double>(w) >= sp.target) {
             sp.ea = prevEdge;
             sp.wa = prevW;
             sp.eb = e;
@@ -216,14 +239,16 @@ Partition<D> Partition<D>::bisect(const std::vector<Point<D>>& points,
           sp.ea = prevEdge;
           sp.wa = prevW;
         }
-        sp.active = sp.wa < sp.target && std::nextafter(sp.ea, kInf) < sp.eb;
+        sp.active = static_cast<double>(sp.wa) < sp.target && std::nextafter(sp.ea, kInf) < sp.eb;
       }
     }
     // The cuts and the children.
     std::vector<int> next;
     for (size_t s = 0; s < m; ++s) {
       const Split& sp = splits[s];
-      const double cut = sp.target - sp.wa <= sp.wb - sp.target ? sp.ea : sp.eb;
+      const double cut = sp.target - static_cast<double>(sp.wa) <= static_cast<double>(sp.wb) - sp.target
+                             ? sp.ea
+                             : sp.eb;
       Node& node = out.nodes_[static_cast<size_t>(sp.node)];
       node.axis = sp.axis;
       node.cut = cut;

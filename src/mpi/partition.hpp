@@ -7,13 +7,14 @@
 // takes floor(p/2) of its p ranks. The root box is all of space, so every point has an owner
 // however far it flies. The cut is found by histogram refinement: each round every rank counts
 // its points of every open node into 64 bins, the counts are summed over the ranks (one
-// reduction for all the nodes of a level), and the bin where the weight below crosses the target
-// becomes the next interval; about ten rounds reach adjacent doubles. A point on a cut belongs
-// to the high side.
+// reduction for all the nodes of a level), and the bin where the weight below crosses the
+// target becomes the next interval; about ten rounds reach adjacent doubles. A point on a cut
+// belongs to the high side.
 //
-// The same code partitions one rank's points (Communicator::self()) and all ranks' (the world):
-// with unit weights the sums are exact, so the boxes are the same bits either way, which the
-// tests check.
+// The weights are summed as integers (1 a point, or the weights scaled so that all of them sum
+// to at most 2^62): every sum is exact and MPI reduces it in one step for any number of ranks.
+// So the same code partitions one rank's points (Communicator::self()) and all ranks' (the
+// world) to the same bits, which the tests check.
 #pragma once
 
 #include <array>

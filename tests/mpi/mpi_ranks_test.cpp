@@ -73,12 +73,24 @@ TEST(Ranks, TheBisectionOfSpreadPointsIsTheBisectionOfAllOfThem) {
     everything.push_back(all[i].x);
     if (static_cast<int>(i % static_cast<size_t>(c.size())) == c.rank()) mine.push_back(all[i].x);
   }
-  for (int parts : {c.size(), 2 * c.size() + 1}) {
-    const Partition<3> spread = Partition<3>::bisect(mine, {}, parts, c);
-    const Partition<3> one = Partition<3>::bisect(everything, {}, parts, Communicator::self());
-    EXPECT_EQ(spread.parts(), one.parts());
-    for (int k = 0; k < std::min(parts, one.parts()); ++k) {
-      EXPECT_TRUE(spread.box(k) == one.box(k)) << k;
+  // Weights: a cost per grain that only its id determines.
+  std::vector<double> weightsAll, weightsMine;
+  for (size_t i = 0; i < all.size(); ++i) {
+    weightsAll.push_back(1 + std::fmod(0.618 * static_cast<double>(i), 7.0));
+    if (static_cast<int>(i % static_cast<size_t>(c.size())) == c.rank()) {
+      weightsMine.push_back(weightsAll.back());
+    }
+  }
+  for (const bool weighted : {false, true}) {
+    for (int parts : {c.size(), 2 * c.size() + 1}) {
+      const Partition<3> spread =
+          Partition<3>::bisect(mine, weighted ? weightsMine : std::vector<double>{}, parts, c);
+      const Partition<3> one = Partition<3>::bisect(
+          everything, weighted ? weightsAll : std::vector<double>{}, parts, Communicator::self());
+      EXPECT_EQ(spread.parts(), one.parts());
+      for (int k = 0; k < std::min(parts, one.parts()); ++k) {
+        EXPECT_TRUE(spread.box(k) == one.box(k)) << k << (weighted ? " weighted" : "");
+      }
     }
   }
 }
