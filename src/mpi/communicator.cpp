@@ -136,6 +136,29 @@ std::vector<double> Communicator::gather(const std::vector<double>& values) cons
   return all;
 }
 
+std::vector<std::vector<char>> Communicator::gatherBytes(const std::vector<char>& mine) const {
+  if (!world_ || size_ == 1) return {mine};
+  const size_t p = static_cast<size_t>(size_);
+  std::vector<std::vector<char>> all(p);
+#ifdef DEMLAB_HAVE_MPI
+  const int n = countOf(mine.size());
+  std::vector<int> count(p), at(p);
+  MPI_Allgather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  size_t total = 0;
+  for (size_t k = 0; k < p; ++k) {
+    at[k] = countOf(total);
+    total += static_cast<size_t>(count[k]);
+  }
+  std::vector<char> joined(total);
+  MPI_Allgatherv(mine.data(), n, MPI_BYTE, joined.data(), count.data(), at.data(), MPI_BYTE,
+                 MPI_COMM_WORLD);
+  for (size_t k = 0; k < p; ++k) {
+    all[k].assign(joined.begin() + at[k], joined.begin() + at[k] + count[k]);
+  }
+#endif
+  return all;
+}
+
 std::vector<std::vector<char>> Communicator::exchange(
     const std::vector<std::vector<char>>& out) const {
   if (out.size() != static_cast<size_t>(size_)) {

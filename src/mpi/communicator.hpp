@@ -42,6 +42,9 @@ class Communicator {
   // Returns every rank's values, rank by rank (each rank passes the same count).
   std::vector<double> gather(const std::vector<double>& values) const;
 
+  // Returns every rank's buffer, indexed by rank (each rank passes its own, of any size).
+  std::vector<std::vector<char>> gatherBytes(const std::vector<char>& mine) const;
+
   // Sends out[k] to rank k (out has size() buffers; out[rank()] comes back to this rank
   // untouched) and returns the buffers the ranks sent here, indexed by source rank.
   std::vector<std::vector<char>> exchange(const std::vector<std::vector<char>>& out) const;

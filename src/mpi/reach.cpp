@@ -70,7 +70,7 @@ ReachTable<D> ReachTable<D>::gather(const std::vector<Point<D>>& centres,
     throw std::invalid_argument("reach: a centre not finite or a radius not finite and >= 0");
   }
   const std::vector<Class> mine = classesOf(centres, radii);
-  // Sent to every rank as 2 D + 1 doubles a class.
+  // Gathered on every rank as 2 D + 1 doubles a class.
   constexpr size_t kBytes = (2 * D + 1) * sizeof(double);
   std::vector<char> packed(mine.size() * kBytes);
   for (size_t c = 0; c < mine.size(); ++c) {
@@ -79,8 +79,7 @@ ReachTable<D> ReachTable<D>::gather(const std::vector<Point<D>>& centres,
     std::memcpy(p + D * sizeof(double), mine[c].centres.hi.data(), D * sizeof(double));
     std::memcpy(p + 2 * D * sizeof(double), &mine[c].radius, sizeof(double));
   }
-  const std::vector<std::vector<char>> all =
-      comm.exchange(std::vector<std::vector<char>>(static_cast<size_t>(comm.size()), packed));
+  const std::vector<std::vector<char>> all = comm.gatherBytes(packed);
   std::vector<std::vector<Class>> perRank(all.size());
   for (size_t r = 0; r < all.size(); ++r) {
     for (size_t c = 0; c < all[r].size() / kBytes; ++c) {
