@@ -29,7 +29,9 @@ class Communicator {
 
   // Replaces each value by its sum (max, min) over the ranks, element by element; every rank
   // passes the same count. The sums of doubles are taken in rank order on one rank and
-  // broadcast, so every rank gets the same bits for the same inputs.
+  // broadcast, so every rank gets the same bits for the same inputs; that gathers every rank's
+  // vector on rank 0, so it is for a few values (energies, forces on walls): long sums go as
+  // integers (Partition quantizes its weights), which MPI reduces exactly in one step.
   void sum(std::vector<double>& values) const;
   void sum(std::vector<int64_t>& values) const;
   void max(std::vector<double>& values) const;
