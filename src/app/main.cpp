@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -23,6 +24,19 @@ const char* kUsage =
     "       demlab --markdown          print the command reference (Markdown)\n"
     "       demlab --declarations      print the command declarations as a Tcl list of dicts\n"
     "       demlab --help | --version\n";
+
+// Returns the number of processes the launcher started this one among (mpirun's, OpenMPI's
+// OMPI_COMM_WORLD_SIZE; MPICH's and Slurm's PMI_SIZE), or 1.
+int launchedRanks() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* v = std::getenv(name);
+    if (v == nullptr) continue;
+    char* end = nullptr;
+    const long n = std::strtol(v, &end, 10);
+    if (end != v && *end == '\0' && n > 1) return n > 1000000 ? 1000000 : static_cast<int>(n);
+  }
+  return 1;
+}
 
 }  // namespace
 
@@ -44,6 +58,16 @@ int main(int argc, char** argv) {
   if (argc > 1 && std::strcmp(argv[1], "--version") == 0) {
     std::printf("demlab %s\n", DEMLAB_PKG_VERSION);
     return 0;
+  }
+  // Started as one of several ranks by mpirun: each would run the whole script as its own
+  // serial scene and write the same files at once. Refused until the distributed run exists
+  // (doc/plans/mpi.md).
+  if (const int ranks = launchedRanks(); ranks > 1) {
+    std::fprintf(stderr,
+                 "demlab: started as one of %d ranks by mpirun; distributed runs are not built "
+                 "yet (doc/plans/mpi.md): run one demlab per scene\n",
+                 ranks);
+    return 2;
   }
   // A bad $DEMLAB_THREADS is named once, here; the run goes on with every core.
   const char* threadsError = nullptr;
