@@ -37,17 +37,6 @@ using demlab::mpi::ReachTable;
 
 constexpr double kBytesPerGhost = 13 * sizeof(double);  // x, v, w, q
 
-std::string stem(const std::string& path) {
-  std::string s = path.substr(path.find_last_of('/') + 1);
-  for (const char* ext : {".gz", ".data"}) {
-    const std::string e(ext);
-    if (s.size() > e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0) {
-      s.resize(s.size() - e.size());
-    }
-  }
-  return s;
-}
-
 void measure(const std::string& scene, const std::vector<Point<3>>& x, const std::vector<double>& r,
              int parts, double skin) {
   const Partition<3> part = Partition<3>::bisect(x, {}, parts, Communicator::self());
@@ -154,7 +143,7 @@ int main(int argc, char** argv) {
       x[i] = {d.positions[i].x(), d.positions[i].y(), d.positions[i].z()};
       r[i] = d.diameters[i] / 2;
     }
-    for (int p : parts) measure(stem(f), x, r, p, skin);
+    for (int p : parts) measure(demlab::io::sceneName(f), x, r, p, skin);
   }
   return 0;
 }

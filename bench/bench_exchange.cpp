@@ -41,14 +41,6 @@ double seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-std::string stem(const std::string& path) {
-  std::string s = path.substr(path.find_last_of('/') + 1);
-  for (const std::string e : {".gz", ".data"}) {
-    if (s.size() > e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0) s.resize(s.size() - e.size());
-  }
-  return s;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -114,7 +106,11 @@ int main(int argc, char** argv) {
     c.barrier();
     const double t1 = seconds();
     size_t received = 0;
-    for (long s = 0; s < steps; ++s) received += plan.forward(state, c).size();
+    std::vector<State> ghosts;
+    for (long s = 0; s < steps; ++s) {
+      plan.forward(state, c, ghosts);
+      received += ghosts.size();
+    }
     const double step = c.max(seconds() - t1) / static_cast<double>(std::max(1L, steps));
     const double ownedMax = c.max(static_cast<double>(owned.size()));
     const double ghostsMax = c.max(static_cast<double>(plan.ghosts()));
@@ -122,7 +118,7 @@ int main(int argc, char** argv) {
     const double nbMax = c.max(static_cast<double>(
         std::max(plan.sendRanks().size(), plan.receiveRanks().size())));
     if (c.rank() == 0) {
-      std::printf("%s,%zu,%d,%.0f,%.0f,%.0f,%.0f,%.3f,%.2f\n", stem(f).c_str(), d.positions.size(),
+      std::printf("%s,%zu,%d,%.0f,%.0f,%.0f,%.0f,%.3f,%.2f\n", demlab::io::sceneName(f).c_str(), d.positions.size(),
                   c.size(), ownedMax, ghostsMax, sentMax, nbMax, 1e3 * search, 1e6 * step);
     }
     if (received != plan.ghosts() * static_cast<size_t>(steps)) std::abort();

@@ -46,7 +46,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <filesystem>
 #include <map>
 #include <string>
 #include <string_view>
@@ -204,15 +203,6 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-// Returns the scene name of a data file: its file name without .gz and .data.
-std::string sceneName(const std::string& path) {
-  std::string s = std::filesystem::path(path).filename().string();
-  for (std::string_view ext : {".gz", ".data"}) {
-    if (s.size() > ext.size() && s.ends_with(ext)) s.resize(s.size() - ext.size());
-  }
-  return s;
-}
-
 // Returns the CPU time (user + system) the process has used so far, in seconds.
 double cpuSeconds() {
   rusage u{};
@@ -345,7 +335,7 @@ void runOne(const std::string& path, const Options& o, const Variant& v) {
   // checked Defs of each batch) were freed below blocks still in use, where the allocator
   // keeps their pages resident: returned to the system now, before the run.
   malloc_trim(0);
-  const std::string name = sceneName(path) + std::string(v.suffix);
+  const std::string name = io::sceneName(path) + std::string(v.suffix);
   std::string modules;
   for (const auto& m : s->listModules()) modules += (modules.empty() ? "" : " ") + m;
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <string_view>
 
@@ -470,6 +471,14 @@ SphereData Parser::run() {
 
 SphereData readLammpsData(const std::string& path) {
   return Parser(path).run();
+}
+
+std::string sceneName(const std::string& path) {
+  std::string s = std::filesystem::path(path).filename().string();
+  for (std::string_view ext : {".gz", ".data"}) {
+    if (s.size() > ext.size() && s.ends_with(ext)) s.resize(s.size() - ext.size());
+  }
+  return s;
 }
 
 }  // namespace demlab::io

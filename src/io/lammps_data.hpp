@@ -61,4 +61,8 @@ struct SphereData {
 // file's first bytes). Changes nothing. Throws demlab::Error as described above.
 SphereData readLammpsData(const std::string& path);
 
+// Returns the scene name the benchmarks give a data file: its file name without .gz and .data
+// (mono_10k_dense.data.gz -> mono_10k_dense).
+std::string sceneName(const std::string& path);
+
 }  // namespace demlab::io

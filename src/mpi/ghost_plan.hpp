@@ -67,29 +67,31 @@ class GhostPlan {
   const std::vector<int>& sendRanks() const { return to_; }
   const std::vector<int>& receiveRanks() const { return from_; }
 
-  // Sends owned[i] of every owned element a rank holds as a ghost and returns the ghosts'
-  // values, in ghost order. Every rank of the plan calls it, with the owned elements of make().
+  // Sends owned[i] of every owned element a rank holds as a ghost and sets ghosts to the
+  // ghosts' values, in ghost order. Every rank of the plan calls it, with the owned elements of
+  // make(). The message buffers are the plan's, kept from step to step: a step allocates
+  // nothing once they have grown. Changes ghosts and the buffers.
   template <class T>
-  std::vector<T> forward(const std::vector<T>& owned, const Communicator& comm) const {
+  void forward(const std::vector<T>& owned, const Communicator& comm, std::vector<T>& ghosts) const {
     static_assert(std::is_trivially_copyable_v<T>);
-    std::vector<std::vector<char>> out(to_.size()), in(from_.size());
+    out_.resize(to_.size());
+    in_.resize(from_.size());
     for (size_t i = 0; i < to_.size(); ++i) {
-      out[i].resize(send_[i].size() * sizeof(T));
-      char* p = out[i].data();
+      out_[i].resize(send_[i].size() * sizeof(T));
+      char* p = out_[i].data();
       for (const uint32_t e : send_[i]) {
         std::memcpy(p, &owned[e], sizeof(T));
         p += sizeof(T);
       }
     }
-    for (size_t j = 0; j < from_.size(); ++j) in[j].resize(recv_[j] * sizeof(T));
-    comm.exchangeWith(to_, out, from_, in);
-    std::vector<T> ghosts(ghosts_);
+    for (size_t j = 0; j < from_.size(); ++j) in_[j].resize(recv_[j] * sizeof(T));
+    comm.exchangeWith(to_, out_, from_, in_);
+    ghosts.resize(ghosts_);
     size_t at = 0;
-    for (const auto& b : in) {
+    for (const auto& b : in_) {
       if (!b.empty()) std::memcpy(static_cast<void*>(ghosts.data() + at), b.data(), b.size());
       at += b.size() / sizeof(T);
     }
-    return ghosts;
   }
 
  private:
@@ -97,6 +99,7 @@ class GhostPlan {
   std::vector<std::vector<uint32_t>> send_;  // per rank of to_: the owned elements sent
   std::vector<size_t> recv_;                 // per rank of from_: the ghosts it sends
   size_t ghosts_ = 0;
+  mutable std::vector<std::vector<char>> out_, in_;  // forward()'s messages, reused
 };
 
 }  // namespace demlab::mpi

@@ -48,6 +48,31 @@ std::vector<Grain> scene(size_t n, unsigned seed) {
   return g;
 }
 
+// This rank's part of a scene as a search leaves it: every rank starts with every P-th grain,
+// the ranks bisect their centres, and this rank keeps the grains its box holds (with their
+// centres and radii apart, as the reach table takes them).
+struct Share {
+  Partition<3> part;
+  std::vector<Grain> owned;
+  std::vector<Point<3>> x;
+  std::vector<double> r;
+};
+
+Share shareOf(const std::vector<Grain>& all, const Communicator& c) {
+  std::vector<Point<3>> start;
+  for (const Grain& g : all) {
+    if (g.id % c.size() == c.rank()) start.push_back(g.x);
+  }
+  Share s{Partition<3>::bisect(start, {}, c.size(), c), {}, {}, {}};
+  for (const Grain& g : all) {
+    if (s.part.ownerOf(g.x) != c.rank()) continue;
+    s.owned.push_back(g);
+    s.x.push_back(g.x);
+    s.r.push_back(g.r);
+  }
+  return s;
+}
+
 TEST(Ranks, SumsAreTakenInRankOrderAndAgreeEverywhere) {
   const Communicator& c = world();
   // Values whose sum depends on the order of addition.
@@ -137,22 +162,9 @@ TEST(Ranks, GhostsCoverEveryPairInReach) {
   const Communicator& c = world();
   const double skin = 0.001;
   const auto all = scene(6000, 9);
-  std::vector<Point<3>> centres;
-  for (const Grain& g : all) {
-    if (g.id % c.size() == c.rank()) centres.push_back(g.x);
-  }
-  const Partition<3> part = Partition<3>::bisect(centres, {}, c.size(), c);
-  std::vector<Grain> owned;
-  for (const Grain& g : all) {
-    if (part.ownerOf(g.x) == c.rank()) owned.push_back(g);
-  }
-  std::vector<Point<3>> x;
-  std::vector<double> r;
-  for (const Grain& g : owned) {
-    x.push_back(g.x);
-    r.push_back(g.r);
-  }
-  const ReachTable<3> table = ReachTable<3>::gather(x, r, c);
+  const Share share = shareOf(all, c);
+  const std::vector<Grain>& owned = share.owned;
+  const ReachTable<3> table = ReachTable<3>::gather(share.x, share.r, c);
   std::vector<std::vector<Grain>> out(static_cast<size_t>(c.size()));
   for (const Grain& g : owned) {
     table.forEachRankNeeding(g.x, g.r, skin, c.rank(),
@@ -194,22 +206,12 @@ TEST(Ranks, TheGhostPlanSendsTheOwnersStatesEveryStep) {
   const Communicator& c = world();
   const double skin = 0.001;
   const auto all = scene(8000, 13);
-  std::vector<Point<3>> start;
-  for (const Grain& g : all) {
-    if (g.id % c.size() == c.rank()) start.push_back(g.x);
-  }
-  const Partition<3> part = Partition<3>::bisect(start, {}, c.size(), c);
-  std::vector<Grain> owned;
-  std::vector<Point<3>> x;
-  std::vector<double> r;
+  Share share = shareOf(all, c);
+  const Partition<3>& part = share.part;
+  std::vector<Point<3>>& x = share.x;
+  const std::vector<double>& r = share.r;
   std::vector<int64_t> ids;
-  for (const Grain& g : all) {
-    if (part.ownerOf(g.x) != c.rank()) continue;
-    owned.push_back(g);
-    x.push_back(g.x);
-    r.push_back(g.r);
-    ids.push_back(g.id);
-  }
+  for (const Grain& g : share.owned) ids.push_back(g.id);
   const ReachTable<3> table = ReachTable<3>::gather(x, r, c);
   const GhostPlan<3> plan = GhostPlan<3>::make(table, x, r, skin, c);
   // The ghosts this rank should get: every other rank's grains the table sends here.
@@ -221,7 +223,8 @@ TEST(Ranks, TheGhostPlanSendsTheOwnersStatesEveryStep) {
     table.forEachRankNeeding(g.x, g.r, skin, owner, [&](int k) { here |= k == c.rank(); });
     if (here) want.push_back(g.id);
   }
-  const std::vector<int64_t> ghostIds = plan.forward(ids, c);
+  std::vector<int64_t> ghostIds;
+  plan.forward(ids, c, ghostIds);
   std::vector<int64_t> got = ghostIds;
   std::sort(got.begin(), got.end());
   EXPECT_EQ(got, want);
@@ -236,9 +239,10 @@ TEST(Ranks, TheGhostPlanSendsTheOwnersStatesEveryStep) {
     for (int k = 0; k < 3; ++k) q[k] += 1e-5 * std::sin(0.37 * id + 1.3 * step + k);
     return q;
   };
+  std::vector<Point<3>> ghostX;
   for (int step = 1; step <= 3; ++step) {
     for (size_t i = 0; i < x.size(); ++i) x[i] = moved(ids[i], step, x[i]);
-    const std::vector<Point<3>> ghostX = plan.forward(x, c);
+    plan.forward(x, c, ghostX);
     size_t wrong = ghostX.size() == ghostIds.size() ? 0 : 1;
     for (size_t g = 0; g < ghostX.size() && g < ghostIds.size(); ++g) {
       Point<3> p = all[static_cast<size_t>(ghostIds[g])].x;
