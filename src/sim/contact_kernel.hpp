@@ -75,7 +75,7 @@ struct HertzPassArgs {
   const double* r = nullptr;
   const double* invMass = nullptr;
   const uint32_t* material = nullptr;
-  // Candidate pairs, (i, j) per pair, i the lower slot.
+  // Candidate pairs, (i, j) per pair, i the lower global id.
   const uint32_t* cand = nullptr;
   size_t nCand = 0;
   // With history: the candidates' tangential springs.

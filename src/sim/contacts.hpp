@@ -632,7 +632,7 @@ class BallContactModule final : public SimModule<D> {
       }
       for (size_t c = 0; c < m; ++c) {
         const size_t k0 = bk[c];
-        // A (i) is the grain with the lower slot (the search orders each pair so), so a pair's
+        // A (i) is the grain with the lower global id (the search orders each pair so), so a pair's
         // spring keeps one orientation.
         const uint32_t i = cand[k0].i, j = cand[k0].j;
         const physics::ContactGeometry<D>& g = bg[c];

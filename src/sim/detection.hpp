@@ -229,9 +229,11 @@ class DetectionModule final : public SimModule<D> {
         const Real d2 = (s.periodic.any() ? s.periodic.nearest(raw) : raw).squaredNorm();
         if (d2 > reach * reach) return;
         if (d2 < rs * rs) touching += 1;
-        // The lower slot first: the contact loop keeps each spring in that orientation.
-        const search::IndexPair q =
-            a.slot[p.first] < a.slot[p.second] ? p : search::IndexPair{p.second, p.first};
+        // The lower global id first: the contact loop keeps each spring in that orientation,
+        // and two ranks computing the same pair orient it alike.
+        const search::IndexPair q = a.globalId[p.first] < a.globalId[p.second]
+                                        ? p
+                                        : search::IndexPair{p.second, p.first};
         if (shapes && (isShape(q.first) || isShape(q.second))) {
           s.shapeCandidates.push_back({q.first, q.second});
           return;

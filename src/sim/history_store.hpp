@@ -40,7 +40,8 @@ void parkSprings(Scene<D>& s) {
     const physics::TangentialHistory<D> h = s.pairSprings.history(k);
     if (h.empty()) continue;
     const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
-    // The loop keeps each spring in the orientation of the lower slot (A) to the higher.
+    // The loop keeps each spring in the orientation of the lower global id (A) to the higher;
+    // the key is the unordered pair of slots.
     s.histories.touch(std::min(p, q), std::max(p, q)).state = h;
   }
   for (size_t w = 0; w < s.wallSprings.size() && w < s.wallCandidates.size(); ++w) {

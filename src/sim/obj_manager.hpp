@@ -28,13 +28,20 @@ struct ElementArrays {
   std::vector<Real> r, invMass, invInertia;
   std::vector<uint32_t> material;  // index into the scene's material table
   std::vector<uint32_t> slot;      // handle slot index: the id used for pair histories
+  // The element's global id: its creation index in the scene, never reused, the same on every
+  // rank of a distributed run (each runs the same script). It orients pairs (the lower id is
+  // A) so that two ranks computing the same pair compute it alike.
+  std::vector<uint64_t> globalId;
   // Index into the scene's geometries (Scene::geometries, sim/shape.hpp): 0 is the ball, whose
   // size is r; an element of another shape has r as its bounding radius.
   std::vector<uint32_t> geometry;
 
-  // Appends one grain at rest-initialised forces. Changes every array.
+  static constexpr uint64_t kSlotAsId = ~uint64_t{0};
+
+  // Appends one grain at rest-initialised forces, its global id gid (kSlotAsId: sl). Changes
+  // every array.
   void push(const VecD<D>& xi, const VecD<D>& vi, const AngularD<D>& wi, Real ri, Real invM,
-            Real invI, uint32_t mat, uint32_t sl, uint32_t geom = 0) {
+            Real invI, uint32_t mat, uint32_t sl, uint32_t geom = 0, uint64_t gid = kSlotAsId) {
     x.push_back(xi);
     v.push_back(vi);
     f.push_back(VecD<D>::Zero());
@@ -48,6 +55,7 @@ struct ElementArrays {
     invInertia.push_back(invI);
     material.push_back(mat);
     slot.push_back(sl);
+    globalId.push_back(gid == kSlotAsId ? uint64_t{sl} : gid);
     geometry.push_back(geom);
   }
 
@@ -85,7 +93,7 @@ struct ElementArrays {
   static void forEachArray(Self& self, F&& fn) {
     fn(self.x), fn(self.v), fn(self.f), fn(self.fPrev), fn(self.q), fn(self.w), fn(self.t);
     fn(self.tPrev), fn(self.r), fn(self.invMass), fn(self.invInertia), fn(self.material);
-    fn(self.slot), fn(self.geometry);
+    fn(self.slot), fn(self.globalId), fn(self.geometry);
   }
 
   // Returns a defined value of an array's type: zero, or the identity rotation.
@@ -164,7 +172,7 @@ class SimObjManager {
               Real invI, uint32_t mat, const std::string& name,
               const std::vector<std::string>& tagList, uint32_t geometry = 0) {
     const ElementId id = pool_.allocate();
-    a.push(x, v, w, r, invM, invI, mat, id.index, geometry);
+    a.push(x, v, w, r, invM, invI, mat, id.index, geometry, nextGlobalId_++);
     if (!name.empty()) names_.add(name, id);
     for (const std::string& t : tagList) tags_.add(id, t);
     return id;
@@ -181,8 +189,14 @@ class SimObjManager {
 
   size_t size() const { return a.size(); }
 
+  // The global id the next element added gets: one more than the last given, never reused.
+  uint64_t nextGlobalId() const { return nextGlobalId_; }
+  // Sets it (a checkpoint's load; n above every id held). Changes the counter only.
+  void setNextGlobalId(uint64_t n) { nextGlobalId_ = n; }
+
  private:
   HandlePool<ElementKind> pool_;
+  uint64_t nextGlobalId_ = 0;
   NameLookup<ElementId> names_;
   TagTable<ElementKind> tags_;
 };

@@ -601,6 +601,35 @@ void readPeriodic(Reader& r, Scene<D>& s) {
   }
 }
 
+// Returns true if some element's global id is not its slot, or the next id not the slot count:
+// what the GIDS section is written for.
+template <int D>
+bool globalIdsDiffer(const Scene<D>& s) {
+  const ElementArrays<D>& a = s.elements.a;
+  if (s.elements.nextGlobalId() != s.elements.pool().slotCount()) return true;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a.globalId[i] != a.slot[i]) return true;
+  }
+  return false;
+}
+
+// Reads the GIDS section's body: the next id, then one id per element, each below the next id
+// and none twice. Throws {LOAD FORMAT}.
+template <int D>
+void readGlobalIds(Reader& r, Scene<D>& s) {
+  const uint64_t next = r.u64();
+  std::vector<uint64_t>& ids = s.elements.a.globalId;
+  if (r.count(8) != ids.size()) Reader::bad("global id count");
+  for (uint64_t& id : ids) {
+    id = r.u64();
+    if (id >= next) Reader::bad("global id");
+  }
+  std::vector<uint64_t> sorted = ids;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) Reader::bad("global id twice");
+  s.elements.setNextGlobalId(next);
+}
+
 // Returns true if some wall has state beyond the fixed wall record (the WALX section).
 template <int D>
 bool wallsHaveExtra(const Scene<D>& s) {
@@ -1021,6 +1050,12 @@ void writeScene(Writer& w, const Scene<D>& s, IoMode mode, const BehaviorManager
     writeBonds(w, s);
     w.endSection(at);
   }
+  if (globalIdsDiffer(s)) {
+    Writer body;
+    body.u64(s.elements.nextGlobalId());
+    body.list(s.elements.a.globalId, [&](uint64_t id) { body.u64(id); });
+    writeSection(w, kGlobalIdTag, body);
+  }
   if (!s.placedElements.empty() || !s.placedWalls.empty()) {
     Writer body;
     const auto handle = [&](auto id) {
@@ -1137,6 +1172,8 @@ void readScene(Reader& r, Scene<D>& s) {
     a.t.back() = t;
     a.tPrev.back() = tp;
   }
+  // Each element's global id is its slot unless the GIDS section says otherwise.
+  s.elements.setNextGlobalId(s.elements.pool().slotCount());
   readNamesTags(r, s.elements.pool(), s.elements.names(), s.elements.tags());
   readPool(r, s.walls.pool());
   const uint32_t nw = s.walls.pool().size();
@@ -1308,6 +1345,8 @@ void readScene(Reader& r, Scene<D>& s) {
       readShapes(b, s);
     } else if (std::memcmp(tag, kPlacedTag, 4) == 0) {
       readPlaced(b, s);
+    } else if (std::memcmp(tag, kGlobalIdTag, 4) == 0) {
+      readGlobalIds(b, s);
     } else if (std::memcmp(tag, kBondTag, 4) == 0) {
       readBonds(b, s);
     } else if (std::memcmp(tag, kSourceTag, 4) == 0) {

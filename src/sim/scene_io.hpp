@@ -241,6 +241,10 @@ inline constexpr char kScriptedWallTag[5] = "SCRW";
 // What edits placed since the last step (Scene::placedElements, placedWalls), when anything:
 // u64 count, per element its handle (u32 index, u32 generation); the same for the walls.
 inline constexpr char kPlacedTag[5] = "PLCD";
+// The elements' global ids (ElementArrays::globalId), when one differs from its slot or the
+// next id from the slot count (after a removal and an addition): u64 the next id, then u64
+// count (the elements'), then one u64 each in dense order. Without it, each id is its slot.
+inline constexpr char kGlobalIdTag[5] = "GIDS";
 
 // Appends the whole scene to w, with `behaviors` in place of the scene's own when given (a
 // checkpoint that leaves out the behaviors holding TimeFunctions). Changes nothing else.
