@@ -111,11 +111,10 @@ class SpringTransfer {
         const physics::TangentialHistory<D> h = k < nSprings ? s.pairSprings.history(k) : none;
         const uint8_t state = grainStates_ ? s.touchNow[k] : 0;
         if (h.empty() && state == 0) continue;
-        const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
-        put(std::min(p, q), std::max(p, q), h, state);
+        put(a.slot[s.candidates[k].i], a.globalId[s.candidates[k].j], h, state);
       }
       for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
-        const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
+        const uint64_t wid = wallPartner(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
         const auto* springs = s.keepHistory && w < s.wallSprings.size() ? &s.wallSprings[w] : nullptr;
         for (size_t k = 0; k < s.wallCandidates[w].size(); ++k) {
           const physics::TangentialHistory<D>& h =
@@ -130,7 +129,7 @@ class SpringTransfer {
     // the plain Verlet scenes' table stays at a spring a contact.)
     size_t total = 0;
     bool drifts = false;
-    each([&](uint32_t row, uint32_t, const physics::TangentialHistory<D>& h, uint8_t) {
+    each([&](uint32_t row, uint64_t, const physics::TangentialHistory<D>& h, uint8_t) {
       rowStart_[row + 1] += 1;
       total += 1;
       drifts = drifts || !std::isnan(h.drift[0]);
@@ -139,7 +138,7 @@ class SpringTransfer {
     entries_.resize(total);
     drifts_.assign(drifts ? total : 0, VecD<D>::Constant(std::numeric_limits<Real>::quiet_NaN()));
     std::vector<uint32_t> fill(rowStart_.begin(), rowStart_.end() - 1);
-    each([&](uint32_t row, uint32_t partner, const physics::TangentialHistory<D>& h, uint8_t state) {
+    each([&](uint32_t row, uint64_t partner, const physics::TangentialHistory<D>& h, uint8_t state) {
       const uint32_t e = fill[row]++;
       entries_[e] = {partner, state, h.spring};
       if (drifts) drifts_[e] = h.drift;
@@ -161,7 +160,7 @@ class SpringTransfer {
     if (grainStates_) {
       s.touchNow.assign(s.candidates.size(), 0);
       for (size_t k = 0; k < s.candidates.size(); ++k) {
-        if (const Entry* e = find(s, s.candidates[k])) s.touchNow[k] = e->state;
+        if (const Entry* e = find(s, s.candidates[k])) s.touchNow[k] = static_cast<uint8_t>(e->state);
       }
       s.touchNowValid = true;
     }
@@ -171,10 +170,10 @@ class SpringTransfer {
       for (size_t w = 0; w < s.walls.size(); ++w) {
         const size_t n = w < s.wallCandidates.size() ? s.wallCandidates[w].size() : 0;
         s.wallTouchNow[w].assign(n, 0);
-        const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
+        const uint64_t wid = wallPartner(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
         for (size_t k = 0; k < n; ++k) {
           if (const Entry* e = find(a.slot[s.wallCandidates[w][k]], wid)) {
-            s.wallTouchNow[w][k] = e->state;
+            s.wallTouchNow[w][k] = static_cast<uint8_t>(e->state);
           }
         }
       }
@@ -197,27 +196,27 @@ class SpringTransfer {
   // numbers, one step's O(dt^2) correction) is dropped, so the table, at the search's memory
   // peak beside the new pool, stays at 32 bytes a contact in 3D (56 with drifts) instead of 72.
   struct Entry {
-    uint32_t partner;  // the higher slot, or the wall's pair id
-    uint8_t state;     // the touch state (0: none kept, or not touching)
+    uint64_t partner : 56;  // the global id of the pair's B, or wallPartner of the wall
+    uint64_t state : 8;     // the touch state (0: none kept, or not touching)
     VecD<D> spring;
   };
   std::vector<Entry> entries_;
   std::vector<VecD<D>> drifts_;     // per entry, or empty
-  std::vector<uint32_t> rowStart_;  // per lower slot: first entry; one more for the end
+  std::vector<uint32_t> rowStart_;  // per slot of the pairs' A: first entry; one more for the end
   bool grainStates_ = false, wallStates_ = false;  // collect() took the touch states
 
-  // Returns the entry of the pair (lo, hi), or null. Changes nothing.
-  const Entry* find(uint32_t lo, uint32_t hi) const {
-    if (lo + size_t{1} >= rowStart_.size()) return nullptr;
-    for (uint32_t e = rowStart_[lo]; e < rowStart_[lo + 1]; ++e) {
-      if (entries_[e].partner == hi) return &entries_[e];
+  // Returns the entry of the pair whose A has slot row and whose B is partner, or null.
+  // Changes nothing.
+  const Entry* find(uint32_t row, uint64_t partner) const {
+    if (row + size_t{1} >= rowStart_.size()) return nullptr;
+    for (uint32_t e = rowStart_[row]; e < rowStart_[row + 1]; ++e) {
+      if (entries_[e].partner == partner) return &entries_[e];
     }
     return nullptr;
   }
   // Returns the entry of grain candidate c, or null. Changes nothing.
   const Entry* find(const Scene<D>& s, CandidatePair c) const {
-    const uint32_t p = s.elements.a.slot[c.i], q = s.elements.a.slot[c.j];
-    return find(std::min(p, q), std::max(p, q));
+    return find(s.elements.a.slot[c.i], s.elements.a.globalId[c.j]);
   }
 
   // The springs' part of give().
@@ -234,8 +233,11 @@ class SpringTransfer {
       s.wallSprings[w].assign(s.wallCandidates[w].size(), physics::TangentialHistory<D>{});
     }
     const bool parked = !s.histories.empty();
-    auto lookup = [&](uint32_t lo, uint32_t hi, physics::TangentialHistory<D>& out) {
-      if (const Entry* e = find(lo, hi)) {
+    // The table is keyed by the pair's A slot and B global id, the parked springs by the
+    // unordered pair of slots (wall: the wall's pair id).
+    auto lookup = [&](uint32_t row, uint64_t partner, uint32_t lo, uint32_t hi,
+                      physics::TangentialHistory<D>& out) {
+      if (const Entry* e = find(row, partner)) {
         out.spring = e->spring;
         if (!drifts_.empty()) out.drift = drifts_[static_cast<size_t>(e - entries_.data())];
         return;
@@ -246,15 +248,17 @@ class SpringTransfer {
     };
     if (!entries_.empty() || parked) {
       for (size_t k = 0; k < s.candidates.size(); ++k) {
-        const uint32_t p = a.slot[s.candidates[k].i], q = a.slot[s.candidates[k].j];
+        const CandidatePair c = s.candidates[k];
+        const uint32_t p = a.slot[c.i], q = a.slot[c.j];
         physics::TangentialHistory<D> h;
-        lookup(std::min(p, q), std::max(p, q), h);
+        lookup(p, a.globalId[c.j], std::min(p, q), std::max(p, q), h);
         s.pairSprings.set(k, h);
       }
       for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
-        const uint32_t wid = wallPairId(s.walls.pool().handleAt(static_cast<uint32_t>(w)).index);
+        const uint32_t slot = s.walls.pool().handleAt(static_cast<uint32_t>(w)).index;
         for (size_t k = 0; k < s.wallCandidates[w].size(); ++k) {
-          lookup(a.slot[s.wallCandidates[w][k]], wid, s.wallSprings[w][k]);
+          const uint32_t row = a.slot[s.wallCandidates[w][k]];
+          lookup(row, wallPartner(slot), row, wallPairId(slot), s.wallSprings[w][k]);
         }
       }
     }

@@ -20,6 +20,10 @@
 
 namespace demlab::sim {
 
+// The largest global id an element can have (ElementArrays::globalId): 2^55 creations, beyond
+// any run; the keys above it name walls where pair partners are ids (sim/scene.hpp).
+inline constexpr uint64_t kMaxGlobalId = (uint64_t{1} << 55) - 1;
+
 template <int D>
 struct ElementArrays {
   std::vector<VecD<D>> x, v, f, fPrev;   // position, velocity, force now, force of last step
@@ -171,6 +175,9 @@ class SimObjManager {
   ElementId add(const VecD<D>& x, const VecD<D>& v, const AngularD<D>& w, Real r, Real invM,
               Real invI, uint32_t mat, const std::string& name,
               const std::vector<std::string>& tagList, uint32_t geometry = 0) {
+    if (nextGlobalId_ > kMaxGlobalId) {
+      throw Error("too many elements created in this scene (2^55)", {"LIMIT", "COUNT"});
+    }
     const ElementId id = pool_.allocate();
     a.push(x, v, w, r, invM, invI, mat, id.index, geometry, nextGlobalId_++);
     if (!name.empty()) names_.add(name, id);

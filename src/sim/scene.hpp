@@ -365,4 +365,10 @@ inline uint32_t wallPairId(uint32_t wallSlot) {
   return 0x80000000u | wallSlot;
 }
 
+// Returns the key of a wall as a pair's partner where partners are global element ids
+// (SpringTransfer, sim/history_store.hpp): above every id an element can have, below 2^56.
+inline uint64_t wallPartner(uint32_t wallSlot) {
+  return kMaxGlobalId + 1 + wallSlot;
+}
+
 }  // namespace demlab::sim

@@ -618,6 +618,7 @@ bool globalIdsDiffer(const Scene<D>& s) {
 template <int D>
 void readGlobalIds(Reader& r, Scene<D>& s) {
   const uint64_t next = r.u64();
+  if (next > kMaxGlobalId + 1) Reader::bad("next global id");
   std::vector<uint64_t>& ids = s.elements.a.globalId;
   if (r.count(8) != ids.size()) Reader::bad("global id count");
   for (uint64_t& id : ids) {
