@@ -4,7 +4,7 @@ file(GLOB DEMLAB_SIM_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/s
      ${CMAKE_CURRENT_SOURCE_DIR}/src/sim/shapes/*.cpp)
 add_library(demlab_sim STATIC ${DEMLAB_SIM_SOURCES})
 demlab_precompile(demlab_sim)
-target_link_libraries(demlab_sim PUBLIC demlab_physics demlab_core)
+target_link_libraries(demlab_sim PUBLIC demlab_physics demlab_core demlab_mpi)
 
 demlab_add_unit_tests(sim demlab_sim_tests sim/ demlab_sim SHARDS 3)
 

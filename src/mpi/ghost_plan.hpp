@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <stdexcept>
 #include <type_traits>
 #include <vector>
 
@@ -73,6 +74,13 @@ class GhostPlan {
   // nothing once they have grown. Changes ghosts and the buffers.
   template <class T>
   void forward(const std::vector<T>& owned, const Communicator& comm, std::vector<T>& ghosts) const {
+    forwardWith([&](uint32_t e, T& out) { out = owned[e]; }, comm, ghosts);
+  }
+
+  // forward, with each owned element's value made by fill(i, T&) as it is packed (no array of
+  // every owned element's value first).
+  template <class T, class Fill>
+  void forwardWith(Fill&& fill, const Communicator& comm, std::vector<T>& ghosts) const {
     static_assert(std::is_trivially_copyable_v<T>);
     out_.resize(to_.size());
     in_.resize(from_.size());
@@ -80,7 +88,9 @@ class GhostPlan {
       out_[i].resize(send_[i].size() * sizeof(T));
       char* p = out_[i].data();
       for (const uint32_t e : send_[i]) {
-        std::memcpy(p, &owned[e], sizeof(T));
+        T value;
+        fill(e, value);
+        std::memcpy(p, &value, sizeof(T));
         p += sizeof(T);
       }
     }
@@ -94,12 +104,45 @@ class GhostPlan {
     }
   }
 
+  // The way back: sends each ghost's value (ghosts[g], in ghost order) to the rank that owns
+  // it, which calls add(i, value) for each value of its owned element i, by source rank
+  // increasing, each source's in the order it was sent: so the sums an owner makes have the
+  // same order every step. Every rank of the plan calls it. Changes the buffers.
+  template <class T, class Add>
+  void reverse(const std::vector<T>& ghosts, const Communicator& comm, Add&& add) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (ghosts.size() != ghosts_) throw std::invalid_argument("mpi: one value per ghost");
+    backOut_.resize(from_.size());
+    backIn_.resize(to_.size());
+    size_t at = 0;
+    for (size_t j = 0; j < from_.size(); ++j) {
+      backOut_[j].resize(recv_[j] * sizeof(T));
+      if (recv_[j] > 0) {
+        std::memcpy(backOut_[j].data(), static_cast<const void*>(ghosts.data() + at),
+                    backOut_[j].size());
+      }
+      at += recv_[j];
+    }
+    for (size_t i = 0; i < to_.size(); ++i) backIn_[i].resize(send_[i].size() * sizeof(T));
+    comm.exchangeWith(from_, backOut_, to_, backIn_);
+    for (size_t i = 0; i < to_.size(); ++i) {
+      const char* p = backIn_[i].data();
+      for (const uint32_t e : send_[i]) {
+        T value;
+        std::memcpy(static_cast<void*>(&value), p, sizeof(T));
+        add(e, value);
+        p += sizeof(T);
+      }
+    }
+  }
+
  private:
   std::vector<int> to_, from_;
   std::vector<std::vector<uint32_t>> send_;  // per rank of to_: the owned elements sent
   std::vector<size_t> recv_;                 // per rank of from_: the ghosts it sends
   size_t ghosts_ = 0;
   mutable std::vector<std::vector<char>> out_, in_;  // forward()'s messages, reused
+  mutable std::vector<std::vector<char>> backOut_, backIn_;  // reverse()'s
 };
 
 }  // namespace demlab::mpi

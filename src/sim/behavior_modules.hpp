@@ -29,7 +29,7 @@ class GravityModule final : public SimModule<D> {
   void run(Scene<D>& s) override {
     const VecD<D> g = s.behaviors.gravity();
     ElementArrays<D>& a = s.elements.a;
-    const size_t n = a.size();
+    const size_t n = s.ownedCount();
     // Gravity along one axis (as usual): one division per grain, not D. Adding the other
     // components' 0 would change nothing (a force sum is never -0), so this is bit-identical.
     int axis = -1, nonzero = 0;

@@ -25,6 +25,7 @@
 
 #include "physics/shapes.hpp"
 #include "search/cgrid.hpp"
+#include "sim/distribution.hpp"
 #include "sim/history_store.hpp"
 #include "sim/reorder.hpp"
 #include "sim/scene.hpp"
@@ -62,7 +63,10 @@ class DetectionModule final : public SimModule<D> {
 
   void run(Scene<D>& s) override {
     s.periodic.advance(s.stepDt);
-    if (!s.needRebuild && !stale(s)) return;
+    bool need = s.needRebuild || stale(s);
+    // A distributed run searches on every rank when one rank needs it.
+    if (s.dist) need = s.dist->comm->max(need ? 1.0 : 0.0) > 0;
+    if (!need) return;
     rebuild(s);
   }
 
@@ -97,14 +101,18 @@ class DetectionModule final : public SimModule<D> {
     std::vector<ContactRecord<D>>().swap(s.contacts);
     std::vector<VecD<D>>().swap(s.xAtBuild);
     std::vector<Real>().swap(s.marginWeight);
+    // A distributed run's elements move to their ranks first, and its ghosts come after the
+    // owned elements are sorted (sim/distribution.hpp).
+    if (s.dist) migrate(s, springs_);
     const uint32_t every = s.elements.reorderEvery;
     if (every > 0 && s.rebuilds % every == 0) reorderGrains(s);
+    if (s.dist) makeGhosts(s);
     if (s.periodic.any()) wrapIntoCell(s);
     // Ctrl-C is polled between the search's stages (pollStep): a search of a bed of millions
     // of grains takes a large part of a second. Abandoned, the module is made anew.
     pollStep(s);
     const ElementArrays<D>& a = s.elements.a;
-    const size_t n = a.size();
+    const size_t n = a.size(), owned = s.ownedCount();
     const Real half = 0.5 * s.skin;
     const bool wide = chooseMargins(s);
     const auto margin = [&](size_t i) { return wide ? margin_[i] : half; };
@@ -228,12 +236,14 @@ class DetectionModule final : public SimModule<D> {
         const VecD<D> raw = a.x[p.second] - a.x[p.first];
         const Real d2 = (s.periodic.any() ? s.periodic.nearest(raw) : raw).squaredNorm();
         if (d2 > reach * reach) return;
-        if (d2 < rs * rs) touching += 1;
         // The lower global id first: the contact loop keeps each spring in that orientation,
         // and two ranks computing the same pair orient it alike.
         const search::IndexPair q = a.globalId[p.first] < a.globalId[p.second]
                                         ? p
                                         : search::IndexPair{p.second, p.first};
+        // A pair is computed by the rank owning its A (with no ghosts, every rank).
+        if (q.first >= owned) return;
+        if (d2 < rs * rs) touching += 1;
         if (shapes && (isShape(q.first) || isShape(q.second))) {
           s.shapeCandidates.push_back({q.first, q.second});
           return;
@@ -243,7 +253,7 @@ class DetectionModule final : public SimModule<D> {
                  (isShape(p.first) || s.walls.items[wallOfBox_[p.second - n]].kind == WallShape::Mesh)) {
         // Elements of every shape meet a mesh wall in the shape pass (several points a pair).
         s.shapeWallCandidates.emplace_back(p.first, wallOfBox_[p.second - n]);
-      } else if (p.first < n) {
+      } else if (p.first < owned) {
         s.wallCandidates[wallOfBox_[p.second - n]].push_back(p.first);
         wallPairs += 1;
       }
@@ -350,7 +360,8 @@ class DetectionModule final : public SimModule<D> {
     const ElementArrays<D>& a = s.elements.a;
     const size_t n = a.size();
     margin_.clear();
-    if (!s.wideMargins || s.periodic.any() || n < 100) return false;
+    // (A distributed run's ghosts reach half the skin from every side.)
+    if (!s.wideMargins || s.periodic.any() || s.dist || n < 100) return false;
     const Real half = 0.5 * s.skin;
     std::vector<Real> speed2(n);
     Real top = 0;

@@ -184,6 +184,86 @@ class SpringTransfer {
     std::vector<uint32_t>().swap(rowStart_);
   }
 
+  // A spring as it travels between ranks with the element of its row (a distributed search,
+  // sim/distribution.hpp): the row by the element's global id. Plain data.
+  struct MovedSpring {
+    uint64_t rowId, partner;
+    uint64_t state;
+    double spring[D], drift[D];  // drift NaN: none
+  };
+
+  // Takes out the rows of the elements that leave: row slot r goes to out[dest(r)] when
+  // dest(r) >= 0, each entry with rowId(r). Call between collect() and give(). Changes the
+  // table and out.
+  template <class Dest, class RowId>
+  void takeRows(Dest&& dest, RowId&& rowId, std::vector<std::vector<MovedSpring>>& out) {
+    const uint32_t rows = rowStart_.empty() ? 0 : static_cast<uint32_t>(rowStart_.size() - 1);
+    std::vector<Entry> kept;
+    std::vector<VecD<D>> keptDrifts;
+    std::vector<uint32_t> start(rowStart_.size(), 0);
+    for (uint32_t r = 0; r < rows; ++r) {
+      const int to = rowStart_[r] < rowStart_[r + 1] ? dest(r) : -1;
+      for (uint32_t e = rowStart_[r]; e < rowStart_[r + 1]; ++e) {
+        if (to < 0) {
+          kept.push_back(entries_[e]);
+          if (!drifts_.empty()) keptDrifts.push_back(drifts_[e]);
+          continue;
+        }
+        MovedSpring m{rowId(r), entries_[e].partner, entries_[e].state, {}, {}};
+        for (int k = 0; k < D; ++k) {
+          m.spring[k] = entries_[e].spring[k];
+          m.drift[k] = drifts_.empty() ? std::numeric_limits<double>::quiet_NaN() : drifts_[e][k];
+        }
+        out[static_cast<size_t>(to)].push_back(m);
+      }
+      start[r + 1] = static_cast<uint32_t>(kept.size());
+    }
+    entries_ = std::move(kept);
+    drifts_ = std::move(keptDrifts);
+    rowStart_ = std::move(start);
+  }
+
+  // Adds springs that arrived with their rows' elements, row slot slotOf(rowId), the table
+  // widened to rows slots. Call between collect() and give(). Changes the table.
+  template <class SlotOf>
+  void addRows(const std::vector<MovedSpring>& in, SlotOf&& slotOf, uint32_t rows) {
+    if (in.empty() && rowStart_.size() == size_t{rows} + 1) return;
+    const uint32_t old = rowStart_.empty() ? 0 : static_cast<uint32_t>(rowStart_.size() - 1);
+    bool drifts = !drifts_.empty();
+    for (const MovedSpring& m : in) drifts = drifts || !std::isnan(m.drift[0]);
+    std::vector<uint32_t> count(size_t{rows} + 1, 0);
+    for (uint32_t r = 0; r < std::min(old, rows); ++r) count[r + 1] = rowStart_[r + 1] - rowStart_[r];
+    std::vector<uint32_t> slots(in.size());
+    for (size_t k = 0; k < in.size(); ++k) {
+      slots[k] = slotOf(in[k].rowId);
+      count[slots[k] + 1] += 1;
+    }
+    for (uint32_t r = 0; r < rows; ++r) count[r + 1] += count[r];
+    std::vector<Entry> entries(count[rows]);
+    std::vector<VecD<D>> driftOut(drifts ? entries.size() : 0,
+                                  VecD<D>::Constant(std::numeric_limits<Real>::quiet_NaN()));
+    std::vector<uint32_t> fill(count.begin(), count.end() - 1);
+    for (uint32_t r = 0; r < std::min(old, rows); ++r) {
+      for (uint32_t e = rowStart_[r]; e < rowStart_[r + 1]; ++e) {
+        const uint32_t at = fill[r]++;
+        entries[at] = entries_[e];
+        if (!drifts_.empty()) driftOut[at] = drifts_[e];
+      }
+    }
+    for (size_t k = 0; k < in.size(); ++k) {
+      const uint32_t at = fill[slots[k]]++;
+      entries[at].partner = in[k].partner;
+      entries[at].state = in[k].state;
+      for (int d = 0; d < D; ++d) {
+        entries[at].spring[d] = in[k].spring[d];
+        if (drifts) driftOut[at][d] = in[k].drift[d];
+      }
+    }
+    entries_ = std::move(entries);
+    drifts_ = std::move(driftOut);
+    rowStart_ = std::move(count);
+  }
+
   // Returns the bytes of the table (none between searches: give() frees it).
   size_t workingBytes() const {
     return entries_.capacity() * sizeof(Entry) + drifts_.capacity() * sizeof(VecD<D>) +

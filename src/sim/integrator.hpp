@@ -43,7 +43,7 @@ class PredictModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Predict; }
 
   void run(Scene<D>& s) override {
-    const size_t n = s.elements.a.size();
+    const size_t n = s.ownedCount();
     // Each chunk's largest displacement; their largest is the same for any chunking.
     chunkMax_.assign(elementChunks(n), 0);
     forEachElementChunk(n, [&](size_t b, size_t e, size_t c) { chunkMax_[c] = range(s, b, e); });
@@ -184,7 +184,7 @@ class PredictRotationModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Predict; }
 
   void run(Scene<D>& s) override {
-    forEachElementChunk(s.elements.a.size(), [&](size_t b, size_t e, size_t) { range(s, b, e); });
+    forEachElementChunk(s.ownedCount(), [&](size_t b, size_t e, size_t) { range(s, b, e); });
   }
 
  private:
@@ -273,7 +273,7 @@ class CorrectModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Correct; }
 
   void run(Scene<D>& s) override {
-    forEachElementChunk(s.elements.a.size(), [&](size_t b, size_t e, size_t) { range(s, b, e); });
+    forEachElementChunk(s.ownedCount(), [&](size_t b, size_t e, size_t) { range(s, b, e); });
     s.time = s.time + s.stepDt;
     s.steps += 1;
   }

@@ -9,6 +9,7 @@
 #include "sim/constraints.hpp"
 #include "sim/contacts.hpp"
 #include "sim/detection.hpp"
+#include "sim/distribution.hpp"
 #include "sim/integrator.hpp"
 #include "sim/law_models.hpp"
 #include "sim/rigid_body.hpp"
@@ -23,6 +24,9 @@ namespace demlab::sim {
 
 template <int D>
 SceneUse sceneUse(const Scene<D>& s) {
+  // A distributed run's ranks hold parts of the scene: what the whole uses was decided when it
+  // was distributed.
+  if (s.dist) return s.dist->use;
   SceneUse f;
   const size_t nm = s.nMat();
   std::vector<bool> grainMat(nm, false), anyMat(nm, false);
@@ -94,6 +98,9 @@ struct Rows {
        plain<D, PredictRigidRotationModule>},
       {"walls", [](const Scene<D>&, const SceneUse& u) { return u.movingWalls; },
        plain<D, WallMotionModule>},
+      // A distributed run: the owned elements' states to the ranks holding their ghosts.
+      {"ghosts", [](const Scene<D>& s, const SceneUse&) { return s.dist != nullptr; },
+       plain<D, GhostModule>},
       {"detection", always<D>,
        [](const Scene<D>& s, const SceneUse&, ModuleList<D>& out) {
          out.push_back(std::make_unique<DetectionModule<D>>(s.cellFactor));
@@ -132,6 +139,9 @@ struct Rows {
       // loads were computed with.
       {"touch", [](const Scene<D>& s, const SceneUse&) { return s.touchCorrection; },
        plain<D, TouchModule>},
+      // A distributed run: the ghosts' forces of the pairs above back to their owners.
+      {"ghost-forces", [](const Scene<D>& s, const SceneUse&) { return s.dist != nullptr; },
+       plain<D, GhostForceModule>},
       // After every force: it cancels what acts along a blocked degree of freedom.
       {"constraints", [](const Scene<D>& s, const SceneUse&) { return !s.blocked.empty(); },
        plain<D, ConstraintModule>},

@@ -185,6 +185,13 @@ class SimObjManager {
     return id;
   }
 
+  // Returns a new handle for an element whose arrays the caller appends itself, with global
+  // id gid (an element arriving from another rank of a distributed run). Changes the pool.
+  ElementId adopt(uint64_t gid) {
+    nextGlobalId_ = std::max(nextGlobalId_, gid + 1);
+    return pool_.allocate();
+  }
+
   // Removes the grain id (live). Returns its slot index (for the pair histories to forget).
   uint32_t remove(ElementId id) {
     const SwapRemove m = pool_.free(id);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <tuple>
 #include <string>
 #include <utility>
@@ -165,9 +166,18 @@ std::vector<Shareable<Geometry<D>>> ballGeometryOnly() {
 }
 
 template <int D>
+struct Distribution;
+
+template <int D>
 struct Scene {
   // ---- objects ----
   SimObjManager<D> elements;
+  // A distributed run (sim/distribution.hpp; null in a serial scene): the elements' arrays end
+  // with `ghosts` copies of other ranks' elements, which have no handles. Whatever moves,
+  // forces, measures or writes elements runs over [0, ownedCount()).
+  std::shared_ptr<Distribution<D>> dist;
+  size_t ghosts = 0;
+  size_t ownedCount() const { return elements.a.size() - ghosts; }
   WallSet<D> walls;
   BehaviorManager<D> behaviors;
   std::vector<BlockedElement> blocked;  // in the order they were blocked

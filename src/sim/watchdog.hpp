@@ -135,7 +135,7 @@ Real watchdogCheck(const Scene<D>& s, Real stepLimit, CheckPoint when = CheckPoi
   const bool placed = when == CheckPoint::BeforeFirstStep;
   const WatchdogOptions& o = s.watchdog;
   const ElementArrays<D>& a = s.elements.a;
-  const size_t n = a.size();
+  const size_t n = s.ownedCount();
   // One streaming pass, no division: a sum that is not finite when some x, v or w is not (NaN
   // and infinities propagate through sums), and the largest squared speed. As fast as a plain
   // sum over the positions alone (measured: the pass is bound by the add's latency).
@@ -232,7 +232,7 @@ bool watchdogEnergyOver(const Scene<D>& s, WatchdogHit& h) {
   const LedgerSums& l = s.ledger;
   if (!(o.energy > 0) || !l.started) return false;
   const ElementArrays<D>& a = s.elements.a;
-  const size_t n = a.size();
+  const size_t n = s.ownedCount();
   const VecD<D> g = s.behaviors.gravity();
   // Per element chunk on the thread pool; the chunks' sums added in chunk order, the fastest
   // element the first of the largest speed, as one pass would find it.

@@ -1,0 +1,260 @@
+// A distributed run's part of a scene (doc/plans/mpi.md): each rank owns the elements of its box
+// of a recursive coordinate bisection and holds, after them in the same arrays, ghost copies of
+// the other ranks' elements within reach of its own (Scene::ghosts). Each pair is computed once,
+// on the rank owning its lower global id (the pair's A), which then sends the forces its ghosts
+// took back to their owners; so every contact, spring, touch state, record and ledger term
+// exists on one rank only, as in the serial run.
+//
+// The step: the integrator's drift over the owned elements; GhostModule sends their new states
+// to the ranks holding their ghosts; at a neighbour search (taken by all ranks when one needs it)
+// distributedSearch drops the ghosts, sends the elements that left their rank's box to their new
+// owner with the springs of their pairs, bisects again when the counts drift apart, and makes
+// the ghosts anew; the contact passes; GhostForceModule returns the ghosts' forces and torques;
+// the second kick over the owned elements.
+//
+// 3D balls with plane, finite, box and drum walls, gravity, friction, rolling resistance and the
+// touch correction; the rest is refused by Simulation::distribute before anything changes.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "mpi/communicator.hpp"
+#include "mpi/ghost_plan.hpp"
+#include "mpi/partition.hpp"
+#include "mpi/reach.hpp"
+#include "mpi/records.hpp"
+#include "sim/history_store.hpp"
+#include "sim/module_table.hpp"
+#include "sim/scene.hpp"
+#include "sim/sim_loop.hpp"
+
+namespace demlab::sim {
+
+// One element as it travels between ranks: its whole state (3D).
+struct ElementRecord {
+  double x[3], v[3], f[3], fPrev[3], w[3], t[3], tPrev[3], q[4];
+  double r, invMass, invInertia;
+  uint64_t globalId;
+  uint32_t material, geometry;
+};
+
+// What a ghost takes from its owner every step: what the contact passes and the touch
+// correction read.
+struct GhostState {
+  double x[3], v[3], fPrev[3], w[3], tPrev[3], q[4];
+};
+
+// What a ghost's pairs gave it in a step, back to its owner.
+struct GhostForce {
+  double f[3], t[3];
+};
+
+template <int D>
+struct Distribution {
+  const mpi::Communicator* comm = nullptr;
+  mpi::Partition<D> partition;
+  bool partitioned = false;
+  mpi::GhostPlan<D> plan;
+  // The largest rank's count over the mean past which a search bisects again.
+  double rebalanceAbove = 1.1;
+  // Decided once for the whole scene when it was distributed (every rank then held all of it):
+  // what the per-rank scene would otherwise decide alone.
+  SceneUse use;
+  double skin = 0;
+  double stepLimit = 0;
+  double critical = 0, linearDuration = 0, hertzDuration = 0;  // the static step survey
+  // What the run did (doc/performance.md): searches, bisections, elements migrated (sent),
+  // ghosts held at the last search, and bytes sent per step by the two exchanges.
+  uint64_t searches = 0, bisections = 0, migrated = 0;
+  size_t ghostCopiesSent = 0;
+  // Scratch of the step's exchanges, kept from step to step.
+  std::vector<GhostState> states;
+  std::vector<GhostForce> forces;
+};
+
+// Returns the element record of element i of the 3D arrays a.
+inline ElementRecord recordOf(const ElementArrays<3>& a, size_t i) {
+  ElementRecord r;
+  for (int k = 0; k < 3; ++k) {
+    r.x[k] = a.x[i][k], r.v[k] = a.v[i][k], r.f[k] = a.f[i][k], r.fPrev[k] = a.fPrev[i][k];
+    r.w[k] = a.w[i][k], r.t[k] = a.t[i][k], r.tPrev[k] = a.tPrev[i][k];
+  }
+  r.q[0] = a.q[i].w(), r.q[1] = a.q[i].x(), r.q[2] = a.q[i].y(), r.q[3] = a.q[i].z();
+  r.r = a.r[i], r.invMass = a.invMass[i], r.invInertia = a.invInertia[i];
+  r.globalId = a.globalId[i];
+  r.material = a.material[i], r.geometry = a.geometry[i];
+  return r;
+}
+
+// Appends the element of record r to a, under slot (kNoSlot for a ghost). Changes every array.
+inline void pushRecord(ElementArrays<3>& a, const ElementRecord& r, uint32_t slot) {
+  const Vec3 x(r.x[0], r.x[1], r.x[2]), v(r.v[0], r.v[1], r.v[2]), w(r.w[0], r.w[1], r.w[2]);
+  a.push(x, v, w, r.r, r.invMass, r.invInertia, r.material, slot, r.geometry, r.globalId);
+  a.f.back() = Vec3(r.f[0], r.f[1], r.f[2]);
+  a.fPrev.back() = Vec3(r.fPrev[0], r.fPrev[1], r.fPrev[2]);
+  a.t.back() = Vec3(r.t[0], r.t[1], r.t[2]);
+  a.tPrev.back() = Vec3(r.tPrev[0], r.tPrev[1], r.tPrev[2]);
+  a.q.back() = Quat(r.q[0], r.q[1], r.q[2], r.q[3]);
+}
+
+// The slot of a ghost: it has no handle.
+inline constexpr uint32_t kNoSlot = 0xFFFFFFFFu;
+
+// Drops the ghosts from the arrays. Changes every array and s.ghosts.
+template <int D>
+void dropGhosts(Scene<D>& s) {
+  const size_t owned = s.ownedCount();
+  ElementArrays<D>::forEachArray(s.elements.a, [&](auto& arr) { arr.resize(owned); });
+  s.ghosts = 0;
+}
+
+// The first half of a distributed search, after the springs' collect() and before the dense
+// order is sorted: drops the ghosts, bisects when the ranks' counts drifted apart (or the first
+// time), and sends every owned element outside its rank's box to its owner with the springs of
+// the pairs it is A of. Collective. Changes the elements, their handles and springs.
+template <int D>
+void migrate(Scene<D>& s, SpringTransfer<D>& springs) {
+  if constexpr (D == 3) {
+    Distribution<D>& d = *s.dist;
+    const mpi::Communicator& comm = *d.comm;
+    dropGhosts(s);
+    ElementArrays<D>& a = s.elements.a;
+    const size_t n = a.size();
+    std::vector<mpi::Point<D>> centres(n);
+    for (size_t i = 0; i < n; ++i) centres[i] = {a.x[i][0], a.x[i][1], a.x[i][2]};
+    const std::vector<double> counts = comm.gather({static_cast<double>(n)});
+    if (!d.partitioned || mpi::Partition<D>::imbalance(counts) > d.rebalanceAbove) {
+      d.partition = mpi::Partition<D>::bisect(centres, {}, comm.size(), comm);
+      d.partitioned = true;
+      d.bisections += 1;
+    }
+    const size_t p = static_cast<size_t>(comm.size());
+    std::vector<std::vector<ElementRecord>> out(p);
+    std::vector<int> destOfSlot(s.elements.pool().slotCount(), -1);
+    std::vector<uint64_t> idOfSlot(destOfSlot.size(), 0);
+    std::vector<ElementId> leaving;
+    for (size_t i = 0; i < n; ++i) {
+      const int k = d.partition.ownerOf(centres[i]);
+      if (k == comm.rank()) continue;
+      out[static_cast<size_t>(k)].push_back(recordOf(a, i));
+      destOfSlot[a.slot[i]] = k;
+      idOfSlot[a.slot[i]] = a.globalId[i];
+      leaving.push_back(s.elements.pool().handleAt(static_cast<uint32_t>(i)));
+    }
+    using Moved = typename SpringTransfer<D>::MovedSpring;
+    std::vector<std::vector<Moved>> springsOut(p);
+    springs.takeRows([&](uint32_t r) { return r < destOfSlot.size() ? destOfSlot[r] : -1; },
+                     [&](uint32_t r) { return idOfSlot[r]; }, springsOut);
+    const std::vector<ElementRecord> arrived = mpi::exchangeRecords(comm, out);
+    const std::vector<Moved> arrivedSprings = mpi::exchangeRecords(comm, springsOut);
+    d.migrated += leaving.size();
+    for (ElementId id : leaving) s.elements.remove(id);
+    std::unordered_map<uint64_t, uint32_t> slotOfId;
+    slotOfId.reserve(arrived.size());
+    for (const ElementRecord& r : arrived) {
+      const ElementId id = s.elements.adopt(r.globalId);
+      pushRecord(a, r, id.index);
+      slotOfId.emplace(r.globalId, id.index);
+    }
+    springs.addRows(arrivedSprings, [&](uint64_t gid) { return slotOfId.at(gid); },
+                    s.elements.pool().slotCount());
+  }
+}
+
+// The second half of a distributed search, after the dense order is sorted: every rank
+// publishes its elements' reach, and receives as ghosts the elements of the others within reach
+// of its own (mpi/reach.hpp), appended after its owned ones. Collective. Changes the arrays,
+// s.ghosts and the plan.
+template <int D>
+void makeGhosts(Scene<D>& s) {
+  if constexpr (D == 3) {
+    Distribution<D>& d = *s.dist;
+    const mpi::Communicator& comm = *d.comm;
+    ElementArrays<D>& a = s.elements.a;
+    const size_t n = a.size();
+    std::vector<mpi::Point<D>> centres(n);
+    for (size_t i = 0; i < n; ++i) centres[i] = {a.x[i][0], a.x[i][1], a.x[i][2]};
+    const std::vector<double> radii(a.r.begin(), a.r.end());
+    const mpi::ReachTable<D> table = mpi::ReachTable<D>::gather(centres, radii, comm);
+    d.plan = mpi::GhostPlan<D>::make(table, centres, radii, s.skin, comm);
+    std::vector<ElementRecord> ghosts;
+    d.plan.forwardWith([&](uint32_t i, ElementRecord& r) { r = recordOf(a, i); }, comm, ghosts);
+    a.reserve(n + ghosts.size());
+    for (const ElementRecord& r : ghosts) pushRecord(a, r, kNoSlot);
+    s.ghosts = ghosts.size();
+    d.ghostCopiesSent = d.plan.sent();
+    d.searches += 1;
+  }
+}
+
+// "ghosts" (level Predict, after the drift and the turn): the owned elements' new states to the
+// ranks holding their ghosts; the ghosts' forces and torques zeroed for the contact passes.
+template <int D>
+class GhostModule final : public SimModule<D> {
+ public:
+  std::string_view name() const override { return "ghosts"; }
+  SimLevel level() const override { return SimLevel::Predict; }
+  void run(Scene<D>& s) override {
+    if constexpr (D == 3) {
+      Distribution<D>& d = *s.dist;
+      ElementArrays<D>& a = s.elements.a;
+      d.plan.forwardWith(
+          [&](uint32_t i, GhostState& g) {
+            for (int k = 0; k < 3; ++k) {
+              g.x[k] = a.x[i][k], g.v[k] = a.v[i][k], g.fPrev[k] = a.fPrev[i][k];
+              g.w[k] = a.w[i][k], g.tPrev[k] = a.tPrev[i][k];
+            }
+            g.q[0] = a.q[i].w(), g.q[1] = a.q[i].x(), g.q[2] = a.q[i].y(), g.q[3] = a.q[i].z();
+          },
+          *d.comm, d.states);
+      const size_t first = s.ownedCount();
+      for (size_t j = 0; j < d.states.size(); ++j) {
+        const GhostState& g = d.states[j];
+        const size_t i = first + j;
+        a.x[i] = Vec3(g.x[0], g.x[1], g.x[2]);
+        a.v[i] = Vec3(g.v[0], g.v[1], g.v[2]);
+        a.fPrev[i] = Vec3(g.fPrev[0], g.fPrev[1], g.fPrev[2]);
+        a.w[i] = Vec3(g.w[0], g.w[1], g.w[2]);
+        a.tPrev[i] = Vec3(g.tPrev[0], g.tPrev[1], g.tPrev[2]);
+        a.q[i] = Quat(g.q[0], g.q[1], g.q[2], g.q[3]);
+        a.f[i].setZero();
+        a.t[i].setZero();
+      }
+    }
+  }
+};
+
+// "ghost-forces" (level Behaviors, after every force on pairs and before the constraints and
+// the kick): what the ghosts took in this rank's pairs, added to their owners' forces and
+// torques.
+template <int D>
+class GhostForceModule final : public SimModule<D> {
+ public:
+  std::string_view name() const override { return "ghost-forces"; }
+  SimLevel level() const override { return SimLevel::Behaviors; }
+  void run(Scene<D>& s) override {
+    if constexpr (D == 3) {
+      Distribution<D>& d = *s.dist;
+      ElementArrays<D>& a = s.elements.a;
+      const size_t first = s.ownedCount();
+      d.forces.resize(s.ghosts);
+      for (size_t j = 0; j < s.ghosts; ++j) {
+        for (int k = 0; k < 3; ++k) {
+          d.forces[j].f[k] = a.f[first + j][k];
+          d.forces[j].t[k] = a.t[first + j][k];
+        }
+      }
+      d.plan.reverse(d.forces, *d.comm, [&](uint32_t i, const GhostForce& g) {
+        a.f[i] += Vec3(g.f[0], g.f[1], g.f[2]);
+        a.t[i] += Vec3(g.t[0], g.t[1], g.t[2]);
+      });
+    }
+  }
+};
+
+}  // namespace demlab::sim
