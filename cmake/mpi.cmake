@@ -18,21 +18,27 @@ demlab_add_unit_tests(mpi demlab_mpi_tests mpi/ demlab_mpi)
 
 # The distributed tests, one program run under mpirun on 1, 2 and 3 ranks (3 oversubscribes a
 # 2-core machine, as the test command runs it).
+# The distributed runs of whole scenes (sim_ranks_test.cpp) likewise, as sim.np1-3.
 if(MPI_CXX_FOUND)
-  add_executable(demlab_mpi_rank_tests ${CMAKE_CURRENT_SOURCE_DIR}/tests/mpi/mpi_ranks_test.cpp)
-  target_include_directories(demlab_mpi_rank_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests)
-  target_link_libraries(demlab_mpi_rank_tests PRIVATE demlab_mpi GTest::gtest Threads::Threads)
-  if(DEMLAB_SANITIZE)
-    target_compile_options(demlab_mpi_rank_tests PRIVATE -fno-sanitize=undefined)
-  endif()
-  foreach(np 1 2 3)
-    add_test(NAME mpi.np${np}
-             COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np}
-                     $<TARGET_FILE:demlab_mpi_rank_tests> --gtest_brief=1)
-    # Root in CI containers; more ranks than cores; no cross-memory attach in containers.
-    # OpenMPI's own allocations outlive MPI_Finalize, which LeakSanitizer would report.
-    set_tests_properties(mpi.np${np} PROPERTIES TIMEOUT 300 ENVIRONMENT
-      "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0")
+  foreach(part mpi sim)
+    add_executable(demlab_${part}_rank_tests ${CMAKE_CURRENT_SOURCE_DIR}/tests/mpi/${part}_ranks_test.cpp
+                   ${CMAKE_CURRENT_SOURCE_DIR}/tests/mpi/rank_main.cpp)
+    target_include_directories(demlab_${part}_rank_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests)
+    target_link_libraries(demlab_${part}_rank_tests PRIVATE demlab_${part} MPI::MPI_CXX GTest::gtest
+                          Threads::Threads)
+    if(DEMLAB_SANITIZE)
+      target_compile_options(demlab_${part}_rank_tests PRIVATE -fno-sanitize=undefined)
+    endif()
+    foreach(np 1 2 3)
+      add_test(NAME ${part}.np${np}
+               COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np}
+                       $<TARGET_FILE:demlab_${part}_rank_tests> --gtest_brief=1)
+      # Root in CI containers; more ranks than cores; no cross-memory attach in containers.
+      # OpenMPI's own allocations outlive MPI_Finalize, which LeakSanitizer would report.
+      # One thread a rank: the ranks share the cores.
+      set_tests_properties(${part}.np${np} PROPERTIES TIMEOUT 300 ENVIRONMENT
+        "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0;DEMLAB_THREADS=1")
+    endforeach()
   endforeach()
 endif()
 

@@ -49,9 +49,10 @@ struct GhostState {
   double x[3], v[3], fPrev[3], w[3], tPrev[3], q[4];
 };
 
-// What a ghost's pairs gave it in a step, back to its owner.
+// What a ghost's pairs gave it in a step, back to its owner: forces and torques, and the
+// changes of its velocities (the touch correction's impulses act on velocities).
 struct GhostForce {
-  double f[3], t[3];
+  double f[3], t[3], dv[3], dw[3];
 };
 
 template <int D>
@@ -59,6 +60,9 @@ struct Distribution {
   const mpi::Communicator* comm = nullptr;
   mpi::Partition<D> partition;
   bool partitioned = false;
+  // Every rank holds the whole scene (distribute() was called, no search since): the first
+  // search keeps each rank's part and sends nothing.
+  bool initial = true;
   mpi::GhostPlan<D> plan;
   // The largest rank's count over the mean past which a search bisects again.
   double rebalanceAbove = 1.1;
@@ -76,6 +80,22 @@ struct Distribution {
   std::vector<GhostState> states;
   std::vector<GhostForce> forces;
 };
+
+// Replaces this rank's kinetic energy, potential energy, ledger sums (l's losses, works and
+// elastic energy) and, when given, rotational energy by their sums over the ranks, added in rank
+// order (every rank gets the same bits). Collective. The reference, scale and start of l are the
+// whole scene's already and stay.
+inline void reduceLedger(const mpi::Communicator& comm, double& kinetic, double& potential,
+                         LedgerSums& l, double* rotational = nullptr) {
+  std::vector<double> v{kinetic,        potential,     l.dampingLoss, l.frictionLoss,
+                        l.wallWork,     l.behaviorWork, l.springWork,  l.bondReleased,
+                        l.elastic,      rotational != nullptr ? *rotational : 0.0};
+  comm.sum(v);
+  kinetic = v[0], potential = v[1], l.dampingLoss = v[2], l.frictionLoss = v[3];
+  l.wallWork = v[4], l.behaviorWork = v[5], l.springWork = v[6], l.bondReleased = v[7];
+  l.elastic = v[8];
+  if (rotational != nullptr) *rotational = v[9];
+}
 
 // Returns the element record of element i of the 3D arrays a.
 inline ElementRecord recordOf(const ElementArrays<3>& a, size_t i) {
@@ -127,8 +147,10 @@ void migrate(Scene<D>& s, SpringTransfer<D>& springs) {
     const size_t n = a.size();
     std::vector<mpi::Point<D>> centres(n);
     for (size_t i = 0; i < n; ++i) centres[i] = {a.x[i][0], a.x[i][1], a.x[i][2]};
+    // (At the first search every rank passes all the points: each counts p times, which moves
+    // no cut.)
     const std::vector<double> counts = comm.gather({static_cast<double>(n)});
-    if (!d.partitioned || mpi::Partition<D>::imbalance(counts) > d.rebalanceAbove) {
+    if (d.initial || mpi::Partition<D>::imbalance(counts) > d.rebalanceAbove) {
       d.partition = mpi::Partition<D>::bisect(centres, {}, comm.size(), comm);
       d.partitioned = true;
       d.bisections += 1;
@@ -150,9 +172,16 @@ void migrate(Scene<D>& s, SpringTransfer<D>& springs) {
     std::vector<std::vector<Moved>> springsOut(p);
     springs.takeRows([&](uint32_t r) { return r < destOfSlot.size() ? destOfSlot[r] : -1; },
                      [&](uint32_t r) { return idOfSlot[r]; }, springsOut);
+    if (d.initial) {
+      // The elements of the other boxes, and the springs of their pairs, are their owners'
+      // already.
+      for (auto& o : out) o.clear();
+      for (auto& o : springsOut) o.clear();
+    }
     const std::vector<ElementRecord> arrived = mpi::exchangeRecords(comm, out);
     const std::vector<Moved> arrivedSprings = mpi::exchangeRecords(comm, springsOut);
-    d.migrated += leaving.size();
+    if (!d.initial) d.migrated += leaving.size();
+    d.initial = false;
     for (ElementId id : leaving) s.elements.remove(id);
     std::unordered_map<uint64_t, uint32_t> slotOfId;
     slotOfId.reserve(arrived.size());
@@ -185,7 +214,15 @@ void makeGhosts(Scene<D>& s) {
     std::vector<ElementRecord> ghosts;
     d.plan.forwardWith([&](uint32_t i, ElementRecord& r) { r = recordOf(a, i); }, comm, ghosts);
     a.reserve(n + ghosts.size());
-    for (const ElementRecord& r : ghosts) pushRecord(a, r, kNoSlot);
+    d.states.resize(ghosts.size());
+    for (size_t j = 0; j < ghosts.size(); ++j) {
+      const ElementRecord& r = ghosts[j];
+      pushRecord(a, r, kNoSlot);
+      GhostState& g = d.states[j];
+      std::copy(r.x, r.x + 3, g.x), std::copy(r.v, r.v + 3, g.v);
+      std::copy(r.fPrev, r.fPrev + 3, g.fPrev), std::copy(r.w, r.w + 3, g.w);
+      std::copy(r.tPrev, r.tPrev + 3, g.tPrev), std::copy(r.q, r.q + 4, g.q);
+    }
     s.ghosts = ghosts.size();
     d.ghostCopiesSent = d.plan.sent();
     d.searches += 1;
@@ -244,14 +281,20 @@ class GhostForceModule final : public SimModule<D> {
       const size_t first = s.ownedCount();
       d.forces.resize(s.ghosts);
       for (size_t j = 0; j < s.ghosts; ++j) {
+        const GhostState& was = d.states[j];
         for (int k = 0; k < 3; ++k) {
           d.forces[j].f[k] = a.f[first + j][k];
           d.forces[j].t[k] = a.t[first + j][k];
+          d.forces[j].dv[k] = a.v[first + j][k] - was.v[k];
+          d.forces[j].dw[k] = a.w[first + j][k] - was.w[k];
         }
       }
       d.plan.reverse(d.forces, *d.comm, [&](uint32_t i, const GhostForce& g) {
         a.f[i] += Vec3(g.f[0], g.f[1], g.f[2]);
         a.t[i] += Vec3(g.t[0], g.t[1], g.t[2]);
+        // (Most ghosts' velocities are untouched: adding zeros changes no bits.)
+        a.v[i] += Vec3(g.dv[0], g.dv[1], g.dv[2]);
+        a.w[i] += Vec3(g.dw[0], g.dw[1], g.dw[2]);
       });
     }
   }

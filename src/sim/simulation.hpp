@@ -367,6 +367,7 @@ struct WatchdogTrip {
   WallId wall;                  // the wall concerned, if any
   std::string what;             // e.g. "overlap by 45% of the smaller radius (limit 20%)"
   std::string cause, fix;       // the likely cause and the fix, in words
+  int rank = -1;  // a distributed run: the rank whose element it is, when not this one
   // Returns "run stopped at step N (t = T s) by the watchdog: <subject> <what>; likely cause:
   // ...; fix: ...", naming the elements and the wall with the given functions (the core passes
   // handles, the Tcl layer its script ids).
@@ -831,6 +832,37 @@ class Simulation {
     std::vector<std::vector<Vec3d>> meshes;  // body-frame triangles, 3 points each
   };
   virtual ElementMeshes elementMeshes() const = 0;
+
+  // -- distributed runs (sim/distribution.hpp, doc/plans/mpi.md) --
+  // Spreads the scene over the ranks of the MPI world (one rank: itself): every rank keeps
+  // the elements of its box of a recursive coordinate bisection; the runs after it are the
+  // ranks' runs together. Collective: every rank calls it on the same scene (the same script
+  // made it). Throws MPI UNSUPPORTED naming the first feature distributed runs do not have yet
+  // (2D, element shapes, bonds, mesh walls, periodic boundaries, sources, sinks, blocked
+  // degrees of freedom, loads other than gravity, servo walls, outputs, named or tagged
+  // elements) or MPI DISTRIBUTED when it already is, changing nothing. After it, edits of the
+  // elements are refused (the first step of a run takes the place of a neighbour search),
+  // and every query but elementSnapshots(), energy() and the run reports answers for this
+  // rank's elements only.
+  virtual void distribute() = 0;
+  // Returns true once distribute() has been called.
+  virtual bool distributed() const = 0;
+  // One element as elementSnapshots() gathers it.
+  struct ElementSnapshot {
+    uint64_t id;  // its global id: its creation index in the scene
+    Vec3d position, velocity, angularVelocity;
+  };
+  // Returns every element of the scene, gathered from every rank, by increasing global id.
+  // Collective in a distributed scene.
+  virtual std::vector<ElementSnapshot> elementSnapshots() const = 0;
+  // What a distributed run did so far (zeros in a serial scene): this rank's owned elements and
+  // ghosts, the searches, bisections and elements it sent to other ranks, and the copies of its
+  // elements it sends the other ranks each step.
+  struct DistributionReport {
+    int rank = 0, ranks = 1;
+    uint64_t owned = 0, ghosts = 0, searches = 0, bisections = 0, migrated = 0, copiesSent = 0;
+  };
+  virtual DistributionReport distribution() const = 0;
 
   // -- whole scene --
   // Returns a 64-bit hash of everything that determines the future of the scene (state,

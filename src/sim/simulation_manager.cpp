@@ -490,6 +490,7 @@ double SimulationManager<D>::elementEnergy(uint32_t i) const {
 
 template <int D>
 ElementId SimulationManager<D>::addElement(const ElementDef& def) {
+  refuseIfDistributed("add an element");
   const CheckedElement c = checkElement(def);
   const ElementId id = s_.elements.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
                                    def.name, def.tags, geometryIndex(c.geometry));
@@ -504,6 +505,7 @@ ElementId SimulationManager<D>::addElement(const ElementDef& def) {
 
 template <int D>
 std::vector<ElementId> SimulationManager<D>::addElements(const std::vector<ElementDef>& defs) {
+  refuseIfDistributed("add elements");
   std::vector<CheckedElement> checked;
   checked.reserve(defs.size());
   std::unordered_set<std::string> names;
@@ -559,6 +561,7 @@ void SimulationManager<D>::reserveElements(size_t n) {
 
 template <int D>
 void SimulationManager<D>::removeElement(ElementId id) {
+  refuseIfDistributed("remove an element");
   const uint32_t i = s_.elements.index(id);
   s_.ledger.reference -= elementEnergy(i);
   forgetCandidates();
@@ -574,6 +577,7 @@ void SimulationManager<D>::removeElement(ElementId id) {
 
 template <int D>
 size_t SimulationManager<D>::removeElements(const std::string& tag) {
+  refuseIfDistributed("remove elements");
   const std::vector<ElementId> ids = s_.elements.tags().objects(tag);
   if (ids.empty()) return 0;
   removeElementSet(ids);

@@ -29,6 +29,11 @@ class SimulationManager final : public Simulation {
 
   int dim() const override { return D; }
 
+  void distribute() override;
+  bool distributed() const override { return s_.dist != nullptr; }
+  std::vector<ElementSnapshot> elementSnapshots() const override;
+  DistributionReport distribution() const override;
+
   void setTimeStep(double dt) override;
   void setAutoTimeStep(double fraction, double stepsPerContact) override;
   using Simulation::setAutoTimeStep;
@@ -224,6 +229,8 @@ class SimulationManager final : public Simulation {
   std::vector<std::unique_ptr<SimModule<D>>> makeModules(const SceneUse& u) const;
   // Throws {INTEGRATION NAN} naming the first grain whose position or velocity is not finite.
   void checkFinite() const;
+  // Throws MPI DISTRIBUTED ("can't <what> in a distributed scene") when the scene is.
+  void refuseIfDistributed(const char* what) const;
   // Returns the watchdog's finding hit as a trip: the elements, the likely cause and the fix.
   WatchdogTrip describeTrip(const WatchdogHit& hit, bool atStart) const;
   // Returns the largest overlap / smaller radius over the contacts of the last force pass;

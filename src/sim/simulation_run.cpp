@@ -24,6 +24,7 @@
 #include "sim/contacts.hpp"
 #include "sim/convert.hpp"
 #include "sim/detection.hpp"
+#include "sim/distribution.hpp"
 #include "sim/integrator.hpp"
 #include "sim/law_models.hpp"
 #include "sim/module_table.hpp"
@@ -57,11 +58,17 @@ void SimulationManager<D>::prepare() {
   if (configDirty_) {
     const SceneUse f = sceneUse(s_);
     if (f.shapes) checkShapeRoutines(s_);
-    const double skin = skinInUse();
+    // A distributed scene's ranks hold parts of it: its skin and static step survey were
+    // taken from the whole when it was distributed.
+    const double skin = s_.dist ? s_.dist->skin : skinInUse();
     if (s_.periodic.any()) checkPeriodic(skin);
     // The static estimate is a pass over the elements: taken once for both.
     StepSurvey survey;
-    staticCriticalStep(true, &survey);  // may throw StepAbandoned, changing nothing
+    if (s_.dist) {
+      survey = {s_.dist->critical, s_.dist->linearDuration, s_.dist->hertzDuration};
+    } else {
+      staticCriticalStep(true, &survey);  // may throw StepAbandoned, changing nothing
+    }
     const double dt = timeStepFrom(survey);
     survey_ = survey;
     const size_t nm = s_.nMat();
@@ -101,7 +108,7 @@ void SimulationManager<D>::prepare() {
       s_.skin = skin;
       s_.needRebuild = true;
     }
-    stepLimit_ = watchdogStepLimit(s_);
+    stepLimit_ = s_.dist ? s_.dist->stepLimit : watchdogStepLimit(s_);
     loop_.setModules(makeModules(f));
     configDirty_ = false;
   }
@@ -231,13 +238,16 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     if (!adaptive) return;
     bool measure = now || s_.steps % kContactStepEvery == 0;
     const bool early = !measure && checksContactsEarly(s_.steps);
-    const double contacts =
+    double contacts =
         measure || early ? contactCriticalStep(s_) : std::numeric_limits<double>::infinity();
+    // (The branches above are the same on every rank: a function of the step count.)
+    if (s_.dist && (measure || early)) contacts = s_.dist->comm->min(contacts);
     // Early, taken only where the step is beyond the contacts' stability limit: each change of
     // the step within a contact costs an elastic impact its symmetry (above).
     if (early) measure = s_.stepDt > contacts;
-    const double speed =
+    double speed =
         std::sqrt(k > 0 && watched && !changed ? s_.fastestSpeed2 : fastestSpeed2(s_));
+    if (s_.dist) speed = s_.dist->comm->max(speed);
     // Early, the motion bound is taken again for an element faster than it was made for (a
     // scene starting at rest under gravity: its first impacts come at the speed it gained).
     const bool faster = early && speed > s_.motionSpeed;
@@ -313,8 +323,10 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   try {
     // The scene as set up (placed overlaps, initial speeds) before the first step.
     if (watched) {
-      watchdogCheck(s_, watchdogStepLimit(s_),
-                    s_.steps == 0 ? CheckPoint::BeforeFirstStep : CheckPoint::BeforeRun);
+      watchTogether(s_, [&] {
+        watchdogCheck(s_, s_.dist ? s_.dist->stepLimit : watchdogStepLimit(s_),
+                      s_.steps == 0 ? CheckPoint::BeforeFirstStep : CheckPoint::BeforeRun);
+      });
     }
     // Stopped before its first step: the scene as it was before the run, when the run has it
     // (the force pass above changed forces, candidates and springs, not the motion).
@@ -396,6 +408,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   const auto names = loop_.names();
   for (size_t k = 0; k < names.size(); ++k) rep.modules.push_back({names[k], loop_.seconds()[k]});
   rep.contacts = s_.contacts.size();
+  if (s_.dist) rep.contacts = static_cast<uint64_t>(s_.dist->comm->sum(static_cast<int64_t>(rep.contacts)));
   rep.neighborRebuilds = s_.rebuilds - rebuilds0;
   const EnergyLedger e = energy();
   if (!trip && !untouched) s_.ledger.scale = e.scale;
@@ -493,7 +506,9 @@ std::string percent(double x) {
 std::string WatchdogTrip::message(const std::function<std::string(ElementId)>& grainName,
                                   const std::function<std::string(WallId)>& wallName) const {
   std::string who;
-  if (grains.size() == 1 && wall.isNull()) {
+  if (rank >= 0) {
+    who = "an element of rank " + std::to_string(rank);
+  } else if (grains.size() == 1 && wall.isNull()) {
     who = "element " + grainName(grains[0]);
   } else if (grains.size() == 2) {
     who = "elements " + grainName(grains[0]) + " and " + grainName(grains[1]);
@@ -518,6 +533,16 @@ WatchdogTrip SimulationManager<D>::describeTrip(const WatchdogHit& h, bool atSta
   t.step = s_.steps;
   t.time = s_.time;
   t.atStart = atStart;
+  if (h.rank >= 0) {
+    // Another rank's element: that rank's message names it, with the cause and the fix.
+    static const char* const kChecks[] = {"NAN", "SPEED", "OVERLAP", "ENERGY"};
+    t.check = kChecks[h.kind];
+    t.rank = h.rank;
+    t.what = "failed the " + t.check + " check";
+    t.cause = "rank " + std::to_string(h.rank) + "'s message names the element and the cause";
+    t.fix = "the same as that rank's";
+    return t;
+  }
   const auto grainId = [&](uint32_t i) { return s_.elements.pool().handleAt(i); };
   t.grains.push_back(grainId(h.a));
   if (h.hasB) {
@@ -759,7 +784,7 @@ double SimulationManager<D>::potential() const {
   if (g.squaredNorm() == 0) return 0;
   const ElementArrays<D>& a = s_.elements.a;
   double u = 0;
-  for (size_t i = 0; i < a.size(); ++i) u -= g.dot(a.x[i]) / a.invMass[i];
+  for (size_t i = 0; i < s_.ownedCount(); ++i) u -= g.dot(a.x[i]) / a.invMass[i];
   return u;
 }
 
@@ -767,22 +792,31 @@ template <int D>
 double SimulationManager<D>::ledgerSum() const {
   const ElementArrays<D>& a = s_.elements.a;
   double k = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
+  for (size_t i = 0; i < s_.ownedCount(); ++i) {
     k += 0.5 * a.v[i].squaredNorm() / a.invMass[i] + 0.5 * twiceRotationalEnergy(s_, i);
   }
-  return s_.ledger.balanceSum(k, potential());
+  double u = potential();
+  LedgerSums l = s_.ledger;
+  if (s_.dist) reduceLedger(*s_.dist->comm, k, u, l);
+  return l.balanceSum(k, u);
 }
 
 template <int D>
 EnergyLedger SimulationManager<D>::energy() const {
   EnergyLedger e;
   const ElementArrays<D>& a = s_.elements.a;
-  for (size_t i = 0; i < a.size(); ++i) {
+  for (size_t i = 0; i < s_.ownedCount(); ++i) {
     e.kineticTranslational += 0.5 * a.v[i].squaredNorm() / a.invMass[i];
     e.kineticRotational += 0.5 * twiceRotationalEnergy(s_, i);
   }
-  const LedgerSums& l = s_.ledger;
+  LedgerSums l = s_.ledger;
   e.gravitational = potential();
+  if (s_.dist) {
+    // The ranks' parts added: the kinetic energies as two terms, the potential, the sums.
+    double kinetic = e.kineticTranslational;
+    reduceLedger(*s_.dist->comm, kinetic, e.gravitational, l, &e.kineticRotational);
+    e.kineticTranslational = kinetic;
+  }
   e.elastic = l.elastic;
   e.dampingLoss = l.dampingLoss;
   e.frictionLoss = l.frictionLoss;

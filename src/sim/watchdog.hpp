@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "sim/contacts.hpp"
+#include "sim/distribution.hpp"
 #include "sim/element_chunks.hpp"
 #include "sim/rigid_body.hpp"
 #include "sim/scene.hpp"
@@ -56,7 +57,36 @@ struct WatchdogHit {
   uint32_t a = 0, b = 0;
   bool hasB = false, wall = false, placed = false;
   double value = 0, limit = 0, extra = 0;
+  int rank = -1;  // a distributed scene: the rank whose element it is when not this one
 };
+
+// Runs check() (which may throw WatchdogHit) on every rank of a distributed scene and throws on
+// every rank when one found a hit: the hit of the lowest rank that has one, its elements named
+// by that rank only (the others' hit carries its kind and rank). A serial scene: check().
+// Collective in a distributed scene.
+template <int D, class Check>
+void watchTogether(const Scene<D>& s, Check&& check) {
+  if (!s.dist) {
+    check();
+    return;
+  }
+  WatchdogHit hit;
+  bool found = false;
+  try {
+    check();
+  } catch (const WatchdogHit& h) {
+    hit = h;
+    found = true;
+  }
+  const std::vector<double> kinds = s.dist->comm->gather({found ? double(hit.kind) : -1.0});
+  for (size_t r = 0; r < kinds.size(); ++r) {
+    if (kinds[r] < 0) continue;
+    if (static_cast<int>(r) == s.dist->comm->rank()) throw hit;
+    WatchdogHit other{static_cast<WatchdogHit::Kind>(static_cast<int>(kinds[r]))};
+    other.rank = static_cast<int>(r);
+    throw other;
+  }
+}
 
 // Returns the largest distance a grain may move in one step: the larger of half the skin
 // (s.skin, or the given one: the skin a configuration about to be prepared will use) and half
@@ -266,9 +296,12 @@ bool watchdogEnergyOver(const Scene<D>& s, WatchdogHit& h) {
       fastest = p.fastest;
     }
   }
-  const double kin = 0.5 * k2;
-  const double balance = l.balanceSum(kin, u) - l.reference;
-  const double scale = l.scaleWith(kin, u, true);
+  double kin = 0.5 * k2;
+  // A distributed scene: the ranks' parts added (every rank checks at the same steps).
+  LedgerSums whole = l;
+  if (s.dist) reduceLedger(*s.dist->comm, kin, u, whole);
+  const double balance = whole.balanceSum(kin, u) - whole.reference;
+  const double scale = whole.scaleWith(kin, u, true);
   if (!(scale > 0 && balance > o.energy * scale)) return false;
   h = WatchdogHit{WatchdogHit::Energy};
   h.a = static_cast<uint32_t>(fastest);
@@ -287,15 +320,19 @@ class WatchdogModule final : public SimModule<D> {
   std::string_view name() const override { return "watchdog"; }
   SimLevel level() const override { return SimLevel::Cleanup; }
   void run(Scene<D>& s) override {
-    s.fastestSpeed2 = watchdogCheck(s, limit_);
     // The energy every kEnergyEvery steps, firing when two checks in a row exceed the bound:
     // a balance off by O(1) of a still tiny scale in the first steps (a load rising from zero
-    // on a grain at rest) fades, while created energy stays.
-    if (s.steps % kEnergyEvery != 0) return;
-    WatchdogHit h;
-    const bool over = watchdogEnergyOver(s, h);
-    if (over && energyOver_) throw h;
-    energyOver_ = over;
+    // on a grain at rest) fades, while created energy stays. Measured before the step's checks
+    // throw: in a distributed scene it is a sum over the ranks, which every rank must take.
+    const bool energyStep = s.steps % kEnergyEvery == 0;
+    WatchdogHit energyHit;
+    const bool over = energyStep && watchdogEnergyOver(s, energyHit);
+    watchTogether(s, [&] {
+      s.fastestSpeed2 = watchdogCheck(s, limit_);
+      if (!energyStep) return;
+      if (over && energyOver_) throw energyHit;
+      energyOver_ = over;
+    });
   }
 
   static constexpr uint64_t kEnergyEvery = 16;

@@ -255,16 +255,3 @@ TEST(Ranks, TheGhostPlanSendsTheOwnersStatesEveryStep) {
 
 }  // namespace
 }  // namespace demlab::mpi
-
-int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  testing::InitGoogleTest(&argc, argv);
-  // (The tests use no ASSERT before a collective: a rank that left a test early would leave
-  // the others waiting in it.)
-  const int failed = RUN_ALL_TESTS();
-  // The run fails if any rank failed.
-  int anyFailed = 0;
-  MPI_Allreduce(&failed, &anyFailed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Finalize();
-  return anyFailed;
-}

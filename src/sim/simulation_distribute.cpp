@@ -1,0 +1,147 @@
+// SimulationManager<D>: spreading a scene over the ranks of an MPI run (sim/distribution.hpp)
+// and the queries that gather it back.
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include "mpi/communicator.hpp"
+#include "sim/convert.hpp"
+#include "sim/distribution.hpp"
+#include "sim/simulation_manager.hpp"
+#include "sim/watchdog.hpp"
+
+namespace demlab::sim {
+
+namespace {
+
+// Returns what in scene s a distributed run cannot do yet, or "" when it can run it.
+template <int D>
+std::string unsupported(const Scene<D>& s, size_t outputs) {
+  if (D != 3) return "two dimensions";
+  const ElementArrays<D>& a = s.elements.a;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a.geometry[i] != 0) return "elements that are not balls";
+  }
+  if (!s.bonds.empty()) return "bonds";
+  for (const Wall<D>& w : s.walls.items) {
+    if (w.kind == WallShape::Mesh) return "a mesh wall";
+    if (w.servo) return "a servo-controlled wall";
+  }
+  if (s.periodic.any()) return "periodic boundaries";
+  if (!s.sources.empty()) return "a source";
+  if (!s.sinks.empty()) return "a sink";
+  if (!s.blocked.empty()) return "blocked degrees of freedom";
+  for (const auto& b : s.behaviors.items()) {
+    if (b->type() != "gravity") return "a " + std::string(b->type()) + " behavior";
+  }
+  if (outputs > 0) return "an output";
+  if (s.elements.names().size() > 0) return "named elements";
+  for (std::string_view t : s.elements.tags().tags()) {
+    if (s.elements.tags().count(t) > 0) return "tagged elements";
+  }
+  return "";
+}
+
+}  // namespace
+
+template <int D>
+void SimulationManager<D>::distribute() {
+  if (s_.dist) {
+    throw Error("can't distribute the scene: it is distributed already", {"MPI", "DISTRIBUTED"});
+  }
+  const std::string what = unsupported(s_, outputs_.size());
+  if (!what.empty()) {
+    throw Error("can't distribute the scene over ranks: it has " + what +
+                    ", which distributed runs do not support yet",
+                {"MPI", "UNSUPPORTED"});
+  }
+  if constexpr (D == 3) {
+    // Every rank holds the whole scene: what it uses, its skin and its step are decided here
+    // for all, and the forces of the present state computed once.
+    prepare();
+    auto d = std::make_shared<Distribution<D>>();
+    d->comm = &mpi::Communicator::world();
+    d->use = sceneUse(s_);
+    d->skin = s_.skin;
+    d->stepLimit = stepLimit_;
+    d->critical = survey_.critical;
+    d->linearDuration = survey_.linearDuration;
+    d->hertzDuration = survey_.hertzDuration;
+    // The first search keeps on each rank the elements of its box (migrate).
+    const mpi::Communicator& comm = *d->comm;
+    // The ledger's sums of what happened so far are the whole scene's on every rank: rank 0
+    // keeps them, so the ranks' sums add up to them.
+    if (comm.rank() != 0) {
+      LedgerSums& l = s_.ledger;
+      l.dampingLoss = l.frictionLoss = l.wallWork = l.behaviorWork = l.springWork = 0;
+      l.bondReleased = 0;
+    }
+    for (Wall<D>& w : s_.walls.items) {
+      if (comm.rank() != 0) w.work = 0;
+    }
+    // The first step searches and keeps each rank's part; on one rank the scene is its part
+    // already, and its searches come when the serial run's would.
+    s_.needRebuild = s_.needRebuild || comm.size() > 1;
+    s_.dist = std::move(d);
+    configDirty_ = true;
+  }
+}
+
+template <int D>
+std::vector<Simulation::ElementSnapshot> SimulationManager<D>::elementSnapshots() const {
+  const ElementArrays<D>& a = s_.elements.a;
+  const size_t n = s_.ownedCount();
+  std::vector<ElementSnapshot> mine(n);
+  for (size_t i = 0; i < n; ++i) {
+    ElementSnapshot& e = mine[i];
+    e.id = a.globalId[i];
+    e.position = fromVec<D>(a.x[i]);
+    e.velocity = fromVec<D>(a.v[i]);
+    e.angularVelocity = fromAngular(a.w[i]);
+  }
+  std::vector<ElementSnapshot> all;
+  if (!s_.dist) {
+    all = std::move(mine);
+  } else {
+    std::vector<char> bytes(mine.size() * sizeof(ElementSnapshot));
+    if (!bytes.empty()) std::memcpy(bytes.data(), mine.data(), bytes.size());
+    for (const std::vector<char>& b : s_.dist->comm->gatherBytes(bytes)) {
+      const size_t at = all.size();
+      all.resize(at + b.size() / sizeof(ElementSnapshot));
+      if (!b.empty()) std::memcpy(static_cast<void*>(all.data() + at), b.data(), b.size());
+    }
+  }
+  std::sort(all.begin(), all.end(),
+            [](const ElementSnapshot& x, const ElementSnapshot& y) { return x.id < y.id; });
+  return all;
+}
+
+template <int D>
+Simulation::DistributionReport SimulationManager<D>::distribution() const {
+  DistributionReport r;
+  r.owned = s_.ownedCount();
+  if (!s_.dist) return r;
+  const Distribution<D>& d = *s_.dist;
+  r.rank = d.comm->rank();
+  r.ranks = d.comm->size();
+  r.ghosts = s_.ghosts;
+  r.searches = d.searches;
+  r.bisections = d.bisections;
+  r.migrated = d.migrated;
+  r.copiesSent = d.ghostCopiesSent;
+  return r;
+}
+
+template <int D>
+void SimulationManager<D>::refuseIfDistributed(const char* what) const {
+  if (s_.dist) {
+    throw Error(std::string("can't ") + what +
+                    " in a distributed scene: its elements are spread over the ranks",
+                {"MPI", "DISTRIBUTED"});
+  }
+}
+
+template class SimulationManager<2>;
+template class SimulationManager<3>;
+
+}  // namespace demlab::sim

@@ -1,0 +1,89 @@
+// Simulation::distribute on one rank (this program runs without mpirun: the world is one rank),
+// so the distributed step's machinery (the first search keeping each rank's part, the ghost
+// modules, the reductions of the ledger and the watchdog) runs with no other rank: it must give
+// the serial run's bits. What it refuses, and the edits refused after it. The runs on 2 and 3
+// ranks are tests/mpi/sim_ranks_test.cpp's.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "sim/simulation_manager.hpp"
+#include "sim_test_util.hpp"
+
+namespace demlab::sim {
+namespace sim_distribute_test {
+
+using testing::addBox;
+using testing::codeOf;
+using testing::grain;
+using testing::latticeGrains;
+using testing::material;
+
+// A frictional bed of n balls falling in a box: 0.2 m side, radius 6 mm, speeds up to 0.5 m/s.
+std::unique_ptr<Simulation> bed(int n) {
+  auto s = makeSimulation(3);
+  s->addMaterial("glass", material(1e7, 0.5, 0.5));
+  addBox(*s, 0.2, "glass");
+  s->addGravity({0, 0, -9.81});
+  for (const ElementDef& e : latticeGrains(3, n, 0.006, 0.2, 0.5, "glass", 7)) s->addElement(e);
+  return s;
+}
+
+TEST(SimDistribute, OneRankIsTheSerialRun) {
+  auto serial = bed(1500), dist = bed(1500);
+  // (Distributed runs give every element half the skin: DetectionModule::chooseMargins.)
+  serial->setOption("detection", "margins", false);
+  dist->distribute();
+  EXPECT_TRUE(dist->distributed());
+  const std::vector<std::string> modules = dist->listModules();
+  EXPECT_NE(std::find(modules.begin(), modules.end(), "ghosts"), modules.end());
+  EXPECT_NE(std::find(modules.begin(), modules.end(), "ghost-forces"), modules.end());
+  RunReport a, b;
+  for (int k = 0; k < 4; ++k) {
+    a = serial->runSteps(500);
+    b = dist->runSteps(500);
+  }
+  EXPECT_GT(b.neighborRebuilds, 0u);
+  EXPECT_EQ(a.contacts, b.contacts);
+  EXPECT_GT(a.contacts, 1000u);
+  const auto x = serial->elementSnapshots(), y = dist->elementSnapshots();
+  ASSERT_EQ(x.size(), y.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    EXPECT_EQ(x[i].id, y[i].id);
+    EXPECT_EQ(x[i].position, y[i].position) << i;
+    EXPECT_EQ(x[i].velocity, y[i].velocity) << i;
+  }
+  EXPECT_EQ(serial->energy().residual, dist->energy().residual);
+  const Simulation::DistributionReport r = dist->distribution();
+  EXPECT_EQ(r.ranks, 1);
+  EXPECT_EQ(r.owned, 1500u);
+  EXPECT_EQ(r.ghosts, 0u);
+  EXPECT_GT(r.searches, 1u);
+}
+
+TEST(SimDistribute, RefusesWhatItCannotRun) {
+  const auto refused = [](auto&& edit) {
+    auto s = bed(20);
+    edit(*s);
+    const uint64_t before = s->stateDigest();
+    EXPECT_EQ(codeOf([&] { s->distribute(); }), (std::vector<std::string>{"MPI", "UNSUPPORTED"}));
+    EXPECT_EQ(s->stateDigest(), before);
+    EXPECT_FALSE(s->distributed());
+  };
+  refused([](Simulation& s) { s.addElement(grain({0.1, 0.1, 0.1}, 0.004, "glass")); s.removeElement(s.elementIds()[0]); ElementDef e = grain({0.05, 0.05, 0.15}, 0.004, "glass"); e.name = "a"; s.addElement(e); });
+  refused([](Simulation& s) { ElementDef e = grain({0.05, 0.05, 0.15}, 0.004, "glass"); e.tags = {"t"}; s.addElement(e); });
+  auto flat = makeSimulation(2);
+  flat->addMaterial("glass", material(1e7, 0.5, 0.5));
+  EXPECT_EQ(codeOf([&] { flat->distribute(); }), (std::vector<std::string>{"MPI", "UNSUPPORTED"}));
+  // Once distributed: a second time, and edits of the elements.
+  auto s = bed(20);
+  s->distribute();
+  EXPECT_EQ(codeOf([&] { s->distribute(); }), (std::vector<std::string>{"MPI", "DISTRIBUTED"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(grain({0.1, 0.1, 0.15}, 0.004, "glass")); }),
+            (std::vector<std::string>{"MPI", "DISTRIBUTED"}));
+  EXPECT_EQ(codeOf([&] { s->removeElement(s->elementIds()[0]); }),
+            (std::vector<std::string>{"MPI", "DISTRIBUTED"}));
+}
+
+}  // namespace sim_distribute_test
+}  // namespace demlab::sim
