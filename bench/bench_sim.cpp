@@ -30,6 +30,11 @@
 // scene names get the suffix "-nofriction", "-norotation", "-touch", "-default" or
 // "-default-notouch".
 //
+// Under mpirun on several ranks the scene is distributed (Simulation::distribute): every rank
+// reads the file and builds the scene, each keeps its part, and rank 0 prints the row with the
+// scene name suffixed "@rN" (N ranks): seconds the slowest rank's, contacts and peak RSS summed
+// over the ranks (the run's whole memory), the module times rank 0's.
+//
 // On stderr: the modules the scene runs and the wall time of each (RunReport::modules), the
 // contact-search rebuilds and the energy-balance residual; with --digest the state digest after
 // the run (equal digests: bit-identical runs). --breakdown FILE appends the module
@@ -53,6 +58,7 @@
 
 #include "core/error.hpp"
 #include "io/lammps_data.hpp"
+#include "mpi/communicator.hpp"
 #include "sim/simulation.hpp"
 
 namespace demlab::bench {
@@ -331,11 +337,21 @@ void runOne(const std::string& path, const Options& o, const Variant& v) {
     s = buildScene(d, o, v);
     n = d.size();
   }
+  const mpi::Communicator& comm = mpi::Communicator::world();
+  if (comm.distributed()) s->distribute();
+  // Rank 0 alone writes, the others' stdout and stderr go nowhere.
+  if (comm.rank() != 0) {
+    std::fflush(stdout);
+    std::fflush(stderr);
+    (void)!std::freopen("/dev/null", "w", stdout);
+    (void)!std::freopen("/dev/null", "w", stderr);
+  }
   // The reader's and the scene builder's small blocks (the file's ids, types and radii, the
   // checked Defs of each batch) were freed below blocks still in use, where the allocator
   // keeps their pages resident: returned to the system now, before the run.
   malloc_trim(0);
-  const std::string name = io::sceneName(path) + std::string(v.suffix);
+  const std::string name = io::sceneName(path) + std::string(v.suffix) +
+                           (comm.distributed() ? "@r" + std::to_string(comm.size()) : "");
   std::string modules;
   for (const auto& m : s->listModules()) modules += (modules.empty() ? "" : " ") + m;
 
@@ -343,13 +359,15 @@ void runOne(const std::string& path, const Options& o, const Variant& v) {
   ro.steps = o.steps;
   const double load1 = loadAverage();
   const double cpu0 = cpuSeconds();
+  comm.barrier();
   const auto t0 = std::chrono::steady_clock::now();
   const sim::RunReport r = s->run(ro);
   const double cpu = cpuSeconds() - cpu0;
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const double rss = peakRssMb();
-  const uint64_t contacts = grainContacts(*s);
+  const double seconds = comm.max(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  const double rss = comm.sum(peakRssMb());
+  const uint64_t contacts =
+      static_cast<uint64_t>(comm.sum(static_cast<int64_t>(grainContacts(*s))));
   const double perGrain = static_cast<double>(std::max<std::size_t>(n, 1));
 
   std::printf("demlab,%s,%zu,%llu,%.4f,%.0f,%llu,%.1f\n", name.c_str(), n,
@@ -459,5 +477,6 @@ int main(int argc, char** argv) {
 }  // namespace demlab::bench
 
 int main(int argc, char** argv) {
+  const demlab::mpi::Session mpi(&argc, &argv);
   return demlab::bench::main(argc, argv);
 }

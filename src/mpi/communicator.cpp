@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdlib>
 #include <stdexcept>
 
 #ifdef DEMLAB_HAVE_MPI
@@ -15,6 +16,28 @@ bool built() {
   return true;
 #else
   return false;
+#endif
+}
+
+Session::Session(int* argc, char*** argv) {
+#ifdef DEMLAB_HAVE_MPI
+  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  if (size == nullptr) size = std::getenv("PMI_SIZE");
+  if (size == nullptr) return;
+  int up = 0;
+  MPI_Initialized(&up);
+  if (up) return;
+  MPI_Init(argc, argv);
+  started_ = true;
+#else
+  (void)argc;
+  (void)argv;
+#endif
+}
+
+Session::~Session() {
+#ifdef DEMLAB_HAVE_MPI
+  if (started_) MPI_Finalize();
 #endif
 }
 

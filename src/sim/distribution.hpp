@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -43,16 +44,24 @@ struct ElementRecord {
   uint32_t material, geometry;
 };
 
-// What a ghost takes from its owner every step: what the contact passes and the touch
-// correction read.
+// What a ghost takes from its owner every step: what the contact passes read (a ball's
+// orientation enters no contact), and with the touch correction the last step's force, from
+// which it reconstructs the step's start. The messages of a step are most of a distributed
+// step's cost beyond the serial one's: each field is sent only where it is read.
 struct GhostState {
-  double x[3], v[3], fPrev[3], w[3], tPrev[3], q[4];
+  double x[3], v[3], w[3];
+};
+struct GhostStateTouch : GhostState {
+  double fPrev[3];
 };
 
-// What a ghost's pairs gave it in a step, back to its owner: forces and torques, and the
-// changes of its velocities (the touch correction's impulses act on velocities).
+// What a ghost's pairs gave it in a step, back to its owner: forces and torques, and with the
+// touch correction the change of its velocity (the correction's impulses act on velocities).
 struct GhostForce {
-  double f[3], t[3], dv[3], dw[3];
+  double f[3], t[3];
+};
+struct GhostForceTouch : GhostForce {
+  double dv[3];
 };
 
 template <int D>
@@ -76,9 +85,12 @@ struct Distribution {
   // ghosts held at the last search, and bytes sent per step by the two exchanges.
   uint64_t searches = 0, bisections = 0, migrated = 0;
   size_t ghostCopiesSent = 0;
-  // Scratch of the step's exchanges, kept from step to step.
-  std::vector<GhostState> states;
+  // The ghosts' states as last received (their velocities before this rank's pairs acted), and
+  // the scratch of the step's exchanges, kept from step to step.
+  std::vector<GhostStateTouch> states;
+  std::vector<GhostState> leanStates;
   std::vector<GhostForce> forces;
+  std::vector<GhostForceTouch> touchForces;
 };
 
 // Replaces this rank's kinetic energy, potential energy, ledger sums (l's losses, works and
@@ -218,10 +230,9 @@ void makeGhosts(Scene<D>& s) {
     for (size_t j = 0; j < ghosts.size(); ++j) {
       const ElementRecord& r = ghosts[j];
       pushRecord(a, r, kNoSlot);
-      GhostState& g = d.states[j];
-      std::copy(r.x, r.x + 3, g.x), std::copy(r.v, r.v + 3, g.v);
-      std::copy(r.fPrev, r.fPrev + 3, g.fPrev), std::copy(r.w, r.w + 3, g.w);
-      std::copy(r.tPrev, r.tPrev + 3, g.tPrev), std::copy(r.q, r.q + 4, g.q);
+      GhostStateTouch& g = d.states[j];
+      std::copy(r.x, r.x + 3, g.x), std::copy(r.v, r.v + 3, g.v), std::copy(r.w, r.w + 3, g.w);
+      std::copy(r.fPrev, r.fPrev + 3, g.fPrev);
     }
     s.ghosts = ghosts.size();
     d.ghostCopiesSent = d.plan.sent();
@@ -239,36 +250,50 @@ class GhostModule final : public SimModule<D> {
   void run(Scene<D>& s) override {
     if constexpr (D == 3) {
       Distribution<D>& d = *s.dist;
+      if (s.touchCorrection) {
+        forward(s, d.states);
+      } else {
+        forward(s, d.leanStates);
+        d.states.resize(d.leanStates.size());
+        for (size_t j = 0; j < d.leanStates.size(); ++j) {
+          static_cast<GhostState&>(d.states[j]) = d.leanStates[j];
+        }
+      }
       ElementArrays<D>& a = s.elements.a;
-      d.plan.forwardWith(
-          [&](uint32_t i, GhostState& g) {
-            for (int k = 0; k < 3; ++k) {
-              g.x[k] = a.x[i][k], g.v[k] = a.v[i][k], g.fPrev[k] = a.fPrev[i][k];
-              g.w[k] = a.w[i][k], g.tPrev[k] = a.tPrev[i][k];
-            }
-            g.q[0] = a.q[i].w(), g.q[1] = a.q[i].x(), g.q[2] = a.q[i].y(), g.q[3] = a.q[i].z();
-          },
-          *d.comm, d.states);
       const size_t first = s.ownedCount();
+      const bool touch = s.touchCorrection;
       for (size_t j = 0; j < d.states.size(); ++j) {
-        const GhostState& g = d.states[j];
+        const GhostStateTouch& g = d.states[j];
         const size_t i = first + j;
         a.x[i] = Vec3(g.x[0], g.x[1], g.x[2]);
         a.v[i] = Vec3(g.v[0], g.v[1], g.v[2]);
-        a.fPrev[i] = Vec3(g.fPrev[0], g.fPrev[1], g.fPrev[2]);
         a.w[i] = Vec3(g.w[0], g.w[1], g.w[2]);
-        a.tPrev[i] = Vec3(g.tPrev[0], g.tPrev[1], g.tPrev[2]);
-        a.q[i] = Quat(g.q[0], g.q[1], g.q[2], g.q[3]);
+        if (touch) a.fPrev[i] = Vec3(g.fPrev[0], g.fPrev[1], g.fPrev[2]);
         a.f[i].setZero();
         a.t[i].setZero();
       }
     }
   }
+
+ private:
+  // Sends the owned elements' states as T (GhostState or GhostStateTouch) into out.
+  template <class T>
+  static void forward(Scene<D>& s, std::vector<T>& out) {
+    const ElementArrays<D>& a = s.elements.a;
+    s.dist->plan.forwardWith(
+        [&](uint32_t i, T& g) {
+          for (int k = 0; k < 3; ++k) g.x[k] = a.x[i][k], g.v[k] = a.v[i][k], g.w[k] = a.w[i][k];
+          if constexpr (std::is_same_v<T, GhostStateTouch>) {
+            for (int k = 0; k < 3; ++k) g.fPrev[k] = a.fPrev[i][k];
+          }
+        },
+        *s.dist->comm, out);
+  }
 };
 
 // "ghost-forces" (level Behaviors, after every force on pairs and before the constraints and
 // the kick): what the ghosts took in this rank's pairs, added to their owners' forces and
-// torques.
+// torques (and velocities: the touch correction's impulses).
 template <int D>
 class GhostForceModule final : public SimModule<D> {
  public:
@@ -276,27 +301,39 @@ class GhostForceModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Behaviors; }
   void run(Scene<D>& s) override {
     if constexpr (D == 3) {
-      Distribution<D>& d = *s.dist;
-      ElementArrays<D>& a = s.elements.a;
-      const size_t first = s.ownedCount();
-      d.forces.resize(s.ghosts);
-      for (size_t j = 0; j < s.ghosts; ++j) {
-        const GhostState& was = d.states[j];
-        for (int k = 0; k < 3; ++k) {
-          d.forces[j].f[k] = a.f[first + j][k];
-          d.forces[j].t[k] = a.t[first + j][k];
-          d.forces[j].dv[k] = a.v[first + j][k] - was.v[k];
-          d.forces[j].dw[k] = a.w[first + j][k] - was.w[k];
+      if (s.touchCorrection) {
+        back(s, s.dist->touchForces);
+      } else {
+        back(s, s.dist->forces);
+      }
+    }
+  }
+
+ private:
+  // Returns the ghosts' forces as T (GhostForce or GhostForceTouch) through out.
+  template <class T>
+  static void back(Scene<D>& s, std::vector<T>& out) {
+    Distribution<D>& d = *s.dist;
+    ElementArrays<D>& a = s.elements.a;
+    const size_t first = s.ownedCount();
+    out.resize(s.ghosts);
+    for (size_t j = 0; j < s.ghosts; ++j) {
+      for (int k = 0; k < 3; ++k) {
+        out[j].f[k] = a.f[first + j][k];
+        out[j].t[k] = a.t[first + j][k];
+        if constexpr (std::is_same_v<T, GhostForceTouch>) {
+          out[j].dv[k] = a.v[first + j][k] - d.states[j].v[k];
         }
       }
-      d.plan.reverse(d.forces, *d.comm, [&](uint32_t i, const GhostForce& g) {
-        a.f[i] += Vec3(g.f[0], g.f[1], g.f[2]);
-        a.t[i] += Vec3(g.t[0], g.t[1], g.t[2]);
-        // (Most ghosts' velocities are untouched: adding zeros changes no bits.)
-        a.v[i] += Vec3(g.dv[0], g.dv[1], g.dv[2]);
-        a.w[i] += Vec3(g.dw[0], g.dw[1], g.dw[2]);
-      });
     }
+    d.plan.reverse(out, *d.comm, [&](uint32_t i, const T& g) {
+      a.f[i] += Vec3(g.f[0], g.f[1], g.f[2]);
+      a.t[i] += Vec3(g.t[0], g.t[1], g.t[2]);
+      if constexpr (std::is_same_v<T, GhostForceTouch>) {
+        // (Most ghosts' velocities are untouched: their zeros change no bits but a -0.)
+        a.v[i] += Vec3(g.dv[0], g.dv[1], g.dv[2]);
+      }
+    });
   }
 };
 

@@ -56,28 +56,52 @@ void SimulationManager<D>::distribute() {
                 {"MPI", "UNSUPPORTED"});
   }
   if constexpr (D == 3) {
-    // Every rank holds the whole scene: what it uses, its skin and its step are decided here
-    // for all, and the forces of the present state computed once.
-    prepare();
+    // Every rank holds the whole scene: what it uses, its skin, its static step survey and the
+    // watchdog's step limit are decided here for all.
     auto d = std::make_shared<Distribution<D>>();
     d->comm = &mpi::Communicator::world();
-    d->use = sceneUse(s_);
-    d->skin = s_.skin;
-    d->stepLimit = stepLimit_;
-    d->critical = survey_.critical;
-    d->linearDuration = survey_.linearDuration;
-    d->hertzDuration = survey_.hertzDuration;
-    // The first search keeps on each rank the elements of its box (migrate).
     const mpi::Communicator& comm = *d->comm;
+    d->use = sceneUse(s_);
+    d->skin = skinInUse();
+    StepSurvey survey;
+    staticCriticalStep(false, &survey);
+    d->critical = survey.critical;
+    d->linearDuration = survey.linearDuration;
+    d->hertzDuration = survey.hertzDuration;
+    d->stepLimit = watchdogStepLimit(s_, d->skin);
+    // A scene that has run holds pair state (springs, touch states) by dense index: the first
+    // search keeps each rank's part with it (migrate). One that has not is cut now, before it
+    // costs any rank more than its part's memory.
+    bool paired = !s_.candidates.empty();
+    for (const auto& w : s_.wallCandidates) paired = paired || !w.empty();
+    if (!paired && comm.size() > 1) {
+      ElementArrays<D>& a = s_.elements.a;
+      std::vector<mpi::Point<D>> centres(a.size());
+      for (size_t i = 0; i < a.size(); ++i) centres[i] = {a.x[i][0], a.x[i][1], a.x[i][2]};
+      // (Every rank passes all the points: each counts p times, which moves no cut.)
+      d->partition = mpi::Partition<D>::bisect(centres, {}, comm.size(), comm);
+      d->partitioned = true;
+      d->bisections = 1;
+      d->initial = false;
+      std::vector<ElementId> others;
+      for (size_t i = 0; i < a.size(); ++i) {
+        if (d->partition.ownerOf(centres[i]) != comm.rank()) {
+          others.push_back(s_.elements.pool().handleAt(static_cast<uint32_t>(i)));
+        }
+      }
+      std::vector<mpi::Point<D>>().swap(centres);
+      for (ElementId id : others) s_.elements.remove(id);
+      // The arrays' room for the whole scene goes back to the system.
+      ElementArrays<D>::forEachArray(a, [](auto& arr) { arr.shrink_to_fit(); });
+      s_.forcesReady = false;
+    }
     // The ledger's sums of what happened so far are the whole scene's on every rank: rank 0
     // keeps them, so the ranks' sums add up to them.
     if (comm.rank() != 0) {
       LedgerSums& l = s_.ledger;
       l.dampingLoss = l.frictionLoss = l.wallWork = l.behaviorWork = l.springWork = 0;
       l.bondReleased = 0;
-    }
-    for (Wall<D>& w : s_.walls.items) {
-      if (comm.rank() != 0) w.work = 0;
+      for (Wall<D>& w : s_.walls.items) w.work = 0;
     }
     // The first step searches and keeps each rank's part; on one rank the scene is its part
     // already, and its searches come when the serial run's would.

@@ -131,7 +131,7 @@ void SimulationManager<D>::prepare() {
   }
   if (!s_.ledger.started) {
     s_.ledger.reference = ledgerSum();
-    s_.ledger.gravityReference = potential();
+    s_.ledger.gravityReference = s_.dist ? s_.dist->comm->sum(potential()) : potential();
     s_.ledger.started = true;
   }
 }

@@ -78,6 +78,8 @@ void watchTogether(const Scene<D>& s, Check&& check) {
     hit = h;
     found = true;
   }
+  // One reduction a step; the ranks' kinds only when some rank found a hit.
+  if (!(s.dist->comm->max(found ? 1.0 : 0.0) > 0)) return;
   const std::vector<double> kinds = s.dist->comm->gather({found ? double(hit.kind) : -1.0});
   for (size_t r = 0; r < kinds.size(); ++r) {
     if (kinds[r] < 0) continue;

@@ -9,10 +9,12 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "core/error.hpp"
 #include "mpi/communicator.hpp"
 #include "sim/simulation.hpp"
 
@@ -76,11 +78,18 @@ std::unique_ptr<Simulation> bed(int n, double r, double side, double friction) {
 
 // Runs the scene serially and distributed over the world for steps steps (in runs of `each`)
 // and compares them at the end. tol: the largest position difference allowed over the radius.
-void compare(int n, double friction, uint64_t steps, uint64_t each, double tol) {
+// warm: both run `each` steps before the one is distributed (its pairs' springs and touch states
+// then go with the elements at the first search).
+void compare(int n, double friction, uint64_t steps, uint64_t each, double tol, bool warm = false) {
   auto serial = bed(n, 0.005, 0.2, friction);
   auto dist = bed(n, 0.005, 0.2, friction);
   // (Distributed runs give every element half the skin: the same searches.)
   serial->setOption("detection", "margins", false);
+  dist->setOption("detection", "margins", false);
+  if (warm) {
+    serial->runSteps(each);
+    dist->runSteps(each);
+  }
   dist->distribute();
   RunReport a, b;
   for (uint64_t k = 0; k < steps; k += each) {
@@ -119,6 +128,31 @@ void compare(int n, double friction, uint64_t steps, uint64_t each, double tol) 
 TEST(SimRanks, FrictionalBedAgreesWithTheSerialRun) { compare(1200, 0.5, 6000, 2000, 1e-6); }
 
 TEST(SimRanks, FrictionlessBedAgreesWithTheSerialRun) { compare(1200, 0, 6000, 2000, 1e-6); }
+
+TEST(SimRanks, BedDistributedAfterARunAgreesWithTheSerialRun) {
+  compare(1200, 0.5, 6000, 2000, 1e-6, true);
+}
+
+// One element far too fast for the step: the watchdog stops the run before its first step on
+// every rank alike (the rank holding it names it), none left waiting in a collective.
+TEST(SimRanks, WatchdogStopsEveryRank) {
+  auto s = bed(600, 0.005, 0.2, 0.5);
+  ElementDef fast;
+  fast.material = "glass";
+  fast.radius = 0.005;
+  fast.position = {0.15, 0.15, 0.15};
+  fast.velocity = {0, 0, -400};
+  s->addElement(fast);
+  s->distribute();
+  std::vector<std::string> code;
+  try {
+    s->runSteps(10);
+  } catch (const Error& e) {
+    code = e.code();
+  }
+  EXPECT_EQ(code, (std::vector<std::string>{"DEMLAB", "WATCHDOG", "SPEED"}));
+  EXPECT_EQ(s->stepCount(), 0u);
+}
 
 }  // namespace
 }  // namespace demlab::sim
