@@ -103,6 +103,7 @@ struct Options {
   bool header = true;
   bool digest = false;
   bool contactStep = false;
+  int tile = 1;  // copies of the file's bed side by side along x
 };
 
 void usage(std::FILE* f) {
@@ -115,6 +116,8 @@ void usage(std::FILE* f) {
                "                    smallest sphere, which gives the README's values)\n"
                "  --skin M          Verlet skin in metres (default 2.5e-4, as the decks)\n"
                "  --cell-factor F   CGrid cell factor (default: CGrid's own)\n"
+               "  --tile N          N copies of the bed side by side along x, the box N times\n"
+               "                    as wide (scene SCENExN): weak scaling with N ranks\n"
                "  --integrator NAME verlet or synchronized (default: verlet, the peers', in\n"
                "                    the like-for-like variants; the Simulation's in default)\n"
                "  --variant LIST    comma-separated: full, nofriction, norotation, touch,\n"
@@ -159,6 +162,13 @@ Options parse(int argc, char** argv) {
       o.dt = numberArg("--dt", value());
     } else if (a == "--skin") {
       o.skin = numberArg("--skin", value());
+    } else if (a == "--tile") {
+      const double t = numberArg("--tile", value());
+      if (!(t >= 1 && t <= 1000 && t == std::floor(t))) {
+        std::fprintf(stderr, "bench_sim: --tile must be a whole number from 1 to 1000\n");
+        std::exit(2);
+      }
+      o.tile = static_cast<int>(t);
     } else if (a == "--cell-factor") {
       o.cellFactor = numberArg("--cell-factor", value());
     } else if (a == "--integrator") {
@@ -228,6 +238,34 @@ double peakRssMb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+// Returns d with n copies of its bed side by side along x (each shifted by the box's width), the
+// box n times as wide; n = 1: d.
+io::SphereData tiled(io::SphereData d, int n) {
+  const std::size_t one = d.size();
+  // Room made exactly: grown by doubling, the copies of 10^7 grains held 1.7 times their size.
+  const std::size_t all = one * static_cast<std::size_t>(n);
+  d.ids.reserve(all), d.types.reserve(all), d.diameters.reserve(all), d.densities.reserve(all);
+  d.positions.reserve(all), d.lines.reserve(all);
+  if (!d.velocities.empty()) d.velocities.reserve(all), d.angularVelocities.reserve(all);
+  const Real width = d.boxHi.x() - d.boxLo.x();
+  for (int k = 1; k < n; ++k) {
+    for (std::size_t i = 0; i < one; ++i) {
+      d.ids.push_back(d.ids[i] + static_cast<std::int64_t>(k * one));
+      d.types.push_back(d.types[i]);
+      d.diameters.push_back(d.diameters[i]);
+      d.densities.push_back(d.densities[i]);
+      d.positions.push_back(d.positions[i] + Vec3(k * width, 0, 0));
+      d.lines.push_back(d.lines[i]);
+      if (!d.velocities.empty()) {
+        d.velocities.push_back(d.velocities[i]);
+        d.angularVelocities.push_back(d.angularVelocities[i]);
+      }
+    }
+  }
+  d.boxHi.x() = d.boxLo.x() + n * width;
+  return d;
 }
 
 // Returns the scene of `d` for variant v, ready to run; changes nothing else. Throws
@@ -333,7 +371,7 @@ void runOne(const std::string& path, const Options& o, const Variant& v) {
   std::unique_ptr<sim::Simulation> s;
   std::size_t n = 0;
   {
-    const io::SphereData d = io::readLammpsData(path);
+    const io::SphereData d = tiled(io::readLammpsData(path), o.tile);
     s = buildScene(d, o, v);
     n = d.size();
   }
@@ -350,11 +388,16 @@ void runOne(const std::string& path, const Options& o, const Variant& v) {
   // checked Defs of each batch) were freed below blocks still in use, where the allocator
   // keeps their pages resident: returned to the system now, before the run.
   malloc_trim(0);
-  const std::string name = io::sceneName(path) + std::string(v.suffix) +
-                           (comm.distributed() ? "@r" + std::to_string(comm.size()) : "");
+  // (Appended piece by piece: GCC 12 warns of an overlap that is not there in "@r" + string.)
+  std::string name = io::sceneName(path);
+  if (o.tile > 1) name.append(1, 'x').append(std::to_string(o.tile));
+  name += v.suffix;
+  if (comm.distributed()) name.append("@r").append(std::to_string(comm.size()));
   std::string modules;
   for (const auto& m : s->listModules()) modules += (modules.empty() ? "" : " ") + m;
 
+  // What reading, building and distributing the scene held at most, before the run.
+  const double rssBuilt = comm.sum(peakRssMb());
   sim::RunOptions ro;
   ro.steps = o.steps;
   const double load1 = loadAverage();
@@ -387,6 +430,27 @@ void runOne(const std::string& path, const Options& o, const Variant& v) {
                static_cast<unsigned long long>(r.neighborRebuilds), r.energyResidual,
                rss * 1048576.0 / perGrain, (rss - baselineRssMb) * 1048576.0 / perGrain,
                baselineRssMb);
+  std::fprintf(stderr, "#   peak RSS before the run (reading, building%s): %.0f bytes/grain\n",
+               comm.distributed() ? ", distributing; summed over the ranks" : "",
+               rssBuilt * 1048576.0 / perGrain);
+  if (comm.distributed()) {
+    // The step's messages: each copy a rank sends carries x, v, w (and fPrev with the touch
+    // correction), each ghost's answer f, t (and the velocity change).
+    const sim::Simulation::DistributionReport dr = s->distribution();
+    const bool touch = modules.find("touch") != std::string::npos;
+    const double owned = comm.max(static_cast<double>(dr.owned));
+    const double ghosts = comm.max(static_cast<double>(dr.ghosts));
+    const double copies = comm.max(static_cast<double>(dr.copiesSent));
+    const double forward = copies * (touch ? 96 : 72), back = ghosts * (touch ? 72 : 48);
+    std::fprintf(stderr,
+                 "#   ranks %d: the largest owns %.0f elements and holds %.0f ghosts (%.3f of its "
+                 "own), sends %.0f copies a step: %.0f bytes forward, %.0f back; %llu searches, "
+                 "%llu bisections, %llu elements migrated (rank 0)\n",
+                 comm.size(), owned, ghosts, ghosts / std::max(owned, 1.0), copies, forward, back,
+                 static_cast<unsigned long long>(dr.searches),
+                 static_cast<unsigned long long>(dr.bisections),
+                 static_cast<unsigned long long>(dr.migrated));
+  }
   const sim::MemoryReport m = s->memory();
   std::fprintf(stderr,
                "#   heap per grain: %.0f bytes (grains %.0f, detection %.0f, search scratch %.0f, "
@@ -457,7 +521,7 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 128 * 1024);
   const Options o = parse(argc, argv);
   baselineRssMb = peakRssMb();
-  if (o.header)
+  if (o.header && mpi::Communicator::world().rank() == 0)
     std::printf("code,scene,n,steps,seconds,particle_steps_per_s,contacts,peak_rss_mb\n");
   int status = 0;
   for (const auto& path : o.data) {

@@ -157,33 +157,38 @@ void migrate(Scene<D>& s, SpringTransfer<D>& springs) {
     dropGhosts(s);
     ElementArrays<D>& a = s.elements.a;
     const size_t n = a.size();
-    std::vector<mpi::Point<D>> centres(n);
-    for (size_t i = 0; i < n; ++i) centres[i] = {a.x[i][0], a.x[i][1], a.x[i][2]};
+    const auto centre = [&](size_t i) { return mpi::Point<D>{a.x[i][0], a.x[i][1], a.x[i][2]}; };
     // (At the first search every rank passes all the points: each counts p times, which moves
     // no cut.)
     const std::vector<double> counts = comm.gather({static_cast<double>(n)});
     if (d.initial || mpi::Partition<D>::imbalance(counts) > d.rebalanceAbove) {
+      std::vector<mpi::Point<D>> centres(n);
+      for (size_t i = 0; i < n; ++i) centres[i] = centre(i);
       d.partition = mpi::Partition<D>::bisect(centres, {}, comm.size(), comm);
       d.partitioned = true;
       d.bisections += 1;
     }
     const size_t p = static_cast<size_t>(comm.size());
     std::vector<std::vector<ElementRecord>> out(p);
-    std::vector<int> destOfSlot(s.elements.pool().slotCount(), -1);
-    std::vector<uint64_t> idOfSlot(destOfSlot.size(), 0);
+    // The leaving elements by slot: their new rank and global id (few: a map, not a table the
+    // size of the slots, which would be the search's peak in a large scene).
+    std::unordered_map<uint32_t, std::pair<int, uint64_t>> leavingSlot;
     std::vector<ElementId> leaving;
     for (size_t i = 0; i < n; ++i) {
-      const int k = d.partition.ownerOf(centres[i]);
+      const int k = d.partition.ownerOf(centre(i));
       if (k == comm.rank()) continue;
       out[static_cast<size_t>(k)].push_back(recordOf(a, i));
-      destOfSlot[a.slot[i]] = k;
-      idOfSlot[a.slot[i]] = a.globalId[i];
+      leavingSlot.emplace(a.slot[i], std::make_pair(k, a.globalId[i]));
       leaving.push_back(s.elements.pool().handleAt(static_cast<uint32_t>(i)));
     }
     using Moved = typename SpringTransfer<D>::MovedSpring;
     std::vector<std::vector<Moved>> springsOut(p);
-    springs.takeRows([&](uint32_t r) { return r < destOfSlot.size() ? destOfSlot[r] : -1; },
-                     [&](uint32_t r) { return idOfSlot[r]; }, springsOut);
+    springs.takeRows(
+        [&](uint32_t r) {
+          const auto it = leavingSlot.find(r);
+          return it == leavingSlot.end() ? -1 : it->second.first;
+        },
+        [&](uint32_t r) { return leavingSlot.at(r).second; }, springsOut);
     if (d.initial) {
       // The elements of the other boxes, and the springs of their pairs, are their owners'
       // already.
