@@ -104,6 +104,7 @@ struct Options {
   bool digest = false;
   bool contactStep = false;
   int tile = 1;  // copies of the file's bed side by side along x
+  bool allRanks = false;  // under mpirun, every rank's stderr, not only rank 0's
 };
 
 void usage(std::FILE* f) {
@@ -116,6 +117,8 @@ void usage(std::FILE* f) {
                "                    smallest sphere, which gives the README's values)\n"
                "  --skin M          Verlet skin in metres (default 2.5e-4, as the decks)\n"
                "  --cell-factor F   CGrid cell factor (default: CGrid's own)\n"
+               "  --all-ranks       under mpirun: every rank writes its breakdown on stderr\n"
+               "                    (its own module times: the ranks' balance)\n"
                "  --tile N          N copies of the bed side by side along x, the box N times\n"
                "                    as wide (scene SCENExN): weak scaling with N ranks\n"
                "  --integrator NAME verlet or synchronized (default: verlet, the peers', in\n"
@@ -162,6 +165,8 @@ Options parse(int argc, char** argv) {
       o.dt = numberArg("--dt", value());
     } else if (a == "--skin") {
       o.skin = numberArg("--skin", value());
+    } else if (a == "--all-ranks") {
+      o.allRanks = true;
     } else if (a == "--tile") {
       const double t = numberArg("--tile", value());
       if (!(t >= 1 && t <= 1000 && t == std::floor(t))) {
@@ -377,12 +382,12 @@ void runOne(const std::string& path, const Options& o, const Variant& v) {
   }
   const mpi::Communicator& comm = mpi::Communicator::world();
   if (comm.distributed()) s->distribute();
-  // Rank 0 alone writes, the others' stdout and stderr go nowhere.
+  // Rank 0 alone writes, the others' stdout (and stderr, unless --all-ranks) go nowhere.
   if (comm.rank() != 0) {
     std::fflush(stdout);
     std::fflush(stderr);
     (void)!std::freopen("/dev/null", "w", stdout);
-    (void)!std::freopen("/dev/null", "w", stderr);
+    if (!o.allRanks) (void)!std::freopen("/dev/null", "w", stderr);
   }
   // The reader's and the scene builder's small blocks (the file's ids, types and radii, the
   // checked Defs of each batch) were freed below blocks still in use, where the allocator

@@ -36,7 +36,7 @@ if(MPI_CXX_FOUND)
       # Root in CI containers; more ranks than cores; no cross-memory attach in containers.
       # OpenMPI's own allocations outlive MPI_Finalize, which LeakSanitizer would report.
       # One thread a rank: the ranks share the cores.
-      set_tests_properties(${part}.np${np} PROPERTIES TIMEOUT 300 ENVIRONMENT
+      set_tests_properties(${part}.np${np} PROPERTIES TIMEOUT 900 ENVIRONMENT
         "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0;DEMLAB_THREADS=1")
     endforeach()
   endforeach()
