@@ -23,8 +23,10 @@ namespace {
 
 const mpi::Communicator& world() { return mpi::Communicator::world(); }
 
-MaterialDef glass(double friction) {
+MaterialDef glass(double friction, double rolling = 0, double cohesion = 0) {
   MaterialDef m;
+  m.rollingFriction = rolling;
+  m.cohesion = cohesion;
   m.density = 2500;
   m.young = 1e7;
   m.poisson = 0.3;
@@ -35,9 +37,10 @@ MaterialDef glass(double friction) {
 
 // A bed of n balls of radius r on a jittered lattice in the box [0, side]^3 with walls, falling
 // under gravity with random velocities up to 0.3 m/s (seeded: the same on every rank).
-std::unique_ptr<Simulation> bed(int n, double r, double side, double friction) {
+std::unique_ptr<Simulation> bed(int n, double r, double side, double friction,
+                                double rolling = 0, double cohesion = 0) {
   auto s = makeSimulation(3);
-  s->addMaterial("glass", glass(friction));
+  s->addMaterial("glass", glass(friction, rolling, cohesion));
   for (int k = 0; k < 3; ++k) {
     WallDef w;
     w.shape = WallShape::Plane;
@@ -80,9 +83,10 @@ std::unique_ptr<Simulation> bed(int n, double r, double side, double friction) {
 // and compares them at the end. tol: the largest position difference allowed over the radius.
 // warm: both run `each` steps before the one is distributed (its pairs' springs and touch states
 // then go with the elements at the first search).
-void compare(int n, double friction, uint64_t steps, uint64_t each, double tol, bool warm = false) {
-  auto serial = bed(n, 0.005, 0.2, friction);
-  auto dist = bed(n, 0.005, 0.2, friction);
+void compare(int n, double friction, uint64_t steps, uint64_t each, double tol, bool warm = false,
+             double rolling = 0, double cohesion = 0) {
+  auto serial = bed(n, 0.005, 0.2, friction, rolling, cohesion);
+  auto dist = bed(n, 0.005, 0.2, friction, rolling, cohesion);
   // (Distributed runs give every element half the skin: the same searches.)
   serial->setOption("detection", "margins", false);
   dist->setOption("detection", "margins", false);
@@ -120,7 +124,9 @@ void compare(int n, double friction, uint64_t steps, uint64_t each, double tol, 
   const double share = static_cast<double>(n) / world().size();
   EXPECT_GT(static_cast<double>(r.owned), 0.7 * share);
   EXPECT_LT(static_cast<double>(r.owned), 1.3 * share);
-  if (world().size() > 1) EXPECT_GT(r.ghosts, 0u);
+  if (world().size() > 1) {
+    EXPECT_GT(r.ghosts, 0u);
+  }
   EXPECT_GT(r.searches, 1u);
 }
 
@@ -128,6 +134,11 @@ void compare(int n, double friction, uint64_t steps, uint64_t each, double tol, 
 TEST(SimRanks, FrictionalBedAgreesWithTheSerialRun) { compare(1200, 0.5, 6000, 2000, 1e-6); }
 
 TEST(SimRanks, FrictionlessBedAgreesWithTheSerialRun) { compare(1200, 0, 6000, 2000, 1e-6); }
+
+// Rolling resistance and cohesion: their torques and forces on ghosts go back with the rest.
+TEST(SimRanks, RollingCohesiveBedAgreesWithTheSerialRun) {
+  compare(1200, 0.5, 6000, 2000, 1e-6, false, 0.1, 2.0);
+}
 
 TEST(SimRanks, BedDistributedAfterARunAgreesWithTheSerialRun) {
   compare(1200, 0.5, 6000, 2000, 1e-6, true);
