@@ -12,8 +12,10 @@
 // the ghosts anew; the contact passes; GhostForceModule returns the ghosts' forces and torques;
 // the second kick over the owned elements.
 //
-// 3D balls with plane, finite, box and drum walls, gravity, friction, rolling resistance and the
-// touch correction; the rest is refused by Simulation::distribute before anything changes.
+// 3D balls with walls, gravity, friction, rolling resistance, cohesion and the touch correction
+// (tests/mpi/sim_ranks_test.cpp runs them against the serial run, with plane walls); the rest is
+// refused by Simulation::distribute before anything changes. Every rank holds every wall and
+// computes its own elements' wall contacts: a wall's force and work are each rank's part.
 #pragma once
 
 #include <algorithm>
