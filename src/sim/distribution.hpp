@@ -70,7 +70,6 @@ template <int D>
 struct Distribution {
   const mpi::Communicator* comm = nullptr;
   mpi::Partition<D> partition;
-  bool partitioned = false;
   // Every rank holds the whole scene (distribute() was called, no search since): the first
   // search keeps each rank's part and sends nothing.
   bool initial = true;
@@ -84,11 +83,12 @@ struct Distribution {
   double stepLimit = 0;
   double critical = 0, linearDuration = 0, hertzDuration = 0;  // the static step survey
   // What the run did (doc/performance.md): searches, bisections, elements migrated (sent),
-  // ghosts held at the last search, and bytes sent per step by the two exchanges.
+  // and the copies sent a step at the last search.
   uint64_t searches = 0, bisections = 0, migrated = 0;
   size_t ghostCopiesSent = 0;
-  // The ghosts' states as last received (their velocities before this rank's pairs acted), and
-  // the scratch of the step's exchanges, kept from step to step.
+  // The ghosts' states as last received: with the touch correction in `states` (their
+  // velocities before this rank's pairs acted, which the way back measures the changes from),
+  // else in `leanStates`; and the scratch of the way back. Kept from step to step.
   std::vector<GhostStateTouch> states;
   std::vector<GhostState> leanStates;
   std::vector<GhostForce> forces;
@@ -109,6 +109,14 @@ inline void reduceLedger(const mpi::Communicator& comm, double& kinetic, double&
   l.wallWork = v[4], l.behaviorWork = v[5], l.springWork = v[6], l.bondReleased = v[7];
   l.elastic = v[8];
   if (rotational != nullptr) *rotational = v[9];
+}
+
+// Returns the centres of elements [0, n) of the 3D arrays a, as the bisection and the reach
+// table take them.
+inline std::vector<mpi::Point<3>> centresOf(const ElementArrays<3>& a, size_t n) {
+  std::vector<mpi::Point<3>> c(n);
+  for (size_t i = 0; i < n; ++i) c[i] = {a.x[i][0], a.x[i][1], a.x[i][2]};
+  return c;
 }
 
 // Returns the element record of element i of the 3D arrays a.
@@ -164,10 +172,7 @@ void migrate(Scene<D>& s, SpringTransfer<D>& springs) {
     // no cut.)
     const std::vector<double> counts = comm.gather({static_cast<double>(n)});
     if (d.initial || mpi::Partition<D>::imbalance(counts) > d.rebalanceAbove) {
-      std::vector<mpi::Point<D>> centres(n);
-      for (size_t i = 0; i < n; ++i) centres[i] = centre(i);
-      d.partition = mpi::Partition<D>::bisect(centres, {}, comm.size(), comm);
-      d.partitioned = true;
+      d.partition = mpi::Partition<D>::bisect(centresOf(a, n), {}, comm.size(), comm);
       d.bisections += 1;
     }
     const size_t p = static_cast<size_t>(comm.size());
@@ -185,7 +190,8 @@ void migrate(Scene<D>& s, SpringTransfer<D>& springs) {
     }
     using Moved = typename SpringTransfer<D>::MovedSpring;
     std::vector<std::vector<Moved>> springsOut(p);
-    springs.takeRows(
+    // (A search where nothing leaves, the usual one, leaves the table as it is.)
+    if (!leaving.empty()) springs.takeRows(
         [&](uint32_t r) {
           const auto it = leavingSlot.find(r);
           return it == leavingSlot.end() ? -1 : it->second.first;
@@ -225,8 +231,7 @@ void makeGhosts(Scene<D>& s) {
     const mpi::Communicator& comm = *d.comm;
     ElementArrays<D>& a = s.elements.a;
     const size_t n = a.size();
-    std::vector<mpi::Point<D>> centres(n);
-    for (size_t i = 0; i < n; ++i) centres[i] = {a.x[i][0], a.x[i][1], a.x[i][2]};
+    const std::vector<mpi::Point<D>> centres = centresOf(a, n);
     const std::vector<double> radii(a.r.begin(), a.r.end());
     const mpi::ReachTable<D> table = mpi::ReachTable<D>::gather(centres, radii, comm);
     d.plan = mpi::GhostPlan<D>::make(table, centres, radii, s.skin, comm);
@@ -256,45 +261,42 @@ class GhostModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Predict; }
   void run(Scene<D>& s) override {
     if constexpr (D == 3) {
-      Distribution<D>& d = *s.dist;
+      // (The touch correction's states stay in Distribution::states: its velocity changes are
+      // measured from them.)
       if (s.touchCorrection) {
-        forward(s, d.states);
+        forward(s, s.dist->states);
       } else {
-        forward(s, d.leanStates);
-        d.states.resize(d.leanStates.size());
-        for (size_t j = 0; j < d.leanStates.size(); ++j) {
-          static_cast<GhostState&>(d.states[j]) = d.leanStates[j];
-        }
-      }
-      ElementArrays<D>& a = s.elements.a;
-      const size_t first = s.ownedCount();
-      const bool touch = s.touchCorrection;
-      for (size_t j = 0; j < d.states.size(); ++j) {
-        const GhostStateTouch& g = d.states[j];
-        const size_t i = first + j;
-        a.x[i] = Vec3(g.x[0], g.x[1], g.x[2]);
-        a.v[i] = Vec3(g.v[0], g.v[1], g.v[2]);
-        a.w[i] = Vec3(g.w[0], g.w[1], g.w[2]);
-        if (touch) a.fPrev[i] = Vec3(g.fPrev[0], g.fPrev[1], g.fPrev[2]);
-        a.f[i].setZero();
-        a.t[i].setZero();
+        forward(s, s.dist->leanStates);
       }
     }
   }
 
  private:
-  // Sends the owned elements' states as T (GhostState or GhostStateTouch) into out.
+  // Sends the owned elements' states as T (GhostState or GhostStateTouch) into got and sets
+  // the ghosts from them, their forces and torques zeroed.
   template <class T>
-  static void forward(Scene<D>& s, std::vector<T>& out) {
-    const ElementArrays<D>& a = s.elements.a;
+  static void forward(Scene<D>& s, std::vector<T>& got) {
+    ElementArrays<D>& a = s.elements.a;
+    constexpr bool touch = std::is_same_v<T, GhostStateTouch>;
     s.dist->plan.forwardWith(
         [&](uint32_t i, T& g) {
           for (int k = 0; k < 3; ++k) g.x[k] = a.x[i][k], g.v[k] = a.v[i][k], g.w[k] = a.w[i][k];
-          if constexpr (std::is_same_v<T, GhostStateTouch>) {
+          if constexpr (touch) {
             for (int k = 0; k < 3; ++k) g.fPrev[k] = a.fPrev[i][k];
           }
         },
-        *s.dist->comm, out);
+        *s.dist->comm, got);
+    const size_t first = s.ownedCount();
+    for (size_t j = 0; j < got.size(); ++j) {
+      const T& g = got[j];
+      const size_t i = first + j;
+      a.x[i] = Vec3(g.x[0], g.x[1], g.x[2]);
+      a.v[i] = Vec3(g.v[0], g.v[1], g.v[2]);
+      a.w[i] = Vec3(g.w[0], g.w[1], g.w[2]);
+      if constexpr (touch) a.fPrev[i] = Vec3(g.fPrev[0], g.fPrev[1], g.fPrev[2]);
+      a.f[i].setZero();
+      a.t[i].setZero();
+    }
   }
 };
 

@@ -76,11 +76,9 @@ void SimulationManager<D>::distribute() {
     for (const auto& w : s_.wallCandidates) paired = paired || !w.empty();
     if (!paired && comm.size() > 1) {
       ElementArrays<D>& a = s_.elements.a;
-      std::vector<mpi::Point<D>> centres(a.size());
-      for (size_t i = 0; i < a.size(); ++i) centres[i] = {a.x[i][0], a.x[i][1], a.x[i][2]};
+      std::vector<mpi::Point<D>> centres = centresOf(a, a.size());
       // (Every rank passes all the points: each counts p times, which moves no cut.)
       d->partition = mpi::Partition<D>::bisect(centres, {}, comm.size(), comm);
-      d->partitioned = true;
       d->bisections = 1;
       d->initial = false;
       std::vector<ElementId> others;
