@@ -186,6 +186,18 @@ endif()
 set_tests_properties(${DEMLAB_TCL_TESTS} PROPERTIES ENVIRONMENT
   "DEMLAB_EXE=$<TARGET_FILE:demlab>;DEMLAB_TIME_FACTOR=${DEMLAB_TIME_FACTOR}")
 
+# Scripts under mpirun (tests/mpi/script_ranks.sh): the same script alone and on 1, 2 and 3
+# ranks gives the same values; errors end every rank; a rank failing alone aborts the run.
+if(MPI_CXX_FOUND)
+  foreach(np 1 2 3)
+    add_test(NAME tcl_ranks.np${np}
+             COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tests/mpi/script_ranks.sh $<TARGET_FILE:demlab>
+                     ${MPIEXEC_EXECUTABLE} ${np})
+    set_tests_properties(tcl_ranks.np${np} PROPERTIES TIMEOUT 900 ENVIRONMENT
+      "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0;DEMLAB_THREADS=1")
+  endforeach()
+endif()
+
 # The sequences the command fuzzer found failing, kept as regression tests: each is run again
 # in a runner process and must now keep every invariant (tests/fuzz/command_fuzz.tcl).
 add_test(NAME fuzz_corpus.tcl COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/command_fuzz.tcl

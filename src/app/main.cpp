@@ -7,12 +7,15 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "core/thread_pool.hpp"
 #include "app/console.hpp"
 #include "cmd/commands/commands.hpp"
+#include "mpi/communicator.hpp"
 #include "tcl/binding.hpp"
 
 namespace {
@@ -38,6 +41,21 @@ int launchedRanks() {
   return 1;
 }
 
+// How long a rank whose script failed waits for the others to fail with it (the scene's
+// errors come on every rank at the same command, within a step's time) before it aborts the
+// run, which they may be stepping without it.
+constexpr double kFailurePatience = 10.0;
+
+// MPI for the process's life when mpirun started it; ended before the process exits.
+std::optional<demlab::mpi::Session> mpiSession;
+
+// Tcl's exit: MPI's end first (a rank that leaves without it stops the others), then exit.
+[[noreturn]] void exitProc(void* status) {
+  Tcl_Finalize();  // flushes the channels, which Tcl_Exit leaves to its exit proc
+  mpiSession.reset();
+  std::exit(static_cast<int>(reinterpret_cast<std::intptr_t>(status)));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -59,14 +77,26 @@ int main(int argc, char** argv) {
     std::printf("demlab %s\n", DEMLAB_PKG_VERSION);
     return 0;
   }
-  // Started as one of several ranks by mpirun: each would run the whole script as its own
-  // serial scene and write the same files at once. Refused until the distributed run exists
-  // (doc/plans/mpi.md).
-  if (const int ranks = launchedRanks(); ranks > 1) {
+  // Started as one of several ranks by mpirun: every rank runs the script, the first run
+  // spreads the scene over them (doc/commands.md, "Distributed runs"). A build without MPI
+  // would run it once per rank, each writing the same files.
+  const int ranks = launchedRanks();
+  if (ranks > 1 && !mpi::built()) {
     std::fprintf(stderr,
-                 "demlab: started as one of %d ranks by mpirun; distributed runs are not built "
-                 "yet (doc/plans/mpi.md): run one demlab per scene\n",
+                 "demlab: started as one of %d ranks by mpirun, but built without MPI "
+                 "(libopenmpi-dev): run one demlab per scene\n",
                  ranks);
+    return 2;
+  }
+  mpiSession.emplace(&argc, &argv);
+  const mpi::Communicator& world = mpi::Communicator::world();
+  if (world.distributed() && argc < 2) {
+    if (world.rank() == 0) {
+      std::fprintf(stderr,
+                   "demlab: under mpirun demlab runs a script (mpirun -np N demlab "
+                   "script.tcl): mpirun gives the console's input to one rank alone\n");
+    }
+    mpiSession.reset();
     return 2;
   }
   // A bad $DEMLAB_THREADS is named once, here; the run goes on with every core.
@@ -74,6 +104,14 @@ int main(int argc, char** argv) {
   ThreadPool::threadsFromEnvironment(&threadsError);
   if (threadsError != nullptr) std::fprintf(stderr, "demlab: warning: %s\n", threadsError);
   Tcl_FindExecutable(argv[0]);
+  // Every rank runs the script; rank 0 alone speaks on stdout (puts, run reports). Errors and
+  // warnings stay on every rank's stderr.
+  if (world.rank() != 0) {
+    Tcl_Channel null = Tcl_OpenFileChannel(nullptr, "/dev/null", "w", 0);
+    if (null != nullptr) Tcl_SetStdChannel(null, TCL_STDOUT);
+  }
+  // `exit` in a script ends MPI first: a rank that leaves without it stops the run.
+  Tcl_SetExitProc(exitProc);
   Tcl_Interp* interp = Tcl_CreateInterp();
   bool script = argc > 1;
   bool tty = !script && isatty(0);
@@ -107,15 +145,28 @@ int main(int argc, char** argv) {
     if (Tcl_AsyncReady()) code = Tcl_AsyncInvoke(interp, code);
     tcl::setEvaluating(false);
     Tcl_DecrRefCount(path);
+    std::string failure;
     if (code != TCL_OK) {
       const char* info = Tcl_GetVar(interp, "errorInfo", TCL_GLOBAL_ONLY);
       const char* ecode = Tcl_GetVar(interp, "errorCode", TCL_GLOBAL_ONLY);
-      std::fprintf(stderr, "%s\n", info ? info : Tcl_GetStringResult(interp));
+      failure = info ? info : Tcl_GetStringResult(interp);
       if (ecode && std::strncmp(ecode, "DEMLAB INTERRUPTED", 18) == 0) {
-        std::fprintf(stderr, "demlab: %s interrupted by Ctrl-C\n", argv[1]);
+        failure += std::string("\ndemlab: ") + argv[1] + " interrupted by Ctrl-C";
       }
       status = 1;
     }
+    // The ranks agree on how the script ended; the lowest failed rank tells why.
+    const std::string prefix = world.distributed() ? "demlab: rank " +
+                                                         std::to_string(world.rank()) + " of " +
+                                                         std::to_string(world.size()) + ": "
+                                                   : "";
+    const mpi::Session::Ending end = mpiSession->endScript(
+        status, kFailurePatience,
+        prefix + failure + "\ndemlab: the other ranks did not fail with it: aborting the run");
+    if (status != 0 && end.firstFailed == world.rank()) {
+      std::fprintf(stderr, "%s\n", (world.rank() == 0 ? failure : prefix + failure).c_str());
+    }
+    status = end.worst;
   } else if (tty) {
     status = app::runConsole(interp, argv[0]);
   } else {

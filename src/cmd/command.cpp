@@ -153,6 +153,11 @@ std::string Command::helpText() const {
 std::string Command::markdown() const {
   std::string s = "### `" + usage() + "`\n\n" + summary + "\n\n";
   if (!details.empty()) s += details + "\n\n";
+  if (onRanks == OnRanks::Alike) {
+    s += "Distributed runs: acts alike on every rank.\n\n";
+  } else if (onRanks == OnRanks::Collective) {
+    s += "Distributed runs: collective, every rank gets the whole scene's answer.\n\n";
+  }
   if (!params.empty()) {
     s += "| argument | type | unit | range | default | description |\n|---|---|---|---|---|---|\n";
     auto cell = [](std::string x) {

@@ -37,6 +37,9 @@ struct Context {
   // runs (a callback, a load's expression, a redirected puts) may read the scene but not
   // change or replace it: the running command holds the scene and its parts.
   std::string busyWith;
+  // Returns true when the scene is spread over the ranks of an MPI run: commands declared
+  // OnRanks::Refused then fail with {MPI UNSUPPORTED}.
+  virtual bool distributed() const { return false; }
   // Counts the commands that changed or may have changed the scene (those declared so, when
   // they reached their execute phase): a watcher (the viewer) redraws when it moves.
   std::uint64_t changes = 0;
@@ -80,6 +83,15 @@ struct Param {
 
 class Call;
 
+// What a command does once the scene is spread over the ranks of an MPI run (`mpirun -np N
+// demlab script.tcl`: every rank runs the script; the first run spreads the scene). Before
+// that every command acts alike on every rank's whole copy of the scene.
+enum class OnRanks {
+  Refused,     // {MPI UNSUPPORTED} on every rank: it reads or changes one rank's elements
+  Alike,       // reads or changes only what every rank holds alike (time, materials, settings)
+  Collective,  // every rank runs it together and gets the same answer (summed or gathered)
+};
+
 struct Command {
   std::vector<std::string> path;  // {"element", "add"}
   std::string summary;            // one line
@@ -100,6 +112,7 @@ struct Command {
   // demlab::pollInterrupt (core/interrupt.hpp). Pure queries (changesScene false) are always
   // interruptible, and so is the conversion of their result to Tcl.
   bool interruptible = false;
+  OnRanks onRanks = OnRanks::Refused;  // once the scene is distributed
   std::function<void(Call&)> check;     // optional: cross-argument checks, read-only
   std::function<Value(Call&)> execute;  // phase 3
 
@@ -132,10 +145,11 @@ struct Command {
   // Returns the Markdown section for doc/commands.md.
   std::string markdown() const;
   // Returns the declaration as data (declaration.cpp): a dict of command, needsscene,
-  // changesscene, needsidle, params (a dict per parameter: name, role positional|variadic|option|
-  // flag, required, optional, kind real|integer|boolean|text|name|choice|vector|reals|integers|
-  // custom, label, unit, min, max, minopen, maxopen, length, choices, default, hasdefault) and
-  // exclusive (a dict per group: names, requireone). Changes nothing.
+  // changesscene, needsidle, onranks (refused|alike|collective), params (a dict per parameter:
+  // name, role positional|variadic|option|flag, required, optional, kind real|integer|boolean|
+  // text|name|choice|vector|reals|integers|custom, label, unit, min, max, minopen, maxopen,
+  // length, choices, default, hasdefault) and exclusive (a dict per group: names, requireone).
+  // Changes nothing.
   Value declaration() const;
 };
 

@@ -68,6 +68,9 @@ Value Command::declaration() const {
               {"needsscene", needsScene},
               {"changesscene", changesScene},
               {"needsidle", needsIdle},
+              {"onranks", onRanks == OnRanks::Refused  ? "refused"
+                          : onRanks == OnRanks::Alike ? "alike"
+                                                      : "collective"},
               {"params", Value(ps)},
               {"exclusive", Value(groups)}};
 }

@@ -214,6 +214,12 @@ void Registry::invoke(const std::vector<std::string>& words, Context& ctx,
   // Phase 1: parse.
   if (!CommandLine(c, std::move(rest)).parse(stack)) return deliver(c.helpText(), false);
   if (c.needsScene) ctx.requireScene();
+  if (c.onRanks == OnRanks::Refused && ctx.distributed()) {
+    throw Error("\"" + where +
+                    "\" is not available once the scene is distributed over MPI ranks (see "
+                    "\"Distributed runs\" in doc/commands.md)",
+                {"MPI", "UNSUPPORTED"});
+  }
   const bool exclusive = c.changesScene || c.needsIdle;
   if (exclusive && !ctx.busyWith.empty()) {
     throw Error("can't use \"" + where + "\" while \"" + ctx.busyWith +

@@ -37,6 +37,30 @@ sim::Simulation& Session::scene() const {
   return *sim;
 }
 
+const mpi::Communicator& ranksOf(const sim::Simulation& s) {
+  return s.distributed() ? mpi::Communicator::world() : mpi::Communicator::self();
+}
+
+Value fromHolder(const sim::Simulation& s, std::optional<Value> mine, const Error& missing) {
+  if (!s.distributed()) {
+    if (!mine) throw missing;
+    return std::move(*mine);
+  }
+  // One byte says whether a rank holds it: a value's string form may be empty.
+  std::vector<char> bytes;
+  if (mine) {
+    const std::string text = toString(*mine);
+    bytes.push_back(1);
+    bytes.insert(bytes.end(), text.begin(), text.end());
+  }
+  for (std::vector<char>& b : ranksOf(s).gatherBytes(bytes)) {
+    if (b.empty()) continue;
+    if (mine) return std::move(*mine);
+    return Value(std::string(b.begin() + 1, b.end()));
+  }
+  throw missing;
+}
+
 std::int64_t scriptId(std::uint32_t index, std::uint32_t generation) {
   return Handle<struct AnyKind>{index, generation}.scriptId();
 }
@@ -85,7 +109,10 @@ PipeType elementRef() {
     const sim::Simulation& s = session(c).scene();
     return lookup<sim::ElementId>(
         w, "element", [&](const std::string& n) { return s.findElement(n); },
-        [&](sim::ElementId h) { s.element(h); });
+        [&](sim::ElementId h) {
+          // A distributed scene: the rank holding it checks it, in the command (fromHolder).
+          if (!s.distributed()) s.element(h);
+        });
   }).complete(sceneWords(&sim::Simulation::elementNames));
 }
 

@@ -8,11 +8,13 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "cmd/command.hpp"
+#include "mpi/communicator.hpp"
 #include "sim/simulation.hpp"
 
 namespace demlab::cmd {
@@ -75,6 +77,7 @@ struct Session : Context {
   void endInterruptible() override;
 
   int dimension() const override { return sim ? sim->dim() : 3; }
+  bool distributed() const override { return sim && sim->distributed(); }
   // Throws demlab::Error {STATE NOSIM}: `no simulation: use "sim new" first`.
   void requireScene() const override;
   // Returns the current simulation; throws {STATE NOSIM} when there is none.
@@ -93,6 +96,16 @@ inline Session& session(Call& c) {
 inline const Session& session(const Context& c) {
   return static_cast<const Session&>(c);
 }
+
+// Distributed scenes (commands declared OnRanks::Collective).
+// Returns the ranks scene s is spread over: the MPI world once it is distributed, else this
+// process alone (whose sums and gathers are the identity).
+const mpi::Communicator& ranksOf(const sim::Simulation& s);
+// Returns, on every rank, the value the one rank holding it passes as mine (the others pass
+// nothing): its own where it is, elsewhere its string form, which Tcl reads back as the list,
+// dict or number it was. Throws `missing` on every rank when no rank holds it. Collective in a
+// distributed scene.
+Value fromHolder(const sim::Simulation& s, std::optional<Value> mine, const Error& missing);
 
 // Script-visible ids. A handle's first life gets the id of its slot (0, 1, 2, ...); each reuse
 // of a slot adds 2^32, so a stale id never names the element that took its slot.

@@ -1,7 +1,10 @@
 #include "mpi/communicator.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -11,6 +14,13 @@
 
 namespace demlab::mpi {
 
+#ifdef DEMLAB_HAVE_MPI
+namespace {
+// The ranks' agreement on how a script ended (Session::endScript), apart from the world.
+MPI_Comm endingComm = MPI_COMM_NULL;
+}  // namespace
+#endif
+
 bool built() {
 #ifdef DEMLAB_HAVE_MPI
   return true;
@@ -19,15 +29,18 @@ bool built() {
 #endif
 }
 
+bool launched() {
+  return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMI_SIZE") != nullptr;
+}
+
 Session::Session(int* argc, char*** argv) {
 #ifdef DEMLAB_HAVE_MPI
-  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
-  if (size == nullptr) size = std::getenv("PMI_SIZE");
-  if (size == nullptr) return;
+  if (!launched()) return;
   int up = 0;
   MPI_Initialized(&up);
   if (up) return;
   MPI_Init(argc, argv);
+  MPI_Comm_dup(MPI_COMM_WORLD, &endingComm);
   started_ = true;
 #else
   (void)argc;
@@ -37,8 +50,48 @@ Session::Session(int* argc, char*** argv) {
 
 Session::~Session() {
 #ifdef DEMLAB_HAVE_MPI
-  if (started_) MPI_Finalize();
+  if (started_) {
+    if (endingComm != MPI_COMM_NULL) MPI_Comm_free(&endingComm);
+    MPI_Finalize();
+  }
 #endif
+}
+
+Session::Ending Session::endScript(int status, double patience,
+                                   const std::string& lastWords) const {
+  Ending e;
+  e.worst = status;
+  e.firstFailed = status != 0 ? 0 : -1;
+#ifdef DEMLAB_HAVE_MPI
+  if (!started_) return e;
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size == 1) return e;
+  // The reduction goes over a communicator of its own: a rank still inside a step's collective
+  // on the world must not have it matched with this one.
+  int mine[2] = {status, status != 0 ? size - rank : 0}, all[2] = {0, 0};
+  MPI_Request request;
+  MPI_Iallreduce(mine, all, 2, MPI_INT, MPI_MAX, endingComm, &request);
+  const double start = MPI_Wtime();
+  for (;;) {
+    int done = 0;
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) break;
+    if (status != 0 && MPI_Wtime() - start > patience) {
+      std::fprintf(stderr, "%s\n", lastWords.c_str());
+      std::fflush(stderr);
+      MPI_Abort(MPI_COMM_WORLD, status);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  e.worst = all[0];
+  e.firstFailed = all[1] > 0 ? size - all[1] : -1;
+#else
+  (void)patience;
+  (void)lastWords;
+#endif
+  return e;
 }
 
 Communicator& Communicator::world() {

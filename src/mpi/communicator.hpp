@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace demlab::mpi {
@@ -78,11 +79,29 @@ class Session {
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
+  // How the ranks ended a script they all ran (endScript).
+  struct Ending {
+    int worst = 0;       // the largest exit status over the ranks
+    int firstFailed = -1;  // the lowest rank whose status is not 0, or -1
+  };
+  // Ends a batch script on every rank with this rank's exit status (0: it finished). Returns
+  // when every rank has ended it. A rank whose script failed waits at most `patience` seconds
+  // for the others: an error that comes from the scene or the script's words comes on every
+  // rank at the same command; when it does not (one rank could not write a file), the others
+  // may be waiting in a step's exchange for ever, so the run is aborted (MPI_Abort, exit code
+  // status) after writing lastWords to stderr, and this does not return. On a single rank:
+  // {status, status ? 0 : -1}.
+  Ending endScript(int status, double patience, const std::string& lastWords) const;
+
  private:
   bool started_ = false;
 };
 
 // Returns true if this build has MPI.
 bool built();
+
+// Returns true when a launcher (mpirun: OpenMPI's environment, or a PMI one's) started this
+// process, with any number of ranks.
+bool launched();
 
 }  // namespace demlab::mpi

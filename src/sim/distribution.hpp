@@ -93,6 +93,11 @@ struct Distribution {
   std::vector<GhostState> leanStates;
   std::vector<GhostForce> forces;
   std::vector<GhostForceTouch> touchForces;
+  // The handles scripts hold: each element keeps, wherever it moves, the one it had when the
+  // scene was distributed. That is {gid, first life} for an element created before any
+  // removal; the others (a scene that removed elements first) are listed here, as (handle
+  // bits, global id) by handle and the same pairs by global id.
+  std::vector<std::pair<uint64_t, uint64_t>> renamedByHandle, renamedById;
 };
 
 // Replaces this rank's kinetic energy, potential energy, ledger sums (l's losses, works and

@@ -814,7 +814,8 @@ class Simulation {
   virtual std::vector<ContactInfo> contacts() const = 0;
   // Returns the heap the scene holds now, by part (see MemoryReport).
   virtual MemoryReport memory() const = 0;
-  // Returns the box holding every grain and finite wall {lo, hi}; empty scene: zeros.
+  // Returns the box holding every grain and finite wall {lo, hi}; empty scene: zeros. In a
+  // distributed scene the whole scene's box, on every rank: collective.
   virtual std::array<Vec3d, 2> bounds() const = 0;
   virtual std::vector<ElementId> elementIds() const = 0;  // dense order
   virtual std::vector<double> positions() const = 0;
@@ -847,6 +848,14 @@ class Simulation {
   virtual void distribute() = 0;
   // Returns true once distribute() has been called.
   virtual bool distributed() const = 0;
+  // Returns this rank's handle of the element a script names by `original`, the handle it had
+  // when the scene was distributed (elements keep it as they move between ranks), or a null
+  // handle when another rank owns it or none. A serial scene: original itself, or LOOKUP
+  // HANDLE. Not collective.
+  virtual ElementId ownedElement(ElementId original) const = 0;
+  // Returns the handle scripts know the element by that this rank holds as `local` (the
+  // inverse of ownedElement). Throws LOOKUP HANDLE when local names no element here.
+  virtual ElementId originalHandle(ElementId local) const = 0;
   // One element as elementSnapshots() gathers it.
   struct ElementSnapshot {
     uint64_t id;  // its global id: its creation index in the scene

@@ -14,6 +14,9 @@ namespace demlab::sim {
 
 namespace {
 
+// Returns the handle of the first element a scene creates in slot gid (its global id too).
+ElementId firstLife(uint64_t gid) { return ElementId{static_cast<uint32_t>(gid), 1}; }
+
 // Returns what in scene s a distributed run cannot do yet, or "" when it can run it.
 template <int D>
 std::string unsupported(const Scene<D>& s, size_t outputs) {
@@ -69,6 +72,14 @@ void SimulationManager<D>::distribute() {
     d->linearDuration = survey.linearDuration;
     d->hertzDuration = survey.hertzDuration;
     d->stepLimit = watchdogStepLimit(s_, d->skin);
+    for (size_t i = 0; i < s_.elements.size(); ++i) {
+      const ElementId h = s_.elements.pool().handleAt(static_cast<uint32_t>(i));
+      const uint64_t gid = s_.elements.a.globalId[i];
+      if (h != firstLife(gid)) d->renamedByHandle.emplace_back(h.bits(), gid);
+    }
+    std::sort(d->renamedByHandle.begin(), d->renamedByHandle.end());
+    for (const auto& [bits, gid] : d->renamedByHandle) d->renamedById.emplace_back(gid, bits);
+    std::sort(d->renamedById.begin(), d->renamedById.end());
     // A scene that has run holds pair state (springs, touch states) by dense index: the first
     // search keeps each rank's part with it (migrate). One that has not is cut now, before it
     // costs any rank more than its part's memory.
@@ -136,6 +147,44 @@ std::vector<Simulation::ElementSnapshot> SimulationManager<D>::elementSnapshots(
   std::sort(all.begin(), all.end(),
             [](const ElementSnapshot& x, const ElementSnapshot& y) { return x.id < y.id; });
   return all;
+}
+
+template <int D>
+ElementId SimulationManager<D>::ownedElement(ElementId original) const {
+  if (!s_.dist) {
+    s_.elements.index(original);  // LOOKUP HANDLE when it names no element
+    return original;
+  }
+  const auto& byHandle = s_.dist->renamedByHandle;
+  const auto& byId = s_.dist->renamedById;
+  uint64_t gid = original.index;
+  auto h = std::lower_bound(byHandle.begin(), byHandle.end(), std::make_pair(original.bits(), uint64_t{0}));
+  if (h != byHandle.end() && h->first == original.bits()) {
+    gid = h->second;
+  } else if (original != firstLife(gid)) {
+    return ElementId{};
+  } else {
+    // The element created with this id has another handle now: this one names no element.
+    auto r = std::lower_bound(byId.begin(), byId.end(), std::make_pair(gid, uint64_t{0}));
+    if (r != byId.end() && r->first == gid) return ElementId{};
+  }
+  const ElementArrays<D>& a = s_.elements.a;
+  const size_t n = s_.ownedCount();
+  for (size_t i = 0; i < n; ++i) {
+    if (a.globalId[i] == gid) return s_.elements.pool().handleAt(static_cast<uint32_t>(i));
+  }
+  return ElementId{};
+}
+
+template <int D>
+ElementId SimulationManager<D>::originalHandle(ElementId local) const {
+  const uint32_t i = s_.elements.index(local);
+  if (!s_.dist) return local;
+  const uint64_t gid = s_.elements.a.globalId[i];
+  const auto& byId = s_.dist->renamedById;
+  auto r = std::lower_bound(byId.begin(), byId.end(), std::make_pair(gid, uint64_t{0}));
+  if (r != byId.end() && r->first == gid) return ElementId::fromBits(r->second);
+  return firstLife(gid);
 }
 
 template <int D>

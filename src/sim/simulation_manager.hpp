@@ -32,6 +32,8 @@ class SimulationManager final : public Simulation {
   void distribute() override;
   bool distributed() const override { return s_.dist != nullptr; }
   std::vector<ElementSnapshot> elementSnapshots() const override;
+  ElementId ownedElement(ElementId original) const override;
+  ElementId originalHandle(ElementId local) const override;
   DistributionReport distribution() const override;
 
   void setTimeStep(double dt) override;

@@ -927,6 +927,14 @@ std::array<Vec3d, 2> SimulationManager<D>::bounds() const {
     any = true;
     for (int k = 0; k < D; ++k) grow(k, b.lo[k], b.hi[k]);
   }
+  if (s_.dist) {
+    // Collective: the box of every rank's elements (the walls are every rank's alike).
+    std::vector<double> v{lo[0], lo[1], lo[2], -hi[0], -hi[1], -hi[2]};
+    s_.dist->comm->min(v);
+    lo = Vec3d{v[0], v[1], v[2]};
+    hi = Vec3d{-v[3], -v[4], -v[5]};
+    any = lo[0] <= hi[0];
+  }
   if (!any) return {Vec3d{0, 0, 0}, Vec3d{0, 0, 0}};
   for (int k = D; k < 3; ++k) lo[k] = hi[k] = 0;
   return {lo, hi};

@@ -15,6 +15,7 @@
 #include "core/background_work.hpp"
 #include "core/free_aside.hpp"
 #include "core/validity.hpp"
+#include "mpi/communicator.hpp"
 #include "tcl/int_list_obj.hpp"
 #include "physics/material.hpp"
 
@@ -107,7 +108,9 @@ struct ExprFn {
 
 void setupSession(Tcl_Interp* interp, InterpState* st) {
   cmd::Session& s = st->session;
-  s.terminal = isatty(1) != 0;
+  // Under mpirun the terminal, if any, is mpirun's, which forwards the ranks' output in pieces:
+  // no progress bar there.
+  s.terminal = isatty(1) != 0 && !mpi::launched();
   // Through the puts command, not the channel, so whatever redirects puts (tcltest's -output,
   // a console widget) sees the report and the progress bar too.
   s.write = [interp](std::string_view text) {

@@ -157,6 +157,7 @@ void registerBehaviorCommands(Registry& r) {
 
   Command& list = r.add("behavior list",
                         "Returns the behaviors as a list of dicts {id kind description saveable}.");
+  list.onRanks = OnRanks::Alike;
   list.changesScene = false;
   list.run([](Call& c) {
     List l;
@@ -171,6 +172,7 @@ void registerBehaviorCommands(Registry& r) {
 
   Command& info = r.add("behavior info",
                         "Returns a dict {id kind description saveable params} for one behavior.");
+  info.onRanks = OnRanks::Alike;
   info.changesScene = false;
   info.arg("behavior", behaviorRef(), "a behavior id");
   info.run([](Call& c) {

@@ -339,14 +339,25 @@ void registerElementCommands(Registry& r) {
 
   Command& get =
       r.add("element get", "Returns an element's state as a dict, or the fields asked for.");
+  get.onRanks = OnRanks::Collective;
   get.details = "With one field flag the value alone is returned; with several, a dict of them.";
   get.arg("element", elementRef(), "an element id or name");
   for (const char* f : kStateFields) get.flag(f, std::string("the ") + f);
   get.changesScene = false;
   get.run([](Call& c) {
     auto& s = session(c).scene();
-    Dict d = stateDict(s.element(c.get<ElementId>("element")), s.dim());
-    return pickFields(c, d);
+    const ElementId e = c.get<ElementId>("element");
+    // A distributed scene: the rank owning the element answers, under the id the script knows.
+    const ElementId here = s.ownedElement(e);
+    std::optional<Value> mine;
+    if (!here.isNull()) {
+      sim::ElementState g = s.element(here);
+      g.id = e;
+      mine = pickFields(c, stateDict(g, s.dim()));
+    }
+    return fromHolder(s, std::move(mine),
+                      Error("no element with id " + std::to_string(scriptId(e)),
+                            {"LOOKUP", "ELEMENT"}));
   });
 
   Command& set = r.add("element set",
@@ -513,11 +524,16 @@ void registerElementCommands(Registry& r) {
 
   Command& count =
       r.add("element count", "Returns the number of elements, or of those with a tag.");
+  count.onRanks = OnRanks::Collective;
   count.option("tag", tagName(), "only elements carrying this tag");
   count.changesScene = false;
   count.run([](Call& c) {
     auto& s = session(c).scene();
-    return c.given("tag") ? Value(s.elementsTagged(c.str("tag")).size()) : Value(s.elementCount());
+    // A distributed scene: every rank's own elements (not its ghosts), summed.
+    const std::int64_t n = c.given("tag")        ? std::int64_t(s.elementsTagged(c.str("tag")).size())
+                           : s.distributed() ? std::int64_t(s.distribution().owned)
+                                             : std::int64_t(s.elementCount());
+    return Value(ranksOf(s).sum(n));
   });
 
   Command& arr =

@@ -155,6 +155,7 @@ void registerMaterialCommands(Registry& r) {
   });
 
   Command& get = r.add("material get", "Returns a material's constants as a dict, or one of them.");
+  get.onRanks = OnRanks::Alike;
   get.arg("name", materialRef(), "an existing material");
   for (const char* f : kFields) get.flag(f, std::string("return the ") + f + " alone");
   get.changesScene = false;
@@ -170,6 +171,7 @@ void registerMaterialCommands(Registry& r) {
   });
 
   Command& list = r.add("material list", "Returns the names of the materials, in creation order.");
+  list.onRanks = OnRanks::Alike;
   list.changesScene = false;
   list.run([](Call& c) {
     List l;

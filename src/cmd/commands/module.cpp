@@ -104,6 +104,7 @@ void registerModuleCommands(Registry& r) {
   r.describe("module", "The modules of the time step: which run, and their options.");
 
   Command& list = r.add("module list", "Returns the modules the next step runs, in loop order.");
+  list.onRanks = OnRanks::Alike;
   list.changesScene = false;
   list.run([](Call& c) {
     List l;
@@ -117,6 +118,7 @@ void registerModuleCommands(Registry& r) {
   addSetCommand(r);
 
   Command& get = r.add("module get", "Returns a module's options as a dict, or one of them.");
+  get.onRanks = OnRanks::Alike;
   get.changesScene = false;
   get.arg("module", choice(moduleGroups()), "the module");
   get.optionalArg("option", text("option"), "an option's name, without the -");

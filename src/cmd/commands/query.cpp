@@ -12,6 +12,7 @@ void registerQueryCommands(Registry& r) {
 
   Command& en =
       r.add("query energy", "Returns the energy ledger as a dict (J), or one entry of it.");
+  en.onRanks = OnRanks::Collective;
   en.details =
       "balance = kinetic + gravitational + elastic + losses - work done on the grains, relative to "
       "the "
@@ -77,6 +78,7 @@ void registerQueryCommands(Registry& r) {
 
   Command& bb =
       r.add("query bounds", "Returns the box {lo hi} holding every element and finite wall.");
+  bb.onRanks = OnRanks::Collective;
   bb.changesScene = false;
   bb.run([](Call& c) {
     auto& s = session(c).scene();
@@ -86,12 +88,18 @@ void registerQueryCommands(Registry& r) {
 
   Command& cnt = r.add(
       "query counts", "Returns a dict of counts: elements, walls, contacts, behaviors, materials.");
+  cnt.onRanks = OnRanks::Collective;
   cnt.changesScene = false;
   cnt.run([](Call& c) {
     auto& s = session(c).scene();
-    return Value(Dict{{"elements", s.elementCount()},
+    // A distributed scene: each rank's own elements and the contacts it computed, summed.
+    const std::int64_t elements =
+        s.distributed() ? std::int64_t(s.distribution().owned) : std::int64_t(s.elementCount());
+    std::vector<std::int64_t> sums{elements, std::int64_t(s.contactCount())};
+    ranksOf(s).sum(sums);
+    return Value(Dict{{"elements", sums[0]},
                       {"walls", s.wallCount()},
-                      {"contacts", s.contactCount()},
+                      {"contacts", sums[1]},
                       {"behaviors", s.behaviors().size()},
                       {"materials", s.materialNames().size()}});
   });
@@ -100,6 +108,7 @@ void registerQueryCommands(Registry& r) {
 void registerHelpCommands(Registry& r) {
   Command& h =
       r.add("help", "Describes the commands: help, help <command>, help <command> <subcommand>.");
+  h.onRanks = OnRanks::Alike;
   h.variadicArg("topic", text("word"), "a command and subcommand (unique prefixes accepted)")
       .optional = true;
   h.flag("declarations",

@@ -139,6 +139,9 @@ Error watchdogError(const sim::RunStopped& e) {
 sim::RunReport runSteps(Session& s, std::uint64_t steps, bool progress, bool quiet,
                         double duration = 0) {
   sim::Simulation& sim = s.scene();
+  // Under mpirun the first run spreads the scene, which every rank built alike, over the ranks
+  // (MPI UNSUPPORTED, on every rank, when it has what distributed runs lack).
+  if (mpi::Communicator::world().distributed() && !sim.distributed()) sim.distribute();
   warnStep(s);
   // s.stop is not cleared here: the outermost command's bracket cleared it, and a Ctrl-C that
   // came since (before this run, or between the runs of a study) must stop this run too.
@@ -212,6 +215,7 @@ void raiseIfStopped(Session& s, const sim::RunReport& rep) {
 
 void registerRunCommands(Registry& r) {
   Command& run = r.add("sim run", "Runs the scene for a number of steps or a simulated time.");
+  run.onRanks = OnRanks::Collective;
   run.interruptible = true;
   run.details =
       "Shows a progress bar with rate and ETA when output is a terminal, prints a report at the "
@@ -267,6 +271,7 @@ void registerRunCommands(Registry& r) {
   });
 
   Command& step = r.add("sim step", "Runs one step (or n) quietly; returns the report dict.");
+  step.onRanks = OnRanks::Collective;
   step.interruptible = true;
   step.optionalArg("n", integer().min(1), "number of steps").byDefault("1");
   step.run([](Call& c) {

@@ -69,11 +69,35 @@ void registerSimCommands(Registry& r) {
   r.describe("sim", "The scene as a whole: create, inspect, time step, run, save and load.");
 
   Command& n = r.add("sim new", "Starts a new, empty scene, replacing the current one.");
+  n.onRanks = OnRanks::Alike;
   n.option("dim", integer().range(2, 3), "dimension: 2 (discs) or 3 (spheres)").byDefault("3");
   n.needsScene = false;
   n.run([](Call& c) {
     session(c).sim = sim::makeSimulation(int(c.integer("dim")));
     return Value();
+  });
+
+  Command& rk = r.add("sim ranks",
+                      "Returns this process's rank of an MPI run (mpirun -np N demlab script.tcl), "
+                      "the number of ranks, and this rank's part of the scene.");
+  rk.details =
+      "A dict: rank, ranks, distributed (1 once the first run spread the scene over the ranks), "
+      "owned and ghosts (the elements this rank steps, and the copies of other ranks' elements it "
+      "holds within reach of its own). Without mpirun: rank 0 of 1. A script writes its own "
+      "files on one rank: if {[dict get [sim ranks] rank] == 0} {...}.";
+  rk.needsScene = false;
+  rk.changesScene = false;
+  rk.onRanks = OnRanks::Alike;
+  rk.run([](Call& c) {
+    const Session& s = session(c);
+    const mpi::Communicator& world = mpi::Communicator::world();
+    sim::Simulation::DistributionReport d;
+    if (s.sim) d = s.sim->distribution();
+    return Value(Dict{{"rank", world.rank()},
+                      {"ranks", world.size()},
+                      {"distributed", s.sim && s.sim->distributed()},
+                      {"owned", std::int64_t(d.owned)},
+                      {"ghosts", std::int64_t(d.ghosts)}});
   });
 
   Command& reset = r.add("sim reset", "Empties the scene, keeping its dimension.");
@@ -84,6 +108,7 @@ void registerSimCommands(Registry& r) {
   });
 
   Command& dim = r.add("sim dimension", "Returns the dimension of the scene (2 or 3).");
+  dim.onRanks = OnRanks::Alike;
   dim.changesScene = false;
   dim.run([](Call& c) { return Value(session(c).scene().dim()); });
 
@@ -94,6 +119,7 @@ void registerSimCommands(Registry& r) {
 
   Command& t =
       r.add("sim time", "Returns the simulated time (s) and, with -steps, the step count.");
+  t.onRanks = OnRanks::Alike;
   t.flag("steps", "return the number of steps taken instead");
   t.changesScene = false;
   t.run([](Call& c) {
@@ -134,6 +160,7 @@ void registerSimCommands(Registry& r) {
   });
 
   Command& th = r.add("sim threads", "Sets the threads a step runs on, or returns their number.");
+  th.onRanks = OnRanks::Alike;
   th.details =
       "The step's stages run on this many threads (the calling one included). The default is "
       "$DEMLAB_THREADS, else every core of the machine. A scene gives the same bits for any "
@@ -217,6 +244,7 @@ void registerSimCommands(Registry& r) {
   });
 
   Command& load = r.add("sim load", "Replaces the scene by the one in a checkpoint file.");
+  load.onRanks = OnRanks::Alike;
   load.interruptible = true;
   load.arg("file", readableFile(), "a file written by sim save");
   load.needsScene = false;
@@ -265,6 +293,7 @@ void registerSimCommands(Registry& r) {
     });
   };
   Command& restore = r.add("sim restore", "Replaces the scene by a copy of a kept one.");
+  restore.onRanks = OnRanks::Alike;
   restore.arg("name", keptRef(), "a name given to sim keep");
   restore.needsScene = false;
   restore.run([](Call& c) {
@@ -274,6 +303,7 @@ void registerSimCommands(Registry& r) {
   });
 
   Command& kl = r.add("sim kept", "Returns the names of the kept scenes.");
+  kl.onRanks = OnRanks::Alike;
   kl.needsScene = false;
   kl.changesScene = false;
   kl.run([](Call& c) {
@@ -283,6 +313,7 @@ void registerSimCommands(Registry& r) {
   });
 
   Command& drop = r.add("sim forget", "Drops a kept scene.");
+  drop.onRanks = OnRanks::Alike;
   drop.arg("name", keptRef(), "a name given to sim keep");
   drop.needsScene = false;
   drop.run([](Call& c) {

@@ -338,6 +338,7 @@ void registerWallCommands(Registry& r) {
   });
 
   Command& list = r.add("wall list", "Returns the ids of all walls, or of those with a tag.");
+  list.onRanks = OnRanks::Alike;
   list.option("tag", tagName(), "only walls carrying this tag");
   list.changesScene = false;
   list.run([](Call& c) {
@@ -349,6 +350,7 @@ void registerWallCommands(Registry& r) {
   });
 
   Command& count = r.add("wall count", "Returns the number of walls.");
+  count.onRanks = OnRanks::Alike;
   count.changesScene = false;
   count.run([](Call& c) { return Value(session(c).scene().wallCount()); });
 

@@ -1,0 +1,46 @@
+# compare_runs.tcl serial.txt ranks.txt np: compares what falling_bed.tcl printed alone and on
+# np ranks. One rank must give the serial run's bits. On more, the order in which an element's
+# contact forces are added differs (its own rank's pairs, then the ghosts' forces from the
+# others), so reals agree to round-off grown over the run: positions within 1e-10 m (1e-7 of a
+# radius), velocities within 1e-7 m/s, energies within 1e-7 of their value; counts exactly.
+lassign $argv serialFile ranksFile np
+proc readRun {file} {
+    set f [open $file]
+    set d {}
+    foreach line [split [read $f] \n] {
+        set line [string trimright $line \r]
+        if {$line ne ""} { dict set d [lindex $line 0] [lrange $line 1 end] }
+    }
+    close $f
+    return $d
+}
+set serial [readRun $serialFile]
+set ranks [readRun $ranksFile]
+set failures {}
+set worst {}
+if {[dict keys $serial] ne [dict keys $ranks]} {
+    lappend failures "keys differ: [dict keys $serial] / [dict keys $ranks]"
+}
+dict for {key a} $serial {
+    if {![dict exists $ranks $key]} continue
+    set b [dict get $ranks $key]
+    if {$np == 1 || [regexp {^(steps|time|rebuilds|elements|walls|contacts2?|count)$} $key]} {
+        if {$a ne $b} { lappend failures "$key: $a alone, $b on $np ranks" }
+        continue
+    }
+    switch -glob $key {
+        position* - bounds { set tol 1e-10 }
+        velocity* { set tol 1e-7 }
+        default { set tol [expr {1e-7 * abs([lindex $a 0]) + 1e-300}] }
+    }
+    set diff 0
+    foreach x $a y $b { set diff [expr {max($diff, abs($x - $y))}] }
+    if {!($diff <= $tol)} { lappend failures "$key: $a alone, $b on $np ranks (|diff| $diff > $tol)" }
+    lappend worst "$key [format %.1e $diff]"
+}
+if {[llength $failures]} {
+    puts stderr [join $failures \n]
+    exit 1
+}
+puts "np $np: [dict size $serial] values agree[expr {$np == 1 ? " bit for bit" : ""}]"
+if {[llength $worst]} { puts "largest differences: [join $worst {, }]" }

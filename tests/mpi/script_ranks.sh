@@ -1,0 +1,35 @@
+#!/bin/sh
+# script_ranks.sh DEMLAB MPIEXEC NP: `mpirun -np NP demlab script.tcl` against `demlab
+# script.tcl`. falling_bed.tcl gives the serial run's values (compare_runs.tcl); an error
+# raised on every rank ends the run once with it; one rank failing alone ends the run (aborted)
+# rather than leaving the others waiting; the console is refused.
+set -u
+demlab=$1 mpiexec=$2 np=$3
+here=$(cd "$(dirname "$0")" && pwd)
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "script_ranks.sh: $*" >&2; exit 1; }
+
+"$demlab" "$here/falling_bed.tcl" > "$dir/serial.txt" || fail "falling_bed.tcl failed alone"
+"$mpiexec" -np "$np" "$demlab" "$here/falling_bed.tcl" > "$dir/ranks.txt" ||
+  fail "falling_bed.tcl failed on $np ranks"
+"$demlab" "$here/compare_runs.tcl" "$dir/serial.txt" "$dir/ranks.txt" "$np" || fail "runs differ"
+
+[ "$np" -gt 1 ] || exit 0
+"$mpiexec" -np "$np" "$demlab" "$here/unsupported_scene.tcl" > "$dir/out.txt" 2> "$dir/err.txt"
+[ $? -eq 1 ] || fail "unsupported_scene.tcl: exit status not 1"
+n=$(grep -c "which distributed runs do not support yet" "$dir/err.txt")
+[ "$n" -eq 1 ] || { cat "$dir/err.txt" >&2; fail "unsupported_scene.tcl: the error printed $n times"; }
+
+start=$(date +%s)
+timeout 120 "$mpiexec" -np "$np" "$demlab" "$here/failing_rank.tcl" > "$dir/out.txt" 2> "$dir/err.txt"
+status=$?
+[ $status -ne 0 ] && [ $status -ne 124 ] || fail "failing_rank.tcl: exit status $status"
+grep -q "the last rank fails alone" "$dir/err.txt" || { cat "$dir/err.txt" >&2; fail "failing_rank.tcl: no error"; }
+grep -q "aborting the run" "$dir/err.txt" || { cat "$dir/err.txt" >&2; fail "failing_rank.tcl: not aborted"; }
+echo "failing_rank.tcl: aborted after $(( $(date +%s) - start )) s"
+
+"$mpiexec" -np "$np" "$demlab" < /dev/null > "$dir/out.txt" 2> "$dir/err.txt"
+[ $? -eq 2 ] || fail "the console under mpirun: exit status not 2"
+grep -q "under mpirun demlab runs a script" "$dir/err.txt" || fail "the console: no message"
+echo "script_ranks.sh: $np ranks: all checks hold"
