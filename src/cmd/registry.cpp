@@ -432,7 +432,41 @@ std::string Registry::markdown() const {
       if (m->command) s += m->command->markdown();
     }
   }
-  return s;
+  return s + distributedMarkdown();
+}
+
+std::string Registry::distributedMarkdown() const {
+  std::vector<std::string> alike, collective;
+  for (const Command* c : commands()) {
+    if (c->onRanks == OnRanks::Alike) alike.push_back("`" + c->fullName() + "`");
+    if (c->onRanks == OnRanks::Collective) collective.push_back("`" + c->fullName() + "`");
+  }
+  std::sort(alike.begin(), alike.end());
+  std::sort(collective.begin(), collective.end());
+  auto join = [](const std::vector<std::string>& v) {
+    std::string out;
+    for (const std::string& w : v) out += (out.empty() ? "" : ", ") + w;
+    return out;
+  };
+  return "## Distributed runs\n\n"
+         "`mpirun -np N demlab script.tcl` runs the script on every rank. Until the first "
+         "`sim run` or `sim step` every rank builds the whole scene alike; that run spreads it "
+         "over the ranks (each keeps the elements of its box of a recursive coordinate "
+         "bisection, with copies of its neighbours' elements within reach), or fails with "
+         "`MPI UNSUPPORTED` on every rank when the scene has what distributed runs do not "
+         "support yet (2D, element shapes, bonds, mesh walls, servo walls, periodic boundaries, "
+         "sources, sinks, blocked degrees of freedom, behaviors other than gravity, outputs, "
+         "named or tagged elements). Element ids stay what the script was given. Rank 0 alone "
+         "writes standard output; `sim ranks` tells a script its rank. A script that fails the "
+         "same way on every rank ends with its error once; a rank failing alone aborts the run "
+         "after 10 s rather than leaving the others waiting.\n\n"
+         "Once the scene is distributed, these act alike on every rank: " +
+         join(alike) +
+         ".\n\nThese are collective, every rank gets the whole scene's answer (element lists "
+         "in the order of the ids): " +
+         join(collective) +
+         ".\n\nEvery other command fails with `MPI UNSUPPORTED` on every rank, changing "
+         "nothing.\n";
 }
 
 std::vector<const Command*> Registry::commands() const {

@@ -54,6 +54,10 @@ class Registry {
 
   // Returns the Markdown command reference (doc/commands.md).
   std::string markdown() const;
+  // Returns the reference's last section: how a script runs under mpirun, and which commands
+  // act alike on every rank or collectively once the scene is distributed (the others are
+  // refused), from their declarations.
+  std::string distributedMarkdown() const;
 
   // Returns the declarations (Command::declaration) of the commands under a topic ({} for all),
   // in the reference's order. Throws demlab::Error {LOOKUP COMMAND} or {LOOKUP SUBCOMMAND}.

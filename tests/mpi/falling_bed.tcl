@@ -19,8 +19,13 @@ wall add plane -normal {1 0 0}
 wall add plane -normal {-1 0 0} -point {0.04 0 0}
 wall add plane -normal {0 1 0}
 wall add plane -normal {0 -1 0} -point {0 0.04 0}
-pack random -region {box {0.001 0.001 0.001} {0.039 0.039 0.06}} -radius {uniform 0.0014 0.002} \
-    -count 1200 -seed 7
+# An element made and removed first: the bed's elements then have ids other than their
+# creation order (the first reuses its slot), which distributed runs must keep.
+set gone [element add -radius 0.001 -position {0.02 0.02 0.15}]
+element remove $gone
+set ids [pack random -region {box {0.001 0.001 0.001} {0.039 0.039 0.06}} \
+    -radius {uniform 0.0014 0.002} -count 1200 -seed 7]
+check "the first new element reuses the removed one's slot" [expr {[lindex $ids 0] == $gone + 2**32}]
 behavior add gravity
 sim timestep 2e-5
 set ranks [sim ranks]
@@ -44,15 +49,27 @@ puts "count [element count]"
 puts "bounds [join [query bounds]]"
 set e [query energy]
 foreach k {kinetic gravitational elastic damping friction wallwork} { puts "$k [dict get $e $k]" }
-foreach id {0 1 17 600 1199} {
-    puts "position$id [element get $id -position]"
-    puts "velocity$id [element get $id -velocity]"
+foreach k {0 1 17 600 1199} {
+    set id [lindex $ids $k]
+    puts "position$k [element get $id -position]"
+    puts "velocity$k [element get $id -velocity]"
 }
+set id [lindex $ids 17]
 check "element get returns the dict with the id the script knows" \
-    [expr {[dict get [element get 17] id] == 17 && [dict get [element get 17] radius] > 0}]
+    [expr {[dict get [element get $id] id] == $id && [dict get [element get $id] radius] > 0}]
+puts "list [lsort -integer [element list]]"
+check "element list has the pack's ids" [expr {[lsort -integer [element list]] eq [lsort -integer $ids]}]
+# element array: by id once distributed, in the scene's order alone: sorted here by id.
+set rows {}
+foreach i [element array id] x [element array position] r [element array radius] {
+    lappend rows [list $i {*}$x $r]
+}
+puts "positions [concat {*}[lmap row [lsort -integer -index 0 $rows] {lrange $row 1 3}]]"
+puts "radii [lmap row [lsort -integer -index 0 $rows] {lindex $row 4}]"
 
 # Errors raised on every rank alike, caught alike.
 expectError {DEMLAB LOOKUP ELEMENT} {element get 5000}
+expectError {DEMLAB LOOKUP ELEMENT} "element get $gone"
 if {$n > 1} {
     expectError {DEMLAB MPI UNSUPPORTED} {element set 0 -velocity {0 0 0}}
     expectError {DEMLAB MPI UNSUPPORTED} {element add -radius 0.001 -position {0.02 0.02 0.1}}
@@ -62,4 +79,4 @@ if {$n > 1} {
 # The run goes on after them, together.
 set report [sim run -steps 500 -quiet]
 puts "contacts2 [dict get [query counts] contacts]"
-puts "position2 [element get 600 -position]"
+puts "position2 [element get [lindex $ids 600] -position]"

@@ -2,6 +2,7 @@
 // queries that return Tcl lists (ids, positions, ...). Many at once: pack.cpp.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -155,6 +156,47 @@ Value idList(const std::vector<ElementId>& ids) {
   l.data.reserve(ids.size());
   for (ElementId g : ids) l.data.push_back(scriptId(g));
   return l;
+}
+
+// Returns the ids of a distributed scene's elements, or with stride > 0 their rows of data
+// (stride numbers an element, in the order of s.elementIds()), gathered from every rank and
+// sorted by id; flat: one list of numbers. Collective.
+Value gatheredElements(const sim::Simulation& s, const std::vector<double>& data, int stride,
+                       bool flat) {
+  const std::vector<ElementId> all = s.elementIds();
+  const std::size_t n = s.distribution().owned;  // the owned first, then the ghosts
+  const std::size_t row = sizeof(std::int64_t) + std::size_t(stride) * sizeof(double);
+  std::vector<char> mine(n * row);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::int64_t id = scriptId(s.originalHandle(all[k]));
+    std::memcpy(mine.data() + k * row, &id, sizeof id);
+    if (stride > 0) {
+      std::memcpy(mine.data() + k * row + sizeof id, data.data() + k * std::size_t(stride),
+                  std::size_t(stride) * sizeof(double));
+    }
+  }
+  std::vector<std::pair<std::int64_t, const char*>> rows;
+  const std::vector<std::vector<char>> parts = ranksOf(s).gatherBytes(mine);
+  for (const std::vector<char>& p : parts) {
+    for (std::size_t at = 0; at + row <= p.size(); at += row) {
+      std::int64_t id;
+      std::memcpy(&id, p.data() + at, sizeof id);
+      rows.emplace_back(id, p.data() + at + sizeof id);
+    }
+  }
+  std::sort(rows.begin(), rows.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (stride == 0) {
+    Ints ids;
+    for (const auto& r : rows) ids.data.push_back(r.first);
+    return ids;
+  }
+  std::vector<double> out(rows.size() * std::size_t(stride));
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    std::memcpy(out.data() + k * std::size_t(stride), rows[k].second,
+                std::size_t(stride) * sizeof(double));
+  }
+  return Value(Reals{std::move(out), (flat || stride == 1) ? 0 : stride});
 }
 
 }  // namespace
@@ -520,7 +562,14 @@ void registerElementCommands(Registry& r) {
   Command& list = r.add("element list", "Returns the ids of all elements, or of those with a tag.");
   list.option("tag", tagName(), "only elements carrying this tag");
   list.changesScene = false;
-  list.run([](Call& c) { return idList(targets(c, session(c).scene())); });
+  list.details = "In a distributed scene, in the order of the ids.";
+  list.onRanks = OnRanks::Collective;
+  list.run([](Call& c) {
+    auto& s = session(c).scene();
+    if (!s.distributed()) return idList(targets(c, s));
+    if (c.given("tag")) return Value(List{});  // distributed scenes have no tagged elements
+    return gatheredElements(s, {}, 0, false);
+  });
 
   Command& count =
       r.add("element count", "Returns the number of elements, or of those with a tag.");
@@ -541,6 +590,7 @@ void registerElementCommands(Registry& r) {
   arr.details =
       "Vectors come as a list of lists ({x y z} {x y z} ...) unless -flat; the order is that of "
       "element list with the same -tag.";
+  arr.onRanks = OnRanks::Collective;
   arr.arg(
       "field",
       choice({"id", "position", "velocity", "angularvelocity", "orientation", "force", "radius"}),
@@ -551,8 +601,12 @@ void registerElementCommands(Registry& r) {
   arr.run([](Call& c) {
     auto& s = session(c).scene();
     const std::string& f = c.str("field");
+    // A distributed scene has no tagged elements (distribute refuses them).
+    if (s.distributed() && c.given("tag")) return Value(List{});
     std::vector<ElementId> all = s.elementIds();
-    if (f == "id" && !c.given("tag")) return idList(all);
+    if (f == "id" && !c.given("tag")) {
+      return s.distributed() ? gatheredElements(s, {}, 0, false) : idList(all);
+    }
     int d = s.dim();
     int stride = d;
     std::vector<double> data;
@@ -568,6 +622,7 @@ void registerElementCommands(Registry& r) {
       data = s.angularVelocities(), stride = d == 2 ? 1 : 3;
     else if (f == "orientation")
       data = s.orientations(), stride = d == 2 ? 1 : 4;
+    if (s.distributed()) return gatheredElements(s, data, stride, c.flag("flat"));
     if (c.given("tag")) {
       std::unordered_map<std::uint64_t, std::size_t> dense;
       for (std::size_t k = 0; k < all.size(); ++k) dense[all[k].bits()] = k;
