@@ -2,7 +2,8 @@
 # np ranks. One rank must give the serial run's bits. On more, the order in which an element's
 # contact forces are added differs (its own rank's pairs, then the ghosts' forces from the
 # others), so reals agree to round-off grown over the run: positions within 1e-10 m (1e-7 of a
-# radius), velocities within 1e-7 m/s, energies within 1e-7 of their value; counts exactly.
+# radius), velocities within 1e-7 m/s, energies and wall forces within 1e-7 of their largest
+# component; counts exactly.
 lassign $argv serialFile ranksFile np
 proc readRun {file} {
     set f [open $file]
@@ -31,7 +32,11 @@ dict for {key a} $serial {
     switch -glob $key {
         position* - bounds { set tol 1e-10 }
         velocity* { set tol 1e-7 }
-        default { set tol [expr {1e-7 * abs([lindex $a 0]) + 1e-300}] }
+        default {
+            set largest 0
+            foreach x $a { set largest [expr {max($largest, abs($x))}] }
+            set tol [expr {1e-7 * $largest + 1e-300}]
+        }
     }
     set diff 0
     foreach x $a y $b { set diff [expr {max($diff, abs($x - $y))}] }

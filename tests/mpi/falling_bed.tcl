@@ -49,6 +49,8 @@ puts "count [element count]"
 puts "bounds [join [query bounds]]"
 set e [query energy]
 foreach k {kinetic gravitational elastic damping friction wallwork} { puts "$k [dict get $e $k]" }
+puts "floorforce [wall get 0 -force]"
+puts "sideforce [wall get 1 -force]"
 foreach k {0 1 17 600 1199} {
     set id [lindex $ids $k]
     puts "position$k [element get $id -position]"

@@ -243,10 +243,20 @@ void registerWallCommands(Registry& r) {
         "force", "torque", "work", "servo", "scripted", "hole", "bounds", "tags"})
     get.flag(f, std::string("the ") + f);
   get.changesScene = false;
+  get.onRanks = OnRanks::Collective;
   get.run([](Call& c) {
     auto& s = session(c).scene();
-    Dict d = wallDict(s.wall(c.get<WallId>("wall")), s.dim());
-    return pickFields(c, d);
+    sim::WallState w = s.wall(c.get<WallId>("wall"));
+    if (s.distributed()) {
+      // Each rank holds the force, torque and work of its own elements' contacts with the wall.
+      std::vector<double> v{w.force[0],  w.force[1],  w.force[2], w.torque[0],
+                            w.torque[1], w.torque[2], w.work};
+      ranksOf(s).sum(v);
+      w.force = {v[0], v[1], v[2]};
+      w.torque = {v[3], v[4], v[5]};
+      w.work = v[6];
+    }
+    return pickFields(c, wallDict(w, s.dim()));
   });
 
   Command& set = r.add("wall set",
