@@ -61,6 +61,31 @@ Value fromHolder(const sim::Simulation& s, std::optional<Value> mine, const Erro
   throw missing;
 }
 
+void togetherOnRanks(const sim::Simulation& s, const std::function<void()>& work) {
+  if (!s.distributed()) return work();
+  // A failure travels as its message and code words, each ended by a NUL.
+  std::vector<char> mine;
+  try {
+    work();
+  } catch (const Error& e) {
+    const auto add = [&](const std::string& w) { mine.insert(mine.end(), w.begin(), w.end() + 1); };
+    add(e.what());
+    for (std::size_t k = 1; k < e.code().size(); ++k) add(e.code()[k]);
+  }
+  const std::vector<std::vector<char>> all = ranksOf(s).gatherBytes(mine);
+  for (std::size_t rank = 0; rank < all.size(); ++rank) {
+    if (all[rank].empty()) continue;
+    std::vector<std::string> words;
+    for (std::size_t at = 0; at < all[rank].size();) {
+      words.emplace_back(all[rank].data() + at);
+      at += words.back().size() + 1;
+    }
+    const std::string message = words.front();
+    words.erase(words.begin());
+    throw Error(message + " (on rank " + std::to_string(rank) + ")", words);
+  }
+}
+
 std::int64_t scriptId(std::uint32_t index, std::uint32_t generation) {
   return Handle<struct AnyKind>{index, generation}.scriptId();
 }

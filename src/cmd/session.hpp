@@ -107,6 +107,11 @@ const mpi::Communicator& ranksOf(const sim::Simulation& s);
 // distributed scene.
 Value fromHolder(const sim::Simulation& s, std::optional<Value> mine, const Error& missing);
 
+// Runs work on this rank, then raises on every rank the error of the lowest rank where it
+// threw a demlab::Error (a file one rank could not write): no rank goes on while another
+// failed. Serial scene: runs work. Collective in a distributed scene.
+void togetherOnRanks(const sim::Simulation& s, const std::function<void()>& work);
+
 // Script-visible ids. A handle's first life gets the id of its slot (0, 1, 2, ...); each reuse
 // of a slot adds 2^32, so a stale id never names the element that took its slot.
 std::int64_t scriptId(std::uint32_t index, std::uint32_t generation);

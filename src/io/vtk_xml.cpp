@@ -270,4 +270,25 @@ std::string pvdBytes(const std::vector<PvdEntry>& entries) {
   return x.str();
 }
 
+std::string pvtpBytes(const VtkPolyData& layout, const std::vector<std::string>& pieces) {
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"1.0\" "
+       "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PPolyData GhostLevel=\"0\">\n";
+  const auto declare = [&](const std::vector<VtkArray>& arrays, const char* tag) {
+    if (arrays.empty()) return;
+    x << "<" << tag << ">\n";
+    for (const VtkArray& a : arrays) {
+      x << "<PDataArray type=\"" << typeOf(a).name << "\" Name=\"" << xmlEscape(a.name)
+        << "\" NumberOfComponents=\"" << a.components << "\"/>\n";
+    }
+    x << "</" << tag << ">\n";
+  };
+  declare(layout.pointData, "PPointData");
+  declare(layout.cellData, "PCellData");
+  x << "<PPoints>\n<PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n</PPoints>\n";
+  for (const std::string& p : pieces) x << "<Piece Source=\"" << xmlEscape(p) << "\"/>\n";
+  x << "</PPolyData>\n</VTKFile>\n";
+  return x.str();
+}
+
 }  // namespace demlab::io

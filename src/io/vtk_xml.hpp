@@ -57,6 +57,11 @@ enum class VtkCompression { None, Fast, Best };
 // length does not match its points or cells (a writer's bug, caught before any file exists).
 std::string vtpBytes(const VtkPolyData& d, VtkCompression c);
 
+// Returns the bytes of a .pvtp file (a parallel PolyData) made of the .vtp files pieces (paths
+// relative to it), each holding the arrays of layout under the same names, types and
+// components (layout's values are not read): the pieces of a distributed run's ranks.
+std::string pvtpBytes(const VtkPolyData& layout, const std::vector<std::string>& pieces);
+
 // Returns the bytes of a .vti file holding d (same errors).
 std::string vtiBytes(const VtkImageData& d, VtkCompression c);
 

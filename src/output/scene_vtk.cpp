@@ -1,5 +1,6 @@
 #include "output/scene_vtk.hpp"
 #include "core/interrupt.hpp"
+#include "mpi/communicator.hpp"
 #include "physics/triangle_mesh.hpp"
 
 #include <algorithm>
@@ -209,9 +210,10 @@ io::VtkPolyData elementsVtk(const sim::Simulation& s) {
   d.points = std::move(t.position);
   d.vertexPerPoint = true;
   std::vector<int64_t> ids(n);
+  // (A distributed scene's elements under the ids the script knows, which they keep on any rank.)
   for (size_t i = 0; i < n; ++i) {
     poll();
-    ids[i] = t.ids[i].scriptId();
+    ids[i] = (s.distributed() ? s.originalHandle(t.ids[i]) : t.ids[i]).scriptId();
   }
   d.pointData.push_back({"id", 1, std::move(ids)});
   for (size_t k = 0; k < t.tagNames.size(); ++k)
@@ -247,6 +249,15 @@ io::VtkPolyData wallsVtk(const sim::Simulation& s) {
   const std::vector<WallId> ids = s.wallIds();
   std::vector<sim::WallState> walls;
   for (WallId id : ids) walls.push_back(s.wall(id));
+  if (s.distributed()) {
+    // Each rank holds the force of its own elements' contacts: summed (collective).
+    std::vector<double> f;
+    for (const sim::WallState& w : walls) f.insert(f.end(), w.force.begin(), w.force.end());
+    mpi::Communicator::world().sum(f);
+    for (size_t k = 0; k < walls.size(); ++k) {
+      walls[k].force = {f[3 * k], f[3 * k + 1], f[3 * k + 2]};
+    }
+  }
   std::vector<std::string> materials;
   std::vector<int32_t> materialOf;
   for (size_t k = 0; k < walls.size(); ++k) {
@@ -278,20 +289,6 @@ io::VtkPolyData contactsVtk(const sim::Simulation& s) {
   const std::vector<sim::ContactInfo> cs = s.contacts();
   VtkPolyData d;
   const size_t n = cs.size();
-  // Element centres by handle slot: one lookup per contact end, no per-element state copies.
-  const std::vector<ElementId> ids = s.elementIds();
-  const std::vector<double> x = s.positions();
-  const int dim = s.dim();
-  std::vector<uint32_t> denseOfSlot;
-  for (size_t i = 0; i < ids.size(); ++i) {
-    if (denseOfSlot.size() <= ids[i].index) denseOfSlot.resize(ids[i].index + 1);
-    denseOfSlot[ids[i].index] = uint32_t(i);
-  }
-  auto centre = [&](ElementId e) {
-    Vec3d p{0, 0, 0};
-    for (int k = 0; k < dim; ++k) p[k] = x[size_t(dim) * denseOfSlot[e.index] + k];
-    return p;
-  };
   std::vector<int64_t> a(n), b(n), wall(n);
   std::vector<double> force, normal, tangential, fn(n), overlap(n);
   force.reserve(3 * n), normal.reserve(3 * n), tangential.reserve(3 * n);
@@ -302,7 +299,7 @@ io::VtkPolyData contactsVtk(const sim::Simulation& s) {
   for (size_t k = 0; k < n; ++k) {
     poll();
     const sim::ContactInfo& c = cs[k];
-    const Vec3d start = centre(c.a), end = c.b.isNull() ? c.point : centre(c.b);
+    const Vec3d start = c.centreA, end = c.b.isNull() ? c.point : c.centreB;
     d.points.insert(d.points.end(), start.begin(), start.end());
     d.points.insert(d.points.end(), end.begin(), end.end());
     d.lines.push_back(int64_t(2 * k));

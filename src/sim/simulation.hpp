@@ -297,6 +297,7 @@ struct ContactInfo {
   Vec3d point{}, normal{};  // normal from a towards b (or the wall)
   double overlap = 0;
   Vec3d force{};  // force on b (or the wall); a receives its opposite
+  Vec3d centreA{}, centreB{};  // the elements' centres (centreB zero for a wall)
 };
 
 // The energy ledger (joules). balance = kinetic + gravitational + elastic + damping + friction
@@ -811,6 +812,8 @@ class Simulation {
   // -- queries --
   virtual EnergyLedger energy() const = 0;
   virtual size_t contactCount() const = 0;  // contacts found in the last step
+  // In a distributed scene: the contacts this rank computed (those whose a it owns; b may be
+  // another rank's), with the ids scripts know.
   virtual std::vector<ContactInfo> contacts() const = 0;
   // Returns the heap the scene holds now, by part (see MemoryReport).
   virtual MemoryReport memory() const = 0;

@@ -179,7 +179,12 @@ ElementId SimulationManager<D>::ownedElement(ElementId original) const {
 template <int D>
 ElementId SimulationManager<D>::originalHandle(ElementId local) const {
   const uint32_t i = s_.elements.index(local);
-  if (!s_.dist) return local;
+  return s_.dist ? elementHandleAt(i) : local;
+}
+
+template <int D>
+ElementId SimulationManager<D>::elementHandleAt(size_t i) const {
+  if (!s_.dist) return s_.elements.pool().handleAt(static_cast<uint32_t>(i));
   const uint64_t gid = s_.elements.a.globalId[i];
   const auto& byId = s_.dist->renamedById;
   auto r = std::lower_bound(byId.begin(), byId.end(), std::make_pair(gid, uint64_t{0}));

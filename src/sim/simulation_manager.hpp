@@ -34,6 +34,9 @@ class SimulationManager final : public Simulation {
   std::vector<ElementSnapshot> elementSnapshots() const override;
   ElementId ownedElement(ElementId original) const override;
   ElementId originalHandle(ElementId local) const override;
+  // Returns the handle scripts know the element at dense index i by (owned or, in a
+  // distributed scene, a ghost): its pool's handle, or the one it had at distribute().
+  ElementId elementHandleAt(size_t i) const;
   DistributionReport distribution() const override;
 
   void setTimeStep(double dt) override;
@@ -316,6 +319,8 @@ class SimulationManager final : public Simulation {
   // The copy's arrays stay between runs, so a later copy allocates nothing (a first copy of a
   // scene of hundreds of megabytes faults in its pages: twenty times slower).
   static constexpr double kCopyEvery = 25;
+  // How often the ranks of a distributed run agree on Ctrl-C (steps): a reduction each time.
+  static constexpr uint64_t kStopEvery = 64;
   std::optional<Scene<D>> rollback_;
   double rollbackSeconds_ = 0;
   double lastStepSeconds_ = 0;  // the last step's wall time: a run after long ones copies first

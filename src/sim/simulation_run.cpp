@@ -296,7 +296,9 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   // while a copy of this run exists. Returns false if Ctrl-C stopped a first copy (then none
   // is kept). Changes rollback_ and the scene's mark.
   const auto keepCopy = [&](double stepSeconds, Clock::time_point now, uint64_t stepsLeft) {
-    if (!options.stop || (!kept && stepSeconds <= options.longStep) || !rollbackFits()) {
+    // (A distributed run stops at step boundaries only: its ranks abandon no step alone.)
+    if (!options.stop || (!kept && stepSeconds <= options.longStep) || !rollbackFits() ||
+        s_.dist) {
       if (!kept) s_.abandonOn = nullptr;  // short steps: stopped at their boundaries, no copy
       return true;
     }
@@ -341,7 +343,11 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       total = 0;
     }
     for (uint64_t k = 0; k < total; ++k) {
-      if (options.stop && options.stop->load(std::memory_order_relaxed)) {
+      bool stop = options.stop && options.stop->load(std::memory_order_relaxed);
+      // The ranks of a distributed run stop at the same boundary: one that stopped alone would
+      // leave the others waiting in the step's exchanges. They agree every kStopEvery steps.
+      if (s_.dist) stop = k % kStopEvery == 0 && s_.dist->comm->max(stop ? 1.0 : 0.0) > 0;
+      if (stop) {
         if (k == 0) {
           stoppedBeforeFirstStep();
         } else {
@@ -866,7 +872,8 @@ std::vector<ContactInfo> SimulationManager<D>::contacts() const {
   for (const ContactRecord<D>& c : s_.contacts) {
     poll();
     ContactInfo ci;
-    ci.a = s_.elements.pool().handleAt(c.a);
+    ci.a = elementHandleAt(c.a);
+    ci.centreA = fromVec<D>(a.x[c.a]);
     const physics::SphereShape<D> sa{a.x[c.a], a.r[c.a]};
     std::optional<physics::ContactGeometry<D>> g;
     if (a.geometry[c.a] != 0 || (!c.wall && a.geometry[c.b] != 0)) {
@@ -881,7 +888,8 @@ std::vector<ContactInfo> SimulationManager<D>::contacts() const {
       if (c.wall) {
         ci.wall = s_.walls.pool().handleAt(c.b);
       } else {
-        ci.b = s_.elements.pool().handleAt(c.b);
+        ci.b = elementHandleAt(c.b);
+        ci.centreB = fromVec<D>(a.x[c.b]);
       }
     } else if (c.wall) {
       const Wall<D>& w = s_.walls.items[c.b];
@@ -889,7 +897,8 @@ std::vector<ContactInfo> SimulationManager<D>::contacts() const {
       const void* shape = std::visit([](const auto& sh) -> const void* { return &sh; }, w.shape);
       g = np.table.get(np.sphere, np.byShape[static_cast<int>(w.kind)]).fn.one(&sa, shape);
     } else {
-      ci.b = s_.elements.pool().handleAt(c.b);
+      ci.b = elementHandleAt(c.b);
+      ci.centreB = fromVec<D>(a.x[c.b]);
       g = physics::intersect<D>(sa, physics::SphereShape<D>{partnerPosition(s_, c.a, c.b), a.r[c.b]});
     }
     if (g) {
@@ -1010,7 +1019,7 @@ std::vector<double> SimulationManager<D>::radii() const {
 template <int D>
 ElementTable SimulationManager<D>::elementTable() const {
   const ElementArrays<D>& a = s_.elements.a;
-  const size_t n = s_.elements.size();
+  const size_t n = s_.ownedCount();  // a distributed scene's ghosts are other ranks' to show
   ElementTable t;
   t.ids = elementIds();
   InterruptPoll poll("reading the elements");
@@ -1037,13 +1046,13 @@ ElementTable SimulationManager<D>::elementTable() const {
     if constexpr (D == 2) o = {std::cos(0.5 * o[0]), 0, 0, std::sin(0.5 * o[0])};
     t.orientation.insert(t.orientation.end(), o.begin(), o.end());
   }
-  t.radius = a.r;
+  t.radius.assign(a.r.begin(), a.r.begin() + static_cast<std::ptrdiff_t>(n));
   t.mass.resize(n);
   for (size_t i = 0; i < n; ++i) {
     poll();
     t.mass[i] = 1 / a.invMass[i];
   }
-  t.material = a.material;
+  t.material.assign(a.material.begin(), a.material.begin() + static_cast<std::ptrdiff_t>(n));
   t.materialNames = s_.materialNames;
   // Shapes: the ball first, then the types in the order elements use them.
   const ShapeTable<D>& table = ShapeTable<D>::get();
@@ -1102,6 +1111,13 @@ uint64_t SimulationManager<D>::stateDigest() const {
 
 template <int D>
 Scene<D> SimulationManager<D>::copyScene() const {
+  if (s_.dist) {
+    // A distributed scene's part (its elements and ghosts) is copied as it is, with a
+    // Distribution of its own: a checkpoint's bytes hold whole scenes only.
+    Scene<D> c = s_;
+    c.dist = std::make_shared<Distribution<D>>(*s_.dist);
+    return c;
+  }
   std::string b = serialize(IoMode::Clone);
   const FreeAsideOnThrow asideBytes(b);
   Scene<D> c;

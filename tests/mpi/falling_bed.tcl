@@ -69,6 +69,15 @@ foreach i [element array id] x [element array position] r [element array radius]
 puts "positions [concat {*}[lmap row [lsort -integer -index 0 $rows] {lrange $row 1 3}]]"
 puts "radii [lmap row [lsort -integer -index 0 $rows] {lindex $row 4}]"
 
+# VTK files: alone one .vtp a part; on several ranks a piece a rank under a .pvtp (compared by
+# script_ranks.sh with vtk_compare.py).
+if {$argc > 0} {
+    set files [dump vtk [file join [lindex $argv 0] bed]]
+    set want [expr {$n > 1 ? {bed_elements.pvtp bed_walls.vtp bed_contacts.pvtp}
+                           : {bed_elements.vtp bed_walls.vtp bed_contacts.vtp}}]
+    check "dump vtk returns $want, gave $files" [expr {[lmap f $files {file tail $f}] eq $want}]
+}
+
 # Errors raised on every rank alike, caught alike.
 expectError {DEMLAB LOOKUP ELEMENT} {element get 5000}
 expectError {DEMLAB LOOKUP ELEMENT} "element get $gone"

@@ -1,6 +1,7 @@
 #!/bin/sh
 # script_ranks.sh DEMLAB MPIEXEC NP: `mpirun -np NP demlab script.tcl` against `demlab
-# script.tcl`. falling_bed.tcl gives the serial run's values (compare_runs.tcl); an error
+# script.tcl`. falling_bed.tcl gives the serial run's values (compare_runs.tcl) and VTK files
+# (vtk_compare.py: pieces a rank under a .pvtp, read by VTK's own readers); an error
 # raised on every rank ends the run once with it; one rank failing alone ends the run (aborted)
 # rather than leaving the others waiting; the console is refused.
 set -u
@@ -10,10 +11,14 @@ dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "script_ranks.sh: $*" >&2; exit 1; }
 
-"$demlab" "$here/falling_bed.tcl" > "$dir/serial.txt" || fail "falling_bed.tcl failed alone"
-"$mpiexec" -np "$np" "$demlab" "$here/falling_bed.tcl" > "$dir/ranks.txt" ||
+mkdir "$dir/serial" "$dir/ranks"
+"$demlab" "$here/falling_bed.tcl" "$dir/serial" > "$dir/serial.txt" || fail "falling_bed.tcl failed alone"
+"$mpiexec" -np "$np" "$demlab" "$here/falling_bed.tcl" "$dir/ranks" > "$dir/ranks.txt" ||
   fail "falling_bed.tcl failed on $np ranks"
 "$demlab" "$here/compare_runs.tcl" "$dir/serial.txt" "$dir/ranks.txt" "$np" || fail "runs differ"
+if [ "$np" -gt 1 ]; then
+  /usr/bin/python3 "$here/vtk_compare.py" "$dir/serial/bed" "$dir/ranks/bed" || fail "the VTK files differ"
+fi
 
 [ "$np" -gt 1 ] || exit 0
 "$mpiexec" -np "$np" "$demlab" "$here/unsupported_scene.tcl" > "$dir/out.txt" 2> "$dir/err.txt"

@@ -72,16 +72,43 @@ io::VtkPolyData partData(const sim::Simulation& s, const std::string& part) {
   return output::contactsVtk(s);
 }
 
-// Returns the files written: PREFIX_PART.vtp per part, each atomically. Throws IO errors;
-// a failure leaves the parts already written in place (each file is whole).
+// Writes one part of s to PATH.vtp, atomically; returns the file ParaView opens. A distributed
+// scene: the walls from rank 0 (their forces summed); the elements and contacts as one piece
+// a rank, PATH_rK.vtp, that rank 0's PATH.pvtp lists. Throws IO errors, on every rank when
+// one rank's failed (collective in a distributed scene).
+std::string writePart(const sim::Simulation& s, const std::string& part, const VtkOptions& o,
+                      const std::string& path) {
+  if (!s.distributed()) {
+    writeFileAtomically(path + ".vtp", io::vtpBytes(partData(s, part), o.compression));
+    return path + ".vtp";
+  }
+  const mpi::Communicator& ranks = ranksOf(s);
+  const io::VtkPolyData d = partData(s, part);
+  if (part == "walls") {
+    togetherOnRanks(s, [&] {
+      if (ranks.rank() == 0) writeFileAtomically(path + ".vtp", io::vtpBytes(d, o.compression));
+    });
+    return path + ".vtp";
+  }
+  const auto piece = [&](int k) { return path + "_r" + std::to_string(k) + ".vtp"; };
+  togetherOnRanks(s, [&] { writeFileAtomically(piece(ranks.rank()), io::vtpBytes(d, o.compression)); });
+  togetherOnRanks(s, [&] {
+    if (ranks.rank() != 0) return;
+    std::vector<std::string> pieces;
+    for (int k = 0; k < ranks.size(); ++k) {
+      pieces.push_back(std::filesystem::path(piece(k)).filename().string());
+    }
+    writeFileAtomically(path + ".pvtp", io::pvtpBytes(d, pieces));
+  });
+  return path + ".pvtp";
+}
+
+// Returns the files written: PREFIX_PART.vtp (.pvtp, distributed) per part, each atomically.
+// Throws IO errors; a failure leaves the parts already written in place (each file is whole).
 std::vector<std::string> writeVtk(const sim::Simulation& s, const VtkOptions& o,
                                   const std::string& prefix) {
   std::vector<std::string> files;
-  for (const std::string& part : o.parts) {
-    const std::string path = prefix + "_" + part + ".vtp";
-    writeFileAtomically(path, io::vtpBytes(partData(s, part), o.compression));
-    files.push_back(path);
-  }
+  for (const std::string& part : o.parts) files.push_back(writePart(s, part, o, prefix + "_" + part));
   return files;
 }
 
@@ -233,10 +260,14 @@ void registerDumpCommands(Registry& r) {
       "the last step from centre to centre, or to the contact point for a wall: a, b, wall, "
       "force on b, normal, normal_force, tangential_force, overlap). VTK's XML format with "
       "appended binary data, zlib-compressed; each file is replaced atomically. Open them in "
-      "ParaView; apply Glyph (sphere, scale by radius, factor 2) to the elements.";
+      "ParaView; apply Glyph (sphere, scale by radius, factor 2) to the elements. In a "
+      "distributed run each rank writes its elements and the contacts it computed as pieces "
+      "PREFIX_elements_rK.vtp and PREFIX_contacts_rK.vtp, listed by PREFIX_elements.pvtp and "
+      "PREFIX_contacts.pvtp (the files returned), and rank 0 the walls.";
   vtk.arg("prefix", text("path prefix"), "the files' common start, e.g. out/bed");
   vtkOptions(vtk);
   vtk.changesScene = false;
+  vtk.onRanks = OnRanks::Collective;
   vtk.run([](Call& c) {
     List l;
     for (const std::string& f : writeVtk(session(c).scene(), readVtkOptions(c), c.str("prefix")))
