@@ -7,7 +7,6 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <string>
@@ -49,12 +48,9 @@ constexpr double kFailurePatience = 10.0;
 // MPI for the process's life when mpirun started it; ended before the process exits.
 std::optional<demlab::mpi::Session> mpiSession;
 
-// Tcl's exit: MPI's end first (a rank that leaves without it stops the others), then exit.
-[[noreturn]] void exitProc(void* status) {
-  Tcl_Finalize();  // flushes the channels, which Tcl_Exit leaves to its exit proc
-  mpiSession.reset();
-  std::exit(static_cast<int>(reinterpret_cast<std::intptr_t>(status)));
-}
+// At Tcl's exit (the script's end or its `exit`): MPI's end, which a rank must reach before it
+// leaves, or the others are stopped.
+void endMpi(void*) { mpiSession.reset(); }
 
 }  // namespace
 
@@ -110,8 +106,7 @@ int main(int argc, char** argv) {
     Tcl_Channel null = Tcl_OpenFileChannel(nullptr, "/dev/null", "w", 0);
     if (null != nullptr) Tcl_SetStdChannel(null, TCL_STDOUT);
   }
-  // `exit` in a script ends MPI first: a rank that leaves without it stops the run.
-  Tcl_SetExitProc(exitProc);
+  Tcl_CreateExitHandler(endMpi, nullptr);
   Tcl_Interp* interp = Tcl_CreateInterp();
   bool script = argc > 1;
   bool tty = !script && isatty(0);

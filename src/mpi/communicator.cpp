@@ -33,9 +33,22 @@ bool launched() {
   return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMI_SIZE") != nullptr;
 }
 
+namespace {
+
+// Returns the number of ranks the launcher's environment names, or 0 when it names none.
+long launchedRanks() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    if (const char* v = std::getenv(name)) return std::strtol(v, nullptr, 10);
+  }
+  return 0;
+}
+
+}  // namespace
+
 Session::Session(int* argc, char*** argv) {
 #ifdef DEMLAB_HAVE_MPI
-  if (!launched()) return;
+  // (One rank runs as a process started alone: MPI would add its start-up and nothing else.)
+  if (launchedRanks() < 2) return;
   int up = 0;
   MPI_Initialized(&up);
   if (up) return;

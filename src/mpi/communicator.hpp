@@ -69,9 +69,10 @@ class Communicator {
   bool world_ = false;  // MPI_COMM_WORLD (else the single rank)
 };
 
-// Starts MPI for the process's life when it was launched by mpirun (OpenMPI's or a PMI
-// launcher's environment says so), so that Communicator::world() is the run's ranks; a process
-// started alone stays one rank and pays no MPI start-up. Ends MPI when destroyed.
+// Starts MPI for the process's life when it was launched by mpirun as one of several ranks
+// (OpenMPI's or a PMI launcher's environment says so), so that Communicator::world() is the
+// run's ranks; a process started alone, or as mpirun's only rank, stays one rank and pays no
+// MPI start-up. Ends MPI when destroyed.
 class Session {
  public:
   Session(int* argc, char*** argv);

@@ -524,6 +524,10 @@ struct OutputDef {
   // then keep contact records at the steps the output is due at (and only those, unless
   // something else reads them).
   bool needsContacts = true;
+  // Whether the callback works in a distributed scene: every rank calls it at the same steps,
+  // and it writes once (pieces a rank and one index, or from rank 0). distribute() refuses the
+  // outputs that do not.
+  bool distributable = false;
 };
 
 struct OutputInfo {

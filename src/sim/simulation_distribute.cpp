@@ -19,7 +19,7 @@ ElementId firstLife(uint64_t gid) { return ElementId{static_cast<uint32_t>(gid),
 
 // Returns what in scene s a distributed run cannot do yet, or "" when it can run it.
 template <int D>
-std::string unsupported(const Scene<D>& s, size_t outputs) {
+std::string unsupported(const Scene<D>& s, std::ptrdiff_t outputs) {
   if (D != 3) return "two dimensions";
   const ElementArrays<D>& a = s.elements.a;
   for (size_t i = 0; i < a.size(); ++i) {
@@ -37,7 +37,7 @@ std::string unsupported(const Scene<D>& s, size_t outputs) {
   for (const auto& b : s.behaviors.items()) {
     if (b->type() != "gravity") return "a " + std::string(b->type()) + " behavior";
   }
-  if (outputs > 0) return "an output";
+  if (outputs > 0) return "an output other than dump every";
   if (s.elements.names().size() > 0) return "named elements";
   for (std::string_view t : s.elements.tags().tags()) {
     if (s.elements.tags().count(t) > 0) return "tagged elements";
@@ -52,7 +52,9 @@ void SimulationManager<D>::distribute() {
   if (s_.dist) {
     throw Error("can't distribute the scene: it is distributed already", {"MPI", "DISTRIBUTED"});
   }
-  const std::string what = unsupported(s_, outputs_.size());
+  const std::string what = unsupported(
+      s_, std::count_if(outputs_.begin(), outputs_.end(),
+                        [](const Output& o) { return !o.def.distributable; }));
   if (!what.empty()) {
     throw Error("can't distribute the scene over ranks: it has " + what +
                     ", which distributed runs do not support yet",

@@ -28,6 +28,10 @@ set ids [pack random -region {box {0.001 0.001 0.001} {0.039 0.039 0.06}} \
 check "the first new element reuses the removed one's slot" [expr {[lindex $ids 0] == $gone + 2**32}]
 behavior add gravity
 sim timestep 2e-5
+# A VTK series: frame 0 now (every rank holds the whole scene), then pieces a rank.
+if {$argc > 0} {
+    dump every -steps 2000 -dir [file join [lindex $argv 0] series] -parts {elements walls}
+}
 set ranks [sim ranks]
 check "no rank before the run should be distributed" [expr {![dict get $ranks distributed]}]
 

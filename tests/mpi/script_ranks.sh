@@ -18,6 +18,8 @@ mkdir "$dir/serial" "$dir/ranks"
 "$demlab" "$here/compare_runs.tcl" "$dir/serial.txt" "$dir/ranks.txt" "$np" || fail "runs differ"
 if [ "$np" -gt 1 ]; then
   /usr/bin/python3 "$here/vtk_compare.py" "$dir/serial/bed" "$dir/ranks/bed" || fail "the VTK files differ"
+  /usr/bin/python3 "$here/vtk_compare.py" --series "$dir/serial/series" "$dir/ranks/series" ||
+    fail "the VTK series differ"
 fi
 
 [ "$np" -gt 1 ] || exit 0

@@ -2,9 +2,12 @@
 (PREFIX_elements.pvtp and PREFIX_contacts.pvtp over one piece a rank, PREFIX_walls.vtp), read
 with VTK's own readers as ParaView reads them: the same element ids at the same positions (to
 1e-10 m), the same contacts (by the ids of their ends), the same wall forces (to 1e-7 of the
-largest). Usage: vtk_compare.py SERIAL_PREFIX RANKS_PREFIX. Exits 1 naming what differs.
+largest). Usage: vtk_compare.py SERIAL_PREFIX RANKS_PREFIX, or vtk_compare.py --series
+SERIAL_DIR RANKS_DIR for the elements.pvd series of `dump every`. Exits 1 naming what differs.
 """
+import os
 import sys
+import xml.etree.ElementTree as ET
 
 import vtk
 
@@ -32,16 +35,34 @@ def points(d):
     return [d.GetPoint(k) for k in range(d.GetNumberOfPoints())]
 
 
-def main(serial, ranks):
-    a, b = read(serial + "_elements.vtp"), read(ranks + "_elements.pvtp")
+def compare_elements(file_a, file_b):
+    """Returns the number of elements and the largest position difference; exits if they differ."""
+    a, b = read(file_a), read(file_b)
     ida, idb = array(a, "point", "id"), array(b, "point", "id")
     if sorted(ida) != sorted(idb):
-        sys.exit("elements: the ids differ (%d alone, %d on the ranks)" % (len(ida), len(idb)))
+        sys.exit("%s: the ids differ (%d alone, %d on the ranks)" % (file_b, len(ida), len(idb)))
     xa, xb = dict(zip(ida, points(a))), dict(zip(idb, points(b)))
     worst = max(abs(p - q) for i in ida for p, q in zip(xa[i], xb[i]))
     if not worst <= 1e-10:
-        sys.exit("elements: positions differ by %g m" % worst)
+        sys.exit("%s: positions differ by %g m" % (file_b, worst))
+    return len(ida), worst
 
+
+def compare_series(dir_a, dir_b):
+    """The elements.pvd series of `dump every`: the same times, the last frames' elements alike."""
+    def frames(d):
+        root = ET.parse(os.path.join(d, "elements.pvd")).getroot()
+        return [(float(e.get("timestep")), e.get("file")) for e in root.iter("DataSet")]
+    fa, fb = frames(dir_a), frames(dir_b)
+    if [t for t, _ in fa] != [t for t, _ in fb]:
+        sys.exit("series: the frames' times differ: %s / %s" % (fa, fb))
+    n, worst = compare_elements(os.path.join(dir_a, fa[-1][1]), os.path.join(dir_b, fb[-1][1]))
+    print("vtk series: %d frames (%s), the last one's %d elements within %.1e m"
+          % (len(fb), " ".join(f for _, f in fb), n, worst))
+
+
+def main(serial, ranks):
+    n, worst = compare_elements(serial + "_elements.vtp", ranks + "_elements.pvtp")
     a, b = read(serial + "_contacts.vtp"), read(ranks + "_contacts.pvtp")
     def pairs(d):
         ea, eb, w = (array(d, "cell", n) for n in ("a", "b", "wall"))
@@ -56,8 +77,11 @@ def main(serial, ranks):
         sys.exit("walls: forces differ")
     contacts = read(serial + "_contacts.vtp").GetNumberOfCells()
     print("vtk: %d elements within %.1e m, %d contacts, %d wall cells agree"
-          % (len(ida), worst, contacts, len(fa)))
+          % (n, worst, contacts, len(fa)))
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    if sys.argv[1] == "--series":
+        compare_series(sys.argv[2], sys.argv[3])
+    else:
+        main(sys.argv[1], sys.argv[2])

@@ -118,23 +118,27 @@ struct Job {
   std::string dir;
   VtkOptions options;
   std::uint64_t frames = 0;
-  std::vector<io::PvdEntry> series;  // one per frame: time and frame number (file per part)
+  // Per part, one entry a frame: its time and file (.vtp, or .pvtp when distributed).
+  std::vector<std::vector<io::PvdEntry>> series;
 
-  // Writes frame number `frames` of s and the series files. Changes frames and series.
+  // Writes frame number `frames` of s and the series files (a distributed scene: the frame in
+  // pieces, the series from rank 0; collective). Changes frames and series.
   void write(const sim::Simulation& s) {
     char frame[32];
     std::snprintf(frame, sizeof frame, "_%06" PRIu64, frames);
     const std::string prefix = (std::filesystem::path(dir) / "").string();
-    for (const std::string& part : options.parts) {
-      const std::string file = part + frame + ".vtp";
-      writeFileAtomically(prefix + file, io::vtpBytes(partData(s, part), options.compression));
+    series.resize(options.parts.size());
+    for (std::size_t k = 0; k < options.parts.size(); ++k) {
+      const std::string& part = options.parts[k];
+      const std::string file = writePart(s, part, options, prefix + part + frame);
+      series[k].push_back({s.time(), std::filesystem::path(file).filename().string(), 0});
     }
-    series.push_back({s.time(), frame, 0});
-    for (const std::string& part : options.parts) {
-      std::vector<io::PvdEntry> entries = series;
-      for (io::PvdEntry& e : entries) e.file = part + e.file + ".vtp";
-      writeFileAtomically(prefix + part + ".pvd", io::pvdBytes(entries));
-    }
+    togetherOnRanks(s, [&] {
+      if (ranksOf(s).rank() != 0) return;
+      for (std::size_t k = 0; k < options.parts.size(); ++k) {
+        writeFileAtomically(prefix + options.parts[k] + ".pvd", io::pvdBytes(series[k]));
+      }
+    });
     ++frames;
   }
 };
@@ -283,7 +287,9 @@ void registerDumpCommands(Registry& r) {
       "... (the parts asked for) with DIR/elements.pvd etc. listing them with their times: open "
       "the .pvd in ParaView to play the series. Frame 0 is the scene as it is now, written at "
       "once (DIR is created if needed). Runs at the end of each step it is due at, in every "
-      "run, until \"dump off\". Contact records are kept only at the steps a dump is due.";
+      "run, until \"dump off\". Contact records are kept only at the steps a dump is due. In a "
+      "distributed run the frames are pieces a rank under a .pvtp, as dump vtk writes them, and "
+      "rank 0 writes the .pvd.";
   every.option("steps", integer().min(1), "a frame every this many steps");
   every.option("time", real().positive().withUnit("s"), "a frame every this much simulated time");
   every.oneOf({"steps", "time"}, true);
@@ -302,12 +308,14 @@ void registerDumpCommands(Registry& r) {
     d.needsContacts = std::find(job->options.parts.begin(), job->options.parts.end(),
                                 "contacts") != job->options.parts.end();
     d.callback = [job](const sim::Simulation& sim) { job->write(sim); };
+    d.distributable = true;
     const sim::OutputId id = s.addOutput(d);
     jobs().add(s, id, job);
     return Value(scriptId(id));
   });
 
   Command& list = r.add("dump list", "Returns the dump outputs as a list of dicts.");
+  list.onRanks = OnRanks::Alike;
   list.details = "Each dict: id, dir, parts, steps or time (the interval), frames (written so far).";
   list.changesScene = false;
   list.run([](Call& c) {

@@ -80,6 +80,7 @@ class OutputJobs {
     Command& off = r.add(group_ + " off", "Removes " + group_ +
                                               " outputs (all, or those given); returns how many.");
     off.variadicArg("id", ref(), group_ + " output ids").optional = true;
+    off.onRanks = OnRanks::Alike;
     off.run([this](Call& c) {
       sim::Simulation& s = session(c).scene();
       std::vector<sim::OutputId> ids;
