@@ -1,13 +1,100 @@
 #include "analysis/sample.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <unordered_map>
 
 #include "analysis/region_geometry.hpp"
 #include "core/interrupt.hpp"
+#include "mpi/communicator.hpp"
 
 namespace demlab::analysis {
+
+namespace {
+
+// What a rank sends of its part of a distributed scene's sample: its elements and the
+// contacts it computed, the elements named by the handles scripts know (bits; 0: none).
+struct PackedElement {
+  uint64_t id;
+  double position[3], velocity[3], radius, mass, volume;
+  uint64_t ball;
+};
+struct PackedContact {
+  uint64_t a, b;
+  int64_t wall;
+  double point[3], normal[3], force[3];
+};
+
+template <class T>
+void append(std::vector<char>& out, const T& x) {
+  const size_t at = out.size();
+  out.resize(at + sizeof x);
+  std::memcpy(out.data() + at, &x, sizeof x);
+}
+
+// Returns the whole sample of a distributed scene on every rank, its elements in the order of
+// their ids, from this rank's part `mine` (its own elements, the contacts it computed: their
+// ends by the handle bits in ends, a's then b's, b 0 for a wall). Collective.
+Sample gatherParts(const Sample& mine,
+                   const std::vector<std::array<uint64_t, 2>>& ends) {
+  std::vector<char> bytes;
+  append(bytes, uint64_t(mine.size()));
+  for (size_t i = 0; i < mine.size(); ++i) {
+    PackedElement e{mine.ids[i].bits(), {}, {}, mine.radius[i], mine.mass[i], mine.volume[i],
+                    uint64_t(mine.ball[i])};
+    for (int k = 0; k < 3; ++k) e.position[k] = mine.position[i][k], e.velocity[k] = mine.velocity[i][k];
+    append(bytes, e);
+  }
+  for (size_t k = 0; k < mine.contacts.size(); ++k) {
+    const SampleContact& c = mine.contacts[k];
+    PackedContact p{ends[k][0], ends[k][1], c.wall, {}, {}, {}};
+    for (int q = 0; q < 3; ++q) p.point[q] = c.point[q], p.normal[q] = c.normal[q], p.force[q] = c.force[q];
+    append(bytes, p);
+  }
+  std::vector<PackedElement> elements;
+  std::vector<PackedContact> contacts;
+  for (const std::vector<char>& b : mpi::Communicator::world().gatherBytes(bytes)) {
+    uint64_t n = 0;
+    std::memcpy(&n, b.data(), sizeof n);
+    size_t at = sizeof n;
+    for (uint64_t i = 0; i < n; ++i, at += sizeof(PackedElement)) {
+      std::memcpy(&elements.emplace_back(), b.data() + at, sizeof(PackedElement));
+    }
+    for (; at + sizeof(PackedContact) <= b.size(); at += sizeof(PackedContact)) {
+      std::memcpy(&contacts.emplace_back(), b.data() + at, sizeof(PackedContact));
+    }
+  }
+  const auto scriptOrder = [](const PackedElement& x, const PackedElement& y) {
+    return sim::ElementId::fromBits(x.id).scriptId() < sim::ElementId::fromBits(y.id).scriptId();
+  };
+  std::sort(elements.begin(), elements.end(), scriptOrder);
+  Sample s;
+  s.dim = mine.dim;
+  s.periodic = mine.periodic;
+  std::unordered_map<uint64_t, uint32_t> indexOf;
+  for (const PackedElement& e : elements) {
+    indexOf.emplace(e.id, uint32_t(s.ids.size()));
+    s.ids.push_back(sim::ElementId::fromBits(e.id));
+    s.position.push_back({e.position[0], e.position[1], e.position[2]});
+    s.velocity.push_back({e.velocity[0], e.velocity[1], e.velocity[2]});
+    s.radius.push_back(e.radius), s.mass.push_back(e.mass), s.volume.push_back(e.volume);
+    s.ball.push_back(char(e.ball));
+  }
+  for (const PackedContact& p : contacts) {
+    SampleContact c;
+    c.a = indexOf.at(p.a);
+    c.b = p.b == 0 ? -1 : int64_t(indexOf.at(p.b));
+    c.wall = p.wall;
+    for (int q = 0; q < 3; ++q) c.point[q] = p.point[q], c.normal[q] = p.normal[q], c.force[q] = p.force[q];
+    s.contacts.push_back(c);
+  }
+  return s;
+}
+
+}  // namespace
 
 Sample gatherSample(const sim::Simulation& sim, bool withBonds) {
   Sample s;
@@ -17,6 +104,13 @@ Sample gatherSample(const sim::Simulation& sim, bool withBonds) {
   const sim::ElementTable t = sim.elementTable();
   s.ids = t.ids;
   const size_t n = s.ids.size();
+  // A distributed scene: this rank's elements under the handles scripts know, and its contacts
+  // (which name those handles), gathered with the other ranks' parts below.
+  const bool distributed = sim.distributed();
+  if (distributed) {
+    for (sim::ElementId& id : s.ids) id = sim.originalHandle(id);
+  }
+  std::vector<std::array<uint64_t, 2>> ends;
   s.position.resize(n), s.velocity.resize(n);
   s.radius = t.radius;
   s.mass = t.mass;
@@ -43,12 +137,17 @@ Sample gatherSample(const sim::Simulation& sim, bool withBonds) {
   for (const sim::ContactInfo& c : sim.contacts()) {
     poll();
     SampleContact k;
-    k.a = denseOfSlot.at(c.a.index);
-    k.b = c.b.isNull() ? -1 : int64_t(denseOfSlot.at(c.b.index));
+    if (distributed) {
+      ends.push_back({c.a.bits(), c.b.bits()});  // mapped to indices once gathered
+    } else {
+      k.a = denseOfSlot.at(c.a.index);
+      k.b = c.b.isNull() ? -1 : int64_t(denseOfSlot.at(c.b.index));
+    }
     k.wall = c.wall.isNull() ? -1 : int64_t(c.wall.index);
     k.point = c.point, k.normal = c.normal, k.force = c.force;
     s.contacts.push_back(k);
   }
+  if (distributed) return gatherParts(s, ends);  // (distributed scenes have no bonds)
   if (!withBonds) return s;
   for (const sim::BondInfo& b : sim.bonds()) {
     poll();

@@ -42,7 +42,9 @@ struct Sample {
 };
 
 // Returns the elements and the last step's contacts of sim (a volume is mass / density for an
-// element that is not a ball), and with withBonds its intact bonds. Changes nothing.
+// element that is not a ball), and with withBonds its intact bonds. Changes nothing. A
+// distributed scene: the whole scene's, gathered on every rank (collective), its elements in
+// the order of their ids.
 Sample gatherSample(const sim::Simulation& sim, bool withBonds = false);
 
 // One side of a contact seen from one of its elements: the force on that element, applied at

@@ -68,7 +68,9 @@ void togetherOnRanks(const sim::Simulation& s, const std::function<void()>& work
   try {
     work();
   } catch (const Error& e) {
-    const auto add = [&](const std::string& w) { mine.insert(mine.end(), w.begin(), w.end() + 1); };
+    const auto add = [&](const std::string& w) {
+      mine.insert(mine.end(), w.c_str(), w.c_str() + w.size() + 1);
+    };
     add(e.what());
     for (std::size_t k = 1; k < e.code().size(); ++k) add(e.code()[k]);
   }

@@ -53,6 +53,19 @@ puts "count [element count]"
 puts "bounds [join [query bounds]]"
 set e [query energy]
 foreach k {kinetic gravitational elastic damping friction wallwork} { puts "$k [dict get $e $k]" }
+# The micromechanics of a region in the bed: the whole scene's sample on every rank.
+set region {box {0.006 0.006 0.004} {0.034 0.034 0.02}}
+puts "stress [dict get [query stress -region $region] tensor]"
+set z [query coordination -region $region]
+puts "coordination [dict get $z elements] [dict get $z contacts] [dict get $z n0] [dict get $z n1]"
+puts "coordinationz [dict get $z z] [dict get $z mechanical]"
+puts "fabric [dict get [query fabric -region $region] tensor]"
+set p [query packing -region $region]
+puts "packing [dict get $p fraction] [dict get $p mass]"
+set m [query motion -region $region]
+puts "motion [dict get $m velocity] [dict get $m temperature]"
+set cg [query cg -width 0.004 -spacing 0.004 -grid {box {0.004 0.004 0.004} {0.036 0.036 0.02}}]
+puts "cgmass [dict get $cg mass]"
 puts "floorforce [wall get 0 -force]"
 puts "sideforce [wall get 1 -force]"
 foreach k {0 1 17 600 1199} {

@@ -108,6 +108,7 @@ Command& addSelectionQuery(Registry& r, const std::string& path, std::string sum
   cmd.details = std::move(details);
   addSelectionOptions(cmd, true);
   cmd.changesScene = false;
+  cmd.onRanks = OnRanks::Collective;  // (the sample is the whole scene's on every rank)
   return cmd;
 }
 
@@ -212,6 +213,7 @@ void addPacking(Registry& r) {
   pk.option("region", regionType(), "{box {lo} {hi}} or {sphere {centre} radius}").require();
   pk.option("tag", tagName(), "only the elements carrying this tag");
   pk.changesScene = false;
+  pk.onRanks = OnRanks::Collective;
   pk.run([](Call& c) {
     const auto [s, sel] = scopeOf(c, false);
     const auto& region = c.get<sim::Region>("region");
@@ -269,6 +271,7 @@ void addCoarseGrain(Registry& r) {
             "return this array's values");
   cg.option("file", text("file"), "also write the fields as VTK image data (.vti) for ParaView");
   cg.changesScene = false;
+  cg.onRanks = OnRanks::Collective;
   cg.run([](Call& c) {
     const auto [s, sel] = scopeOf(c, false);
     const int d = s.dim;
@@ -300,7 +303,14 @@ void addCoarseGrain(Registry& r) {
                            " points (at most " +
                            std::to_string(int64_t(kMaxCgPoints)) + ")");
     const analysis::CgField f = analysis::coarseGrain(s, sel, spec);
-    if (c.given("file")) writeFileAtomically(c.str("file"), io::vtiBytes(cgImage(f, session(c).scene()), io::VtkCompression::Fast));
+    if (c.given("file")) {
+      const sim::Simulation& scene = session(c).scene();
+      togetherOnRanks(scene, [&] {
+        if (ranksOf(scene).rank() == 0) {
+          writeFileAtomically(c.str("file"), io::vtiBytes(cgImage(f, scene), io::VtkCompression::Fast));
+        }
+      });
+    }
     if (c.given("field")) {
       const analysis::CgArray* a = f.find(c.str("field"));
       return realList(a->values.data(), a->values.size());
