@@ -95,9 +95,13 @@ struct Distribution {
   std::vector<GhostForceTouch> touchForces;
   // The handles scripts hold: each element keeps, wherever it moves, the one it had when the
   // scene was distributed. That is {gid, first life} for an element created before any
-  // removal; the others (a scene that removed elements first) are listed here, as (handle
-  // bits, global id) by handle and the same pairs by global id.
-  std::vector<std::pair<uint64_t, uint64_t>> renamedByHandle, renamedById;
+  // removal; the others (a scene that removed elements first) are listed here in runs: count
+  // elements from global id `id` on whose handles are `bits` on (the next slots, the same
+  // generation), as the elements made after a removal are. By id, and the same runs by handle.
+  struct Renamed {
+    uint64_t id, bits, count;
+  };
+  std::vector<Renamed> renamedById, renamedByHandle;
 };
 
 // Replaces this rank's kinetic energy, potential energy, ledger sums (l's losses, works and

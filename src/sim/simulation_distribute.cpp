@@ -17,6 +17,40 @@ namespace {
 // Returns the handle of the first element a scene creates in slot gid (its global id too).
 ElementId firstLife(uint64_t gid) { return ElementId{static_cast<uint32_t>(gid), 1}; }
 
+// Fills d's runs of renamed handles (Distribution::renamedById) from the whole scene s.
+template <int D>
+void renameRuns(const Scene<D>& s, Distribution<D>& d) {
+  std::vector<std::pair<uint64_t, uint64_t>> renamed;  // (global id, handle bits)
+  for (size_t i = 0; i < s.elements.size(); ++i) {
+    const ElementId h = s.elements.pool().handleAt(static_cast<uint32_t>(i));
+    const uint64_t gid = s.elements.a.globalId[i];
+    if (h != firstLife(gid)) renamed.emplace_back(gid, h.bits());
+  }
+  std::sort(renamed.begin(), renamed.end());
+  for (const auto& [gid, bits] : renamed) {
+    auto* last = d.renamedById.empty() ? nullptr : &d.renamedById.back();
+    if (last != nullptr && gid == last->id + last->count && bits == last->bits + last->count &&
+        (bits & 0xFFFFFFFFu) != 0) {
+      ++last->count;
+    } else {
+      d.renamedById.push_back({gid, bits, 1});
+    }
+  }
+  d.renamedByHandle = d.renamedById;
+  std::sort(d.renamedByHandle.begin(), d.renamedByHandle.end(),
+            [](const auto& x, const auto& y) { return x.bits < y.bits; });
+}
+
+// Returns the run of d's renamed handles holding global id gid, or nullptr.
+template <int D>
+const typename Distribution<D>::Renamed* renamedRun(const Distribution<D>& d, uint64_t gid) {
+  const auto& byId = d.renamedById;
+  auto r = std::upper_bound(byId.begin(), byId.end(), gid,
+                            [](uint64_t g, const auto& run) { return g < run.id; });
+  if (r == byId.begin() || gid - std::prev(r)->id >= std::prev(r)->count) return nullptr;
+  return &*std::prev(r);
+}
+
 // Returns what in scene s a distributed run cannot do yet, or "" when it can run it.
 template <int D>
 std::string unsupported(const Scene<D>& s, std::ptrdiff_t outputs) {
@@ -74,14 +108,7 @@ void SimulationManager<D>::distribute() {
     d->linearDuration = survey.linearDuration;
     d->hertzDuration = survey.hertzDuration;
     d->stepLimit = watchdogStepLimit(s_, d->skin);
-    for (size_t i = 0; i < s_.elements.size(); ++i) {
-      const ElementId h = s_.elements.pool().handleAt(static_cast<uint32_t>(i));
-      const uint64_t gid = s_.elements.a.globalId[i];
-      if (h != firstLife(gid)) d->renamedByHandle.emplace_back(h.bits(), gid);
-    }
-    std::sort(d->renamedByHandle.begin(), d->renamedByHandle.end());
-    for (const auto& [bits, gid] : d->renamedByHandle) d->renamedById.emplace_back(gid, bits);
-    std::sort(d->renamedById.begin(), d->renamedById.end());
+    renameRuns(s_, *d);
     // A scene that has run holds pair state (springs, touch states) by dense index: the first
     // search keeps each rank's part with it (migrate). One that has not is cut now, before it
     // costs any rank more than its part's memory.
@@ -157,18 +184,17 @@ ElementId SimulationManager<D>::ownedElement(ElementId original) const {
     s_.elements.index(original);  // LOOKUP HANDLE when it names no element
     return original;
   }
+  // The run holding the handle, if any: the last whose first handle is at most it.
   const auto& byHandle = s_.dist->renamedByHandle;
-  const auto& byId = s_.dist->renamedById;
+  const uint64_t bits = original.bits();
+  auto h = std::upper_bound(byHandle.begin(), byHandle.end(), bits,
+                            [](uint64_t b, const auto& run) { return b < run.bits; });
   uint64_t gid = original.index;
-  auto h = std::lower_bound(byHandle.begin(), byHandle.end(), std::make_pair(original.bits(), uint64_t{0}));
-  if (h != byHandle.end() && h->first == original.bits()) {
-    gid = h->second;
-  } else if (original != firstLife(gid)) {
+  if (h != byHandle.begin() && bits - std::prev(h)->bits < std::prev(h)->count) {
+    gid = std::prev(h)->id + (bits - std::prev(h)->bits);
+  } else if (original != firstLife(gid) || renamedRun(*s_.dist, gid) != nullptr) {
+    // (The element made with this id has another handle now: this one names no element.)
     return ElementId{};
-  } else {
-    // The element created with this id has another handle now: this one names no element.
-    auto r = std::lower_bound(byId.begin(), byId.end(), std::make_pair(gid, uint64_t{0}));
-    if (r != byId.end() && r->first == gid) return ElementId{};
   }
   const ElementArrays<D>& a = s_.elements.a;
   const size_t n = s_.ownedCount();
@@ -188,11 +214,12 @@ template <int D>
 ElementId SimulationManager<D>::elementHandleAt(size_t i) const {
   if (!s_.dist) return s_.elements.pool().handleAt(static_cast<uint32_t>(i));
   const uint64_t gid = s_.elements.a.globalId[i];
-  const auto& byId = s_.dist->renamedById;
-  auto r = std::lower_bound(byId.begin(), byId.end(), std::make_pair(gid, uint64_t{0}));
-  if (r != byId.end() && r->first == gid) return ElementId::fromBits(r->second);
+  if (const auto* run = renamedRun(*s_.dist, gid)) {
+    return ElementId::fromBits(run->bits + (gid - run->id));
+  }
   return firstLife(gid);
 }
+
 
 template <int D>
 Simulation::DistributionReport SimulationManager<D>::distribution() const {
