@@ -14,7 +14,9 @@ namespace command_test {
 struct Ctx : Context {
   int dim = 3;
   bool scene = true;
+  bool spread = false;  // the scene is distributed over MPI ranks
   int dimension() const override { return dim; }
+  bool distributed() const override { return spread; }
   void requireScene() const override {
     if (!scene) throw Error("no simulation: use \"sim new\" first", {"STATE", "NOSIM"});
   }
@@ -69,6 +71,7 @@ class RegistryTest : public ::testing::Test {
     get.flag("radius", "radius");
     get.flag("velocity", "velocity");
     get.changesScene = false;
+    get.onRanks = OnRanks::Collective;
     get.run([](Call& c) {
       List l;
       for (auto id : c.all<std::int64_t>("id")) l.push_back(Value(id));
@@ -84,6 +87,7 @@ class RegistryTest : public ::testing::Test {
     });
     Command& h = reg.add("help", "Help.");
     h.needsScene = false;
+    h.onRanks = OnRanks::Alike;
     h.variadicArg("topic", text(), "topic").optional = true;
   }
   Value call(std::vector<std::string> w) { return reg.invoke(w, ctx); }
@@ -94,6 +98,36 @@ class RegistryTest : public ::testing::Test {
   Ctx ctx;
   std::vector<BallDef> balls;
 };
+
+TEST_F(RegistryTest, ADistributedSceneRefusesWhatIsNotDeclaredForRanksBeforeAnyChange) {
+  // (ball get is declared collective, help alike, ball add not: refused.)
+  ctx.spread = true;
+  std::string msg;
+  // Refused before its check phase: a bad word is not what it reports, and nothing changed.
+  EXPECT_EQ(code({"ball", "add", "glass", "-radius", "-1"}, &msg), "DEMLAB MPI UNSUPPORTED");
+  EXPECT_NE(msg.find("\"ball add\" is not available once the scene is distributed"),
+            std::string::npos)
+      << msg;
+  EXPECT_TRUE(balls.empty());
+  EXPECT_EQ(ctx.changes, 0u);
+  EXPECT_EQ(toString(call({"ball", "get", "3", "-radius"})), "3 radius");
+  EXPECT_EQ(code({"help"}), "none");
+  // The same commands in a serial scene: all of them run.
+  ctx.spread = false;
+  EXPECT_EQ(toString(call({"ball", "add", "glass", "-radius", "1"})), "1");
+  // The reference lists them by what they do, from the declarations.
+  const std::string md = reg.markdown();
+  const size_t section = md.find("## Distributed runs");
+  ASSERT_NE(section, std::string::npos);
+  EXPECT_NE(md.find("act alike on every rank: `help`", section), std::string::npos);
+  EXPECT_NE(md.find("collective, every rank gets the whole scene's answer (element lists in the "
+                    "order of the ids): `ball get`",
+                    section),
+            std::string::npos);
+  EXPECT_NE(toString(reg.declarations({"ball", "add"})).find("onranks refused"), std::string::npos);
+  EXPECT_NE(toString(reg.declarations({"ball", "get"})).find("onranks collective"),
+            std::string::npos);
+}
 
 TEST_F(RegistryTest, FillsDefsThroughPipeDestsWithDefaultsAndPrefixes) {
   Value v =

@@ -108,5 +108,28 @@ TEST(VtkXml, CollectionListsEveryEntryInOrder) {
   EXPECT_NE(p.find("file=\"a&amp;b.vtp\""), std::string::npos);
 }
 
+TEST(VtkXml, ParallelIndexDeclaresThePiecesArraysAndListsThemInOrder) {
+  VtkPolyData layout;
+  layout.vertexPerPoint = true;
+  layout.pointData.push_back({"id", 1, std::vector<int64_t>{}});
+  layout.pointData.push_back({"velocity", 3, std::vector<double>{}});
+  layout.cellData.push_back({"a&b", 1, std::vector<int32_t>{}});
+  const std::string p = pvtpBytes(layout, {"bed_elements_r0.vtp", "bed_elements_r1.vtp"});
+  EXPECT_NE(p.find("type=\"PPolyData\""), std::string::npos);
+  EXPECT_NE(p.find("<PDataArray type=\"Int64\" Name=\"id\" NumberOfComponents=\"1\"/>"),
+            std::string::npos);
+  EXPECT_NE(p.find("<PDataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"/>"),
+            std::string::npos);
+  EXPECT_NE(p.find("<PCellData>\n<PDataArray type=\"Int32\" Name=\"a&amp;b\""), std::string::npos);
+  const size_t first = p.find("<Piece Source=\"bed_elements_r0.vtp\"/>");
+  const size_t second = p.find("<Piece Source=\"bed_elements_r1.vtp\"/>");
+  ASSERT_NE(first, std::string::npos);
+  ASSERT_NE(second, std::string::npos);
+  EXPECT_LT(first, second);
+  // A part without cell data declares no PCellData.
+  layout.cellData.clear();
+  EXPECT_EQ(pvtpBytes(layout, {"x.vtp"}).find("PCellData"), std::string::npos);
+}
+
 }  // namespace vtk_xml_test
 }  // namespace demlab::io
