@@ -438,8 +438,11 @@ std::string Registry::markdown() const {
 std::string Registry::distributedMarkdown() const {
   std::vector<std::string> alike, collective;
   for (const Command* c : commands()) {
-    if (c->onRanks == OnRanks::Alike) alike.push_back("`" + c->fullName() + "`");
-    if (c->onRanks == OnRanks::Collective) collective.push_back("`" + c->fullName() + "`");
+    std::string code = "`";
+    code += c->fullName();
+    code += '`';
+    if (c->onRanks == OnRanks::Alike) alike.push_back(code);
+    if (c->onRanks == OnRanks::Collective) collective.push_back(code);
   }
   std::sort(alike.begin(), alike.end());
   std::sort(collective.begin(), collective.end());
@@ -456,9 +459,10 @@ std::string Registry::distributedMarkdown() const {
          "`MPI UNSUPPORTED` on every rank when the scene has what distributed runs do not "
          "support yet (2D, element shapes, bonds, mesh walls, servo walls, periodic boundaries, "
          "sources, sinks, blocked degrees of freedom, behaviors other than gravity, outputs "
-         "other than `dump every`, named or tagged elements). Element ids stay what the script "
-         "was given. `dump vtk` and `dump every` write each rank's elements and contacts as a "
-         "piece under one `.pvtp`. Rank 0 alone "
+         "other than `dump every` and `snapshot every`, named or tagged elements). Element ids "
+         "stay what the script was given. `dump vtk` and `dump every` write each rank's "
+         "elements and contacts as a piece under one `.pvtp`; snapshots are drawn by rank 0 "
+         "from every rank's elements. Rank 0 alone "
          "writes standard output; `sim ranks` tells a script its rank. A script that fails the "
          "same way on every rank ends with its error once; a rank failing alone aborts the run "
          "after 10 s rather than leaving the others waiting.\n\n"

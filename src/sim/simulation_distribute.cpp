@@ -71,7 +71,7 @@ std::string unsupported(const Scene<D>& s, std::ptrdiff_t outputs) {
   for (const auto& b : s.behaviors.items()) {
     if (b->type() != "gravity") return "a " + std::string(b->type()) + " behavior";
   }
-  if (outputs > 0) return "an output other than dump every";
+  if (outputs > 0) return "an output distributed runs do not write yet";
   if (s.elements.names().size() > 0) return "named elements";
   for (std::string_view t : s.elements.tags().tags()) {
     if (s.elements.tags().count(t) > 0) return "tagged elements";

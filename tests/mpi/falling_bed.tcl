@@ -31,6 +31,7 @@ sim timestep 2e-5
 # A VTK series: frame 0 now (every rank holds the whole scene), then pieces a rank.
 if {$argc > 0} {
     dump every -steps 2000 -dir [file join [lindex $argv 0] series] -parts {elements walls}
+    snapshot every -steps 2000 -dir [file join [lindex $argv 0] frames] -size 320x240
 }
 set ranks [sim ranks]
 check "no rank before the run should be distributed" [expr {![dict get $ranks distributed]}]
@@ -93,6 +94,10 @@ if {$argc > 0} {
     set want [expr {$n > 1 ? {bed_elements.pvtp bed_walls.vtp bed_contacts.pvtp}
                            : {bed_elements.vtp bed_walls.vtp bed_contacts.vtp}}]
     check "dump vtk returns $want, gave $files" [expr {[lmap f $files {file tail $f}] eq $want}]
+    snapshot write [file join [lindex $argv 0] bed.png] -size 320x240 -color speed
+    if {$n > 1} {
+        expectError {DEMLAB MPI UNSUPPORTED} {snapshot write /tmp/never.png -chains 1}
+    }
 }
 
 # Errors raised on every rank alike, caught alike.

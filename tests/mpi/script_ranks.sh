@@ -1,7 +1,8 @@
 #!/bin/sh
 # script_ranks.sh DEMLAB MPIEXEC NP: `mpirun -np NP demlab script.tcl` against `demlab
 # script.tcl`. falling_bed.tcl gives the serial run's values (compare_runs.tcl) and VTK files
-# (vtk_compare.py: pieces a rank under a .pvtp, read by VTK's own readers); an error
+# (vtk_compare.py: pieces a rank under a .pvtp, read by VTK's own readers) and snapshots (drawn
+# by rank 0 from every rank's elements, compared pixel by pixel); an error
 # raised on every rank ends the run once with it; one rank failing alone ends the run (aborted)
 # rather than leaving the others waiting; the console is refused.
 set -u
@@ -20,6 +21,12 @@ if [ "$np" -gt 1 ]; then
   /usr/bin/python3 "$here/vtk_compare.py" "$dir/serial/bed" "$dir/ranks/bed" || fail "the VTK files differ"
   /usr/bin/python3 "$here/vtk_compare.py" --series "$dir/serial/series" "$dir/ranks/series" ||
     fail "the VTK series differ"
+  frames=""
+  for f in bed.png frames/frame_000000.png frames/frame_000001.png frames/frame_000002.png; do
+    frames="$frames $dir/serial/$f $dir/ranks/$f"
+  done
+  # shellcheck disable=SC2086
+  /usr/bin/python3 "$here/vtk_compare.py" --png $frames || fail "the snapshots differ"
 fi
 
 [ "$np" -gt 1 ] || exit 0

@@ -3,7 +3,8 @@
 with VTK's own readers as ParaView reads them: the same element ids at the same positions (to
 1e-10 m), the same contacts (by the ids of their ends), the same wall forces (to 1e-7 of the
 largest). Usage: vtk_compare.py SERIAL_PREFIX RANKS_PREFIX, or vtk_compare.py --series
-SERIAL_DIR RANKS_DIR for the elements.pvd series of `dump every`. Exits 1 naming what differs.
+SERIAL_DIR RANKS_DIR for the elements.pvd series of `dump every`, or vtk_compare.py --png A1 B1
+A2 B2 ... for snapshot frames (at most 1 pixel in 1000 differing). Exits 1 naming what differs.
 """
 import os
 import sys
@@ -61,6 +62,27 @@ def compare_series(dir_a, dir_b):
           % (len(fb), " ".join(f for _, f in fb), n, worst))
 
 
+def compare_png(file_a, file_b):
+    """Two frames of the same scene: at most 1 pixel in 1000 differs (a ball's edge may fall on
+    the other side of a pixel's centre with the positions' round-off)."""
+    def pixels(path):
+        reader = vtk.vtkPNGReader()
+        reader.SetFileName(path)
+        reader.Update()
+        d = reader.GetOutput()
+        a = d.GetPointData().GetScalars()
+        if a is None:
+            sys.exit("VTK could not read " + path)
+        return d.GetDimensions(), [a.GetTuple(k) for k in range(a.GetNumberOfTuples())]
+    (da, pa), (db, pb) = pixels(file_a), pixels(file_b)
+    if da != db:
+        sys.exit("%s: %s pixels, %s alone" % (file_b, db, da))
+    differ = sum(1 for x, y in zip(pa, pb) if x != y)
+    if differ > len(pa) // 1000:
+        sys.exit("%s: %d of %d pixels differ" % (file_b, differ, len(pa)))
+    return differ, len(pa)
+
+
 def main(serial, ranks):
     n, worst = compare_elements(serial + "_elements.vtp", ranks + "_elements.pvtp")
     a, b = read(serial + "_contacts.vtp"), read(ranks + "_contacts.pvtp")
@@ -83,5 +105,9 @@ def main(serial, ranks):
 if __name__ == "__main__":
     if sys.argv[1] == "--series":
         compare_series(sys.argv[2], sys.argv[3])
+    elif sys.argv[1] == "--png":
+        for a, b in zip(sys.argv[2::2], sys.argv[3::2]):
+            differ, total = compare_png(a, b)
+            print("png %s: %d of %d pixels differ" % (os.path.basename(b), differ, total))
     else:
         main(sys.argv[1], sys.argv[2])

@@ -68,7 +68,9 @@ void registerSnapshotCommands(Registry& r) {
       "an automatic viewpoint unless -position and -lookat are given. The file's extension picks "
       "the format: .png, or .jpg/.jpeg (with -quality); any other is refused before anything "
       "is drawn. The colour range is the frame's own unless -range is given. The file is "
-      "replaced atomically.";
+      "replaced atomically. In a distributed run rank 0 draws every rank's elements (force "
+      "chains, contact forces and -color value are refused there yet).";
+  write.onRanks = OnRanks::Collective;
   write.arg("file", text("file"), "the PNG or JPEG file to write");
   drawingOptions(write, false);
   write.changesScene = false;
@@ -104,7 +106,7 @@ void registerSnapshotCommands(Registry& r) {
       "whose values differ (-range first) and the automatic framing of its first frame "
       "(-camera fixed). The output runs at the end of each "
       "step it is due at, in every run, until \"snapshot off\". A scene with no snapshot "
-      "output runs no rendering code.";
+      "output runs no rendering code. In a distributed run rank 0 draws the frames.";
   every.option("steps", integer().min(1), "a frame every this many steps");
   every.option("time", real().positive().withUnit("s"), "a frame every this much simulated time");
   every.oneOf({"steps", "time"}, true);
@@ -137,6 +139,9 @@ void registerSnapshotCommands(Registry& r) {
     if (c.given("time")) d.everyTime = c.real("time");
     // Frames read the contacts only to colour by contact force or to draw chains.
     d.needsContacts = job->options.chains || job->options.colourBy == "contactforce";
+    // Frames of a distributed run: rank 0 draws every rank's elements (not chains, contact
+    // forces or per-element values yet: distribute() refuses those).
+    d.distributable = !d.needsContacts && job->options.colourBy != "value";
     d.callback = [job](const sim::Simulation& sim) {
       writeFrame(sim, job->options, framePath(*job, job->frames), &job->lock);
       ++job->frames;
@@ -151,6 +156,7 @@ void registerSnapshotCommands(Registry& r) {
   });
 
   Command& list = r.add("snapshot list", "Returns the snapshot outputs as a list of dicts.");
+  list.onRanks = OnRanks::Alike;
   list.details =
       "Each dict: id, dir, steps or time (the interval), frames (written so far), and range "
       "{min max} once the series' colour range is fixed.";

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <future>
 #include <limits>
 #include <memory>
@@ -231,8 +232,61 @@ void applySeriesLock(const SnapOptions& o, render::RenderScene& sc, render::Rend
   }
 }
 
+// Throws {MPI UNSUPPORTED} on every rank for what a distributed scene's frame cannot draw yet:
+// force chains and contact forces (a contact's ends on two ranks), per-element -color values.
+void refuseOnRanks(const SnapOptions& o) {
+  const char* what = o.chains                       ? "-chains"
+                     : o.colourBy == "contactforce" ? "-color contactforce"
+                     : o.colourBy == "value"        ? "-color value"
+                                                    : nullptr;
+  if (what != nullptr) {
+    throw Error(std::string("snapshots of a distributed scene can't draw ") + what + " yet",
+                {"MPI", "UNSUPPORTED"});
+  }
+}
+
+// Returns nothing; keeps in f this rank's own elements (the arrays are read with the ghosts
+// after them). Changes f's per-grain arrays.
+void keepOwned(const sim::Simulation& s, FrameData& f) {
+  const size_t n = s.distribution().owned, d = size_t(s.dim());
+  const auto cut = [&](auto& v, size_t per) {
+    if (v.size() > n * per) v.resize(n * per);
+  };
+  cut(f.centres, d), cut(f.radii, 1), cut(f.field, 1), cut(f.colours, 3), cut(f.ids, 1);
+  cut(f.angles, 1), cut(f.orientations, 4), cut(f.meshOf, 1);
+}
+
+// Returns nothing; replaces f's per-grain arrays by every rank's, one rank after another
+// (collective): each rank renders nothing but rank 0, which draws the whole scene.
+void gatherDrawn(const sim::Simulation& s, FrameData& f) {
+  std::vector<char> mine;
+  const auto put = [&](const auto& v) {
+    const uint64_t bytes = v.size() * sizeof(v[0]);
+    const size_t at = mine.size();
+    mine.resize(at + sizeof bytes + bytes);
+    std::memcpy(mine.data() + at, &bytes, sizeof bytes);
+    if (bytes > 0) std::memcpy(mine.data() + at + sizeof bytes, v.data(), bytes);
+  };
+  put(f.centres), put(f.radii), put(f.field), put(f.colours), put(f.ids);
+  const std::vector<std::vector<char>> all = ranksOf(s).gatherBytes(mine);
+  f.centres.clear(), f.radii.clear(), f.field.clear(), f.colours.clear(), f.ids.clear();
+  for (const std::vector<char>& b : all) {
+    size_t at = 0;
+    const auto take = [&](auto& v) {
+      uint64_t bytes = 0;
+      std::memcpy(&bytes, b.data() + at, sizeof bytes);
+      at += sizeof bytes;
+      const size_t old = v.size();
+      v.resize(old + bytes / sizeof(v[0]));
+      if (bytes > 0) std::memcpy(v.data() + old, b.data() + at, bytes);
+      at += bytes;
+    };
+    take(f.centres), take(f.radii), take(f.field), take(f.colours), take(f.ids);
+  }
+}
+
 // Returns the frame of s as o asks (the scene part), with the drawn elements' script ids when
-// withIds. Reads the scene only.
+// withIds. Reads the scene only; collective in a distributed scene (every rank's elements).
 void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
                 bool withIds = false) {
   // Ctrl-C between the gathers (each a copy of an array of the scene: tens of milliseconds at
@@ -241,8 +295,13 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
   const int d = s.dim();
   f.centres = s.positions();
   poll();
+  // (A distributed scene's elements by the ids scripts know.)
+  const auto idOf = [&](sim::ElementId id) {
+    return scriptId(s.distributed() ? s.originalHandle(id) : id);
+  };
+  if (s.distributed()) refuseOnRanks(o);
   if (withIds || !o.highlight.empty())
-    for (sim::ElementId id : s.elementIds()) f.ids.push_back(scriptId(id));
+    for (sim::ElementId id : s.elementIds()) f.ids.push_back(idOf(id));
   f.radii = s.radii();
   poll();
   const std::size_t n = f.radii.size();
@@ -282,7 +341,7 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
     f.field = o.values;
   } else if (by == "id") {
     f.field.clear();
-    for (sim::ElementId id : s.elementIds()) f.field.push_back(double(scriptId(id)));
+    for (sim::ElementId id : s.elementIds()) f.field.push_back(double(idOf(id)));
   } else if (by == "material") {
     const auto names = s.materialNames();
     f.field.clear();
@@ -310,7 +369,9 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
   if (!f.meshOf.empty() && d == 3) f.orientations = s.orientations();
   if (o.chains) f.chains = forceChains(s, dense, o.chainMin);
   poll();
+  if (s.distributed()) keepOwned(s, f);
   keepDrawn(s, o, dense, f);
+  if (s.distributed()) gatherDrawn(s, f);
   poll();
   sc.centres = f.centres;
   sc.radii = f.radii;
@@ -364,11 +425,15 @@ void writeFrame(const sim::Simulation& s, const SnapOptions& o, const std::strin
                 SeriesLock* lock) {
   FrameData f;
   buildFrame(s, o, f);
-  render::RenderOptions r = renderOptions(o);
-  if (lock) applySeriesLock(o, f.scene, r, *lock);
-  const render::Image img = theRenderer().render(f.scene, r);
-  render::writeImage(img, path, o.jpeg ? render::ImageFormat::jpeg : render::ImageFormat::png,
-                     o.quality);
+  // A distributed scene: rank 0 draws the gathered elements; an error there is every rank's.
+  togetherOnRanks(s, [&] {
+    if (ranksOf(s).rank() != 0) return;
+    render::RenderOptions r = renderOptions(o);
+    if (lock) applySeriesLock(o, f.scene, r, *lock);
+    const render::Image img = theRenderer().render(f.scene, r);
+    render::writeImage(img, path, o.jpeg ? render::ImageFormat::jpeg : render::ImageFormat::png,
+                       o.quality);
+  });
 }
 
 render::Image renderFrame(const sim::Simulation& s, const SnapOptions& o) {

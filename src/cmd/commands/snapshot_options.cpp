@@ -204,6 +204,10 @@ SnapOptions readOptions(const Call& c, bool now) {
     if (o.colourBy != "value") c.bad("values", "needs -color value");
     if (!now) c.bad("values", "a fixed list of values only fits \"snapshot write\"");
     o.values = c.vec("values");
+    if (session(c.context()).scene().distributed()) {
+      throw Error("snapshots of a distributed scene can't draw -color value yet",
+                  {"MPI", "UNSUPPORTED"});
+    }
     const std::size_t n = session(c.context()).scene().elementCount();
     if (o.values.size() != n) {
       c.bad("values", "expected " + std::to_string(n) + " numbers (one per element) but got " +
