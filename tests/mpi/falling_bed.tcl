@@ -6,6 +6,11 @@
 proc check {what ok} {
     if {!$ok} { error "falling_bed.tcl: $what" {} {TEST FAILED} }
 }
+proc vdot {a b} {
+    set s 0.0
+    foreach x $a y $b { set s [expr {$s + $x * $y}] }
+    return $s
+}
 proc expectError {code script} {
     set failed [catch {uplevel 1 $script} msg opts]
     check "\"$script\" should fail with $code, gave: $msg" \
@@ -67,6 +72,13 @@ set m [query motion -region $region]
 puts "motion [dict get $m velocity] [dict get $m temperature]"
 set cg [query cg -width 0.004 -spacing 0.004 -grid {box {0.004 0.004 0.004} {0.036 0.036 0.02}}]
 puts "cgmass [dict get $cg mass]"
+# The contacts, gathered: their number, one element's, the sum of the normal forces.
+set all [query contacts]
+set sum 0.0
+foreach k $all { set sum [expr {$sum + abs([vdot [dict get $k force] [dict get $k normal]])}] }
+puts "contactlist [llength $all] [query contacts -count] [llength [query contacts -element [lindex $ids 600]]]"
+puts "contactforces $sum"
+expectError {DEMLAB LOOKUP ELEMENT} "query contacts -element $gone"
 puts "floorforce [wall get 0 -force]"
 puts "sideforce [wall get 1 -force]"
 foreach k {0 1 17 600 1199} {
@@ -95,6 +107,7 @@ if {$argc > 0} {
                            : {bed_elements.vtp bed_walls.vtp bed_contacts.vtp}}]
     check "dump vtk returns $want, gave $files" [expr {[lmap f $files {file tail $f}] eq $want}]
     snapshot write [file join [lindex $argv 0] bed.png] -size 320x240 -color speed
+    dump csv [file join [lindex $argv 0] bed.csv] -fields {id radius x y z vx vy vz}
     if {$n > 1} {
         expectError {DEMLAB MPI UNSUPPORTED} {snapshot write /tmp/never.png -chains 1}
     }
@@ -106,7 +119,6 @@ expectError {DEMLAB LOOKUP ELEMENT} "element get $gone"
 if {$n > 1} {
     expectError {DEMLAB MPI UNSUPPORTED} {element set 0 -velocity {0 0 0}}
     expectError {DEMLAB MPI UNSUPPORTED} {element add -radius 0.001 -position {0.02 0.02 0.1}}
-    expectError {DEMLAB MPI UNSUPPORTED} {query contacts}
     expectError {DEMLAB MPI UNSUPPORTED} {sim save /tmp/never.dcp}
 }
 # The run goes on after them, together.

@@ -27,6 +27,8 @@ if [ "$np" -gt 1 ]; then
   done
   # shellcheck disable=SC2086
   /usr/bin/python3 "$here/vtk_compare.py" --png $frames || fail "the snapshots differ"
+  /usr/bin/python3 "$here/vtk_compare.py" --csv "$dir/serial/bed.csv" "$dir/ranks/bed.csv" ||
+    fail "the CSV dumps differ"
 fi
 
 [ "$np" -gt 1 ] || exit 0

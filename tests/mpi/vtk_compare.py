@@ -4,7 +4,8 @@ with VTK's own readers as ParaView reads them: the same element ids at the same 
 1e-10 m), the same contacts (by the ids of their ends), the same wall forces (to 1e-7 of the
 largest). Usage: vtk_compare.py SERIAL_PREFIX RANKS_PREFIX, or vtk_compare.py --series
 SERIAL_DIR RANKS_DIR for the elements.pvd series of `dump every`, or vtk_compare.py --png A1 B1
-A2 B2 ... for snapshot frames (at most 1 pixel in 1000 differing). Exits 1 naming what differs.
+A2 B2 ... for snapshot frames (at most 1 pixel in 1000 differing), or vtk_compare.py --csv A B
+for `dump csv -fields {id radius x y z vx vy vz}`. Exits 1 naming what differs.
 """
 import os
 import sys
@@ -83,6 +84,30 @@ def compare_png(file_a, file_b):
     return differ, len(pa)
 
 
+def compare_csv(file_a, file_b):
+    """`dump csv` alone (the scene's order) and distributed (by id): the same rows by id, the
+    radii exactly, positions within 1e-10 m and velocities within 1e-7 m/s."""
+    def rows(path):
+        with open(path) as f:
+            lines = f.read().split("\n")
+        head = lines[0].split(",")
+        return head, {int(r.split(",")[0]): [float(x) for x in r.split(",")[1:]] for r in lines[1:] if r}
+    (ha, ra), (hb, rb) = rows(file_a), rows(file_b)
+    if ha != hb or sorted(ra) != sorted(rb):
+        sys.exit("%s: other columns or ids than alone" % file_b)
+    order = [int(r.split(",")[0]) for r in open(file_b).read().split("\n")[1:] if r]
+    if order != sorted(order):
+        sys.exit("%s: the rows are not in the order of the ids" % file_b)
+    worst = [0.0] * (len(ha) - 1)
+    for i in ra:
+        for k, (x, y) in enumerate(zip(ra[i], rb[i])):
+            worst[k] = max(worst[k], abs(x - y))
+    tol = [0.0, 1e-10, 1e-10, 1e-10, 1e-7, 1e-7, 1e-7]
+    if any(not w <= t for w, t in zip(worst, tol)):
+        sys.exit("%s: columns differ by %s" % (file_b, worst))
+    print("csv: %d rows agree (largest differences %s)" % (len(ra), " ".join("%.1e" % w for w in worst)))
+
+
 def main(serial, ranks):
     n, worst = compare_elements(serial + "_elements.vtp", ranks + "_elements.pvtp")
     a, b = read(serial + "_contacts.vtp"), read(ranks + "_contacts.pvtp")
@@ -105,6 +130,8 @@ def main(serial, ranks):
 if __name__ == "__main__":
     if sys.argv[1] == "--series":
         compare_series(sys.argv[2], sys.argv[3])
+    elif sys.argv[1] == "--csv":
+        compare_csv(sys.argv[2], sys.argv[3])
     elif sys.argv[1] == "--png":
         for a, b in zip(sys.argv[2::2], sys.argv[3::2]):
             differ, total = compare_png(a, b)

@@ -338,7 +338,8 @@ void registerDumpCommands(Registry& r) {
 
   Command& csv = r.add("dump csv", "Writes element fields as CSV, a row per element; returns the path.");
   csv.details =
-      "A header row of the field names, then a row per element in the scene's order. Numbers "
+      "A header row of the field names, then a row per element in the scene's order (a "
+      "distributed run's: rank 0 writes them in the order of the ids). Numbers "
       "carry the shortest digits that read back exactly. Vectors are split by axis (x y "
       "z, vx vy vz, wx wy wz, fx fy fz, tx ty tz; 2D: z components 0) and the orientation is "
       "a quaternion qw qx qy qz.";
@@ -347,8 +348,15 @@ void registerDumpCommands(Registry& r) {
       .byDefault("id material radius mass x y z vx vy vz");
   csv.changesScene = false;
   csv.interruptible = true;
+  csv.onRanks = OnRanks::Collective;
   csv.run([](Call& c) {
-    const sim::ElementTable t = session(c).scene().elementTable();
+    const sim::Simulation& s = session(c).scene();
+    sim::ElementTable t = s.elementTable();
+    // A distributed scene: each rank's rows, under the ids scripts know, written by rank 0 in
+    // the order of the ids.
+    if (s.distributed()) {
+      for (sim::ElementId& id : t.ids) id = s.originalHandle(id);
+    }
     std::vector<const CsvField*> cols;
     for (const std::string& name : c.get<std::vector<std::string>>("fields"))
       for (const CsvField& f : csvFields())
@@ -360,15 +368,42 @@ void registerDumpCommands(Registry& r) {
     }
     out += '\n';
     InterruptPoll poll("dump");
+    std::vector<std::pair<std::int64_t, std::string>> rows;
     for (size_t i = 0; i < t.ids.size(); ++i) {
       poll();
+      std::string row;
       for (size_t k = 0; k < cols.size(); ++k) {
-        if (k) out += ',';
-        out += cols[k]->value(t, i);
+        if (k) row += ',';
+        row += cols[k]->value(t, i);
       }
-      out += '\n';
+      row += '\n';
+      if (!s.distributed()) {
+        out += row;
+      } else {
+        rows.emplace_back(scriptId(t.ids[i]), std::move(row));
+      }
     }
-    writeFileAtomically(c.str("file"), out);
+    if (s.distributed()) {
+      // (Each row a line; the id before a tab, for the sort.)
+      std::string mine;
+      for (const auto& [id, row] : rows) mine += std::to_string(id) + '\t' + row;
+      const std::vector<std::vector<char>> parts = ranksOf(s).gatherBytes({mine.begin(), mine.end()});
+      rows.clear();
+      for (const std::vector<char>& p : parts) {
+        for (size_t at = 0; at < p.size();) {
+          const size_t tab = size_t(std::find(p.begin() + long(at), p.end(), '\t') - p.begin());
+          const size_t end = size_t(std::find(p.begin() + long(tab), p.end(), '\n') - p.begin());
+          rows.emplace_back(std::stoll(std::string(p.begin() + long(at), p.begin() + long(tab))),
+                            std::string(p.begin() + long(tab) + 1, p.begin() + long(end) + 1));
+          at = end + 1;
+        }
+      }
+      std::sort(rows.begin(), rows.end());
+      for (const auto& r : rows) out += r.second;
+    }
+    togetherOnRanks(s, [&] {
+      if (ranksOf(s).rank() == 0) writeFileAtomically(c.str("file"), out);
+    });
     return Value(c.str("file"));
   });
 

@@ -1,9 +1,39 @@
 // Queries of the whole scene: the energy ledger, contacts, bounds, counts.
+#include <cstring>
+#include <tuple>
+#include <type_traits>
+
 #include "cmd/commands/commands.hpp"
 #include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 
 namespace demlab::cmd {
+
+namespace {
+
+// Returns every rank's contacts (each computed on one rank), by the ids of their ends, on every
+// rank. Collective.
+std::vector<sim::ContactInfo> gatheredContacts(const sim::Simulation& s,
+                                               const std::vector<sim::ContactInfo>& mine) {
+  static_assert(std::is_trivially_copyable_v<sim::ContactInfo>);
+  std::vector<char> bytes(mine.size() * sizeof(sim::ContactInfo));
+  if (!bytes.empty()) std::memcpy(bytes.data(), mine.data(), bytes.size());
+  std::vector<sim::ContactInfo> all;
+  for (const std::vector<char>& b : ranksOf(s).gatherBytes(bytes)) {
+    const size_t at = all.size();
+    all.resize(at + b.size() / sizeof(sim::ContactInfo));
+    if (!b.empty()) std::memcpy(static_cast<void*>(all.data() + at), b.data(), b.size());
+  }
+  const auto key = [](const sim::ContactInfo& k) {
+    return std::make_tuple(k.a.scriptId(), k.b.isNull() ? -1 : k.b.scriptId(),
+                           k.wall.isNull() ? -1 : k.wall.scriptId());
+  };
+  std::stable_sort(all.begin(), all.end(),
+                   [&](const auto& x, const auto& y) { return key(x) < key(y); });
+  return all;
+}
+
+}  // namespace
 
 void registerQueryCommands(Registry& r) {
   r.describe("query",
@@ -42,17 +72,22 @@ void registerQueryCommands(Registry& r) {
                       "Returns the contacts of the last step as a list of dicts, or their number.");
   ct.details =
       "Each dict: a (element id), b (element id or empty), wall (wall id or empty), point, normal, "
-      "overlap, force (on b).";
+      "overlap, force (on b). A distributed run's, gathered from every rank, by a, b and wall.";
   ct.flag("count", "return the number of contacts only");
   ct.option("element", elementRef(), "only the contacts of this element (as a or b)");
   ct.changesScene = false;
+  ct.onRanks = OnRanks::Collective;
   ct.run([](Call& c) {
     auto& s = session(c).scene();
     const bool one = c.given("element");
-    if (c.flag("count") && !one) return Value(s.contactCount());
+    if (c.flag("count") && !one) return Value(ranksOf(s).sum(std::int64_t(s.contactCount())));
     const sim::ElementId e = one ? c.get<sim::ElementId>("element") : sim::ElementId{};
     int d = s.dim();
+    if (one && s.distributed() && ranksOf(s).sum(std::int64_t(!s.ownedElement(e).isNull())) == 0) {
+      throw Error("no element with id " + std::to_string(scriptId(e)), {"LOOKUP", "ELEMENT"});
+    }
     std::vector<sim::ContactInfo> contacts = s.contacts();
+    if (s.distributed()) contacts = gatheredContacts(s, contacts);
     List l;
     // Stopped, hundreds of thousands of dicts and the contacts are freed on a thread of their own.
     const FreeAsideOnThrow asideContacts(contacts);
