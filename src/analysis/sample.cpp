@@ -9,7 +9,7 @@
 
 #include "analysis/region_geometry.hpp"
 #include "core/interrupt.hpp"
-#include "mpi/communicator.hpp"
+#include "mpi/records.hpp"
 
 namespace demlab::analysis {
 
@@ -28,45 +28,27 @@ struct PackedContact {
   double point[3], normal[3], force[3];
 };
 
-template <class T>
-void append(std::vector<char>& out, const T& x) {
-  const size_t at = out.size();
-  out.resize(at + sizeof x);
-  std::memcpy(out.data() + at, &x, sizeof x);
-}
-
 // Returns the whole sample of a distributed scene on every rank, its elements in the order of
 // their ids, from this rank's part `mine` (its own elements, the contacts it computed: their
 // ends by the handle bits in ends, a's then b's, b 0 for a wall). Collective.
 Sample gatherParts(const Sample& mine,
                    const std::vector<std::array<uint64_t, 2>>& ends) {
-  std::vector<char> bytes;
-  append(bytes, uint64_t(mine.size()));
+  std::vector<PackedElement> myElements;
   for (size_t i = 0; i < mine.size(); ++i) {
-    PackedElement e{mine.ids[i].bits(), {}, {}, mine.radius[i], mine.mass[i], mine.volume[i],
-                    uint64_t(mine.ball[i])};
+    PackedElement& e = myElements.emplace_back(PackedElement{
+        mine.ids[i].bits(), {}, {}, mine.radius[i], mine.mass[i], mine.volume[i],
+        uint64_t(mine.ball[i])});
     for (int k = 0; k < 3; ++k) e.position[k] = mine.position[i][k], e.velocity[k] = mine.velocity[i][k];
-    append(bytes, e);
   }
+  std::vector<PackedContact> myContacts;
   for (size_t k = 0; k < mine.contacts.size(); ++k) {
     const SampleContact& c = mine.contacts[k];
-    PackedContact p{ends[k][0], ends[k][1], c.wall, {}, {}, {}};
+    PackedContact& p = myContacts.emplace_back(PackedContact{ends[k][0], ends[k][1], c.wall, {}, {}, {}});
     for (int q = 0; q < 3; ++q) p.point[q] = c.point[q], p.normal[q] = c.normal[q], p.force[q] = c.force[q];
-    append(bytes, p);
   }
-  std::vector<PackedElement> elements;
-  std::vector<PackedContact> contacts;
-  for (const std::vector<char>& b : mpi::Communicator::world().gatherBytes(bytes)) {
-    uint64_t n = 0;
-    std::memcpy(&n, b.data(), sizeof n);
-    size_t at = sizeof n;
-    for (uint64_t i = 0; i < n; ++i, at += sizeof(PackedElement)) {
-      std::memcpy(&elements.emplace_back(), b.data() + at, sizeof(PackedElement));
-    }
-    for (; at + sizeof(PackedContact) <= b.size(); at += sizeof(PackedContact)) {
-      std::memcpy(&contacts.emplace_back(), b.data() + at, sizeof(PackedContact));
-    }
-  }
+  const mpi::Communicator& world = mpi::Communicator::world();
+  std::vector<PackedElement> elements = mpi::gatherRecords(world, myElements);
+  const std::vector<PackedContact> contacts = mpi::gatherRecords(world, myContacts);
   const auto scriptOrder = [](const PackedElement& x, const PackedElement& y) {
     return sim::ElementId::fromBits(x.id).scriptId() < sim::ElementId::fromBits(y.id).scriptId();
   };

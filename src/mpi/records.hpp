@@ -1,5 +1,5 @@
-// Records of a plain type sent between ranks: the migration of elements to their new owners and
-// the copies sent as ghosts (an element may go to several ranks).
+// Records of a plain type sent between ranks: the migration of elements to their new owners,
+// the copies sent as ghosts (an element may go to several ranks), and gathers of queries.
 #pragma once
 
 #include <cstring>
@@ -11,20 +11,17 @@
 
 namespace demlab::mpi {
 
-// Sends out[k] to rank k (out has comm.size() lists) and returns what every rank sent here,
-// source rank by source rank, each in its sending order. Collective over comm.
+// Returns the bytes of records.
 template <class T>
-std::vector<T> exchangeRecords(const Communicator& comm, const std::vector<std::vector<T>>& out) {
-  static_assert(std::is_trivially_copyable_v<T>);
-  if (out.size() != static_cast<size_t>(comm.size())) {
-    throw std::invalid_argument("mpi: one record list per rank");
-  }
-  std::vector<std::vector<char>> bytes(out.size());
-  for (size_t k = 0; k < out.size(); ++k) {
-    bytes[k].resize(out[k].size() * sizeof(T));
-    if (!out[k].empty()) std::memcpy(bytes[k].data(), out[k].data(), bytes[k].size());
-  }
-  const std::vector<std::vector<char>> in = comm.exchange(bytes);
+std::vector<char> recordBytes(const std::vector<T>& records) {
+  std::vector<char> b(records.size() * sizeof(T));
+  if (!b.empty()) std::memcpy(b.data(), records.data(), b.size());
+  return b;
+}
+
+// Returns the records of every buffer of in, one after another.
+template <class T>
+std::vector<T> fromRecordBytes(const std::vector<std::vector<char>>& in) {
   size_t n = 0;
   for (const auto& b : in) n += b.size() / sizeof(T);
   std::vector<T> records(n);
@@ -35,6 +32,27 @@ std::vector<T> exchangeRecords(const Communicator& comm, const std::vector<std::
     at += b.size() / sizeof(T);
   }
   return records;
+}
+
+// Sends out[k] to rank k (out has comm.size() lists) and returns what every rank sent here,
+// source rank by source rank, each in its sending order. Collective over comm.
+template <class T>
+std::vector<T> exchangeRecords(const Communicator& comm, const std::vector<std::vector<T>>& out) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  if (out.size() != static_cast<size_t>(comm.size())) {
+    throw std::invalid_argument("mpi: one record list per rank");
+  }
+  std::vector<std::vector<char>> bytes(out.size());
+  for (size_t k = 0; k < out.size(); ++k) bytes[k] = recordBytes(out[k]);
+  return fromRecordBytes<T>(comm.exchange(bytes));
+}
+
+// Returns every rank's records, rank by rank, on every rank (each passes its own, of any
+// length). Collective over comm.
+template <class T>
+std::vector<T> gatherRecords(const Communicator& comm, const std::vector<T>& mine) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  return fromRecordBytes<T>(comm.gatherBytes(recordBytes(mine)));
 }
 
 }  // namespace demlab::mpi

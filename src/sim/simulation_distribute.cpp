@@ -5,6 +5,7 @@
 #include <string>
 
 #include "mpi/communicator.hpp"
+#include "mpi/records.hpp"
 #include "sim/convert.hpp"
 #include "sim/distribution.hpp"
 #include "sim/simulation_manager.hpp"
@@ -161,18 +162,8 @@ std::vector<Simulation::ElementSnapshot> SimulationManager<D>::elementSnapshots(
     e.velocity = fromVec<D>(a.v[i]);
     e.angularVelocity = fromAngular(a.w[i]);
   }
-  std::vector<ElementSnapshot> all;
-  if (!s_.dist) {
-    all = std::move(mine);
-  } else {
-    std::vector<char> bytes(mine.size() * sizeof(ElementSnapshot));
-    if (!bytes.empty()) std::memcpy(bytes.data(), mine.data(), bytes.size());
-    for (const std::vector<char>& b : s_.dist->comm->gatherBytes(bytes)) {
-      const size_t at = all.size();
-      all.resize(at + b.size() / sizeof(ElementSnapshot));
-      if (!b.empty()) std::memcpy(static_cast<void*>(all.data() + at), b.data(), b.size());
-    }
-  }
+  std::vector<ElementSnapshot> all =
+      s_.dist ? mpi::gatherRecords(*s_.dist->comm, mine) : std::move(mine);
   std::sort(all.begin(), all.end(),
             [](const ElementSnapshot& x, const ElementSnapshot& y) { return x.id < y.id; });
   return all;

@@ -578,10 +578,9 @@ void registerElementCommands(Registry& r) {
   count.changesScene = false;
   count.run([](Call& c) {
     auto& s = session(c).scene();
-    // A distributed scene: every rank's own elements (not its ghosts), summed.
-    const std::int64_t n = c.given("tag")        ? std::int64_t(s.elementsTagged(c.str("tag")).size())
-                           : s.distributed() ? std::int64_t(s.distribution().owned)
-                                             : std::int64_t(s.elementCount());
+    // Every rank's own elements (a distributed scene's, not its ghosts), summed.
+    const std::int64_t n = std::int64_t(c.given("tag") ? s.elementsTagged(c.str("tag")).size()
+                                                       : s.distribution().owned);
     return Value(ranksOf(s).sum(n));
   });
 

@@ -1,9 +1,8 @@
 // Queries of the whole scene: the energy ledger, contacts, bounds, counts.
-#include <cstring>
 #include <tuple>
-#include <type_traits>
 
 #include "cmd/commands/commands.hpp"
+#include "mpi/records.hpp"
 #include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 
@@ -15,15 +14,7 @@ namespace {
 // rank. Collective.
 std::vector<sim::ContactInfo> gatheredContacts(const sim::Simulation& s,
                                                const std::vector<sim::ContactInfo>& mine) {
-  static_assert(std::is_trivially_copyable_v<sim::ContactInfo>);
-  std::vector<char> bytes(mine.size() * sizeof(sim::ContactInfo));
-  if (!bytes.empty()) std::memcpy(bytes.data(), mine.data(), bytes.size());
-  std::vector<sim::ContactInfo> all;
-  for (const std::vector<char>& b : ranksOf(s).gatherBytes(bytes)) {
-    const size_t at = all.size();
-    all.resize(at + b.size() / sizeof(sim::ContactInfo));
-    if (!b.empty()) std::memcpy(static_cast<void*>(all.data() + at), b.data(), b.size());
-  }
+  std::vector<sim::ContactInfo> all = mpi::gatherRecords(ranksOf(s), mine);
   const auto key = [](const sim::ContactInfo& k) {
     return std::make_tuple(k.a.scriptId(), k.b.isNull() ? -1 : k.b.scriptId(),
                            k.wall.isNull() ? -1 : k.wall.scriptId());
@@ -127,10 +118,10 @@ void registerQueryCommands(Registry& r) {
   cnt.changesScene = false;
   cnt.run([](Call& c) {
     auto& s = session(c).scene();
-    // A distributed scene: each rank's own elements and the contacts it computed, summed.
-    const std::int64_t elements =
-        s.distributed() ? std::int64_t(s.distribution().owned) : std::int64_t(s.elementCount());
-    std::vector<std::int64_t> sums{elements, std::int64_t(s.contactCount())};
+    // Each rank's own elements (a distributed scene's, not its ghosts) and the contacts it
+    // computed, summed.
+    std::vector<std::int64_t> sums{std::int64_t(s.distribution().owned),
+                                   std::int64_t(s.contactCount())};
     ranksOf(s).sum(sums);
     return Value(Dict{{"elements", sums[0]},
                       {"walls", s.wallCount()},
