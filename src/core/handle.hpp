@@ -154,6 +154,12 @@ class HandlePool {
   // Returns the handle of the object at dense index i (i < size()).
   HandleT handleAt(uint32_t i) const noexcept { return dense_[i]; }
 
+  // Returns the dense index of the live object in slot index, or npos if the slot is free,
+  // retired or was never made (keys by slot alone: the parked pair histories). Never throws.
+  uint32_t findDenseAt(uint32_t index) const noexcept {
+    return index < slots_.size() && (slots_[index].generation & 1u) ? slots_[index].dense : kNpos;
+  }
+
   // Returns the live handles in dense order: iterating it visits every live object once.
   std::span<const HandleT> handles() const noexcept { return dense_; }
   auto begin() const noexcept { return dense_.begin(); }

@@ -55,4 +55,14 @@ std::vector<T> gatherRecords(const Communicator& comm, const std::vector<T>& min
   return fromRecordBytes<T>(comm.gatherBytes(recordBytes(mine)));
 }
 
+// Returns every rank's records, rank by rank, on rank root; the other ranks get none. For the
+// gathers only one rank writes from (a checkpoint): the whole scene held once, not on every
+// rank. Collective over comm.
+template <class T>
+std::vector<T> gatherRecordsTo(const Communicator& comm, const std::vector<T>& mine, int root) {
+  std::vector<std::vector<T>> out(static_cast<size_t>(comm.size()));
+  out[static_cast<size_t>(root)] = mine;
+  return exchangeRecords(comm, out);
+}
+
 }  // namespace demlab::mpi

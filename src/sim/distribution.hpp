@@ -102,6 +102,29 @@ struct Distribution {
     uint64_t id, bits, count;
   };
   std::vector<Renamed> renamedById, renamedByHandle;
+  // The rest of the whole scene's handle pool at distribute(), which a checkpoint restores
+  // (SimulationManager::gatheredScene): its slot count and its free slots (the recycling
+  // stack, bottom to top) with their generations. No element is added or removed after
+  // distribute(), so it stays the whole scene's pool; the live slots' generations are their
+  // elements' handles.
+  uint32_t poolSlots = 0;
+  std::vector<uint32_t> freeSlots, freeGenerations;
+
+  // Returns the run of renamed handles holding global id gid, or nullptr. Changes nothing.
+  const Renamed* renamedRun(uint64_t gid) const {
+    auto r = std::upper_bound(renamedById.begin(), renamedById.end(), gid,
+                              [](uint64_t g, const Renamed& run) { return g < run.id; });
+    if (r == renamedById.begin() || gid - std::prev(r)->id >= std::prev(r)->count) return nullptr;
+    return &*std::prev(r);
+  }
+  // Returns the handle the element of global id gid had when the scene was distributed: the
+  // one scripts hold, wherever it is now. Changes nothing.
+  ElementId handleOf(uint64_t gid) const {
+    if (const Renamed* run = renamedRun(gid)) return ElementId::fromBits(run->bits + (gid - run->id));
+    return firstLife(gid);
+  }
+  // Returns the handle of the first element a scene creates in slot gid (its global id too).
+  static ElementId firstLife(uint64_t gid) { return ElementId{static_cast<uint32_t>(gid), 1}; }
 };
 
 // Replaces this rank's kinetic energy, potential energy, ledger sums (l's losses, works and

@@ -100,6 +100,9 @@ class SpringTransfer {
     grainStates_ = s.touchCorrection && s.touchNowCurrent();
     wallStates_ = s.touchCorrection && s.wallTouchNowCurrent();
     if (!s.keepHistory && !grainStates_ && !wallStates_) return;
+    // A distributed scene's parked springs (a gathered checkpoint's, sim/simulation_gather.cpp)
+    // go into the table too: give() finds them by slot, which a ghost partner lacks.
+    const bool drainParked = s.dist != nullptr && s.keepHistory && !s.histories.empty();
     const ElementArrays<D>& a = s.elements.a;
     const uint32_t rows = s.elements.pool().slotCount();
     rowStart_.assign(static_cast<size_t>(rows) + 1, 0);
@@ -124,6 +127,24 @@ class SpringTransfer {
           put(a.slot[s.wallCandidates[w][k]], wid, h, state);
         }
       }
+      if (drainParked) {
+        // Keyed by the unordered pair of slots (a wall by its pair id): the row is A's slot,
+        // the partner B's global id, as the candidates' entries above.
+        const auto& pool = s.elements.pool();
+        s.histories.forEach([&](auto key, const auto& h) {
+          if (h.empty()) return;
+          const uint32_t p = pool.findDenseAt(key.first);
+          if (p == pool.kNpos) return;
+          if (key.second & 0x80000000u) {
+            put(key.first, wallPartner(key.second & 0x7FFFFFFFu), h, 0);
+            return;
+          }
+          const uint32_t q = pool.findDenseAt(key.second);
+          if (q == pool.kNpos) return;
+          const bool pFirst = a.globalId[p] < a.globalId[q];
+          put(pFirst ? key.first : key.second, a.globalId[pFirst ? q : p], h, 0);
+        });
+      }
     };
     // (Drift velocities only where a history has one, the synchronized integrator's springs:
     // the plain Verlet scenes' table stays at a spring a contact.)
@@ -143,6 +164,7 @@ class SpringTransfer {
       entries_[e] = {partner, state, h.spring};
       if (drifts) drifts_[e] = h.drift;
     });
+    if (drainParked) s.histories.clear();
     // Freed, not just emptied: give() allocates the new arrays, and holding the old ones
     // through the search would add their size to the run's peak memory.
     if (s.keepHistory) {

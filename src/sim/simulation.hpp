@@ -892,7 +892,11 @@ class Simulation {
   // their descriptions returned. Continuing from load() is bit-identical to never stopping.
   virtual std::vector<std::string> save(std::ostream& out, bool skipCallbacks = false) const = 0;
   // The same as the checkpoint file's bytes, without a copy; the descriptions go to *skipped.
-  // Polls Ctrl-C as it serializes (throws {INTERRUPTED}, having changed nothing).
+  // Polls Ctrl-C as it serializes (throws {INTERRUPTED}, having changed nothing). Distributed:
+  // collective; rank 0 gets the whole scene's checkpoint, which loads on any number of ranks
+  // (its elements, springs, ledger and walls gathered; candidates and touch states not kept,
+  // so the loaded run searches first and agrees with the one saved to round-off), the other
+  // ranks an empty string.
   virtual std::string saveBytes(bool skipCallbacks, std::vector<std::string>* skipped) const = 0;
   // Replaces this scene by the checkpoint read from in. Throws LOAD FORMAT (not a demlab
   // checkpoint, truncated, damaged: the checksum save appends does not match, or a value out

@@ -16,7 +16,7 @@ namespace demlab::sim {
 namespace {
 
 // Returns the handle of the first element a scene creates in slot gid (its global id too).
-ElementId firstLife(uint64_t gid) { return ElementId{static_cast<uint32_t>(gid), 1}; }
+ElementId firstLife(uint64_t gid) { return Distribution<3>::firstLife(gid); }
 
 // Fills d's runs of renamed handles (Distribution::renamedById) from the whole scene s.
 template <int D>
@@ -40,16 +40,6 @@ void renameRuns(const Scene<D>& s, Distribution<D>& d) {
   d.renamedByHandle = d.renamedById;
   std::sort(d.renamedByHandle.begin(), d.renamedByHandle.end(),
             [](const auto& x, const auto& y) { return x.bits < y.bits; });
-}
-
-// Returns the run of d's renamed handles holding global id gid, or nullptr.
-template <int D>
-const typename Distribution<D>::Renamed* renamedRun(const Distribution<D>& d, uint64_t gid) {
-  const auto& byId = d.renamedById;
-  auto r = std::upper_bound(byId.begin(), byId.end(), gid,
-                            [](uint64_t g, const auto& run) { return g < run.id; });
-  if (r == byId.begin() || gid - std::prev(r)->id >= std::prev(r)->count) return nullptr;
-  return &*std::prev(r);
 }
 
 // Returns what in scene s a distributed run cannot do yet, or "" when it can run it.
@@ -110,10 +100,18 @@ void SimulationManager<D>::distribute() {
     d->hertzDuration = survey.hertzDuration;
     d->stepLimit = watchdogStepLimit(s_, d->skin);
     renameRuns(s_, *d);
+    {
+      const auto pool = s_.elements.pool().saveState();
+      d->poolSlots = static_cast<uint32_t>(pool.generations.size());
+      d->freeSlots = pool.freeSlots;
+      for (uint32_t k : pool.freeSlots) d->freeGenerations.push_back(pool.generations[k]);
+    }
     // A scene that has run holds pair state (springs, touch states) by dense index: the first
     // search keeps each rank's part with it (migrate). One that has not is cut now, before it
     // costs any rank more than its part's memory.
-    bool paired = !s_.candidates.empty();
+    // (Parked springs, a gathered checkpoint's, are keyed by slots: each rank turns its
+    // elements' into the search's table at that search, while it still holds their partners.)
+    bool paired = !s_.candidates.empty() || !s_.histories.empty();
     for (const auto& w : s_.wallCandidates) paired = paired || !w.empty();
     if (!paired && comm.size() > 1) {
       ElementArrays<D>& a = s_.elements.a;
@@ -183,7 +181,7 @@ ElementId SimulationManager<D>::ownedElement(ElementId original) const {
   uint64_t gid = original.index;
   if (h != byHandle.begin() && bits - std::prev(h)->bits < std::prev(h)->count) {
     gid = std::prev(h)->id + (bits - std::prev(h)->bits);
-  } else if (original != firstLife(gid) || renamedRun(*s_.dist, gid) != nullptr) {
+  } else if (original != firstLife(gid) || s_.dist->renamedRun(gid) != nullptr) {
     // (The element made with this id has another handle now: this one names no element.)
     return ElementId{};
   }
@@ -204,11 +202,7 @@ ElementId SimulationManager<D>::originalHandle(ElementId local) const {
 template <int D>
 ElementId SimulationManager<D>::elementHandleAt(size_t i) const {
   if (!s_.dist) return s_.elements.pool().handleAt(static_cast<uint32_t>(i));
-  const uint64_t gid = s_.elements.a.globalId[i];
-  if (const auto* run = renamedRun(*s_.dist, gid)) {
-    return ElementId::fromBits(run->bits + (gid - run->id));
-  }
-  return firstLife(gid);
+  return s_.dist->handleOf(s_.elements.a.globalId[i]);
 }
 
 

@@ -364,6 +364,10 @@ class SimulationManager final : public Simulation {
   std::string serialize(IoMode mode, const BehaviorManager<D>* behaviors = nullptr) const;
   // Returns a deep copy of the scene, as clone() and a run's undo need it. Changes nothing.
   Scene<D> copyScene() const;
+  // Returns on rank 0 the whole of a distributed scene as a serial run holds it (its elements
+  // under their original handles, springs parked by slot, the ledger and wall sums), on the
+  // other ranks an empty scene; a serial scene's copy. Collective (sim/simulation_gather.cpp).
+  Scene<D> gatheredScene() const;
   // Returns copyScene() with Ctrl-C polled through `stop` as it copies, or nothing when that
   // stopped it. Throws copyScene's other errors; changes nothing.
   std::optional<Scene<D>> copySceneUnlessStopped(const std::atomic<bool>* stop) const;

@@ -1189,6 +1189,16 @@ std::string SimulationManager<D>::saveBytes(bool skipCallbacks,
                     "save with callbacks skipped",
                 {"SAVE", "CALLBACK"});
   }
+  if (s_.dist) {
+    // Every rank gives its part, rank 0 serializes the whole scene; the others return nothing.
+    SimulationManager<D> whole;
+    whole.s_ = gatheredScene();
+    if (s_.dist->comm->rank() != 0) {
+      if (skippedOut != nullptr) *skippedOut = std::move(skipped);
+      return {};
+    }
+    return whole.saveBytes(skipCallbacks, skippedOut);
+  }
   std::string bytes;
   if (drop.empty()) {
     bytes = serialize(IoMode::Checkpoint);

@@ -17,22 +17,9 @@ proc expectError {code script} {
         [expr {$failed && [string match $code* [dict get $opts -errorcode]]}]
 }
 
-sim new
-material add glass -density 2500 -young 1e7 -poisson 0.25 -restitution 0.5 -friction 0.4
-wall add plane -normal {0 0 1}
-wall add plane -normal {1 0 0}
-wall add plane -normal {-1 0 0} -point {0.04 0 0}
-wall add plane -normal {0 1 0}
-wall add plane -normal {0 -1 0} -point {0 0.04 0}
-# An element made and removed first: the bed's elements then have ids other than their
-# creation order (the first reuses its slot), which distributed runs must keep.
-set gone [element add -radius 0.001 -position {0.02 0.02 0.15}]
-element remove $gone
-set ids [pack random -region {box {0.001 0.001 0.001} {0.039 0.039 0.06}} \
-    -radius {uniform 0.0014 0.002} -count 1200 -seed 7]
+source [file join [file dirname [info script]] bed_scene.tcl]
+lassign [makeBed] gone ids
 check "the first new element reuses the removed one's slot" [expr {[lindex $ids 0] == $gone + 2**32}]
-behavior add gravity
-sim timestep 2e-5
 # A VTK series: frame 0 now (every rank holds the whole scene), then pieces a rank.
 if {$argc > 0} {
     dump every -steps 2000 -dir [file join [lindex $argv 0] series] -parts {elements walls}
@@ -119,7 +106,8 @@ expectError {DEMLAB LOOKUP ELEMENT} "element get $gone"
 if {$n > 1} {
     expectError {DEMLAB MPI UNSUPPORTED} {element set 0 -velocity {0 0 0}}
     expectError {DEMLAB MPI UNSUPPORTED} {element add -radius 0.001 -position {0.02 0.02 0.1}}
-    expectError {DEMLAB MPI UNSUPPORTED} {sim save /tmp/never.dcp}
+    # Rank 0 writes the gathered checkpoint; its failure is every rank's.
+    expectError {DEMLAB IO OPEN} {sim save /nonexistent-dir/bed.dcp}
 }
 # The run goes on after them, together.
 set report [sim run -steps 500 -quiet]

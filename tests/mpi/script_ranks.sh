@@ -31,6 +31,26 @@ if [ "$np" -gt 1 ]; then
     fail "the CSV dumps differ"
 fi
 
+# Checkpoints across rank counts: saved on np ranks (and alone), loaded alone and on np + 1
+# ranks (np - 1 from 3), each going on as the saving run did.
+ck() {  # ck RANKS MODE FILE OUT: checkpoint_bed.tcl on RANKS ranks (0: alone)
+  if [ "$1" -eq 0 ]; then "$demlab" "$here/checkpoint_bed.tcl" "$2" "$3" > "$4"
+  else "$mpiexec" -np "$1" "$demlab" "$here/checkpoint_bed.tcl" "$2" "$3" > "$4"; fi ||
+    fail "checkpoint_bed.tcl $2 on $1 ranks failed"
+}
+other=$((np == 3 ? 2 : np + 1))
+ck "$np" save "$dir/np.dcp" "$dir/ck_saved_np.txt"
+ck 0 load "$dir/np.dcp" "$dir/ck_np_alone.txt"
+ck "$other" load "$dir/np.dcp" "$dir/ck_np_other.txt"
+ck 0 save "$dir/alone.dcp" "$dir/ck_saved_alone.txt"
+ck "$np" load "$dir/alone.dcp" "$dir/ck_alone_np.txt"
+same() {  # same SAVED LOADED NP: compare_runs.tcl's rule for NP ranks (1: bit for bit)
+  "$demlab" "$here/compare_runs.tcl" "$dir/$1" "$dir/$2" "$3" 1e-5 || fail "checkpoint: $2 differs from $1"
+}
+same ck_saved_np.txt ck_np_alone.txt "$np"
+same ck_saved_np.txt ck_np_other.txt 2
+same ck_saved_alone.txt ck_alone_np.txt "$np"
+
 [ "$np" -gt 1 ] || exit 0
 "$mpiexec" -np "$np" "$demlab" "$here/unsupported_scene.tcl" > "$dir/out.txt" 2> "$dir/err.txt"
 [ $? -eq 1 ] || fail "unsupported_scene.tcl: exit status not 1"

@@ -147,6 +147,69 @@ TEST(SimRanks, BedDistributedAfterARunAgreesWithTheSerialRun) {
   compare(1200, 0.5, 6000, 2000, 1e-6, true);
 }
 
+// A checkpoint of a distributed scene holds the whole scene (sim/simulation_gather.cpp): loaded
+// alone after 2000 steps it is the serial run's scene to round-off, under the same handles, with
+// the same pool (the next element added gets the serial scene's next handle), the ledger's sums
+// and the walls' work whole; and it goes on as the distributed run does.
+TEST(SimRanks, CheckpointOfRanksLoadsAlone) {
+  const auto make = [] {
+    auto s = bed(600, 0.005, 0.2, 0.5);
+    // Removed elements: free slots in the pool, and handles that are not their global ids.
+    for (uint32_t k : {3u, 40u, 41u}) s->removeElement(s->elementIds().at(k));
+    s->setOption("detection", "margins", false);
+    return s;
+  };
+  const bool judge = world().rank() == 0;
+  std::unique_ptr<Simulation> serial;
+  if (judge) {
+    serial = make();
+    serial->runSteps(2000);
+  }
+  auto dist = make();
+  dist->distribute();
+  dist->runSteps(2000);
+  std::vector<std::string> skipped;
+  const std::string bytes = dist->saveBytes(false, &skipped);
+  EXPECT_TRUE(skipped.empty());
+  EXPECT_EQ(bytes.empty(), !judge);  // rank 0 alone gets the file
+  const EnergyLedger distLedger = dist->energy();
+  dist->runSteps(1000);
+  const auto wentOn = dist->elementSnapshots();
+  if (!judge) return;
+  auto loaded = makeSimulation(3);
+  loaded->loadBytes(bytes);
+  EXPECT_FALSE(loaded->distributed());
+  std::vector<ElementId> a = serial->elementIds(), b = loaded->elementIds();
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);
+  for (ElementId id : a) {
+    const ElementState x = serial->element(id), y = loaded->element(id);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(x.position[k], y.position[k], 1e-9);
+  }
+  const EnergyLedger es = serial->energy(), el = loaded->energy();
+  EXPECT_NEAR(es.dampingLoss, el.dampingLoss, 1e-6 * es.dampingLoss);
+  EXPECT_NEAR(es.frictionLoss, el.frictionLoss, 1e-6 * es.frictionLoss);
+  EXPECT_NEAR(es.wallWork, el.wallWork, 1e-9 + 1e-6 * std::abs(es.wallWork));
+  EXPECT_NEAR(distLedger.residual, el.residual, 1e-9);
+  // Loaded alone it goes on as the distributed scene did.
+  loaded->runSteps(1000);
+  const auto y = loaded->elementSnapshots();
+  ASSERT_EQ(wentOn.size(), y.size());
+  double worst = 0;
+  for (size_t i = 0; i < y.size(); ++i) {
+    EXPECT_EQ(wentOn[i].id, y[i].id);
+    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(wentOn[i].position[k] - y[i].position[k]));
+  }
+  EXPECT_LE(worst, 1e-12);
+  // The pool as the serial scene's: the same next handles (its free slots, last freed first).
+  ElementDef e;
+  e.material = "glass";
+  e.radius = 0.005;
+  e.position = {0.1, 0.1, 0.18};
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(serial->addElement(e), loaded->addElement(e));
+}
+
 // One element far too fast for the step: the watchdog stops the run before its first step on
 // every rank alike (the rank holding it names it), none left waiting in a collective.
 TEST(SimRanks, WatchdogStopsEveryRank) {

@@ -228,16 +228,25 @@ void registerSimCommands(Registry& r) {
   dig.run([](Call& c) { return Value(hex64(session(c).scene().stateDigest())); });
 
   Command& save = r.add("sim save", "Writes the whole scene to a checkpoint file.");
+  save.details =
+      "In a distributed run every rank gives its part and rank 0 writes the whole scene, which "
+      "loads on any number of ranks (the loaded run searches first and goes on as the saved "
+      "one would, to round-off).";
   save.interruptible = true;
   save.arg("file", text("file"), "the file to write");
   save.flag("skipcallbacks", "leave out loads defined by scripts instead of failing");
   save.changesScene = false;
+  save.onRanks = OnRanks::Collective;
   save.run([](Call& c) {
     auto& s = session(c).scene();
     std::vector<std::string> skipped;
-    std::string bytes = s.saveBytes(c.flag("skipcallbacks"), &skipped);
+    std::string bytes;
     const FreeAsideOnThrow aside(bytes);
-    writeFileAtomically(c.str("file"), bytes);
+    // Distributed: rank 0 writes the whole scene, gathered; a failure is every rank's.
+    togetherOnRanks(s, [&] {
+      bytes = s.saveBytes(c.flag("skipcallbacks"), &skipped);
+      if (ranksOf(s).rank() == 0) writeFileAtomically(c.str("file"), bytes);
+    });
     List l;
     for (auto& d : skipped) l.emplace_back(d);
     return Value(std::move(l));

@@ -1,0 +1,31 @@
+# checkpoint_bed.tcl save FILE | load FILE: a checkpoint written by any number of ranks and
+# loaded on any number (script_ranks.sh runs the pairs). `save` makes falling_bed.tcl's bed
+# (bed_scene.tcl), runs it 4000 steps, saves it, and goes on; `load` loads the file and goes
+# on the same 2000 steps. Both print (rank 0 alone under mpirun) what compare_runs.tcl compares: a loaded run
+# must go on as the saving one did, to round-off when the ranks differ.
+lassign $argv mode file
+if {$mode eq "save"} {
+    source [file join [file dirname [info script]] bed_scene.tcl]
+    makeBed
+    sim run -steps 4000 -quiet
+    sim save $file
+} else {
+    sim load $file
+}
+set ids [lsort -integer [element list]]
+set report [sim run -steps 2000 -quiet]
+puts "time [sim time]"
+puts "count [element count]"
+puts "list $ids"
+puts "contacts [dict get [query counts] contacts]"
+puts "residual [dict get $report residual]"
+set e [query energy]
+foreach k {kinetic gravitational elastic damping friction wallwork} { puts "$k [dict get $e $k]" }
+puts "floorforce [wall get 0 -force]"
+puts "floorwork [wall get 0 -work]"
+foreach k {0 1 17 600 1199} {
+    set id [lindex $ids $k]
+    puts "position$k [element get $id -position]"
+    puts "velocity$k [element get $id -velocity]"
+}
+puts "reused [element get [expr {2**32}] -position]"
