@@ -109,6 +109,9 @@ struct Distribution {
   // elements' handles.
   uint32_t poolSlots = 0;
   std::vector<uint32_t> freeSlots, freeGenerations;
+  // The global ids of the elements edits placed since the last step, on every rank (the
+  // watchdog holds their contacts, ghosts' too, to its `placed` limit: Scene::placedElements).
+  std::vector<uint64_t> placed;
 
   // Returns the run of renamed handles holding global id gid, or nullptr. Changes nothing.
   const Renamed* renamedRun(uint64_t gid) const {

@@ -194,6 +194,61 @@ ElementId SimulationManager<D>::ownedElement(ElementId original) const {
 }
 
 template <int D>
+typename SimulationManager<D>::ElementEdit SimulationManager<D>::editElement(
+    ElementId id, const std::function<void(uint32_t)>& change) {
+  ElementEdit out;
+  if (!s_.dist) {
+    const uint32_t i = s_.elements.index(id);
+    const double before = elementEnergy(i);
+    change(i);
+    out.energy = elementEnergy(i) - before;
+    return out;
+  }
+  // The owner's answer travels as a tag byte and then: the energy and the global id (1), or
+  // the error's message and code words, each ended by a NUL (2). Other ranks send nothing.
+  std::vector<char> mine;
+  const ElementId here = ownedElement(id);
+  if (!here.isNull()) {
+    const uint32_t i = s_.elements.index(here);
+    try {
+      const double before = elementEnergy(i);
+      change(i);
+      const ElementEdit e{elementEnergy(i) - before, s_.elements.a.globalId[i]};
+      mine.resize(1 + sizeof e);
+      mine[0] = 1;
+      std::memcpy(mine.data() + 1, &e, sizeof e);
+    } catch (const Error& e) {
+      mine.push_back(2);
+      const auto add = [&](const std::string& w) { mine.insert(mine.end(), w.c_str(), w.c_str() + w.size() + 1); };
+      add(e.what());
+      for (size_t k = 1; k < e.code().size(); ++k) add(e.code()[k]);
+    }
+  }
+  for (const std::vector<char>& b : s_.dist->comm->gatherBytes(mine)) {
+    if (b.empty()) continue;
+    if (b[0] == 1) {
+      std::memcpy(&out, b.data() + 1, sizeof out);
+      return out;
+    }
+    std::vector<std::string> words;
+    for (size_t at = 1; at < b.size();) {
+      words.emplace_back(b.data() + at);
+      at += words.back().size() + 1;
+    }
+    const std::string message = words.front();
+    words.erase(words.begin());
+    throw Error(message, words);
+  }
+  throw Error("invalid element id \"" + toString(id) + "\": no such element", {"LOOKUP", "HANDLE"});
+}
+
+template <int D>
+void SimulationManager<D>::markPlacedEdit(ElementId id, const ElementEdit& e) {
+  if (!s_.dist) return markPlaced(id);
+  if (s_.steps > 0) s_.dist->placed.push_back(e.globalId);
+}
+
+template <int D>
 ElementId SimulationManager<D>::originalHandle(ElementId local) const {
   const uint32_t i = s_.elements.index(local);
   return s_.dist ? elementHandleAt(i) : local;

@@ -645,50 +645,58 @@ ElementId SimulationManager<D>::findElement(const std::string& name) const {
   return s_.elements.names().get(name);
 }
 
+// The kinematic setters change one element wherever it is (editElement): a distributed scene's
+// every rank then searches again (the ghosts' copies are refreshed there, before the forces of
+// the edited state are taken), moves the ledger's reference alike and computes the forces anew.
 template <int D>
 void SimulationManager<D>::setElementPosition(ElementId id, const Vec3d& p) {
-  const uint32_t i = s_.elements.index(id);
   const VecD<D> x = toVec<D>(p, "position");
-  checkPositionRange<D>(x, s_.elements.a.r[i]);
-  const double before = elementEnergy(i);
-  s_.elements.a.x[i] = x;
-  s_.ledger.reference += elementEnergy(i) - before;
-  markPlaced(id);
+  const ElementEdit e = editElement(id, [&](uint32_t i) {
+    checkPositionRange<D>(x, s_.elements.a.r[i]);
+    s_.elements.a.x[i] = x;
+  });
+  s_.ledger.reference += e.energy;
+  markPlacedEdit(id, e);
   s_.needRebuild = true;
   s_.forcesReady = false;
 }
 
 template <int D>
 void SimulationManager<D>::setElementVelocity(ElementId id, const Vec3d& v) {
-  const uint32_t i = s_.elements.index(id);
   const VecD<D> x = toVec<D>(v, "velocity");
   checkVelocityRange<D>(x);
-  const double before = elementEnergy(i);
-  s_.elements.a.v[i] = x;
-  s_.ledger.reference += elementEnergy(i) - before;
+  const ElementEdit e = editElement(id, [&](uint32_t i) { s_.elements.a.v[i] = x; });
+  s_.ledger.reference += e.energy;
+  s_.needRebuild = s_.needRebuild || s_.dist != nullptr;
   s_.forcesReady = false;
 }
 
 template <int D>
 void SimulationManager<D>::setElementAngularVelocity(ElementId id, const Vec3d& w) {
-  const uint32_t i = s_.elements.index(id);
   const AngularD<D> x = toAngular<D>(w, "angular velocity");
-  checkAngularRange(x, s_.elements.a.r[i], D);
-  const double before = elementEnergy(i);
-  s_.elements.a.w[i] = x;
-  s_.ledger.reference += elementEnergy(i) - before;
+  const ElementEdit e = editElement(id, [&](uint32_t i) {
+    checkAngularRange(x, s_.elements.a.r[i], D);
+    s_.elements.a.w[i] = x;
+  });
+  s_.ledger.reference += e.energy;
+  if (s_.dist) {
+    // (What the scene uses was decided for the whole when it was distributed: a spin turns
+    // the rotation on, as sceneUse would, on every rank.)
+    if (squaredNorm(x) != 0 && s_.rotationEnabled) s_.dist->use.rotating = true;
+    s_.needRebuild = true;
+    s_.forcesReady = false;
+  }
   touchConfig();
 }
 
 template <int D>
 void SimulationManager<D>::setElementOrientation(ElementId id, const std::vector<double>& o) {
-  const uint32_t i = s_.elements.index(id);
   const RotationD<D> q = toRotation<D>(o);
   // A shape's rotational energy (w . I_world w) depends on its orientation: the ledger rebases.
-  const double before = elementEnergy(i);
-  s_.elements.a.q[i] = q;
-  s_.ledger.reference += elementEnergy(i) - before;
-  markPlaced(id);
+  const ElementEdit e = editElement(id, [&](uint32_t i) { s_.elements.a.q[i] = q; });
+  s_.ledger.reference += e.energy;
+  markPlacedEdit(id, e);
+  s_.needRebuild = s_.needRebuild || s_.dist != nullptr;
   s_.forcesReady = false;
 }
 

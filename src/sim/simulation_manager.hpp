@@ -5,6 +5,7 @@
 // changed since the last run.
 #pragma once
 
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -347,6 +348,21 @@ class SimulationManager final : public Simulation {
   void markPlaced(ElementId id) {
     if (s_.steps > 0) s_.placedElements.push_back(id);
   }
+  // What editElement did: the energy the change moved (the element's kinetic and potential
+  // energy after it less before; in a distributed scene, the owning rank's) and, distributed,
+  // the element's global id.
+  struct ElementEdit {
+    double energy = 0;
+    uint64_t globalId = 0;
+  };
+  // Runs change(i) on element id's dense index i: in a serial scene here, in a distributed one
+  // on the rank owning the element scripts know as id, every rank then getting the same result
+  // and the change's error (or LOOKUP HANDLE when no rank owns it) raised on every rank, having
+  // changed nothing. change must check before it changes. Collective when distributed
+  // (sim/simulation_distribute.cpp). The caller moves the ledger's reference and sets flags.
+  ElementEdit editElement(ElementId id, const std::function<void(uint32_t)>& change);
+  // Marks an edited element placed (markPlaced; distributed, by its global id on every rank).
+  void markPlacedEdit(ElementId id, const ElementEdit& e);
   void markPlaced(WallId id) {
     if (s_.steps > 0) s_.placedWalls.push_back(id);
   }

@@ -404,6 +404,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   if (!untouched) {
     s_.placedElements.clear();
     s_.placedWalls.clear();
+    if (s_.dist) s_.dist->placed.clear();
   }
   if (!watched) checkFinite();
   rep.steps = s_.steps - steps0;

@@ -140,6 +140,15 @@ std::pair<const ContactRecord<D>*, Real> deepestPlacedRecord(const Scene<D>& s, 
   for (WallId id : s.placedWalls) {
     if (s.walls.pool().valid(id)) wall[s.walls.pool().denseIndex(id)] = 1;
   }
+  if (s.dist && !s.dist->placed.empty()) {
+    // Distributed: by global id, so that a ghost of a placed element is one too.
+    std::vector<uint64_t> placed = s.dist->placed;
+    std::sort(placed.begin(), placed.end());
+    const ElementArrays<D>& a = s.elements.a;
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (std::binary_search(placed.begin(), placed.end(), a.globalId[i])) element[i] = 1;
+    }
+  }
   return deepestRecord<true>(s, f, [&](const ContactRecord<D>& c) {
     return element[c.a] || (c.wall ? wall[c.b] : element[c.b]);
   });
@@ -234,7 +243,8 @@ Real watchdogCheck(const Scene<D>& s, Real stepLimit, CheckPoint when = CheckPoi
     return h;
   };
   if (when == CheckPoint::BeforeRun && o.placed > 0 && s.recordContacts &&
-      (!s.placedElements.empty() || !s.placedWalls.empty())) {
+      (!s.placedElements.empty() || !s.placedWalls.empty() ||
+       (s.dist && !s.dist->placed.empty()))) {
     const auto [worst, ratio] = deepestPlacedRecord(s, o.placed);
     if (worst) throw overlapHit(worst, ratio, o.placed, true);
   }

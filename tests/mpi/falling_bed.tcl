@@ -103,13 +103,26 @@ if {$argc > 0} {
 # Errors raised on every rank alike, caught alike.
 expectError {DEMLAB LOOKUP ELEMENT} {element get 5000}
 expectError {DEMLAB LOOKUP ELEMENT} "element get $gone"
+expectError {DEMLAB LOOKUP ELEMENT} "element set $gone -velocity {0 0 0}"
+expectError {DEMLAB VALUE VELOCITY} "element set [lindex $ids 5] -velocity {1e9 0 0}"
 if {$n > 1} {
-    expectError {DEMLAB MPI UNSUPPORTED} {element set 0 -velocity {0 0 0}}
+    expectError {DEMLAB MPI UNSUPPORTED} "element set [lindex $ids 5] -fixed 1"
     expectError {DEMLAB MPI UNSUPPORTED} {element add -radius 0.001 -position {0.02 0.02 0.1}}
     # Rank 0 writes the gathered checkpoint; its failure is every rank's.
     expectError {DEMLAB IO OPEN} {sim save /nonexistent-dir/bed.dcp}
 }
+# Edits after a run, each by the rank owning the element: one grain thrown into the bed, one
+# lifted above it, one spun; the ledger's reference moves with them on every rank.
+element set [lindex $ids 600] -velocity {0.1 0 -0.5}
+element set [lindex $ids 17] -position {0.02 0.02 0.045} -velocity {0 0 -1}
+element set [lindex $ids 1199] -angularvelocity {0 5 0} -orientation {0 1 0 0}
+puts "edited [element get [lindex $ids 17] -position] [element get [lindex $ids 600] -velocity]"
 # The run goes on after them, together.
 set report [sim run -steps 500 -quiet]
+puts "residual2 [dict get $report residual]"
+foreach k {17 600 1199} {
+    puts "position_after$k [element get [lindex $ids $k] -position]"
+    puts "velocity_after$k [element get [lindex $ids $k] -velocity]"
+}
 puts "contacts2 [dict get [query counts] contacts]"
 puts "position2 [element get [lindex $ids 600] -position]"

@@ -416,9 +416,22 @@ void registerElementCommands(Registry& r) {
   set.option("orientation", reals(),
              "new orientation: 3D a quaternion {w x y z} (normalised), 2D an angle (rad)");
   blockOptions(set);
+  set.onRanks = OnRanks::Collective;
   set.onCheck([](Call& c) {
     auto& s = session(c).scene();
-    const double r = s.element(c.get<ElementId>("element")).radius;  // LOOKUP before changes
+    if (s.distributed() && (c.given("fixed") || c.given("block"))) {
+      throw Error("can't block degrees of freedom in a distributed scene: distributed runs do "
+                  "not support them yet",
+                  {"MPI", "UNSUPPORTED"});
+    }
+    // LOOKUP before changes (distributed: the rank owning it answers, on every rank).
+    const ElementId e = c.get<ElementId>("element");
+    const ElementId here = s.ownedElement(e);
+    std::optional<Value> mine;
+    if (!here.isNull()) mine = Value(s.element(here).radius);
+    const double r = std::stod(toString(fromHolder(
+        s, std::move(mine),
+        Error("no element with id " + std::to_string(scriptId(e)), {"LOOKUP", "ELEMENT"}))));
     // The setters each check their own value, but run one after another: a velocity refused
     // after the position was set would leave the position changed. The validity policy's
     // bounds are checked here, before any of them runs.
