@@ -25,8 +25,13 @@ namespace demlab::sim {
 template <int D>
 SceneUse sceneUse(const Scene<D>& s) {
   // A distributed run's ranks hold parts of the scene: what the whole uses was decided when it
-  // was distributed.
-  if (s.dist) return s.dist->use;
+  // was distributed, but for the walls, which every rank holds alike (a wall set in motion).
+  if (s.dist) {
+    SceneUse u = s.dist->use;
+    u.walls = s.walls.size() > 0;
+    u.movingWalls = s.walls.anyMoving();
+    return u;
+  }
   SceneUse f;
   const size_t nm = s.nMat();
   std::vector<bool> grainMat(nm, false), anyMat(nm, false);

@@ -37,7 +37,7 @@ dict for {key a} $serial {
     switch -glob $key {
         position* - bounds { set tol 1e-10 }
         velocity* { set tol 1e-7 }
-        residual { set tol $ledger }
+        residual* { set tol $ledger }
         default {
             set largest 0
             foreach x $a { set largest [expr {max($largest, abs($x))}] }

@@ -117,9 +117,12 @@ element set [lindex $ids 600] -velocity {0.1 0 -0.5}
 element set [lindex $ids 17] -position {0.02 0.02 0.045} -velocity {0 0 -1}
 element set [lindex $ids 1199] -angularvelocity {0 5 0} -orientation {0 1 0 0}
 puts "edited [element get [lindex $ids 17] -position] [element get [lindex $ids 600] -velocity]"
+# A side wall set moving inwards: every rank holds every wall and sets it alike.
+wall set 2 -velocity {-0.002 0 0}
 # The run goes on after them, together.
 set report [sim run -steps 500 -quiet]
 puts "residual2 [dict get $report residual]"
+puts "movedwall [wall get 2 -force] [wall get 2 -work]"
 foreach k {17 600 1199} {
     puts "position_after$k [element get [lindex $ids $k] -position]"
     puts "velocity_after$k [element get [lindex $ids $k] -velocity]"

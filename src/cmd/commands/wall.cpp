@@ -266,6 +266,7 @@ void registerWallCommands(Registry& r) {
                        "components may be Tcl expressions in $t: each step moves the wall at their "
                        "values at the step's midpoint.");
   set.arg("wall", wallRef(), "a wall id or name");
+  set.onRanks = OnRanks::Alike;  // every rank holds every wall
   motionOptions(set);
   set.run([](Call& c) {
     session(c).scene().setWallMotion(c.get<WallId>("wall"), motionOf(c));
