@@ -23,30 +23,44 @@
 namespace demlab::sim {
 
 template <int D>
+ElementUse elementUse(const Scene<D>& s) {
+  ElementUse e;
+  e.grainMaterials.assign(s.nMat(), false);
+  const ElementArrays<D>& a = s.elements.a;
+  for (size_t i = 0; i < s.ownedCount(); ++i) {
+    e.grainMaterials[a.material[i]] = true;
+    if (squaredNorm(a.w[i]) != 0) e.spinning = true;
+  }
+  for (size_t i = 0; i < a.size() && s.geometries.size() > 1; ++i) {
+    if (a.geometry[i] == 0) continue;
+    e.shapes = true;
+    if (a.invInertia[i] == 0) e.rigid = true;
+  }
+  return e;
+}
+
+template <int D>
 SceneUse sceneUse(const Scene<D>& s) {
-  // A distributed run's ranks hold parts of the scene: what the whole uses was decided when it
-  // was distributed, but for the walls, which every rank holds alike (a wall set in motion).
+  // A distributed run's ranks hold parts of the scene: what the whole uses was decided from
+  // every part (SimulationManager::prepare), but for the walls, which every rank holds alike
+  // (a wall set in motion).
   if (s.dist) {
     SceneUse u = s.dist->use;
     u.walls = s.walls.size() > 0;
     u.movingWalls = s.walls.anyMoving();
     return u;
   }
+  return sceneUseWith(s, elementUse(s));
+}
+
+template <int D>
+SceneUse sceneUseWith(const Scene<D>& s, const ElementUse& e) {
   SceneUse f;
+  f.shapes = e.shapes;
+  f.rigid = e.rigid;
   const size_t nm = s.nMat();
-  std::vector<bool> grainMat(nm, false), anyMat(nm, false);
-  const ElementArrays<D>& a = s.elements.a;
-  bool spinning = false;
-  for (size_t i = 0; i < a.size(); ++i) {
-    grainMat[a.material[i]] = true;
-    anyMat[a.material[i]] = true;
-    if (squaredNorm(a.w[i]) != 0) spinning = true;
-  }
-  for (size_t i = 0; i < a.size() && s.geometries.size() > 1; ++i) {
-    if (a.geometry[i] == 0) continue;
-    f.shapes = true;
-    if (a.invInertia[i] == 0) f.rigid = true;
-  }
+  const std::vector<bool>& grainMat = e.grainMaterials;
+  std::vector<bool> anyMat = grainMat;
   for (const Wall<D>& w : s.walls.items) {
     anyMat[w.material] = true;
     if (w.kind == WallShape::Mesh) f.shapes = true;  // every element meets it in the shape pass
@@ -71,7 +85,7 @@ SceneUse sceneUse(const Scene<D>& s) {
   }
   // A shape's normal forces act off its centre: it turns with or without friction; so do
   // bonded elements (a bond's shear force and moment).
-  f.rotating = s.rotationEnabled && (f.anyFriction || s.behaviors.hasTorqueLoads() || spinning ||
+  f.rotating = s.rotationEnabled && (f.anyFriction || s.behaviors.hasTorqueLoads() || e.spinning ||
                                      f.shapes || s.bonds.intact() > 0);
   f.walls = s.walls.size() > 0;
   f.movingWalls = s.walls.anyMoving();
@@ -201,6 +215,10 @@ ModuleList<D> buildModules(const Scene<D>& s, const SceneUse& u) {
 
 template SceneUse sceneUse<2>(const Scene<2>&);
 template SceneUse sceneUse<3>(const Scene<3>&);
+template ElementUse elementUse<2>(const Scene<2>&);
+template ElementUse elementUse<3>(const Scene<3>&);
+template SceneUse sceneUseWith<2>(const Scene<2>&, const ElementUse&);
+template SceneUse sceneUseWith<3>(const Scene<3>&, const ElementUse&);
 template std::span<const ModuleRow<2>> moduleTable<2>();
 template std::span<const ModuleRow<3>> moduleTable<3>();
 template void addModuleRow<2>(const ModuleRow<2>&);

@@ -31,6 +31,21 @@ struct SceneUse {
 template <int D>
 SceneUse sceneUse(const Scene<D>& s);
 
+// What the elements bring to SceneUse: the materials they take (by index), whether one spins,
+// is not a ball, has no rotational inertia. A distributed run takes each rank's and ORs them
+// (SimulationManager::prepare), so that the whole scene's choice follows from them.
+struct ElementUse {
+  std::vector<bool> grainMaterials;
+  bool spinning = false, shapes = false, rigid = false;
+};
+// Returns what s's own elements bring (a distributed part's: its owned elements). Changes
+// nothing.
+template <int D>
+ElementUse elementUse(const Scene<D>& s);
+// Returns what the scene s uses with elements that bring e. Changes nothing.
+template <int D>
+SceneUse sceneUseWith(const Scene<D>& s, const ElementUse& e);
+
 template <int D>
 using ModuleList = std::vector<std::unique_ptr<SimModule<D>>>;
 

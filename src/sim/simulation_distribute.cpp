@@ -243,6 +243,24 @@ typename SimulationManager<D>::ElementEdit SimulationManager<D>::editElement(
 }
 
 template <int D>
+void SimulationManager<D>::decideWhole() {
+  Distribution<D>& d = *s_.dist;
+  ElementUse e = elementUse(s_);
+  std::vector<double> flags(e.grainMaterials.begin(), e.grainMaterials.end());
+  flags.insert(flags.end(), {double(e.spinning), double(e.shapes), double(e.rigid)});
+  d.comm->max(flags);
+  const size_t nm = e.grainMaterials.size();
+  for (size_t m = 0; m < nm; ++m) e.grainMaterials[m] = flags[m] > 0;
+  e.spinning = flags[nm] > 0, e.shapes = flags[nm + 1] > 0, e.rigid = flags[nm + 2] > 0;
+  d.use = sceneUseWith(s_, e);
+  StepSurvey survey;
+  staticCriticalStep(false, &survey, true);  // (collective: the smallest grains over the ranks)
+  d.critical = survey.critical;
+  d.linearDuration = survey.linearDuration;
+  d.hertzDuration = survey.hertzDuration;
+}
+
+template <int D>
 void SimulationManager<D>::markPlacedEdit(ElementId id, const ElementEdit& e) {
   if (!s_.dist) return markPlaced(id);
   if (s_.steps > 0) s_.dist->placed.push_back(e.globalId);

@@ -122,7 +122,8 @@ double SimulationManager<D>::timeStepFrom(const StepSurvey& survey) const {
 
 template <int D>
 double SimulationManager<D>::criticalTimeStep() const {
-  return std::min(staticCriticalStep(), s_.contactStep);
+  // (Distributed: the whole scene's, as the ranks last decided it together.)
+  return std::min(s_.dist ? s_.dist->critical : staticCriticalStep(), s_.contactStep);
 }
 
 template <int D>
@@ -157,7 +158,8 @@ double SimulationManager<D>::motionBound(double speed, const StepSurvey& survey,
 }
 
 template <int D>
-double SimulationManager<D>::staticCriticalStep(bool polled, StepSurvey* survey) const {
+double SimulationManager<D>::staticCriticalStep(bool polled, StepSurvey* survey,
+                                               bool acrossRanks) const {
   // Per material: the smallest grain, which is also the lightest and has the least inertia
   // (mass ~ density r^D). Each pair of materials in use (walls included) is then taken with
   // the smallest grain of either side against it: the stiffest contact (the pair's constants)
@@ -196,6 +198,16 @@ double SimulationManager<D>::staticCriticalStep(bool polled, StepSurvey* survey)
   for (const SourceState& src : s_.sources) {
     used[src.material] = true;
     rmin[src.material] = std::min(rmin[src.material], Real(src.def.size.minRadius()));
+  }
+  if (acrossRanks && s_.dist) {
+    // A distributed part: the whole scene's smallest grains, over the ranks (collective).
+    const mpi::Communicator& comm = *s_.dist->comm;
+    comm.min(rmin);
+    comm.min(shapeMass);
+    comm.min(shapeR);
+    std::vector<double> u(used.begin(), used.end());
+    comm.max(u);
+    for (size_t m = 0; m < nm; ++m) used[m] = u[m] > 0;
   }
   Real best = inf, linearDuration = inf, hertzDuration = inf;
   // A grain of material `side` (mass, radius) in a contact of pair p: the stable step, the
@@ -270,7 +282,10 @@ template <int D>
 void SimulationManager<D>::setMaterial(const std::string& name, const MaterialDef& def) {
   const uint32_t m = materialIndex(name);
   def.check();
-  if (def.isRigid() && std::count(s_.elements.a.material.begin(), s_.elements.a.material.end(), m)) {
+  const auto& mats = s_.elements.a.material;
+  int64_t taking = std::count(mats.begin(), mats.begin() + s_.ownedCount(), m);
+  if (s_.dist) taking = s_.dist->comm->sum(taking);  // (every rank's elements: collective)
+  if (def.isRigid() && taking > 0) {
     throw Error("material \"" + name + "\" can't be made rigid: elements take it (only walls may)",
                 {"VALUE", "MATERIAL"});
   }
@@ -285,6 +300,8 @@ void SimulationManager<D>::setMaterial(const std::string& name, const MaterialDe
     a.invInertia[i] = invInertia;
   }
   s_.ledger.reference += ledgerSum() - before;
+  // (Distributed: the ghosts' masses are their owners' from the next search on.)
+  s_.needRebuild = s_.needRebuild || s_.dist != nullptr;
   touchConfig();
 }
 
@@ -679,13 +696,8 @@ void SimulationManager<D>::setElementAngularVelocity(ElementId id, const Vec3d& 
     s_.elements.a.w[i] = x;
   });
   s_.ledger.reference += e.energy;
-  if (s_.dist) {
-    // (What the scene uses was decided for the whole when it was distributed: a spin turns
-    // the rotation on, as sceneUse would, on every rank.)
-    if (squaredNorm(x) != 0 && s_.rotationEnabled) s_.dist->use.rotating = true;
-    s_.needRebuild = true;
-    s_.forcesReady = false;
-  }
+  // (Distributed: the next run decides again for the whole scene whether it turns.)
+  s_.needRebuild = s_.needRebuild || s_.dist != nullptr;
   touchConfig();
 }
 
@@ -878,6 +890,11 @@ BehaviorId SimulationManager<D>::addLoad(const LoadDef& def) {
 template <int D>
 BehaviorId SimulationManager<D>::addBehavior(const std::string& type,
                                              const std::vector<BehaviorParam>& params) {
+  if (s_.dist && type != "gravity") {
+    throw Error("can't add a " + type + " behavior to a distributed scene: distributed runs do "
+                "not support it yet",
+                {"MPI", "UNSUPPORTED"});
+  }
   std::unique_ptr<Behavior<D>> b = makeBehavior<D>(type, params);
   for (const BehaviorParam& p : params) {
     if (!p.grain.isNull()) s_.elements.index(p.grain);

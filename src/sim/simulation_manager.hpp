@@ -279,7 +279,9 @@ class SimulationManager final : public Simulation {
   };
   // Returns the static part of criticalTimeStep(): materials, grain sizes, bonds (polled: as
   // bondCriticalStep); fills survey when given.
-  double staticCriticalStep(bool polled = false, StepSurvey* survey = nullptr) const;
+  // acrossRanks (a distributed scene; collective): the smallest grains of every rank's part.
+  double staticCriticalStep(bool polled = false, StepSurvey* survey = nullptr,
+                            bool acrossRanks = false) const;
   // Returns timeStep() given the survey (unused for a fixed step). Throws as timeStep.
   double timeStepFrom(const StepSurvey& survey) const;
   // Returns the automatic step: autoFraction x the least of the static estimate and 2.5 x the
@@ -363,6 +365,11 @@ class SimulationManager final : public Simulation {
   ElementEdit editElement(ElementId id, const std::function<void(uint32_t)>& change);
   // Marks an edited element placed (markPlaced; distributed, by its global id on every rank).
   void markPlacedEdit(ElementId id, const ElementEdit& e);
+  // A distributed scene's choices for the whole scene, taken again from every rank's part
+  // before a run whose configuration changed (an edit of materials, say): what it uses
+  // (sceneUseWith of every rank's ElementUse ORed) and its static step survey
+  // (staticCriticalStep's smallest grains over the ranks). Collective. Changes s_.dist.
+  void decideWhole();
   void markPlaced(WallId id) {
     if (s_.steps > 0) s_.placedWalls.push_back(id);
   }

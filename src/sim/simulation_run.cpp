@@ -56,6 +56,7 @@ std::vector<std::string> SimulationManager<D>::listModules() const {
 template <int D>
 void SimulationManager<D>::prepare() {
   if (configDirty_) {
+    if (s_.dist) decideWhole();
     const SceneUse f = sceneUse(s_);
     if (f.shapes) checkShapeRoutines(s_);
     // A distributed scene's ranks hold parts of it: its skin and static step survey were

@@ -119,6 +119,11 @@ element set [lindex $ids 1199] -angularvelocity {0 5 0} -orientation {0 1 0 0}
 puts "edited [element get [lindex $ids 17] -position] [element get [lindex $ids 600] -velocity]"
 # A side wall set moving inwards: every rank holds every wall and sets it alike.
 wall set 2 -velocity {-0.002 0 0}
+# The material and gravity changed: every rank's elements take the new density, and the ranks
+# decide together again what the scene uses and its step.
+material set glass -friction 0.3 -density 2600
+behavior remove [dict get [lindex [behavior list] 0] id]
+behavior add gravity -g {0.5 0 -9.81}
 # The run goes on after them, together.
 set report [sim run -steps 500 -quiet]
 puts "residual2 [dict get $report residual]"

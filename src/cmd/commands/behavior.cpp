@@ -110,6 +110,7 @@ void registerBehaviorCommands(Registry& r) {
                                  "); returns its id.");
 
   Command& g = r.add("behavior add gravity", "Adds uniform gravity on every element.");
+  g.onRanks = OnRanks::Collective;  // (the ledger's potential is summed over the ranks)
   g.option("g", vector().withUnit("m/s^2"), "the acceleration (default: 9.81 down the last axis)");
   g.run([](Call& c) {
     auto& s = session(c).scene();
@@ -190,6 +191,7 @@ void registerBehaviorCommands(Registry& r) {
   });
 
   Command& rm = r.add("behavior remove", "Removes a behavior.");
+  rm.onRanks = OnRanks::Collective;
   rm.arg("behavior", behaviorRef(), "a behavior id");
   rm.run([](Call& c) {
     session(c).scene().removeBehavior(c.get<sim::BehaviorId>("behavior"));

@@ -141,6 +141,7 @@ void registerMaterialCommands(Registry& r) {
   Command& set = r.add("material set",
                        "Changes some constants of a material (element masses follow the density).");
   set.arg("name", materialRef(), "an existing material");
+  set.onRanks = OnRanks::Collective;  // (every rank's elements take the new density)
   materialOptions(set, false);
   set.onCheck([](Call& c) {
     MaterialDef d = session(c).scene().material(c.str("name"));
