@@ -558,7 +558,8 @@ class Simulation {
   virtual void setAutoTimeStep(double fraction, double stepsPerContact) = 0;
   void setAutoTimeStep(double fraction) { setAutoTimeStep(fraction, kDefaultStepsPerContact); }
   // Returns the step the next run uses. Throws VALUE TIMESTEP if automatic with no grains, and
-  // {INTERRUPTED} when Ctrl-C stops its estimate (a pass over the bonds).
+  // {INTERRUPTED} when Ctrl-C stops its estimate (a pass over the bonds). Distributed:
+  // collective, the whole scene's step on every rank.
   virtual double timeStep() const = 0;
   // Returns the scene's critical step: the least of the static estimate over the materials and
   // grain sizes in the scene (physics::criticalTimeStep, Rayleigh step for Hertz; bonds) and

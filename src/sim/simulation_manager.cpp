@@ -91,11 +91,13 @@ template <int D>
 double SimulationManager<D>::timeStep() const {
   StepSurvey survey;
   if (s_.autoFraction == 0) return timeStepFrom(survey);
-  staticCriticalStep(false, &survey);
+  // (Distributed: the whole scene's, over the ranks: collective.)
+  staticCriticalStep(false, &survey, true);
   const double dt = timeStepFrom(survey);  // throws when there is none
   // What the run's start will take: the motion bound again if the fastest element outran it.
-  const double speed = std::sqrt(fastestSpeed2(s_));
-  const double limit = watchdogStepLimit(s_, skinInUse());
+  double speed = std::sqrt(fastestSpeed2(s_));
+  if (s_.dist) speed = s_.dist->comm->max(speed);
+  const double limit = s_.dist ? s_.dist->stepLimit : watchdogStepLimit(s_, skinInUse());
   if (!retakesMotion(s_.steps % kContactStepEvery == 0, speed, dt, limit)) return dt;
   return autoStep(survey, motionBound(kSpeedHeadroom * speed, survey, limit));
 }

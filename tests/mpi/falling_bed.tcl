@@ -132,5 +132,10 @@ foreach k {17 600 1199} {
     puts "position_after$k [element get [lindex $ids $k] -position]"
     puts "velocity_after$k [element get [lindex $ids $k] -velocity]"
 }
+# The automatic step is the whole scene's on every rank: a run of -time counts the same steps.
+sim timestep auto
+puts "autostep [sim timestep]"
+puts "timesteps [dict get [sim run -time 0.002 -quiet] steps]"
+puts "position3 [element get [lindex $ids 600] -position]"
 puts "contacts2 [dict get [query counts] contacts]"
 puts "position2 [element get [lindex $ids 600] -position]"

@@ -140,6 +140,7 @@ void registerSimCommands(Registry& r) {
       "again as it speeds up). In 2D the Rayleigh step takes the sphere of a disc's radius and "
       "mass. A run of -time counts its steps again when the step changes. A fixed step above "
       "the critical estimate makes sim run warn (an error with sim run -strict).";
+  ts.onRanks = OnRanks::Collective;  // (the automatic step is the whole scene's)
   ts.optionalArg("dt", stepWord(), "the time step in seconds, or auto").type.unit = "s";
   ts.option("fraction", real().positive().max(1), "with auto: the fraction of the critical step")
       .byDefault("0.2");
