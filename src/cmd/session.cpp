@@ -11,6 +11,7 @@
 #include "core/atomic_file.hpp"
 #include "core/interrupt.hpp"
 #include "core/name_lookup.hpp"
+#include "mpi/error_bytes.hpp"
 #include "core/tag_table.hpp"
 
 namespace demlab::cmd {
@@ -68,23 +69,12 @@ void togetherOnRanks(const sim::Simulation& s, const std::function<void()>& work
   try {
     work();
   } catch (const Error& e) {
-    const auto add = [&](const std::string& w) {
-      mine.insert(mine.end(), w.c_str(), w.c_str() + w.size() + 1);
-    };
-    add(e.what());
-    for (std::size_t k = 1; k < e.code().size(); ++k) add(e.code()[k]);
+    mpi::appendErrorBytes(e, mine);
   }
   const std::vector<std::vector<char>> all = ranksOf(s).gatherBytes(mine);
   for (std::size_t rank = 0; rank < all.size(); ++rank) {
     if (all[rank].empty()) continue;
-    std::vector<std::string> words;
-    for (std::size_t at = 0; at < all[rank].size();) {
-      words.emplace_back(all[rank].data() + at);
-      at += words.back().size() + 1;
-    }
-    const std::string message = words.front();
-    words.erase(words.begin());
-    throw Error(message + " (on rank " + std::to_string(rank) + ")", words);
+    throw mpi::errorFromBytes(all[rank], 0, " (on rank " + std::to_string(rank) + ")");
   }
 }
 

@@ -123,8 +123,8 @@ struct Distribution {
   // Returns the handle the element of global id gid had when the scene was distributed: the
   // one scripts hold, wherever it is now. Changes nothing.
   ElementId handleOf(uint64_t gid) const {
-    if (const Renamed* run = renamedRun(gid)) return ElementId::fromBits(run->bits + (gid - run->id));
-    return firstLife(gid);
+    const Renamed* run = renamedRun(gid);
+    return run != nullptr ? ElementId::fromBits(run->bits + (gid - run->id)) : firstLife(gid);
   }
   // Returns the handle of the first element a scene creates in slot gid (its global id too).
   static ElementId firstLife(uint64_t gid) { return ElementId{static_cast<uint32_t>(gid), 1}; }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "mpi/communicator.hpp"
+#include "mpi/error_bytes.hpp"
 #include "mpi/records.hpp"
 #include "sim/convert.hpp"
 #include "sim/distribution.hpp"
@@ -219,9 +220,7 @@ typename SimulationManager<D>::ElementEdit SimulationManager<D>::editElement(
       std::memcpy(mine.data() + 1, &e, sizeof e);
     } catch (const Error& e) {
       mine.push_back(2);
-      const auto add = [&](const std::string& w) { mine.insert(mine.end(), w.c_str(), w.c_str() + w.size() + 1); };
-      add(e.what());
-      for (size_t k = 1; k < e.code().size(); ++k) add(e.code()[k]);
+      mpi::appendErrorBytes(e, mine);
     }
   }
   for (const std::vector<char>& b : s_.dist->comm->gatherBytes(mine)) {
@@ -230,14 +229,7 @@ typename SimulationManager<D>::ElementEdit SimulationManager<D>::editElement(
       std::memcpy(&out, b.data() + 1, sizeof out);
       return out;
     }
-    std::vector<std::string> words;
-    for (size_t at = 1; at < b.size();) {
-      words.emplace_back(b.data() + at);
-      at += words.back().size() + 1;
-    }
-    const std::string message = words.front();
-    words.erase(words.begin());
-    throw Error(message, words);
+    throw mpi::errorFromBytes(b, 1);
   }
   throw Error("invalid element id \"" + toString(id) + "\": no such element", {"LOOKUP", "HANDLE"});
 }

@@ -134,12 +134,15 @@ Scene<D> SimulationManager<D>::gatheredScene() const {
     g.fastestSpeed2 = fastest;
     g.deepest = DeepestContact<D>{};
     // The elements in global id order under their original handles, the pool as it was.
-    std::sort(elements.begin(), elements.end(),
-              [](const ElementRecord& x, const ElementRecord& y) { return x.globalId < y.globalId; });
+    std::sort(elements.begin(), elements.end(), [](const ElementRecord& x, const ElementRecord& y) {
+      return x.globalId < y.globalId;
+    });
     HandlePool<ElementKind>::State pool;
     pool.generations.assign(d.poolSlots, 0);
     pool.freeSlots = d.freeSlots;
-    for (size_t k = 0; k < d.freeSlots.size(); ++k) pool.generations[d.freeSlots[k]] = d.freeGenerations[k];
+    for (size_t k = 0; k < d.freeSlots.size(); ++k) {
+      pool.generations[d.freeSlots[k]] = d.freeGenerations[k];
+    }
     pool.dense.reserve(elements.size());
     for (const ElementRecord& r : elements) {
       const ElementId h = d.handleOf(r.globalId);

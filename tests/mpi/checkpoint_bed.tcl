@@ -1,19 +1,19 @@
 # checkpoint_bed.tcl save FILE | load FILE: a checkpoint written by any number of ranks and
 # loaded on any number (script_ranks.sh runs the pairs). `save` makes falling_bed.tcl's bed
-# (bed_scene.tcl), runs it 4000 steps, saves it, and goes on; `load` loads the file and goes
-# on the same 2000 steps. Both print (rank 0 alone under mpirun) what compare_runs.tcl compares: a loaded run
+# (bed_scene.tcl), runs it 3000 steps, saves it, and goes on; `load` loads the file and goes
+# on the same 1000 steps. Both print (rank 0 alone under mpirun) what compare_runs.tcl compares: a loaded run
 # must go on as the saving one did, to round-off when the ranks differ.
 lassign $argv mode file
 if {$mode eq "save"} {
     source [file join [file dirname [info script]] bed_scene.tcl]
     makeBed
-    sim run -steps 4000 -quiet
+    sim run -steps 3000 -quiet
     sim save $file
 } else {
     sim load $file
 }
 set ids [lsort -integer [element list]]
-set report [sim run -steps 2000 -quiet]
+set report [sim run -steps 1000 -quiet]
 puts "time [sim time]"
 puts "count [element count]"
 puts "list $ids"
