@@ -111,6 +111,14 @@ if {$n > 1} {
     # Rank 0 writes the gathered checkpoint; its failure is every rank's.
     expectError {DEMLAB IO OPEN} {sim save /nonexistent-dir/bed.dcp}
 }
+# A kept copy of a distributed scene (each rank its part) goes on as the scene does, bit for bit.
+sim keep settled
+set before [sim run -steps 100 -quiet]
+set once [element get [lindex $ids 600] -position]
+sim restore settled
+sim run -steps 100 -quiet
+check "a restored copy goes on bit for bit" [expr {[element get [lindex $ids 600] -position] eq $once}]
+sim restore settled
 # Edits after a run, each by the rank owning the element: one grain thrown into the bed, one
 # lifted above it, one spun; the ledger's reference moves with them on every rank.
 element set [lindex $ids 600] -velocity {0.1 0 -0.5}

@@ -281,6 +281,7 @@ void registerSimCommands(Registry& r) {
       "every run from it.";
   keep.arg("name", name("name"), "the name of the copy (an existing copy is replaced)");
   keep.changesScene = false;
+  keep.onRanks = OnRanks::Collective;  // (each rank keeps its part, with its Distribution)
   keep.run([](Call& c) {
     Session& s = session(c);
     auto copy = s.sim->clone();
