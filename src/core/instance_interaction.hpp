@@ -137,6 +137,14 @@ class InstanceInteractionManager {
       if (table_[i].key != kEmptyKey) f(unpack(table_[i].key), table_[i].state);
     }
   }
+  // The same, reading only: f(Pair, const State&).
+  template <class F>
+  void forEach(F&& f) const {
+    const size_t start = firstEmpty();
+    for (size_t n = 1, i = (start + 1) & mask_; n < table_.size(); ++n, i = (i + 1) & mask_) {
+      if (table_[i].key != kEmptyKey) f(unpack(table_[i].key), table_[i].state);
+    }
+  }
 
   // Returns the number of pairs held.
   size_t size() const noexcept { return size_; }

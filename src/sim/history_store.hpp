@@ -84,6 +84,24 @@ void unparkSprings(Scene<D>& s) {
   s.histories.clear();
 }
 
+// Calls f(aSlot, aDense, partner, history) for each parked spring (s.histories) whose
+// elements this scene holds: the pair's A (the lower global id) by its slot and dense index,
+// partner B's global id or a wall's wallPartner, as SpringTransfer keys them. Changes nothing.
+template <int D, class F>
+void forEachParkedSpring(const Scene<D>& s, F&& f) {
+  const ElementArrays<D>& a = s.elements.a;
+  const auto& pool = s.elements.pool();
+  s.histories.forEach([&](auto key, const physics::TangentialHistory<D>& h) {
+    const uint32_t p = pool.findDenseAt(key.first);
+    if (h.empty() || p == pool.kNpos) return;
+    if (key.second & 0x80000000u) return f(key.first, p, wallPartner(key.second & 0x7FFFFFFFu), h);
+    const uint32_t q = pool.findDenseAt(key.second);
+    if (q == pool.kNpos) return;
+    if (a.globalId[p] < a.globalId[q]) return f(key.first, p, a.globalId[q], h);
+    f(key.second, q, a.globalId[p], h);
+  });
+}
+
 // Carries the tangential springs across a neighbor search, keyed by handle slots so the dense
 // order may change in between (sim/reorder.hpp); and with the touch correction, the
 // candidates' touch states (Scene::touchNow, wallTouchNow), so the first step after a search
@@ -128,21 +146,8 @@ class SpringTransfer {
         }
       }
       if (drainParked) {
-        // Keyed by the unordered pair of slots (a wall by its pair id): the row is A's slot,
-        // the partner B's global id, as the candidates' entries above.
-        const auto& pool = s.elements.pool();
-        s.histories.forEach([&](auto key, const auto& h) {
-          if (h.empty()) return;
-          const uint32_t p = pool.findDenseAt(key.first);
-          if (p == pool.kNpos) return;
-          if (key.second & 0x80000000u) {
-            put(key.first, wallPartner(key.second & 0x7FFFFFFFu), h, 0);
-            return;
-          }
-          const uint32_t q = pool.findDenseAt(key.second);
-          if (q == pool.kNpos) return;
-          const bool pFirst = a.globalId[p] < a.globalId[q];
-          put(pFirst ? key.first : key.second, a.globalId[pFirst ? q : p], h, 0);
+        forEachParkedSpring(s, [&](uint32_t aSlot, uint32_t, uint64_t partner, const auto& h) {
+          put(aSlot, partner, h, 0);
         });
       }
     };

@@ -227,6 +227,9 @@ typename SimulationManager<D>::ElementEdit SimulationManager<D>::editElement(
     if (b.empty()) continue;
     if (b[0] == 1) {
       std::memcpy(&out, b.data() + 1, sizeof out);
+      // Every rank searches again before the edited state's forces: the ghosts' copies are
+      // made anew there (a forcesOnly pass with a stale ghost would differ).
+      s_.needRebuild = true;
       return out;
     }
     throw mpi::errorFromBytes(b, 1);

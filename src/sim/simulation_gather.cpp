@@ -64,19 +64,8 @@ std::vector<SpringRecord> springRecords(const Scene<3>& s) {
       if (!h.empty()) out.push_back(springRecord(a.globalId[s.wallCandidates[w][k]], wall, h));
     }
   }
-  const auto& pool = s.elements.pool();
-  auto& parked = const_cast<Scene<3>&>(s).histories;  // (forEach is not const; reads only)
-  parked.forEach([&](auto key, const physics::TangentialHistory<3>& h) {
-    const uint32_t p = pool.findDenseAt(key.first);
-    if (h.empty() || p == pool.kNpos) return;
-    if (key.second & 0x80000000u) {
-      out.push_back(springRecord(a.globalId[p], wallPartner(key.second & 0x7FFFFFFFu), h));
-      return;
-    }
-    const uint32_t q = pool.findDenseAt(key.second);
-    if (q == pool.kNpos) return;
-    const bool pFirst = a.globalId[p] < a.globalId[q];
-    out.push_back(springRecord(a.globalId[pFirst ? p : q], a.globalId[pFirst ? q : p], h));
+  forEachParkedSpring(s, [&](uint32_t, uint32_t aDense, uint64_t partner, const auto& h) {
+    out.push_back(springRecord(a.globalId[aDense], partner, h));
   });
   return out;
 }

@@ -664,9 +664,9 @@ ElementId SimulationManager<D>::findElement(const std::string& name) const {
   return s_.elements.names().get(name);
 }
 
-// The kinematic setters change one element wherever it is (editElement): a distributed scene's
-// every rank then searches again (the ghosts' copies are refreshed there, before the forces of
-// the edited state are taken), moves the ledger's reference alike and computes the forces anew.
+// The kinematic setters change one element wherever it is (editElement, after which a
+// distributed scene's every rank searches again), move the ledger's reference alike and have
+// the forces computed anew.
 template <int D>
 void SimulationManager<D>::setElementPosition(ElementId id, const Vec3d& p) {
   const VecD<D> x = toVec<D>(p, "position");
@@ -686,7 +686,6 @@ void SimulationManager<D>::setElementVelocity(ElementId id, const Vec3d& v) {
   checkVelocityRange<D>(x);
   const ElementEdit e = editElement(id, [&](uint32_t i) { s_.elements.a.v[i] = x; });
   s_.ledger.reference += e.energy;
-  s_.needRebuild = s_.needRebuild || s_.dist != nullptr;
   s_.forcesReady = false;
 }
 
@@ -699,7 +698,6 @@ void SimulationManager<D>::setElementAngularVelocity(ElementId id, const Vec3d& 
   });
   s_.ledger.reference += e.energy;
   // (Distributed: the next run decides again for the whole scene whether it turns.)
-  s_.needRebuild = s_.needRebuild || s_.dist != nullptr;
   touchConfig();
 }
 
@@ -710,7 +708,6 @@ void SimulationManager<D>::setElementOrientation(ElementId id, const std::vector
   const ElementEdit e = editElement(id, [&](uint32_t i) { s_.elements.a.q[i] = q; });
   s_.ledger.reference += e.energy;
   markPlacedEdit(id, e);
-  s_.needRebuild = s_.needRebuild || s_.dist != nullptr;
   s_.forcesReady = false;
 }
 
