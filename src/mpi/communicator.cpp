@@ -310,6 +310,73 @@ void Communicator::exchangeWith(const std::vector<int>& to,
 #endif
 }
 
+struct PostedExchange::Requests {
+#ifdef DEMLAB_HAVE_MPI
+  std::vector<MPI_Request> receives, sends;
+#endif
+};
+
+PostedExchange::PostedExchange() : pending_(std::make_unique<Requests>()) {}
+
+PostedExchange::~PostedExchange() {
+#ifdef DEMLAB_HAVE_MPI
+  int ended = 0;
+  MPI_Finalized(&ended);
+  if (ended) return;  // (MPI has ended every request with itself)
+  // A receive still posted (a step left between its halves) is cancelled, as the buffer goes;
+  // the sends are waited for (every rank receives its messages in the step that sent them).
+  for (MPI_Request& q : pending_->receives) {
+    MPI_Cancel(&q);
+    MPI_Wait(&q, MPI_STATUS_IGNORE);
+  }
+  pending_->receives.clear();
+#endif
+  finishSends();
+}
+
+void PostedExchange::post(const Communicator& comm, const std::vector<int>& to,
+                          const std::vector<std::vector<char>>& out,
+                          const std::vector<int>& from, std::vector<std::vector<char>>& in) {
+  finishSends();
+  if (!comm.world_ || comm.size_ == 1) {
+    comm.exchangeWith(to, out, from, in);
+    return;
+  }
+#ifdef DEMLAB_HAVE_MPI
+  if (to.size() != out.size() || from.size() != in.size()) {
+    throw std::invalid_argument("mpi: one buffer per rank named");
+  }
+  receive();
+  Requests& r = *pending_;
+  r.receives.resize(from.size());
+  for (size_t j = 0; j < from.size(); ++j) {
+    MPI_Irecv(in[j].data(), countOf(in[j].size()), MPI_BYTE, from[j], 0, MPI_COMM_WORLD,
+              &r.receives[j]);
+  }
+  r.sends.resize(to.size());
+  for (size_t i = 0; i < to.size(); ++i) {
+    MPI_Isend(out[i].data(), countOf(out[i].size()), MPI_BYTE, to[i], 0, MPI_COMM_WORLD,
+              &r.sends[i]);
+  }
+#endif
+}
+
+void PostedExchange::receive() {
+#ifdef DEMLAB_HAVE_MPI
+  std::vector<MPI_Request>& q = pending_->receives;
+  if (!q.empty()) MPI_Waitall(static_cast<int>(q.size()), q.data(), MPI_STATUSES_IGNORE);
+  q.clear();
+#endif
+}
+
+void PostedExchange::finishSends() {
+#ifdef DEMLAB_HAVE_MPI
+  std::vector<MPI_Request>& q = pending_->sends;
+  if (!q.empty()) MPI_Waitall(static_cast<int>(q.size()), q.data(), MPI_STATUSES_IGNORE);
+  q.clear();
+#endif
+}
+
 void Communicator::barrier() const {
   if (!world_ || size_ == 1) return;
 #ifdef DEMLAB_HAVE_MPI

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -63,10 +64,44 @@ class Communicator {
   // Waits until every rank has come here.
   void barrier() const;
 
+  // exchangeWith in halves (PostedExchange), so that a rank works while its messages travel.
+  friend class PostedExchange;
+
  private:
   Communicator(int rank, int size, bool world) : rank_(rank), size_(size), world_(world) {}
   int rank_ = 0, size_ = 1;
   bool world_ = false;  // MPI_COMM_WORLD (else the single rank)
+};
+
+// Communicator::exchangeWith in three calls: post() sends and posts the receives, receive()
+// waits for what this rank receives, and the sends complete later (finishSends(), or the next
+// post(), or the destructor). A rank that works between post() and receive() hides the
+// messages' travel and the other ranks' lateness up to that work's time; and as a rank does
+// not wait for the others to take its own messages, it waits only for theirs. The buffers
+// named in post() must stay as they are (out) and alive (out and in) until the sends (out) or
+// receive() (in) complete: the owner keeps them beside this object, declared before it so
+// that they outlive its destructor. Not a collective, as exchangeWith.
+class PostedExchange {
+ public:
+  PostedExchange();
+  ~PostedExchange();
+  PostedExchange(const PostedExchange&) = delete;
+  PostedExchange& operator=(const PostedExchange&) = delete;
+
+  // Completes the sends of the last post(), then sends out[i] to rank to[i] and posts the
+  // receive of in[j] from rank from[j] (in[j] sized as exchangeWith's). On one rank it copies
+  // what this rank sends itself now. Changes the requests held.
+  void post(const Communicator& comm, const std::vector<int>& to,
+            const std::vector<std::vector<char>>& out, const std::vector<int>& from,
+            std::vector<std::vector<char>>& in);
+  // Waits until the buffers of the last post()'s receives are filled. Changes them.
+  void receive();
+  // Waits until the last post()'s sends are complete (their buffers may then change).
+  void finishSends();
+
+ private:
+  struct Requests;
+  std::unique_ptr<Requests> pending_;
 };
 
 // Starts MPI for the process's life when it was launched by mpirun as one of several ranks

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <type_traits>
 #include <vector>
@@ -81,12 +82,27 @@ class GhostPlan {
   // every owned element's value first).
   template <class T, class Fill>
   void forwardWith(Fill&& fill, const Communicator& comm, std::vector<T>& ghosts) const {
+    sendForward<T>(fill, comm);
+    ghosts.resize(ghosts_);
+    receiveForward<T>([&](size_t g, const T& value) { ghosts[g] = value; });
+  }
+
+  // forwardWith in halves, so that a rank works while the states travel: sendForward packs
+  // fill(i, T&) of the owned elements the other ranks hold as ghosts and sends them;
+  // receiveForward waits for this rank's ghosts and hands them to take(g, const T&) in ghost
+  // order, straight from the message. Every rank of the plan calls both, in this order, with
+  // the same T, before the plan's next exchange. Change the buffers.
+  template <class T, class Fill>
+  void sendForward(Fill&& fill, const Communicator& comm) const {
     static_assert(std::is_trivially_copyable_v<T>);
-    out_.resize(to_.size());
-    in_.resize(from_.size());
+    Traffic& t = *traffic_;
+    t.forward.receive();
+    t.forward.finishSends();  // (out is about to be packed again)
+    t.out.resize(to_.size());
+    t.in.resize(from_.size());
     for (size_t i = 0; i < to_.size(); ++i) {
-      out_[i].resize(send_[i].size() * sizeof(T));
-      char* p = out_[i].data();
+      t.out[i].resize(send_[i].size() * sizeof(T));
+      char* p = t.out[i].data();
       for (const uint32_t e : send_[i]) {
         T value;
         fill(e, value);
@@ -94,13 +110,20 @@ class GhostPlan {
         p += sizeof(T);
       }
     }
-    for (size_t j = 0; j < from_.size(); ++j) in_[j].resize(recv_[j] * sizeof(T));
-    comm.exchangeWith(to_, out_, from_, in_);
-    ghosts.resize(ghosts_);
-    size_t at = 0;
-    for (const auto& b : in_) {
-      if (!b.empty()) std::memcpy(static_cast<void*>(ghosts.data() + at), b.data(), b.size());
-      at += b.size() / sizeof(T);
+    for (size_t j = 0; j < from_.size(); ++j) t.in[j].resize(recv_[j] * sizeof(T));
+    t.forward.post(comm, to_, t.out, from_, t.in);
+  }
+  template <class T, class Take>
+  void receiveForward(Take&& take) const {
+    Traffic& t = *traffic_;
+    t.forward.receive();
+    size_t g = 0;
+    for (const auto& b : t.in) {
+      for (const char* p = b.data(); p != b.data() + b.size(); p += sizeof(T)) {
+        T value;
+        std::memcpy(static_cast<void*>(&value), p, sizeof(T));
+        take(g++, value);
+      }
     }
   }
 
@@ -110,23 +133,42 @@ class GhostPlan {
   // same order every step. Every rank of the plan calls it. Changes the buffers.
   template <class T, class Add>
   void reverse(const std::vector<T>& ghosts, const Communicator& comm, Add&& add) const {
-    static_assert(std::is_trivially_copyable_v<T>);
     if (ghosts.size() != ghosts_) throw std::invalid_argument("mpi: one value per ghost");
-    backOut_.resize(from_.size());
-    backIn_.resize(to_.size());
-    size_t at = 0;
+    sendBack<T>([&](size_t g, T& out) { out = ghosts[g]; }, comm);
+    receiveBack<T>(add);
+  }
+
+  // reverse in halves: sendBack packs fill(g, T&) of every ghost (g in ghost order) and sends
+  // each to its owner; receiveBack waits for the values of this rank's elements and calls
+  // add(i, const T&) for each, in reverse's order. Every rank of the plan calls both, in this
+  // order, with the same T, before the plan's next exchange. Change the buffers.
+  template <class T, class Fill>
+  void sendBack(Fill&& fill, const Communicator& comm) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    Traffic& t = *traffic_;
+    t.back.receive();
+    t.back.finishSends();
+    t.backOut.resize(from_.size());
+    t.backIn.resize(to_.size());
+    size_t g = 0;
     for (size_t j = 0; j < from_.size(); ++j) {
-      backOut_[j].resize(recv_[j] * sizeof(T));
-      if (recv_[j] > 0) {
-        std::memcpy(backOut_[j].data(), static_cast<const void*>(ghosts.data() + at),
-                    backOut_[j].size());
+      t.backOut[j].resize(recv_[j] * sizeof(T));
+      char* p = t.backOut[j].data();
+      for (size_t k = 0; k < recv_[j]; ++k, ++g, p += sizeof(T)) {
+        T value;
+        fill(g, value);
+        std::memcpy(p, &value, sizeof(T));
       }
-      at += recv_[j];
     }
-    for (size_t i = 0; i < to_.size(); ++i) backIn_[i].resize(send_[i].size() * sizeof(T));
-    comm.exchangeWith(from_, backOut_, to_, backIn_);
+    for (size_t i = 0; i < to_.size(); ++i) t.backIn[i].resize(send_[i].size() * sizeof(T));
+    t.back.post(comm, from_, t.backOut, to_, t.backIn);
+  }
+  template <class T, class Add>
+  void receiveBack(Add&& add) const {
+    Traffic& t = *traffic_;
+    t.back.receive();
     for (size_t i = 0; i < to_.size(); ++i) {
-      const char* p = backIn_[i].data();
+      const char* p = t.backIn[i].data();
       for (const uint32_t e : send_[i]) {
         T value;
         std::memcpy(static_cast<void*>(&value), p, sizeof(T));
@@ -136,13 +178,37 @@ class GhostPlan {
     }
   }
 
+  // Waits until this rank's messages of both ways have been taken (a run ends with none in
+  // flight). Changes the requests held.
+  void finishSends() const {
+    traffic_->forward.finishSends();
+    traffic_->back.finishSends();
+  }
+
+  GhostPlan() = default;
+  // A copy plans the same messages with buffers of its own (none in flight).
+  GhostPlan(const GhostPlan& o)
+      : to_(o.to_), from_(o.from_), send_(o.send_), recv_(o.recv_), ghosts_(o.ghosts_) {}
+  GhostPlan& operator=(const GhostPlan& o) {
+    if (this != &o) *this = GhostPlan(o);
+    return *this;
+  }
+  GhostPlan(GhostPlan&&) noexcept = default;
+  GhostPlan& operator=(GhostPlan&&) noexcept = default;
+
  private:
   std::vector<int> to_, from_;
   std::vector<std::vector<uint32_t>> send_;  // per rank of to_: the owned elements sent
   std::vector<size_t> recv_;                 // per rank of from_: the ghosts it sends
   size_t ghosts_ = 0;
-  mutable std::vector<std::vector<char>> out_, in_;  // forward()'s messages, reused
-  mutable std::vector<std::vector<char>> backOut_, backIn_;  // reverse()'s
+  // The messages of both ways, kept from step to step, and their requests in flight (after
+  // the buffers: destroyed first, ending the sends before the buffers go). One object, so a
+  // plan replaced at a search ends its exchanges before its buffers are freed.
+  struct Traffic {
+    std::vector<std::vector<char>> out, in, backOut, backIn;
+    PostedExchange forward, back;
+  };
+  std::unique_ptr<Traffic> traffic_ = std::make_unique<Traffic>();
 };
 
 }  // namespace demlab::mpi

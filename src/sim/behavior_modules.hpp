@@ -26,6 +26,7 @@ class GravityModule final : public SimModule<D> {
  public:
   std::string_view name() const override { return "gravity"; }
   SimLevel level() const override { return SimLevel::Behaviors; }
+  bool ownedOnly() const override { return true; }
   void run(Scene<D>& s) override {
     const VecD<D> g = s.behaviors.gravity();
     ElementArrays<D>& a = s.elements.a;

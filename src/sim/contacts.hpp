@@ -677,6 +677,8 @@ class WallContactModule final : public SimModule<D> {
     return History ? "wall-contacts-friction" : "wall-contacts";
   }
   SimLevel level() const override { return SimLevel::Contacts; }
+  // (A distributed run's wall candidates are its owned elements': sim/detection.hpp.)
+  bool ownedOnly() const override { return true; }
 
   // grainPair: as BallContactModule's (the one grain material m's pair m * nMat + m, or -1).
   explicit WallContactModule(long grainPair = -1) : grainPair_(grainPair) {}

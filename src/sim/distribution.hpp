@@ -86,13 +86,9 @@ struct Distribution {
   // and the copies sent a step at the last search.
   uint64_t searches = 0, bisections = 0, migrated = 0;
   size_t ghostCopiesSent = 0;
-  // The ghosts' states as last received: with the touch correction in `states` (their
-  // velocities before this rank's pairs acted, which the way back measures the changes from),
-  // else in `leanStates`; and the scratch of the way back. Kept from step to step.
+  // With the touch correction, the ghosts' states as last received: their velocities before
+  // this rank's pairs acted, which the way back measures the changes from.
   std::vector<GhostStateTouch> states;
-  std::vector<GhostState> leanStates;
-  std::vector<GhostForce> forces;
-  std::vector<GhostForceTouch> touchForces;
   // The handles scripts hold: each element keeps, wherever it moves, the one it had when the
   // scene was distributed. That is {gid, first life} for an element created before any
   // removal; the others (a scene that removed elements first) are listed here in runs: count
@@ -299,45 +295,92 @@ class GhostModule final : public SimModule<D> {
       // (The touch correction's states stay in Distribution::states: its velocity changes are
       // measured from them.)
       if (s.touchCorrection) {
-        forward(s, s.dist->states);
+        forward<GhostStateTouch>(s);
       } else {
-        forward(s, s.dist->leanStates);
+        forward<GhostState>(s);
       }
     }
   }
 
  private:
-  // Sends the owned elements' states as T (GhostState or GhostStateTouch) into got and sets
-  // the ghosts from them, their forces and torques zeroed.
+  // Sends the owned elements' states as T (GhostState or GhostStateTouch) and sets the ghosts
+  // from those that arrive (straight from the messages), their forces and torques zeroed.
   template <class T>
-  static void forward(Scene<D>& s, std::vector<T>& got) {
+  static void forward(Scene<D>& s) {
     ElementArrays<D>& a = s.elements.a;
+    Distribution<D>& d = *s.dist;
     constexpr bool touch = std::is_same_v<T, GhostStateTouch>;
-    s.dist->plan.forwardWith(
+    d.plan.template sendForward<T>(
         [&](uint32_t i, T& g) {
           for (int k = 0; k < 3; ++k) g.x[k] = a.x[i][k], g.v[k] = a.v[i][k], g.w[k] = a.w[i][k];
           if constexpr (touch) {
             for (int k = 0; k < 3; ++k) g.fPrev[k] = a.fPrev[i][k];
           }
         },
-        *s.dist->comm, got);
+        *d.comm);
     const size_t first = s.ownedCount();
-    for (size_t j = 0; j < got.size(); ++j) {
-      const T& g = got[j];
+    if constexpr (touch) d.states.resize(s.ghosts);
+    d.plan.template receiveForward<T>([&](size_t j, const T& g) {
       const size_t i = first + j;
       a.x[i] = Vec3(g.x[0], g.x[1], g.x[2]);
       a.v[i] = Vec3(g.v[0], g.v[1], g.v[2]);
       a.w[i] = Vec3(g.w[0], g.w[1], g.w[2]);
-      if constexpr (touch) a.fPrev[i] = Vec3(g.fPrev[0], g.fPrev[1], g.fPrev[2]);
+      if constexpr (touch) {
+        a.fPrev[i] = Vec3(g.fPrev[0], g.fPrev[1], g.fPrev[2]);
+        d.states[j] = g;
+      }
       a.f[i].setZero();
       a.t[i].setZero();
-    }
+    });
   }
 };
 
+// The ghosts' forces and torques of this rank's pairs (and with the touch correction the change
+// of their velocities) sent to their owners.
+template <int D>
+void sendGhostForces(Scene<D>& s) {
+  if constexpr (D == 3) {
+    Distribution<D>& d = *s.dist;
+    ElementArrays<D>& a = s.elements.a;
+    const size_t first = s.ownedCount();
+    if (s.touchCorrection) {
+      d.plan.template sendBack<GhostForceTouch>(
+          [&](size_t j, GhostForceTouch& g) {
+            for (int k = 0; k < 3; ++k) {
+              g.f[k] = a.f[first + j][k], g.t[k] = a.t[first + j][k];
+              g.dv[k] = a.v[first + j][k] - d.states[j].v[k];
+            }
+          },
+          *d.comm);
+    } else {
+      d.plan.template sendBack<GhostForce>(
+          [&](size_t j, GhostForce& g) {
+            for (int k = 0; k < 3; ++k) g.f[k] = a.f[first + j][k], g.t[k] = a.t[first + j][k];
+          },
+          *d.comm);
+    }
+  }
+}
+
+// "ghost-forces-out": the ghosts' forces on their way, sent right after the last module that
+// acts on ghosts (placeGhostForceSend), so that the modules after it that act on owned
+// elements only (SimModule::ownedOnly: the walls' pass, gravity) run while they travel.
+template <int D>
+class GhostForceSendModule final : public SimModule<D> {
+ public:
+  explicit GhostForceSendModule(SimLevel level) : level_(level) {}
+  std::string_view name() const override { return "ghost-forces-out"; }
+  SimLevel level() const override { return level_; }
+  void run(Scene<D>& s) override { sendGhostForces(s); }
+
+ private:
+  SimLevel level_;
+};
+
 // "ghost-forces" (level Behaviors, after every force on pairs and before the constraints and
-// the kick): what the ghosts took in this rank's pairs, added to their owners' forces and
-// torques (and velocities: the touch correction's impulses).
+// the kick): what the ghosts took in the other ranks' pairs (sent by their "ghost-forces-out"),
+// added to their owners' forces and torques (and velocities: the touch correction's impulses)
+// in the same order every step.
 template <int D>
 class GhostForceModule final : public SimModule<D> {
  public:
@@ -346,31 +389,19 @@ class GhostForceModule final : public SimModule<D> {
   void run(Scene<D>& s) override {
     if constexpr (D == 3) {
       if (s.touchCorrection) {
-        back(s, s.dist->touchForces);
+        add<GhostForceTouch>(s);
       } else {
-        back(s, s.dist->forces);
+        add<GhostForce>(s);
       }
     }
   }
 
  private:
-  // Returns the ghosts' forces as T (GhostForce or GhostForceTouch) through out.
+  // Adds the values of T (GhostForce or GhostForceTouch) the other ranks sent back.
   template <class T>
-  static void back(Scene<D>& s, std::vector<T>& out) {
-    Distribution<D>& d = *s.dist;
+  static void add(Scene<D>& s) {
     ElementArrays<D>& a = s.elements.a;
-    const size_t first = s.ownedCount();
-    out.resize(s.ghosts);
-    for (size_t j = 0; j < s.ghosts; ++j) {
-      for (int k = 0; k < 3; ++k) {
-        out[j].f[k] = a.f[first + j][k];
-        out[j].t[k] = a.t[first + j][k];
-        if constexpr (std::is_same_v<T, GhostForceTouch>) {
-          out[j].dv[k] = a.v[first + j][k] - d.states[j].v[k];
-        }
-      }
-    }
-    d.plan.reverse(out, *d.comm, [&](uint32_t i, const T& g) {
+    s.dist->plan.template receiveBack<T>([&](uint32_t i, const T& g) {
       a.f[i] += Vec3(g.f[0], g.f[1], g.f[2]);
       a.t[i] += Vec3(g.t[0], g.t[1], g.t[2]);
       if constexpr (std::is_same_v<T, GhostForceTouch>) {
@@ -380,5 +411,21 @@ class GhostForceModule final : public SimModule<D> {
     });
   }
 };
+
+// Moves the "ghost-forces-out" module of a level-ordered list m (made by the "ghost-forces"
+// row just before "ghost-forces") back past every module that acts on owned elements only, to
+// right after the last one that may act on ghosts, and gives it that module's level. Changes m.
+template <int D>
+void placeGhostForceSend(std::vector<std::unique_ptr<SimModule<D>>>& m) {
+  size_t send = 0;
+  while (send < m.size() && m[send]->name() != "ghost-forces-out") ++send;
+  if (send == m.size()) return;
+  size_t at = send;
+  while (at > 0 && m[at - 1]->ownedOnly()) --at;
+  if (at == send || at == 0) return;
+  m.erase(m.begin() + static_cast<std::ptrdiff_t>(send));
+  m.insert(m.begin() + static_cast<std::ptrdiff_t>(at),
+           std::make_unique<GhostForceSendModule<D>>(m[at - 1]->level()));
+}
 
 }  // namespace demlab::sim

@@ -159,8 +159,12 @@ struct Rows {
       {"touch", [](const Scene<D>& s, const SceneUse&) { return s.touchCorrection; },
        plain<D, TouchModule>},
       // A distributed run: the ghosts' forces of the pairs above back to their owners.
+      // (Its "ghost-forces-out" is moved back by buildModules: placeGhostForceSend.)
       {"ghost-forces", [](const Scene<D>& s, const SceneUse&) { return s.dist != nullptr; },
-       plain<D, GhostForceModule>},
+       [](const Scene<D>&, const SceneUse&, ModuleList<D>& out) {
+         out.push_back(std::make_unique<GhostForceSendModule<D>>(SimLevel::Behaviors));
+         out.push_back(std::make_unique<GhostForceModule<D>>());
+       }},
       // After every force: it cancels what acts along a blocked degree of freedom.
       {"constraints", [](const Scene<D>& s, const SceneUse&) { return !s.blocked.empty(); },
        plain<D, ConstraintModule>},
@@ -209,6 +213,11 @@ ModuleList<D> buildModules(const Scene<D>& s, const SceneUse& u) {
   }
   for (const ModuleRow<D>& row : addedRows<D>()) {
     if (row.wanted(s, u)) row.make(s, u, out);
+  }
+  if (s.dist) {
+    std::stable_sort(out.begin(), out.end(),
+                     [](const auto& a, const auto& b) { return a->level() < b->level(); });
+    placeGhostForceSend(out);
   }
   return out;
 }

@@ -53,6 +53,9 @@ class SimModule {
   // Returns true if the module reads the step's contact records (Scene::contacts), which the
   // contact passes then record at every step, not only where something looks.
   virtual bool readsContactRecords() const { return false; }
+  // Returns true if the module reads and changes owned elements only, never a distributed
+  // run's ghosts: it may then run while the ghosts' forces travel back (placeGhostForceSend).
+  virtual bool ownedOnly() const { return false; }
 };
 
 template <int D>

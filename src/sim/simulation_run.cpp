@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <istream>
 #include <iterator>
 #include <optional>
@@ -180,6 +181,15 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   // a step (a search's sorting, elements a source adds, an output's file) may throw
   // {INTERRUPTED} from the process-wide flag half way.
   const InterruptScope unpolled(nullptr);
+  // A distributed run's last messages are taken by the other ranks before it returns
+  // (GhostPlan sends a step's messages without waiting): none stays in flight between runs.
+  // (Not while an error unwinds it: the other ranks may never take them.)
+  struct EndSends {
+    const Scene<D>& s;
+    ~EndSends() {
+      if (s.dist && std::uncaught_exceptions() == 0) s.dist->plan.finishSends();
+    }
+  } endSends{s_};
   // What an undo goes back to. A check that fires before the first step must leave the scene
   // as it was, but after edits the force pass below changes it (forces, contacts, ledger); a
   // scene with script callbacks is undone when one fails. Other runs keep no copy.

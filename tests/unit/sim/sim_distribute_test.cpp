@@ -61,6 +61,41 @@ TEST(SimDistribute, OneRankIsTheSerialRun) {
   EXPECT_GT(r.searches, 1u);
 }
 
+// The ghosts' forces leave as soon as no module left in the step acts on a ghost: with the touch
+// correction off, right after the pairs between grains, so that the walls' pass and gravity
+// (owned elements only) run while they travel; with it on (it corrects ghosts' velocities too),
+// just before they are added. The same bits either way on one rank.
+TEST(SimDistribute, GhostForcesLeaveBeforeTheModulesOfOwnedElementsOnly) {
+  const auto order = [](const Simulation& s) {
+    std::vector<std::string> m = s.listModules();
+    const auto at = [&](const std::string& name) {
+      return std::find(m.begin(), m.end(), name) - m.begin();
+    };
+    return std::vector<long>{at("contacts-friction"), at("ghost-forces-out"),
+                             at("wall-contacts-friction"), at("gravity"), at("ghost-forces")};
+  };
+  auto lean = bed(600), touch = bed(600);
+  lean->setOption("touch", "on", false);
+  lean->distribute();
+  touch->distribute();
+  const std::vector<long> o = order(*lean);
+  EXPECT_EQ(o[1], o[0] + 1);  // right after the grains' pairs
+  EXPECT_EQ(o[2], o[1] + 1);
+  EXPECT_LT(o[2], o[3]);
+  EXPECT_LT(o[3], o[4]);
+  const std::vector<long> t = order(*touch);
+  EXPECT_EQ(t[1] + 1, t[4]);  // just before "ghost-forces"
+  EXPECT_LT(t[3], t[1]);
+  auto serial = bed(600);
+  serial->setOption("touch", "on", false);
+  serial->setOption("detection", "margins", false);
+  RunReport a = serial->runSteps(1500), b = lean->runSteps(1500);
+  EXPECT_EQ(a.contacts, b.contacts);
+  const auto x = serial->elementSnapshots(), y = lean->elementSnapshots();
+  ASSERT_EQ(x.size(), y.size());
+  for (size_t i = 0; i < x.size(); ++i) EXPECT_EQ(x[i].velocity, y[i].velocity) << i;
+}
+
 TEST(SimDistribute, RefusesWhatItCannotRun) {
   const auto refused = [](auto&& edit) {
     auto s = bed(20);
