@@ -95,6 +95,7 @@ if {$argc > 0} {
     check "dump vtk returns $want, gave $files" [expr {[lmap f $files {file tail $f}] eq $want}]
     snapshot write [file join [lindex $argv 0] bed.png] -size 320x240 -color speed
     dump csv [file join [lindex $argv 0] bed.csv] -fields {id radius x y z vx vy vz}
+    dump lammps [file join [lindex $argv 0] bed.data]
     if {$n > 1} {
         expectError {DEMLAB MPI UNSUPPORTED} {snapshot write /tmp/never.png -chains 1}
     }

@@ -29,6 +29,8 @@ if [ "$np" -gt 1 ]; then
   /usr/bin/python3 "$here/vtk_compare.py" --png $frames || fail "the snapshots differ"
   /usr/bin/python3 "$here/vtk_compare.py" --csv "$dir/serial/bed.csv" "$dir/ranks/bed.csv" ||
     fail "the CSV dumps differ"
+  /usr/bin/python3 "$here/vtk_compare.py" --lammps "$dir/serial/bed.data" "$dir/ranks/bed.data" ||
+    fail "the LAMMPS data files differ"
 fi
 
 # Checkpoints across rank counts: saved on np ranks (and alone), loaded alone and on np + 1

@@ -415,12 +415,33 @@ void registerDumpCommands(Registry& r) {
       "the element ids plus 1, atom types the materials in creation order (named in the title "
       "line), diameter and density from radius and mass, and a Velocities section with the "
       "angular velocities. The box is the scene's bounds grown by the largest radius. Elements "
-      "of other shapes are refused (the format holds balls only).";
+      "of other shapes are refused (the format holds balls only). In a distributed run rank 0 "
+      "writes the whole scene, gathered as sim save gathers it, its atoms in id order: the "
+      "atoms a serial run of the same scene writes, to round-off.";
   data.arg("file", text("file"), "the data file");
   data.changesScene = false;
   data.interruptible = true;
+  data.onRanks = OnRanks::Collective;
   data.run([](Call& c) {
-    writeFileAtomically(c.str("file"), lammpsData(session(c).scene()));
+    const sim::Simulation& s = session(c).scene();
+    if (!s.distributed()) {
+      writeFileAtomically(c.str("file"), lammpsData(s));
+      return Value(c.str("file"));
+    }
+    // Rank 0 reads the whole scene back from its gathered checkpoint (the handles scripts
+    // hold, the elements in id order) and writes it as a serial scene; a failure is every
+    // rank's.
+    togetherOnRanks(s, [&] {
+      std::vector<std::string> skipped;
+      std::string bytes = s.saveBytes(true, &skipped);
+      if (ranksOf(s).rank() != 0) return;
+      std::unique_ptr<sim::Simulation> whole = sim::makeSimulation(s.dim());
+      {
+        std::istringstream in(std::move(bytes));
+        whole->load(in);
+      }
+      writeFileAtomically(c.str("file"), lammpsData(*whole));
+    });
     return Value(c.str("file"));
   });
 }
