@@ -25,6 +25,13 @@ if {$argc > 0} {
     dump every -steps 2000 -dir [file join [lindex $argv 0] series] -parts {elements walls}
     snapshot every -steps 2000 -dir [file join [lindex $argv 0] frames] -size 320x240
 }
+# A time series recorded through the runs: every rank records the whole scene's rows (counts,
+# energies and wall forces summed over the ranks, the script's query collective), rank 0 writes
+# the file.
+set seriesFile [expr {$argc > 0 ? [list -file [file join [lindex $argv 0] series.csv]] : {}}]
+set seriesOf {time step elements contacts kinetic elastic damping wall:0:fz wall:0:work}
+set ser [series every -steps 500 -quantities [list {*}$seriesOf {ztop {lindex [query bounds] 1 2} m}] \
+    {*}$seriesFile]
 set ranks [sim ranks]
 check "no rank before the run should be distributed" [expr {![dict get $ranks distributed]}]
 
@@ -76,6 +83,16 @@ foreach k {0 1 17 600 1199} {
 set id [lindex $ids 17]
 check "element get returns the dict with the id the script knows" \
     [expr {[dict get [element get $id] id] == $id && [dict get [element get $id] radius] > 0}]
+foreach q [list {*}$seriesOf ztop] {
+    puts "series[string map {: _} $q] [series get $ser -quantity $q]"
+}
+check "series list answers alike" [expr {[dict get [lindex [series list] 0] rows] == 9}]
+if {$argc > 0} {
+    set f [open [file join [lindex $argv 0] series.csv]]
+    set lines [split [string trim [read $f]] \n]
+    close $f
+    puts "seriesfile [llength $lines] [lindex $lines 0] [lindex [split [lindex $lines end] ,] 1]"
+}
 puts "list [lsort -integer [element list]]"
 check "element list has the pack's ids" [expr {[lsort -integer [element list]] eq [lsort -integer $ids]}]
 # element array: by id once distributed, in the scene's order alone: sorted here by id.
@@ -111,6 +128,8 @@ if {$n > 1} {
     expectError {DEMLAB MPI UNSUPPORTED} {element add -radius 0.001 -position {0.02 0.02 0.1}}
     # Rank 0 writes the gathered checkpoint; its failure is every rank's.
     expectError {DEMLAB IO OPEN} {sim save /nonexistent-dir/bed.dcp}
+    # So does a series file's.
+    expectError {DEMLAB IO OPEN} {series every -steps 10 -quantities step -file /nonexistent-dir/s.csv}
 }
 # A kept copy of a distributed scene (each rank its part) goes on as the scene does, bit for bit.
 sim keep settled
@@ -133,8 +152,11 @@ wall set 2 -velocity {-0.002 0 0}
 material set glass -friction 0.3 -density 2600
 behavior remove [dict get [lindex [behavior list] 0] id]
 behavior add gravity -g {0.5 0 -9.81}
+# A series added on the ranks (collective: its first row is the whole scene's now).
+set ser2 [series every -steps 100 -quantities {step contacts wall:2:fx}]
 # The run goes on after them, together.
 set report [sim run -steps 500 -quiet]
+foreach q {step contacts wall:2:fx} { puts "series2[string map {: _} $q] [series get $ser2 -quantity $q]" }
 puts "residual2 [dict get $report residual]"
 puts "movedwall [wall get 2 -force] [wall get 2 -work]"
 foreach k {17 600 1199} {

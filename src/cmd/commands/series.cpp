@@ -15,6 +15,7 @@
 #include "cmd/commands/output_jobs.hpp"
 #include "cmd/words.hpp"
 #include "core/atomic_file.hpp"
+#include "mpi/communicator.hpp"
 #include "sim/boundaries.hpp"
 
 namespace demlab::cmd {
@@ -50,8 +51,15 @@ const std::vector<Quantity>& builtins() {
   static const std::vector<Quantity> q = {
       {"time", "s", [](Row& r) { return r.s.time(); }},
       {"step", "", [](Row& r) { return double(r.s.stepCount()); }},
-      {"elements", "", [](Row& r) { return double(r.s.elementCount()); }},
-      {"contacts", "", [](Row& r) { return double(r.s.contactCount()); }, true},
+      // (A distributed scene: each rank's own elements and contacts, summed.)
+      {"elements", "",
+       [](Row& r) {
+         const sim::Simulation& s = r.s;
+         return double(ranksOf(s).sum(std::int64_t(s.distributed() ? s.distribution().owned
+                                                                    : s.elementCount())));
+       }},
+      {"contacts", "",
+       [](Row& r) { return double(ranksOf(r.s).sum(std::int64_t(r.s.contactCount()))); }, true},
       {"kinetic", "J", energy(&Ledger::kineticTranslational)},
       {"rotational", "J", energy(&Ledger::kineticRotational)},
       {"gravitational", "J", energy(&Ledger::gravitational)},
@@ -126,6 +134,16 @@ Quantity scriptQuantity(const std::vector<std::string>& parts, const Param& p, c
           }};
 }
 
+// Returns the force (3), torque (3) and work of wall id on s's elements: in a distributed
+// scene every rank's part (its own elements' contacts) summed. Collective there.
+std::vector<double> wholeWall(const sim::Simulation& s, sim::WallId id) {
+  const sim::WallState w = s.wall(id);
+  std::vector<double> v{w.force[0],  w.force[1],  w.force[2], w.torque[0],
+                        w.torque[1], w.torque[2], w.work};
+  if (s.distributed()) ranksOf(s).sum(v);
+  return v;
+}
+
 // Returns the quantity `word` names: a builtin, or wall:WALL:PART with WALL a wall's name or
 // id and PART fx, fy, fz (the force's components) or force (its magnitude). Throws {VALUE
 // QUANTITY} or the wall lookup's error.
@@ -145,14 +163,14 @@ Quantity parseQuantity(const std::string& word, const Param& p, const Context& c
     wallParam.name = p.name;
     wallParam.type = wallRef();
     const auto id = std::any_cast<sim::WallId>(convertWord(wall, wallParam, ctx));
-    if (which == "work") return {word, "J", [id](Row& r) { return r.s.wall(id).work; }};
+    if (which == "work") return {word, "J", [id](Row& r) { return wholeWall(r.s, id)[6]; }};
     if (which[0] == 't') {
       const int axis = which[1] - 'x';
-      return {word, "N m", [id, axis](Row& r) { return r.s.wall(id).torque[axis]; }, true};
+      return {word, "N m", [id, axis](Row& r) { return wholeWall(r.s, id)[3 + axis]; }, true};
     }
     const int axis = which == "fx" ? 0 : which == "fy" ? 1 : which == "fz" ? 2 : -1;
     return {word, "N", [id, axis](Row& r) {
-              const sim::Vec3d f = r.s.wall(id).force;
+              const std::vector<double> f = wholeWall(r.s, id);
               return axis >= 0 ? f[axis] : std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
             }};
   }
@@ -192,6 +210,11 @@ PipeType quantitiesType() {
 }
 
 
+// Returns true on the process that writes a series' file: the first rank of the run's world
+// (under mpirun every rank records the rows, before the scene is distributed too, and the
+// rows are appended: one rank only may write them).
+bool fileWriter() { return mpi::Communicator::world().rank() == 0; }
+
 // One `series every`: its quantities and rows, the CSV it appends to, whether it prints.
 struct Job {
   std::vector<Quantity> quantities;
@@ -200,16 +223,22 @@ struct Job {
   bool print = false;
 
   // Records a row of s: in memory, in the file (a line, flushed, so the file follows the
-  // run), on the terminal. Throws {IO WRITE} when the file cannot be appended to.
+  // run), on the terminal. Throws {IO WRITE} when the file cannot be appended to. A
+  // distributed scene: every rank records the whole scene's row (its quantities gather or sum
+  // over the ranks), rank 0 appends it to the file, and a failure is every rank's. Collective
+  // there.
   void record(const sim::Simulation& s) {
     std::vector<double> row;
     Row at{s, std::nullopt};
     for (const Quantity& q : quantities) row.push_back(q.value(at));
     if (!file.empty()) {
-      std::ofstream f(file, std::ios::app);
-      for (size_t k = 0; k < row.size(); ++k) f << (k ? "," : "") << formatReal(row[k]);
-      f << '\n';
-      if (!f.flush()) throw Error("error writing \"" + file + "\"", {"IO", "WRITE"});
+      togetherOnRanks(s, [&] {
+        if (!fileWriter()) return;
+        std::ofstream f(file, std::ios::app);
+        for (size_t k = 0; k < row.size(); ++k) f << (k ? "," : "") << formatReal(row[k]);
+        f << '\n';
+        if (!f.flush()) throw Error("error writing \"" + file + "\"", {"IO", "WRITE"});
+      });
     }
     if (print) {
       if (rows.empty()) {
@@ -298,13 +327,17 @@ void registerSeriesCommands(Registry& r) {
       "(a header row first; the file is replaced) as it is recorded; with -print it is also "
       "printed as a line on the terminal (a header line first), as LAMMPS's thermo output. "
       "Recording reads only what the step already computed, except the energies (a pass over "
-      "the elements) and contacts (the step keeps its contact records at due steps).";
+      "the elements) and contacts (the step keeps its contact records at due steps). In a "
+      "distributed run every rank records the whole scene's rows (counts, energies and wall "
+      "forces summed over the ranks; a script's queries are collective) and rank 0 writes the "
+      "file.";
   every.option("steps", integer().min(1), "a row every this many steps");
   every.option("time", real().positive().withUnit("s"), "a row every this much simulated time");
   every.oneOf({"steps", "time"}, true);
   every.option("quantities", quantitiesType(), "the columns, in order").require();
   every.option("file", text("file"), "a CSV file the rows are appended to");
   every.flag("print", "print each row on the terminal");
+  every.onRanks = OnRanks::Collective;
   every.run([](Call& c) {
     sim::Simulation& s = session(c).scene();
     auto job = std::make_shared<Job>();
@@ -313,7 +346,9 @@ void registerSeriesCommands(Registry& r) {
     if (c.given("file")) {
       std::string header;
       for (const Quantity& q : job->quantities) header += (header.empty() ? "" : ",") + q.name;
-      writeFileAtomically(c.str("file"), header + "\n");
+      togetherOnRanks(s, [&] {
+        if (fileWriter()) writeFileAtomically(c.str("file"), header + "\n");
+      });
       job->file = c.str("file");
     }
     job->record(s);
@@ -322,6 +357,8 @@ void registerSeriesCommands(Registry& r) {
     if (c.given("steps")) d.everySteps = std::uint64_t(c.integer("steps"));
     if (c.given("time")) d.everyTime = c.real("time");
     d.needsContacts = false;
+    // Every rank records the same rows at the same steps; rank 0 writes the file.
+    d.distributable = true;
     for (const Quantity& q : job->quantities) d.needsContacts = d.needsContacts || q.readsContacts;
     d.callback = [job](const sim::Simulation& sim) { job->record(sim); };
     const sim::OutputId id = s.addOutput(d);
@@ -333,6 +370,7 @@ void registerSeriesCommands(Registry& r) {
   get.arg("id", jobs().ref(), "a series output id");
   get.option("quantity", text("quantity"), "return this column alone");
   get.changesScene = false;
+  get.onRanks = OnRanks::Alike;  // (every rank records the whole scene's rows)
   get.run([](Call& c) {
     const auto job = jobOf(c);
     auto column = [&](size_t k) {
@@ -349,6 +387,7 @@ void registerSeriesCommands(Registry& r) {
   Command& list = r.add("series list", "Returns the series outputs as a list of dicts.");
   list.details = "Each dict: id, quantities, steps or time (the interval), rows, file.";
   list.changesScene = false;
+  list.onRanks = OnRanks::Alike;
   list.run([](Call& c) {
     List l;
     for (auto& [info, job] : jobs().of(session(c).scene())) {
