@@ -147,6 +147,15 @@ element set [lindex $ids 1199] -angularvelocity {0 5 0} -orientation {0 1 0 0}
 puts "edited [element get [lindex $ids 17] -position] [element get [lindex $ids 600] -velocity]"
 # A side wall set moving inwards: every rank holds every wall and sets it alike.
 wall set 2 -velocity {-0.002 0 0}
+# A lid added over a corner of the bed, just into its highest grains there and pressing down
+# (every rank adds it alike); its force and work are the sums of the ranks' contacts with it.
+set top 0
+foreach x [element array position] r [element array radius] {
+    lassign $x px py pz
+    if {$px < 0.016 && $py < 0.016} { set top [expr {max($top, $pz + $r)}] }
+}
+set lid [wall add finite -point [list 0.008 0.008 [expr {$top - 2e-5}]] -normal {0 0 1} \
+    -axis {1 0 0} -halfextents {0.008 0.008} -material glass -name lid -velocity {0 0 -0.005}]
 # The material and gravity changed: every rank's elements take the new density, and the ranks
 # decide together again what the scene uses and its step.
 material set glass -friction 0.3 -density 2600
@@ -159,6 +168,7 @@ set report [sim run -steps 500 -quiet]
 foreach q {step contacts wall:2:fx} { puts "series2[string map {: _} $q] [series get $ser2 -quantity $q]" }
 puts "residual2 [dict get $report residual]"
 puts "movedwall [wall get 2 -force] [wall get 2 -work]"
+puts "lidforce [wall get $lid -force] [wall get $lid -work]"
 foreach k {17 600 1199} {
     puts "position_after$k [element get [lindex $ids $k] -position]"
     puts "velocity_after$k [element get [lindex $ids $k] -velocity]"

@@ -152,6 +152,7 @@ void registerWallCommands(Registry& r) {
     d.normal = vec3(c.vec("normal"));
     c.prepared = d;
   });
+  plane.onRanks = OnRanks::Alike;  // (every rank holds every wall)
   plane.run(addWall);
 
   Command& fin = r.add("wall add finite",
@@ -176,6 +177,7 @@ void registerWallCommands(Registry& r) {
     c.fill(w);
     c.prepared = w;
   });
+  fin.onRanks = OnRanks::Alike;  // (every rank holds every wall)
   fin.run(addWall);
 
   Command& box =
@@ -191,6 +193,7 @@ void registerWallCommands(Registry& r) {
     if (c.has("rotation")) w.rotation = vec3(c.vec("rotation"), true);
     c.prepared = w;
   });
+  box.onRanks = OnRanks::Alike;  // (every rank holds every wall)
   box.run(addWall);
 
   Command& drum = r.add("wall add drum",
@@ -208,6 +211,7 @@ void registerWallCommands(Registry& r) {
     if (c.has("axis")) w.axis = vec3(c.vec("axis"));
     c.prepared = w;
   });
+  drum.onRanks = OnRanks::Alike;  // (every rank holds every wall)
   drum.run(addWall);
 
   Command& mesh = r.add("wall add mesh",
