@@ -98,11 +98,11 @@ struct Distribution {
     uint64_t id, bits, count;
   };
   std::vector<Renamed> renamedById, renamedByHandle;
-  // The rest of the whole scene's handle pool at distribute(), which a checkpoint restores
-  // (SimulationManager::gatheredScene): its slot count and its free slots (the recycling
-  // stack, bottom to top) with their generations. No element is added or removed after
-  // distribute(), so it stays the whole scene's pool; the live slots' generations are their
-  // elements' handles.
+  // The rest of the whole scene's handle pool, which a checkpoint restores
+  // (SimulationManager::gatheredScene) and an element added after distribute() takes its
+  // handle from (allocateHandle): its slot count and its free slots (the recycling stack,
+  // bottom to top) with their generations; the live slots' generations are their elements'
+  // handles. No element is removed after distribute().
   uint32_t poolSlots = 0;
   std::vector<uint32_t> freeSlots, freeGenerations;
   // The global ids of the elements edits placed since the last step, on every rank (the
@@ -124,6 +124,35 @@ struct Distribution {
   }
   // Returns the handle of the first element a scene creates in slot gid (its global id too).
   static ElementId firstLife(uint64_t gid) { return ElementId{static_cast<uint32_t>(gid), 1}; }
+
+  // Returns the handle the whole scene's pool gives its next element (HandlePool::allocate:
+  // the most recently freed slot, one generation on, else a new slot) and takes it from the
+  // pool; records it as the handle of global id gid (renamed runs) when it is not gid's first
+  // life. Changes the pool's model and the runs.
+  ElementId allocateHandle(uint64_t gid) {
+    ElementId h;
+    if (!freeSlots.empty()) {
+      h = ElementId{freeSlots.back(), freeGenerations.back() + 1};
+      freeSlots.pop_back();
+      freeGenerations.pop_back();
+    } else {
+      h = ElementId{poolSlots++, 1};
+    }
+    if (h != firstLife(gid)) {
+      // (gid is the largest yet: its run goes last by id, and in order of its bits by handle.)
+      Renamed* last = renamedById.empty() ? nullptr : &renamedById.back();
+      if (last != nullptr && gid == last->id + last->count && h.bits() == last->bits + last->count &&
+          (h.bits() & 0xFFFFFFFFu) != 0) {
+        ++last->count;
+      } else {
+        renamedById.push_back({gid, h.bits(), 1});
+      }
+      renamedByHandle = renamedById;
+      std::sort(renamedByHandle.begin(), renamedByHandle.end(),
+                [](const Renamed& x, const Renamed& y) { return x.bits < y.bits; });
+    }
+    return h;
+  }
 };
 
 // Replaces this rank's kinetic energy, potential energy, ledger sums (l's losses, works and
@@ -177,6 +206,32 @@ inline void pushRecord(ElementArrays<3>& a, const ElementRecord& r, uint32_t slo
 
 // The slot of a ghost: it has no handle.
 inline constexpr uint32_t kNoSlot = 0xFFFFFFFFu;
+
+// Appends the element of record r to this rank's own elements, before the ghosts (the dense
+// order is the owned elements, then the ghosts): each ghost moves one place on, and so does
+// every dense index of a ghost held until the next search (candidates, contact records, the
+// deepest contact). The positions at the last search stop following the arrays (the
+// displacement is then not tracked: the caller sets the search that follows). Changes every
+// per-element array, the handle pool and those indices.
+template <int D>
+void insertOwned(Scene<D>& s, const ElementRecord& r) {
+  ElementArrays<D>& a = s.elements.a;
+  const uint32_t owned = static_cast<uint32_t>(s.ownedCount());
+  // (The pool holds the owned elements only: the new handle's dense index is `owned`.)
+  pushRecord(a, r, s.elements.adopt(r.globalId).index);
+  if (s.ghosts == 0) return;
+  ElementArrays<D>::forEachArray(a, [&](auto& arr) {
+    std::rotate(arr.begin() + owned, arr.end() - 1, arr.end());
+  });
+  const auto moved = [owned](uint32_t i) { return i >= owned ? i + 1 : i; };
+  for (CandidatePair& c : s.candidates) c.i = moved(c.i), c.j = moved(c.j);
+  const auto movedRecord = [&](ContactRecord<D>& c) {
+    c.a = moved(c.a);
+    if (!c.wall) c.b = moved(c.b) & 0x7FFFFFFFu;
+  };
+  for (ContactRecord<D>& c : s.contacts) movedRecord(c);
+  movedRecord(s.deepest.record);
+}
 
 // Drops the ghosts from the arrays. Changes every array and s.ghosts.
 template <int D>

@@ -238,6 +238,50 @@ typename SimulationManager<D>::ElementEdit SimulationManager<D>::editElement(
 }
 
 template <int D>
+ElementId SimulationManager<D>::addElementOnRanks(const ElementDef& def) {
+  if constexpr (D != 3) {
+    throw Error("can't add an element: only 3D scenes are distributed", {"MPI", "UNSUPPORTED"});
+  } else {
+    const auto refuse = [](const std::string& what) {
+      throw Error("can't add an element with " + what +
+                      " to a distributed scene: distributed runs do not support them yet",
+                  {"MPI", "UNSUPPORTED"});
+    };
+    if (!def.name.empty() || !def.tags.empty()) refuse("a name or tags");
+    const CheckedElement c = checkElement(def);
+    if (c.geometry.boundRadius != 0) refuse("a shape other than the ball");
+    if (c.blocked != 0) refuse("blocked degrees of freedom");
+    Distribution<D>& d = *s_.dist;
+    const uint64_t gid = s_.elements.nextGlobalId();  // (the same on every rank)
+    if (gid > kMaxGlobalId) {
+      throw Error("too many elements created in this scene (2^55)", {"LIMIT", "COUNT"});
+    }
+    const ElementId h = d.allocateHandle(gid);
+    s_.elements.setNextGlobalId(gid + 1);
+    // The element as the serial scene makes it (forces zero), on the rank whose box holds it.
+    ElementRecord r{};
+    for (int k = 0; k < 3; ++k) r.x[k] = c.x[k], r.v[k] = c.v[k], r.w[k] = c.w[k];
+    r.q[0] = c.q.w(), r.q[1] = c.q.x(), r.q[2] = c.q.y(), r.q[3] = c.q.z();
+    r.r = c.r, r.invMass = c.invMass, r.invInertia = c.invInertia;
+    r.globalId = gid, r.material = c.material, r.geometry = 0;
+    // Its energy (what the serial scene adds to the ledger's reference) from that rank.
+    // (Before the first search every rank holds the whole scene: each adds it, rank 0 counts.)
+    double energy = 0;
+    const int owner = d.initial ? 0 : d.partition.ownerOf({r.x[0], r.x[1], r.x[2]});
+    if (d.initial || owner == d.comm->rank()) {
+      insertOwned(s_, r);
+      if (owner == d.comm->rank()) energy = elementEnergy(static_cast<uint32_t>(s_.ownedCount() - 1));
+    }
+    s_.ledger.reference += d.comm->sum(energy);
+    // The next step searches, as the serial scene's does: the new element's pairs and ghosts.
+    s_.needRebuild = true;
+    if (s_.steps > 0) d.placed.push_back(gid);  // (as markPlaced)
+    touchConfig();
+    return h;
+  }
+}
+
+template <int D>
 void SimulationManager<D>::decideWhole() {
   Distribution<D>& d = *s_.dist;
   ElementUse e = elementUse(s_);

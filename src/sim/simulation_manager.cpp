@@ -509,7 +509,7 @@ double SimulationManager<D>::elementEnergy(uint32_t i) const {
 
 template <int D>
 ElementId SimulationManager<D>::addElement(const ElementDef& def) {
-  refuseIfDistributed("add an element");
+  if (s_.dist) return addElementOnRanks(def);
   const CheckedElement c = checkElement(def);
   const ElementId id = s_.elements.add(c.x, c.v, c.w, c.r, c.invMass, c.invInertia, c.material,
                                    def.name, def.tags, geometryIndex(c.geometry));

@@ -370,6 +370,10 @@ class SimulationManager final : public Simulation {
   // (sceneUseWith of every rank's ElementUse ORed) and its static step survey
   // (staticCriticalStep's smallest grains over the ranks). Collective. Changes s_.dist.
   void decideWhole();
+  // addElement in a distributed scene (collective): the handle the serial scene would give,
+  // the element put among its own elements by the rank whose box holds it (the next step
+  // searches, as the serial scene's does), the ledger's reference moved on every rank.
+  ElementId addElementOnRanks(const ElementDef& def);
   void markPlaced(WallId id) {
     if (s_.steps > 0) s_.placedWalls.push_back(id);
   }

@@ -125,7 +125,10 @@ expectError {DEMLAB LOOKUP ELEMENT} "element set $gone -velocity {0 0 0}"
 expectError {DEMLAB VALUE VELOCITY} "element set [lindex $ids 5] -velocity {1e9 0 0}"
 if {$n > 1} {
     expectError {DEMLAB MPI UNSUPPORTED} "element set [lindex $ids 5] -fixed 1"
-    expectError {DEMLAB MPI UNSUPPORTED} {element add -radius 0.001 -position {0.02 0.02 0.1}}
+    expectError {DEMLAB MPI UNSUPPORTED} {element add -radius 0.001 -position {0.02 0.02 0.1} -name x}
+    set before [element count]
+    expectError {DEMLAB VALUE} {element add -radius -1 -position {0.02 0.02 0.1}}
+    check "a refused element add changes nothing" [expr {[element count] == $before}]
     # Rank 0 writes the gathered checkpoint; its failure is every rank's.
     expectError {DEMLAB IO OPEN} {sim save /nonexistent-dir/bed.dcp}
     # So does a series file's.
@@ -161,11 +164,25 @@ set lid [wall add finite -point [list 0.008 0.008 [expr {$top - 2e-5}]] -normal 
 material set glass -friction 0.3 -density 2600
 behavior remove [dict get [lindex [behavior list] 0] id]
 behavior add gravity -g {0.5 0 -9.81}
+# A grain added on the ranks: the id the serial scene gives, the grain at once where queries
+# look (the rank whose box holds it takes it), falling into the bed.
+set under 0
+foreach x [element array position] r [element array radius] {
+    lassign $x px py pz
+    if {hypot($px - 0.03, $py - 0.012) < 0.004} { set under [expr {max($under, $pz + $r)}] }
+}
+set added [element add -radius 0.002 -position [list 0.03 0.012 [expr {$under + 0.0025}]] \
+    -velocity {0 0 -0.5}]
+puts "addedid $added [element count] [llength [element list]]"
+puts "addedstate [element get $added -position] [element get $added -velocity]"
 # A series added on the ranks (collective: its first row is the whole scene's now).
 set ser2 [series every -steps 100 -quantities {step contacts wall:2:fx}]
 # The run goes on after them, together.
 set report [sim run -steps 500 -quiet]
 foreach q {step contacts wall:2:fx} { puts "series2[string map {: _} $q] [series get $ser2 -quantity $q]" }
+puts "position_added [element get $added -position]"
+puts "velocity_added [element get $added -velocity]"
+puts "addedcontacts [llength [query contacts -element $added]]"
 puts "residual2 [dict get $report residual]"
 puts "movedwall [wall get 2 -force] [wall get 2 -work]"
 puts "lidforce [wall get $lid -force] [wall get $lid -work]"

@@ -208,7 +208,9 @@ void registerElementCommands(Registry& r) {
   add.details =
       "The shape is a type of the dimension's shape table: the ball (sphere in 3D, disc in 2D), "
       "sized by -radius, or a type registered by a plug-in, described by -params (its bounding "
-      "radius follows from them) and oriented by -orientation. `element shapes` lists them.";
+      "radius follows from them) and oriented by -orientation. `element shapes` lists them. In a "
+      "distributed run (a ball, without a name, tags or blocked degrees of freedom) it gets "
+      "the id the serial scene would give and the rank whose box holds it takes it.";
   add.option("radius", real().positive().withUnit("m"), "radius (the ball's; required for it)")
       .to(&sim::ElementDef::radius);
   add.option("material", materialRef(), "its material (default: the first material defined)")
@@ -257,6 +259,8 @@ void registerElementCommands(Registry& r) {
     }
     c.prepared = d;
   });
+  // (Distributed: the id the serial scene would give; the rank whose box holds it takes it.)
+  add.onRanks = OnRanks::Collective;
   add.run([](Call& c) {
     return Value(scriptId(session(c).scene().addElement(std::any_cast<sim::ElementDef>(c.prepared))));
   });
