@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "sim/behavior_registry.hpp"
+#include "sim/distribution.hpp"
 #include "sim/element_chunks.hpp"
 #include "sim/integrator.hpp"
 #include "sim/scene.hpp"
@@ -89,8 +90,22 @@ class WallMotionModule final : public SimModule<D> {
   SimLevel level() const override { return SimLevel::Walls; }
   void run(Scene<D>& s) override {
     const double t = s.time + s.stepDt;
+    // A distributed scene: a servo reads the whole force on its wall, every rank's part (its
+    // own elements' contacts) summed, the same bits on every rank.
+    std::vector<double> parts;
+    if (s.dist) {
+      for (const Wall<D>& w : s.walls.items) {
+        for (int k = 0; k < D && w.servo; ++k) parts.push_back(w.force[k]);
+      }
+      if (!parts.empty()) s.dist->comm->sum(parts);
+    }
+    size_t at = 0;
     for (Wall<D>& w : s.walls.items) {
-      if (w.servo) w.servoStep(s.time);
+      if (w.servo) {
+        VecD<D> whole = w.force;
+        for (int k = 0; k < D && s.dist; ++k) whole[k] = parts[at++];
+        w.servoStep(s.time, whole);
+      }
       if (w.scripted()) w.scriptStep(s.time, s.stepDt);
       if (w.moving) w.moveTo(t);
     }

@@ -54,7 +54,6 @@ std::string unsupported(const Scene<D>& s, std::ptrdiff_t outputs) {
   if (!s.bonds.empty()) return "bonds";
   for (const Wall<D>& w : s.walls.items) {
     if (w.kind == WallShape::Mesh) return "a mesh wall";
-    if (w.servo) return "a servo-controlled wall";
   }
   if (s.periodic.any()) return "periodic boundaries";
   if (!s.sources.empty()) return "a source";

@@ -165,9 +165,9 @@ struct Wall {
   // one: v = n gain (target - measured), measured = -force . n (what pushes the wall back along
   // its normal), capped at servoMaxSpeed; the motion is rebased at t so the new velocity
   // starts there. Changes velocity, moving and the reference of the motion.
-  void servoStep(double t) {
+  void servoStep(double t, const VecD<D>& wholeForce) {
     const VecD<D> n = normalNow();
-    const double measured = -force.dot(n);
+    const double measured = -wholeForce.dot(n);
     double speed = servoGain * (servoTarget - measured);
     speed = std::clamp(speed, -servoMaxSpeed, servoMaxSpeed);
     rebase(t);

@@ -150,15 +150,18 @@ element set [lindex $ids 1199] -angularvelocity {0 5 0} -orientation {0 1 0 0}
 puts "edited [element get [lindex $ids 17] -position] [element get [lindex $ids 600] -velocity]"
 # A side wall set moving inwards: every rank holds every wall and sets it alike.
 wall set 2 -velocity {-0.002 0 0}
-# A lid added over a corner of the bed, just into its highest grains there and pressing down
-# (every rank adds it alike); its force and work are the sums of the ranks' contacts with it.
+# A lid added over a corner of the bed, just into its highest grains there (every rank adds it
+# alike); its force and work are the sums of the ranks' contacts with it.
 set top 0
 foreach x [element array position] r [element array radius] {
     lassign $x px py pz
     if {$px < 0.016 && $py < 0.016} { set top [expr {max($top, $pz + $r)}] }
 }
 set lid [wall add finite -point [list 0.008 0.008 [expr {$top - 2e-5}]] -normal {0 0 1} \
-    -axis {1 0 0} -halfextents {0.008 0.008} -material glass -name lid -velocity {0 0 -0.005}]
+    -axis {1 0 0} -halfextents {0.008 0.008} -material glass -name lid]
+# It holds a force on the grains under it: the servo reads the whole force, summed over the
+# ranks, the same on every rank.
+wall servo $lid -force 0.01 -gain 0.5 -maxspeed 0.01
 # The material and gravity changed: every rank's elements take the new density, and the ranks
 # decide together again what the scene uses and its step.
 material set glass -friction 0.3 -density 2600
@@ -186,6 +189,7 @@ puts "addedcontacts [llength [query contacts -element $added]]"
 puts "residual2 [dict get $report residual]"
 puts "movedwall [wall get 2 -force] [wall get 2 -work]"
 puts "lidforce [wall get $lid -force] [wall get $lid -work]"
+puts "lidpoint [wall get $lid -point]"
 foreach k {17 600 1199} {
     puts "position_after$k [element get [lindex $ids $k] -position]"
     puts "velocity_after$k [element get [lindex $ids $k] -velocity]"

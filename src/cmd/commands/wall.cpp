@@ -291,6 +291,8 @@ void registerWallCommands(Registry& r) {
                "the area the stress acts on (default: a finite wall's own; 2D: per unit depth)");
   servo.option("gain", real().withUnit("m/(N s)"), "velocity per newton of error").require();
   servo.option("maxspeed", real().withUnit("m/s"), "the largest speed").require();
+  // (Every rank holds every wall; the servo reads the whole force, summed over the ranks.)
+  servo.onRanks = OnRanks::Alike;
   servo.run([](Call& c) {
     auto& s = session(c).scene();
     const WallId id = c.get<WallId>("wall");
