@@ -361,19 +361,25 @@ void PostedExchange::post(const Communicator& comm, const std::vector<int>& to,
 #endif
 }
 
-void PostedExchange::receive() {
 #ifdef DEMLAB_HAVE_MPI
-  std::vector<MPI_Request>& q = pending_->receives;
+namespace {
+// Waits for every request of q, then empties it.
+void waitAll(std::vector<MPI_Request>& q) {
   if (!q.empty()) MPI_Waitall(static_cast<int>(q.size()), q.data(), MPI_STATUSES_IGNORE);
   q.clear();
+}
+}  // namespace
+#endif
+
+void PostedExchange::receive() {
+#ifdef DEMLAB_HAVE_MPI
+  waitAll(pending_->receives);
 #endif
 }
 
 void PostedExchange::finishSends() {
 #ifdef DEMLAB_HAVE_MPI
-  std::vector<MPI_Request>& q = pending_->sends;
-  if (!q.empty()) MPI_Waitall(static_cast<int>(q.size()), q.data(), MPI_STATUSES_IGNORE);
-  q.clear();
+  waitAll(pending_->sends);
 #endif
 }
 

@@ -92,7 +92,8 @@ class WallMotionModule final : public SimModule<D> {
     const double t = s.time + s.stepDt;
     // A distributed scene: a servo reads the whole force on its wall, every rank's part (its
     // own elements' contacts) summed, the same bits on every rank.
-    std::vector<double> parts;
+    std::vector<double>& parts = servoForces_;
+    parts.clear();
     if (s.dist) {
       for (const Wall<D>& w : s.walls.items) {
         for (int k = 0; k < D && w.servo; ++k) parts.push_back(w.force[k]);
@@ -110,6 +111,9 @@ class WallMotionModule final : public SimModule<D> {
       if (w.moving) w.moveTo(t);
     }
   }
+
+ private:
+  std::vector<double> servoForces_;  // the servo walls' forces of a distributed scene, reused
 };
 
 }  // namespace demlab::sim

@@ -139,19 +139,28 @@ struct Distribution {
       h = ElementId{poolSlots++, 1};
     }
     if (h != firstLife(gid)) {
-      // (gid is the largest yet: its run goes last by id, and in order of its bits by handle.)
-      Renamed* last = renamedById.empty() ? nullptr : &renamedById.back();
-      if (last != nullptr && gid == last->id + last->count && h.bits() == last->bits + last->count &&
-          (h.bits() & 0xFFFFFFFFu) != 0) {
-        ++last->count;
-      } else {
-        renamedById.push_back({gid, h.bits(), 1});
-      }
-      renamedByHandle = renamedById;
-      std::sort(renamedByHandle.begin(), renamedByHandle.end(),
-                [](const Renamed& x, const Renamed& y) { return x.bits < y.bits; });
+      appendRenamed(gid, h.bits());  // (gid is the largest yet)
+      sortRenamedByHandle();
     }
     return h;
+  }
+
+  // Appends the renamed handle bits of global id gid, above every id listed: to the last run
+  // when it continues it, else as a run of its own. Changes renamedById only.
+  void appendRenamed(uint64_t gid, uint64_t bits) {
+    Renamed* last = renamedById.empty() ? nullptr : &renamedById.back();
+    if (last != nullptr && gid == last->id + last->count && bits == last->bits + last->count &&
+        (bits & 0xFFFFFFFFu) != 0) {
+      ++last->count;
+    } else {
+      renamedById.push_back({gid, bits, 1});
+    }
+  }
+  // Makes renamedByHandle renamedById's runs in the order of their handles. Changes it.
+  void sortRenamedByHandle() {
+    renamedByHandle = renamedById;
+    std::sort(renamedByHandle.begin(), renamedByHandle.end(),
+              [](const Renamed& x, const Renamed& y) { return x.bits < y.bits; });
   }
 };
 

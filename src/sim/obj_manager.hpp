@@ -175,11 +175,10 @@ class SimObjManager {
   ElementId add(const VecD<D>& x, const VecD<D>& v, const AngularD<D>& w, Real r, Real invM,
               Real invI, uint32_t mat, const std::string& name,
               const std::vector<std::string>& tagList, uint32_t geometry = 0) {
-    if (nextGlobalId_ > kMaxGlobalId) {
-      throw Error("too many elements created in this scene (2^55)", {"LIMIT", "COUNT"});
-    }
+    const uint64_t gid = peekGlobalId();
     const ElementId id = pool_.allocate();
-    a.push(x, v, w, r, invM, invI, mat, id.index, geometry, nextGlobalId_++);
+    a.push(x, v, w, r, invM, invI, mat, id.index, geometry, gid);
+    nextGlobalId_ = gid + 1;
     if (!name.empty()) names_.add(name, id);
     for (const std::string& t : tagList) tags_.add(id, t);
     return id;
@@ -205,6 +204,13 @@ class SimObjManager {
 
   // The global id the next element added gets: one more than the last given, never reused.
   uint64_t nextGlobalId() const { return nextGlobalId_; }
+  // Returns nextGlobalId(), or throws {LIMIT COUNT} when the scene has made every id there is.
+  uint64_t peekGlobalId() const {
+    if (nextGlobalId_ > kMaxGlobalId) {
+      throw Error("too many elements created in this scene (2^55)", {"LIMIT", "COUNT"});
+    }
+    return nextGlobalId_;
+  }
   // Sets it (a checkpoint's load; n above every id held). Changes the counter only.
   void setNextGlobalId(uint64_t n) { nextGlobalId_ = n; }
 

@@ -29,18 +29,8 @@ void renameRuns(const Scene<D>& s, Distribution<D>& d) {
     if (h != firstLife(gid)) renamed.emplace_back(gid, h.bits());
   }
   std::sort(renamed.begin(), renamed.end());
-  for (const auto& [gid, bits] : renamed) {
-    auto* last = d.renamedById.empty() ? nullptr : &d.renamedById.back();
-    if (last != nullptr && gid == last->id + last->count && bits == last->bits + last->count &&
-        (bits & 0xFFFFFFFFu) != 0) {
-      ++last->count;
-    } else {
-      d.renamedById.push_back({gid, bits, 1});
-    }
-  }
-  d.renamedByHandle = d.renamedById;
-  std::sort(d.renamedByHandle.begin(), d.renamedByHandle.end(),
-            [](const auto& x, const auto& y) { return x.bits < y.bits; });
+  for (const auto& [gid, bits] : renamed) d.appendRenamed(gid, bits);
+  d.sortRenamedByHandle();
 }
 
 // Returns what in scene s a distributed run cannot do yet, or "" when it can run it.
@@ -251,10 +241,7 @@ ElementId SimulationManager<D>::addElementOnRanks(const ElementDef& def) {
     if (c.geometry.boundRadius != 0) refuse("a shape other than the ball");
     if (c.blocked != 0) refuse("blocked degrees of freedom");
     Distribution<D>& d = *s_.dist;
-    const uint64_t gid = s_.elements.nextGlobalId();  // (the same on every rank)
-    if (gid > kMaxGlobalId) {
-      throw Error("too many elements created in this scene (2^55)", {"LIMIT", "COUNT"});
-    }
+    const uint64_t gid = s_.elements.peekGlobalId();  // (the same on every rank)
     const ElementId h = d.allocateHandle(gid);
     s_.elements.setNextGlobalId(gid + 1);
     // The element as the serial scene makes it (forces zero), on the rank whose box holds it.
