@@ -92,6 +92,13 @@ if {$argc > 0} {
     set lines [split [string trim [read $f]] \n]
     close $f
     puts "seriesfile [llength $lines] [lindex $lines 0] [lindex [split [lindex $lines end] ,] 1]"
+    # A plot of the rows every rank holds, drawn once (rank 0): a PNG of the size asked for.
+    set png [series plot $ser -file [file join [lindex $argv 0] series.png] -y {kinetic elastic} \
+        -size {400 300} -logy]
+    set f [open $png rb]
+    binary scan [read $f 24] a8@16IuIu magic w h
+    close $f
+    puts "seriesplot [file tail $png] [expr {$magic eq "\x89PNG\r\n\x1a\n"}] $w $h"
 }
 puts "list [lsort -integer [element list]]"
 check "element list has the pack's ids" [expr {[lsort -integer [element list]] eq [lsort -integer $ids]}]
@@ -133,6 +140,8 @@ if {$n > 1} {
     expectError {DEMLAB IO OPEN} {sim save /nonexistent-dir/bed.dcp}
     # So does a series file's.
     expectError {DEMLAB IO OPEN} {series every -steps 10 -quantities step -file /nonexistent-dir/s.csv}
+    # And a plot's.
+    expectError {DEMLAB IO GNUPLOT} "series plot $ser -file /nonexistent-dir/p.png -y kinetic"
 }
 # A kept copy of a distributed scene (each rank its part) goes on as the scene does, bit for bit.
 sim keep settled

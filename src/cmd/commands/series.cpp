@@ -6,10 +6,13 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <memory>
 #include <optional>
+
+#include <unistd.h>
 
 #include "cmd/commands/commands.hpp"
 #include "cmd/commands/output_jobs.hpp"
@@ -284,6 +287,50 @@ int columnOption(Call& c, const Job& job, const std::string& opt, const std::str
   return k;
 }
 
+// Runs gnuplot on script, which writes file + ".tmp", then renames that to file. Throws IO
+// GNUPLOT when gnuplot fails or is missing (the temporary file removed; the message ends with
+// gnuplot's first complaint), IO WRITE when the rename fails. gnuplot's standard output is
+// discarded: where it cannot open the file it writes the PNG there instead.
+void runGnuplot(const std::string& script, const std::string& file) {
+  char log[] = "/tmp/demlab-gnuplot-XXXXXX";
+  const int fd = mkstemp(log);
+  if (fd < 0) throw Error("can't make a temporary file for gnuplot's messages", {"IO", "GNUPLOT"});
+  close(fd);
+  FILE* g = popen(("gnuplot >/dev/null 2>" + std::string(log)).c_str(), "w");
+  if (g == nullptr) {
+    std::remove(log);
+    throw Error("can't run gnuplot", {"IO", "GNUPLOT"});
+  }
+  std::fwrite(script.data(), 1, script.size(), g);
+  const int status = pclose(g);
+  std::string complaint;
+  {
+    std::ifstream said(log);
+    // Its errors come as the command echoed, a caret under the fault, then the reason.
+    for (std::string line; complaint.empty() && std::getline(said, line);) {
+      const size_t start = line.find_first_not_of(" \t^");
+      if (start != std::string::npos && line.rfind("gnuplot>", 0) != 0) complaint = line.substr(start);
+    }
+    // ("line 0: " names the line of its standard input.)
+    if (complaint.rfind("line ", 0) == 0 && complaint.find(':') != std::string::npos)
+      complaint.erase(0, complaint.find_first_not_of(" \t", complaint.find(':') + 1));
+  }
+  std::remove(log);
+  const std::string tmp = file + ".tmp";
+  std::ifstream made(tmp);
+  if (status != 0 || !made) {
+    std::remove(tmp.c_str());
+    throw Error("gnuplot failed to write \"" + file + "\"" +
+                    (complaint.empty() ? std::string(" (is gnuplot with pngcairo installed?)")
+                                       : ": " + complaint),
+                {"IO", "GNUPLOT"});
+  }
+  if (std::rename(tmp.c_str(), file.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw Error("couldn't rename \"" + tmp + "\" to \"" + file + "\"", {"IO", "WRITE"});
+  }
+}
+
 // Returns gnuplot's text for s in double quotes.
 std::string gnuplotString(const std::string& s) {
   std::string out = "\"";
@@ -411,7 +458,8 @@ void registerSeriesCommands(Registry& r) {
   plot.details =
       "Axis labels carry the quantities' units. The y quantities share one axis; -logy makes "
       "it logarithmic (values <= 0 are then left out by gnuplot). Needs gnuplot with the "
-      "pngcairo terminal (Debian's gnuplot-nox).";
+      "pngcairo terminal (Debian's gnuplot-nox). In a distributed run rank 0 draws the rows every "
+      "rank holds; a failure is every rank's.";
   plot.arg("id", jobs().ref(), "a series output id");
   plot.option("file", text("file"), "the PNG file").require();
   plot.option("x", text("quantity"), "the abscissa").byDefault("time");
@@ -420,6 +468,7 @@ void registerSeriesCommands(Registry& r) {
   plot.option("size", ints(), "{width height} in pixels").byDefault("800 500");
   plot.flag("logy", "a logarithmic y axis");
   plot.changesScene = false;
+  plot.onRanks = OnRanks::Collective;
   plot.run([](Call& c) {
     const auto job = jobOf(c);
     const std::string file = c.str("file");
@@ -456,21 +505,10 @@ void registerSeriesCommands(Registry& r) {
         script += formatReal(row[size_t(x)]) + ' ' + formatReal(row[size_t(ys[k])]) + '\n';
       script += "e\n";
     }
-    FILE* g = popen("gnuplot 2>&1", "w");
-    if (g == nullptr) throw Error("can't run gnuplot", {"IO", "GNUPLOT"});
-    std::fwrite(script.data(), 1, script.size(), g);
-    const int status = pclose(g);
-    const std::string tmp = file + ".tmp";
-    std::ifstream made(tmp);
-    if (status != 0 || !made) {
-      std::remove(tmp.c_str());
-      throw Error("gnuplot failed to write \"" + file + "\" (is gnuplot with pngcairo installed?)",
-                  {"IO", "GNUPLOT"});
-    }
-    if (std::rename(tmp.c_str(), file.c_str()) != 0) {
-      std::remove(tmp.c_str());
-      throw Error("couldn't rename \"" + tmp + "\" to \"" + file + "\"", {"IO", "WRITE"});
-    }
+    // Every rank holds the same rows; the world's rank 0 draws, and its failure is every rank's.
+    togetherOnRanks(session(c).scene(), [&] {
+      if (fileWriter()) runGnuplot(script, file);
+    });
     return Value(file);
   });
 }
