@@ -104,8 +104,8 @@ class GhostPlan {
       t.out[i].resize(send_[i].size() * sizeof(T));
       char* p = t.out[i].data();
       for (const uint32_t e : send_[i]) {
-        T value;
-        fill(e, value);
+        T value{};
+        if (e != kRemoved) fill(e, value);
         std::memcpy(p, &value, sizeof(T));
         p += sizeof(T);
       }
@@ -172,7 +172,7 @@ class GhostPlan {
       for (const uint32_t e : send_[i]) {
         T value;
         std::memcpy(static_cast<void*>(&value), p, sizeof(T));
-        add(e, value);
+        if (e != kRemoved) add(e, value);
         p += sizeof(T);
       }
     }
@@ -193,6 +193,23 @@ class GhostPlan {
     if (this != &o) *this = GhostPlan(o);
     return *this;
   }
+  // The owned element `gone` was removed and the one at `from` took its place (from == gone:
+  // none moved). Until the search that replaces the plan, the moved one is sent from there and
+  // a zero value stands for the removed one (its ghosts are dropped at that search, before any
+  // pair reads them); the way back gives it nothing. Changes the sent lists.
+  void ownedRemoved(uint32_t gone, uint32_t from) {
+    for (auto& list : send_) {
+      for (uint32_t& e : list) {
+        if (e == gone) {
+          e = kRemoved;
+        } else if (e == from) {
+          e = gone;
+        }
+      }
+    }
+  }
+  static constexpr uint32_t kRemoved = 0xFFFFFFFFu;
+
   GhostPlan(GhostPlan&&) noexcept = default;
   GhostPlan& operator=(GhostPlan&&) noexcept = default;
 

@@ -102,7 +102,7 @@ struct Distribution {
   // (SimulationManager::gatheredScene) and an element added after distribute() takes its
   // handle from (allocateHandle): its slot count and its free slots (the recycling stack,
   // bottom to top) with their generations; the live slots' generations are their elements'
-  // handles. No element is removed after distribute().
+  // handles.
   uint32_t poolSlots = 0;
   std::vector<uint32_t> freeSlots, freeGenerations;
   // The global ids of the elements edits placed since the last step, on every rank (the
@@ -143,6 +143,16 @@ struct Distribution {
       sortRenamedByHandle();
     }
     return h;
+  }
+
+  // Gives handle h of a removed element back to the pool's model (HandlePool::free: its slot
+  // is the next one recycled, a generation on, unless the generation would wrap: then the slot
+  // is retired). Changes the free slots.
+  void freeHandle(ElementId h) {
+    const uint32_t generation = h.generation + 1;
+    if (generation == 0) return;
+    freeSlots.push_back(h.index);
+    freeGenerations.push_back(generation);
   }
 
   // Appends the renamed handle bits of global id gid, above every id listed: to the last run
@@ -240,6 +250,59 @@ void insertOwned(Scene<D>& s, const ElementRecord& r) {
   };
   for (ContactRecord<D>& c : s.contacts) movedRecord(c);
   movedRecord(s.deepest.record);
+}
+
+// Removes this rank's owned element of local handle h, keeping the dense order (the owned
+// elements, then the ghosts): the last owned element takes its place and each ghost moves one
+// place back. What holds dense indices until the next search follows them: the grain and wall
+// candidates (the removed element's dropped, with their springs) and the ghost plan's sent
+// lists. The contact records are dropped and the touch states marked stale, as a serial removal
+// does; the caller sets the search that follows. Changes every per-element array, the pool,
+// the candidates, their springs and the plan.
+template <int D>
+void removeOwned(Scene<D>& s, ElementId h) {
+  ElementArrays<D>& a = s.elements.a;
+  // (The pool holds the owned elements only: from is the last owned one.)
+  const SwapRemove m = s.elements.pool().free(h);
+  const uint32_t gone = m.to, from = m.from;
+  ElementArrays<D>::forEachArray(a, [&](auto& arr) {
+    if (from != gone) arr[gone] = std::move(arr[from]);
+    std::rotate(arr.begin() + from, arr.begin() + from + 1, arr.end());
+    arr.resize(arr.size() - 1);
+  });
+  constexpr uint32_t kGone = 0xFFFFFFFFu;
+  const auto moved = [&](uint32_t i) {
+    return i == gone ? kGone : i == from ? gone : i > from ? i - 1 : i;
+  };
+  std::vector<char> dead(s.candidates.size(), 0);
+  size_t kept = 0;
+  for (size_t k = 0; k < s.candidates.size(); ++k) {
+    CandidatePair c = s.candidates[k];
+    c.i = moved(c.i), c.j = moved(c.j);
+    dead[k] = c.i == kGone || c.j == kGone;
+    if (!dead[k]) s.candidates[kept++] = c;
+  }
+  s.candidates.resize(kept);
+  s.pairSprings.eraseCandidates([&](size_t k) { return k < dead.size() && dead[k] != 0; });
+  for (size_t w = 0; w < s.wallCandidates.size(); ++w) {
+    std::vector<uint32_t>& list = s.wallCandidates[w];
+    auto* springs = w < s.wallSprings.size() && s.wallSprings[w].size() == list.size()
+                        ? &s.wallSprings[w]
+                        : nullptr;
+    size_t out = 0;
+    for (size_t k = 0; k < list.size(); ++k) {
+      const uint32_t i = moved(list[k]);
+      if (i == kGone) continue;
+      if (springs != nullptr) (*springs)[out] = (*springs)[k];
+      list[out++] = i;
+    }
+    list.resize(out);
+    if (springs != nullptr) springs->resize(out);
+  }
+  s.contactGroups.clear();
+  s.contacts.clear();
+  s.touchNowValid = s.wallTouchNowValid = false;
+  s.dist->plan.ownedRemoved(gone, from);
 }
 
 // Drops the ghosts from the arrays. Changes every array and s.ghosts.

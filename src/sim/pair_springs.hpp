@@ -96,6 +96,21 @@ class PairSprings {
     }
   }
 
+  // Drops the candidates k for which drop(k) is true, giving their slots back; the others keep
+  // their springs, in their order. Changes slotOf_ and the free list.
+  template <class Drop>
+  void eraseCandidates(Drop&& drop) {
+    size_t kept = 0;
+    for (size_t k = 0; k < slotOf_.size(); ++k) {
+      if (drop(k)) {
+        release(k);
+      } else {
+        slotOf_[kept++] = slotOf_[k];
+      }
+    }
+    slotOf_.resize(kept);
+  }
+
   // Gives candidate k's slot back, if it has one (the pair stopped touching). Changes
   // slotOf_[k] and the free list.
   void release(size_t k) {

@@ -635,6 +635,10 @@ class Simulation {
   virtual void reserveElements(size_t n) = 0;
   // Removes a grain (its tags, name and contact histories go with it). LOOKUP HANDLE.
   virtual void removeElement(ElementId id) = 0;
+  // Removes the grains ids (a repeated id once), one after another as removeElement does;
+  // returns how many. In a distributed scene collective, all or none: LOOKUP HANDLE on every
+  // rank, nothing removed, when an id names no element.
+  virtual size_t removeElementList(const std::vector<ElementId>& ids) = 0;
   // Removes every grain carrying tag; returns how many.
   virtual size_t removeElements(const std::string& tag) = 0;
   virtual ElementState element(ElementId id) const = 0;                // LOOKUP HANDLE

@@ -158,27 +158,33 @@ std::vector<Simulation::ElementSnapshot> SimulationManager<D>::elementSnapshots(
 }
 
 template <int D>
-ElementId SimulationManager<D>::ownedElement(ElementId original) const {
-  if (!s_.dist) {
-    s_.elements.index(original);  // LOOKUP HANDLE when it names no element
-    return original;
-  }
+std::optional<uint64_t> SimulationManager<D>::globalIdOfHandle(ElementId original) const {
   // The run holding the handle, if any: the last whose first handle is at most it.
   const auto& byHandle = s_.dist->renamedByHandle;
   const uint64_t bits = original.bits();
   auto h = std::upper_bound(byHandle.begin(), byHandle.end(), bits,
                             [](uint64_t b, const auto& run) { return b < run.bits; });
-  uint64_t gid = original.index;
+  const uint64_t gid = original.index;
   if (h != byHandle.begin() && bits - std::prev(h)->bits < std::prev(h)->count) {
-    gid = std::prev(h)->id + (bits - std::prev(h)->bits);
-  } else if (original != firstLife(gid) || s_.dist->renamedRun(gid) != nullptr) {
-    // (The element made with this id has another handle now: this one names no element.)
-    return ElementId{};
+    return std::prev(h)->id + (bits - std::prev(h)->bits);
   }
+  // (The element made with this id has another handle now: this one names no element.)
+  if (original != firstLife(gid) || s_.dist->renamedRun(gid) != nullptr) return std::nullopt;
+  return gid;
+}
+
+template <int D>
+ElementId SimulationManager<D>::ownedElement(ElementId original) const {
+  if (!s_.dist) {
+    s_.elements.index(original);  // LOOKUP HANDLE when it names no element
+    return original;
+  }
+  const std::optional<uint64_t> gid = globalIdOfHandle(original);
+  if (!gid) return ElementId{};
   const ElementArrays<D>& a = s_.elements.a;
   const size_t n = s_.ownedCount();
   for (size_t i = 0; i < n; ++i) {
-    if (a.globalId[i] == gid) return s_.elements.pool().handleAt(static_cast<uint32_t>(i));
+    if (a.globalId[i] == *gid) return s_.elements.pool().handleAt(static_cast<uint32_t>(i));
   }
   return ElementId{};
 }
@@ -264,6 +270,47 @@ ElementId SimulationManager<D>::addElementOnRanks(const ElementDef& def) {
     if (s_.steps > 0) d.placed.push_back(gid);  // (as markPlaced)
     touchConfig();
     return h;
+  }
+}
+
+template <int D>
+size_t SimulationManager<D>::removeElementsOnRanks(const std::vector<ElementId>& ids) {
+  if constexpr (D != 3) {
+    throw Error("can't remove an element: only 3D scenes are distributed", {"MPI", "UNSUPPORTED"});
+  } else {
+    Distribution<D>& d = *s_.dist;
+    const size_t n = ids.size();
+    std::vector<ElementId> local(n);
+    std::vector<double> held(n, 0.0);
+    for (size_t k = 0; k < n; ++k) {
+      local[k] = ownedElement(ids[k]);
+      if (!local[k].isNull()) held[k] = 1;
+    }
+    d.comm->sum(held);
+    for (size_t k = 0; k < n; ++k) {
+      if (held[k] == 0) {
+        throw Error("no element with id " + std::to_string(ids[k].scriptId()), {"LOOKUP", "HANDLE"});
+      }
+    }
+    // Each takes its energy out of the scene: the owner measures it, every rank moves the
+    // ledger's reference by it, one after another as the serial scene does.
+    std::vector<double> energy(n, 0.0);
+    for (size_t k = 0; k < n; ++k) {
+      if (local[k].isNull()) continue;
+      energy[k] = elementEnergy(s_.elements.index(local[k]));
+      if (s_.keepHistory) s_.histories.removeId(local[k].index);
+      removeOwned(s_, local[k]);
+    }
+    d.comm->sum(energy);
+    for (size_t k = 0; k < n; ++k) {
+      s_.ledger.reference -= energy[k];
+      d.freeHandle(ids[k]);
+      std::erase(d.placed, *globalIdOfHandle(ids[k]));
+    }
+    // The next step searches, as the serial scene's does: the ghosts of the removed go there.
+    s_.needRebuild = true;
+    touchConfig();
+    return n;
   }
 }
 

@@ -595,10 +595,24 @@ void SimulationManager<D>::removeElement(ElementId id) {
 }
 
 template <int D>
+size_t SimulationManager<D>::removeElementList(const std::vector<ElementId>& ids) {
+  std::vector<ElementId> unique;
+  std::unordered_set<uint64_t> seen;
+  for (ElementId g : ids) {
+    if (seen.insert(g.bits()).second) unique.push_back(g);
+  }
+  if (s_.dist) return removeElementsOnRanks(unique);
+  for (ElementId g : unique) s_.elements.index(g);  // (all or none: LOOKUP HANDLE first)
+  for (ElementId g : unique) removeElement(g);
+  return unique.size();
+}
+
+template <int D>
 size_t SimulationManager<D>::removeElements(const std::string& tag) {
-  refuseIfDistributed("remove elements");
   const std::vector<ElementId> ids = s_.elements.tags().objects(tag);
+  // (A distributed scene has no tags, distribute() refuses them: every rank answers 0.)
   if (ids.empty()) return 0;
+  refuseIfDistributed("remove elements");
   removeElementSet(ids);
   return ids.size();
 }

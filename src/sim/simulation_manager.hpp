@@ -96,6 +96,7 @@ class SimulationManager final : public Simulation {
   std::vector<ElementId> addElements(const std::vector<ElementDef>& defs) override;
   void reserveElements(size_t n) override;
   void removeElement(ElementId id) override;
+  size_t removeElementList(const std::vector<ElementId>& ids) override;
   size_t removeElements(const std::string& tag) override;
   ElementState element(ElementId id) const override;
   ElementId findElement(const std::string& name) const override;
@@ -374,6 +375,16 @@ class SimulationManager final : public Simulation {
   // the element put among its own elements by the rank whose box holds it (the next step
   // searches, as the serial scene's does), the ledger's reference moved on every rank.
   ElementId addElementOnRanks(const ElementDef& def);
+  // removeElementList in a distributed scene (collective): every id checked to be owned by a
+  // rank (LOOKUP HANDLE on every rank, nothing removed, when one is not), each removed by its
+  // owner (removeOwned: the next step searches, as the serial scene's does), the ledger's
+  // reference moved by their energies on every rank in the order given, their handles given
+  // back to the pool's model. Returns ids.size() (ids hold no repeats).
+  size_t removeElementsOnRanks(const std::vector<ElementId>& ids);
+  // Returns the global id of the element scripts know as original in a distributed scene
+  // (from the renamed runs), or nothing when that handle names no element's life. Changes
+  // nothing.
+  std::optional<uint64_t> globalIdOfHandle(ElementId original) const;
   void markPlaced(WallId id) {
     if (s_.steps > 0) s_.placedWalls.push_back(id);
   }

@@ -203,6 +203,28 @@ foreach k {17 600 1199} {
     puts "position_after$k [element get [lindex $ids $k] -position]"
     puts "velocity_after$k [element get [lindex $ids $k] -velocity]"
 }
+# Grains removed on the ranks (collective, all or none): five across the bed (some held by other
+# ranks as ghosts, whose copies go at the next step's search), the grain added above, and one
+# named twice. A second remove naming an unknown id removes nothing.
+set gone2 [lmap k {100 350 640 880 1010} {lindex $ids $k}]
+set before [element count]
+expectError {DEMLAB LOOKUP ELEMENT} "element remove [lindex $gone2 0] 999999"
+check "a refused element remove changes nothing" [expr {[element count] == $before}]
+set removed [element remove {*}$gone2 $added [lindex $gone2 0]]
+puts "removed $removed [element count] [llength [element list]] [dict get [query counts] contacts]"
+expectError {DEMLAB LOOKUP ELEMENT} "element get [lindex $gone2 1]"
+set report [sim run -steps 100 -quiet]
+puts "residual3 [dict get $report residual]"
+puts "contacts3 [dict get [query counts] contacts]"
+foreach k {17 600 1199} {
+    puts "position_removed$k [element get [lindex $ids $k] -position]"
+    puts "velocity_removed$k [element get [lindex $ids $k] -velocity]"
+}
+# An element added after them takes the handle the serial scene gives (the last slot freed).
+set again [element add -radius 0.002 -position {0.02 0.02 0.045} -velocity {0 0 -0.5}]
+puts "againid $again [element count]"
+sim run -steps 100 -quiet
+puts "position_again [element get $again -position]"
 # The automatic step is the whole scene's on every rank: a run of -time counts the same steps.
 sim timestep auto
 puts "autostep [sim timestep]"

@@ -526,18 +526,17 @@ void registerElementCommands(Registry& r) {
                   {"ARGS"});
     }
   });
+  rm.onRanks = OnRanks::Collective;
   rm.run([](Call& c) {
     auto& s = session(c).scene();
     if (c.given("tag")) return Value(s.removeElements(c.str("tag")));
-    std::vector<ElementId> ids = c.all<ElementId>("element");
-    std::unordered_set<std::uint64_t> seen;
-    std::size_t n = 0;
-    for (ElementId g : ids)
-      if (seen.insert(g.bits()).second) {  // each id was checked to exist; duplicates once
-        s.removeElement(g);
-        ++n;
-      }
-    return Value(n);
+    // (Serial: each id was checked to exist. Distributed: the ranks owning them check, together.)
+    try {
+      return Value(s.removeElementList(c.all<ElementId>("element")));
+    } catch (const Error& e) {
+      if (e.code().size() < 2 || e.code()[1] != "LOOKUP") throw;
+      throw Error(e.what(), {"LOOKUP", "ELEMENT"});  // (as the serial check words it)
+    }
   });
 
   Command& resize = r.add("element resize",

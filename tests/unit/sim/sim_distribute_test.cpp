@@ -138,5 +138,48 @@ TEST(SimDistribute, RefusesWhatItCannotRun) {
   EXPECT_EQ(serial->energy().residual, s->energy().residual);
 }
 
+// Elements removed after distribute(): all or none (an id no rank owns: LOOKUP HANDLE, the
+// scene unchanged); those of a settling bed, in contact with others, with the serial scene's
+// positions and velocities bit for bit after it, their handles given back (the next element
+// added takes the serial scene's).
+TEST(SimDistribute, RemovesElementsAsTheSerialSceneDoes) {
+  auto serial = bed(1500), dist = bed(1500);
+  serial->setOption("detection", "margins", false);
+  dist->distribute();
+  serial->runSteps(600);
+  dist->runSteps(600);
+  const std::vector<ElementId> ids = serial->elementIds();
+  const std::vector<ElementId> gone{ids[10], ids[700], ids[1499], ids[3], ids[700]};
+  const uint64_t digest = dist->stateDigest();
+  EXPECT_EQ(codeOf([&] { dist->removeElementList({ids[5], ElementId{99999, 1}}); }),
+            (std::vector<std::string>{"LOOKUP", "HANDLE"}));
+  EXPECT_EQ(dist->stateDigest(), digest);
+  EXPECT_EQ(serial->removeElementList(gone), 4u);
+  EXPECT_EQ(dist->removeElementList(gone), 4u);
+  EXPECT_EQ(codeOf([&] { dist->element(ids[700]); }), (std::vector<std::string>{"LOOKUP", "HANDLE"}));
+  RunReport a = serial->runSteps(600), b = dist->runSteps(600);
+  EXPECT_GT(a.contacts, 1000u);
+  EXPECT_EQ(a.contacts, b.contacts);
+  // (The ledger to round-off: the serial removal parks the springs, keeping each contact's
+  // damper loss still to book, which the distributed scene's next search drops, as every
+  // search does: about 3e-6 of the damping loss here, the balance kept.)
+  EXPECT_NEAR(serial->energy().residual, dist->energy().residual, 1e-14);
+  EXPECT_EQ(serial->addElement(grain({0.1, 0.1, 0.15}, 0.006, "glass")),
+            dist->addElement(grain({0.1, 0.1, 0.15}, 0.006, "glass")));
+  serial->runSteps(300);
+  dist->runSteps(300);
+  const auto x = serial->elementSnapshots(), y = dist->elementSnapshots();
+  ASSERT_EQ(x.size(), 1497u);
+  ASSERT_EQ(y.size(), x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    EXPECT_EQ(x[i].id, y[i].id);
+    EXPECT_EQ(x[i].position, y[i].position) << i;
+    EXPECT_EQ(x[i].velocity, y[i].velocity) << i;
+  }
+  EXPECT_NEAR(serial->energy().residual, dist->energy().residual, 1e-14);
+  EXPECT_NEAR(serial->energy().dampingLoss, dist->energy().dampingLoss,
+              1e-5 * serial->energy().dampingLoss);
+}
+
 }  // namespace sim_distribute_test
 }  // namespace demlab::sim
