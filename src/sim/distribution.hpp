@@ -305,6 +305,28 @@ void removeOwned(Scene<D>& s, ElementId h) {
   s.dist->plan.ownedRemoved(gone, from);
 }
 
+// Drops the candidates of wall w (dense) with their springs before the walls' swap-removal takes
+// it out: the last wall's lists move into its place, as the wall does. The grain candidates and
+// their springs stay (a distributed scene cannot park them by slot: a ghost partner has none);
+// the contact records are dropped and the touch states marked stale, as a serial removal does.
+// The caller sets the search that follows. Changes the per-wall lists.
+template <int D>
+void dropWallCandidates(Scene<D>& s, uint32_t w) {
+  const size_t walls = s.walls.size();
+  const auto swapRemove = [&](auto& perWall) {
+    perWall.resize(walls);  // (a wall added since the last search has none yet)
+    if (w + 1 != walls) perWall[w] = std::move(perWall.back());
+    perWall.pop_back();
+  };
+  swapRemove(s.wallCandidates);
+  if (s.wallSprings.size() > w) swapRemove(s.wallSprings);
+  s.wallTouchNow.clear();
+  s.wallTouchPrev.clear();
+  s.contactGroups.clear();
+  s.contacts.clear();
+  s.touchNowValid = s.wallTouchNowValid = s.wallTouchPrevValid = false;
+}
+
 // Drops the ghosts from the arrays. Changes every array and s.ghosts.
 template <int D>
 void dropGhosts(Scene<D>& s) {

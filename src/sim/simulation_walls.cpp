@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "sim/convert.hpp"
+#include "sim/distribution.hpp"
 #include "sim/record_geometry.hpp"
 #include "physics/triangle_mesh.hpp"
 #include "sim/simulation_manager.hpp"
@@ -255,8 +256,12 @@ WallId SimulationManager<D>::addWall(const WallDef& def) {
 
 template <int D>
 void SimulationManager<D>::removeWall(WallId id) {
-  s_.walls.pool().denseIndex(id);
-  forgetCandidates();
+  const uint32_t w = s_.walls.pool().denseIndex(id);
+  if (s_.dist) {
+    dropWallCandidates(s_, w);  // (every rank removes it alike)
+  } else {
+    forgetCandidates();
+  }
   if (s_.keepHistory) s_.histories.removeId(wallPairId(id.index));
   // Its slot may come back for a new wall: its shape springs go with it.
   s_.shapeSprings.eraseIf([&](const ShapeSpringKey& k) { return k.b == wallPairId(id.index); });

@@ -213,6 +213,9 @@ check "a refused element remove changes nothing" [expr {[element count] == $befo
 set removed [element remove {*}$gone2 $added [lindex $gone2 0]]
 puts "removed $removed [element count] [llength [element list]] [dict get [query counts] contacts]"
 expectError {DEMLAB LOOKUP ELEMENT} "element get [lindex $gone2 1]"
+# A side wall removed alike on every rank (the lid, the last wall, takes its place among them).
+wall remove 1
+puts "wallsleft [llength [wall list]] [dict get [wall get $lid] id]"
 set report [sim run -steps 100 -quiet]
 puts "residual3 [dict get $report residual]"
 puts "contacts3 [dict get [query counts] contacts]"

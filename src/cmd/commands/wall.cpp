@@ -342,6 +342,7 @@ void registerWallCommands(Registry& r) {
 
   Command& rm = r.add("wall remove", "Removes walls; returns how many.");
   rm.variadicArg("wall", wallRef(), "wall ids or names");
+  rm.onRanks = OnRanks::Alike;  // (every rank holds every wall)
   rm.run([](Call& c) {
     auto& s = session(c).scene();
     std::unordered_set<std::uint64_t> seen;
