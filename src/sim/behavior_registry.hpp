@@ -78,7 +78,8 @@ inline BehaviorParam targetParam(ElementId grain, const std::string& tag) {
 template <int D, class F>
 void forEachTarget(const Scene<D>& s, ElementId grain, const std::string& tag, F&& fn) {
   if (!grain.isNull()) {
-    const uint32_t i = s.elements.pool().findDense(grain);
+    const uint32_t i = s.ownedIndexOfHandle != nullptr ? s.ownedIndexOfHandle(s, grain)
+                                                       : s.elements.pool().findDense(grain);
     if (i != HandlePool<ElementKind>::kNpos) fn(i);
   } else {
     s.elements.tags().forEach(tag, [&](ElementId id) { fn(s.elements.pool().denseIndex(id)); });

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <unordered_map>
 #include <vector>
@@ -122,6 +123,21 @@ struct Distribution {
     const Renamed* run = renamedRun(gid);
     return run != nullptr ? ElementId::fromBits(run->bits + (gid - run->id)) : firstLife(gid);
   }
+  // Returns the global id of the element scripts know by handle h (from the renamed runs), or
+  // nothing when h names no element's life. Changes nothing.
+  std::optional<uint64_t> globalIdOf(ElementId h) const {
+    // The run holding the handle, if any: the last whose first handle is at most it.
+    const uint64_t bits = h.bits();
+    auto r = std::upper_bound(renamedByHandle.begin(), renamedByHandle.end(), bits,
+                              [](uint64_t b, const Renamed& run) { return b < run.bits; });
+    if (r != renamedByHandle.begin() && bits - std::prev(r)->bits < std::prev(r)->count) {
+      return std::prev(r)->id + (bits - std::prev(r)->bits);
+    }
+    // (The element made with this id has another handle now: this one names no element.)
+    const uint64_t gid = h.index;
+    if (h != firstLife(gid) || renamedRun(gid) != nullptr) return std::nullopt;
+    return gid;
+  }
   // Returns the handle of the first element a scene creates in slot gid (its global id too).
   static ElementId firstLife(uint64_t gid) { return ElementId{static_cast<uint32_t>(gid), 1}; }
 
@@ -190,6 +206,22 @@ inline void reduceLedger(const mpi::Communicator& comm, double& kinetic, double&
   if (rotational != nullptr) *rotational = v[9];
 }
 
+// Returns the dense index of the element scripts know by handle h among this rank's own, or
+// kNpos when another rank owns it or none does (Scene::ownedIndexOfHandle): a scan of the owned
+// elements' global ids, so a behavior on one element pays it each step. Changes nothing.
+template <int D>
+uint32_t ownedIndexOf(const Scene<D>& s, ElementId h) {
+  const std::optional<uint64_t> gid = s.dist->globalIdOf(h);
+  if (gid) {
+    const ElementArrays<D>& a = s.elements.a;
+    const size_t n = s.ownedCount();
+    for (size_t i = 0; i < n; ++i) {
+      if (a.globalId[i] == *gid) return static_cast<uint32_t>(i);
+    }
+  }
+  return HandlePool<ElementKind>::kNpos;
+}
+
 // Returns the centres of elements [0, n) of the 3D arrays a, as the bisection and the reach
 // table take them.
 inline std::vector<mpi::Point<3>> centresOf(const ElementArrays<3>& a, size_t n) {
@@ -256,9 +288,9 @@ void insertOwned(Scene<D>& s, const ElementRecord& r) {
 // elements, then the ghosts): the last owned element takes its place and each ghost moves one
 // place back. What holds dense indices until the next search follows them: the grain and wall
 // candidates (the removed element's dropped, with their springs) and the ghost plan's sent
-// lists. The contact records are dropped and the touch states marked stale, as a serial removal
-// does; the caller sets the search that follows. Changes every per-element array, the pool,
-// the candidates, their springs and the plan.
+// lists. The caller drops the contact records on every rank (forgetContactRecords) and sets the
+// search that follows. Changes every per-element array, the pool, the candidates, their springs
+// and the plan.
 template <int D>
 void removeOwned(Scene<D>& s, ElementId h) {
   ElementArrays<D>& a = s.elements.a;
@@ -300,9 +332,16 @@ void removeOwned(Scene<D>& s, ElementId h) {
     if (springs != nullptr) springs->resize(out);
   }
   s.contactGroups.clear();
+  s.dist->plan.ownedRemoved(gone, from);
+}
+
+// What a serial removal does to the whole scene's pair state, done by every rank of a
+// distributed one, owner or not: the contact records dropped, the touch states stale. Changes
+// those.
+template <int D>
+void forgetContactRecords(Scene<D>& s) {
   s.contacts.clear();
   s.touchNowValid = s.wallTouchNowValid = false;
-  s.dist->plan.ownedRemoved(gone, from);
 }
 
 // Drops the candidates of wall w (dense) with their springs before the walls' swap-removal takes
@@ -323,8 +362,8 @@ void dropWallCandidates(Scene<D>& s, uint32_t w) {
   s.wallTouchNow.clear();
   s.wallTouchPrev.clear();
   s.contactGroups.clear();
-  s.contacts.clear();
-  s.touchNowValid = s.wallTouchNowValid = s.wallTouchPrevValid = false;
+  s.wallTouchPrevValid = false;
+  forgetContactRecords(s);
 }
 
 // Drops the ghosts from the arrays. Changes every array and s.ghosts.

@@ -178,6 +178,11 @@ struct Scene {
   std::shared_ptr<Distribution<D>> dist;
   size_t ghosts = 0;
   size_t ownedCount() const { return elements.a.size() - ghosts; }
+  // Returns the dense index of the element a script knows by handle h among this rank's own,
+  // or kNpos when another rank owns it or none does: set by distribution (its handles are the
+  // serial scene's, not the rank's pool's; ownedIndexOf, sim/distribution.hpp), null in a
+  // serial scene, where the pool answers.
+  uint32_t (*ownedIndexOfHandle)(const Scene& s, ElementId h) = nullptr;
   WallSet<D> walls;
   BehaviorManager<D> behaviors;
   std::vector<BlockedElement> blocked;  // in the order they were blocked

@@ -49,8 +49,11 @@ std::string unsupported(const Scene<D>& s, std::ptrdiff_t outputs) {
   if (!s.sources.empty()) return "a source";
   if (!s.sinks.empty()) return "a sink";
   if (!s.blocked.empty()) return "blocked degrees of freedom";
+  // (Gravity acts on every element; a load or a torque ramp on one element finds it among the
+  // rank's own through Scene::ownedIndexOfHandle, on a tag on no element: tags are refused.)
   for (const auto& b : s.behaviors.items()) {
-    if (b->type() != "gravity") return "a " + std::string(b->type()) + " behavior";
+    const std::string_view t = b->type();
+    if (t != "gravity" && t != "load" && t != "torque-ramp") return "a " + std::string(t) + " behavior";
   }
   if (outputs > 0) return "an output distributed runs do not write yet";
   if (s.elements.names().size() > 0) return "named elements";
@@ -134,6 +137,7 @@ void SimulationManager<D>::distribute() {
     // already, and its searches come when the serial run's would.
     s_.needRebuild = s_.needRebuild || comm.size() > 1;
     s_.dist = std::move(d);
+    s_.ownedIndexOfHandle = &ownedIndexOf<D>;
     configDirty_ = true;
   }
 }
@@ -158,35 +162,13 @@ std::vector<Simulation::ElementSnapshot> SimulationManager<D>::elementSnapshots(
 }
 
 template <int D>
-std::optional<uint64_t> SimulationManager<D>::globalIdOfHandle(ElementId original) const {
-  // The run holding the handle, if any: the last whose first handle is at most it.
-  const auto& byHandle = s_.dist->renamedByHandle;
-  const uint64_t bits = original.bits();
-  auto h = std::upper_bound(byHandle.begin(), byHandle.end(), bits,
-                            [](uint64_t b, const auto& run) { return b < run.bits; });
-  const uint64_t gid = original.index;
-  if (h != byHandle.begin() && bits - std::prev(h)->bits < std::prev(h)->count) {
-    return std::prev(h)->id + (bits - std::prev(h)->bits);
-  }
-  // (The element made with this id has another handle now: this one names no element.)
-  if (original != firstLife(gid) || s_.dist->renamedRun(gid) != nullptr) return std::nullopt;
-  return gid;
-}
-
-template <int D>
 ElementId SimulationManager<D>::ownedElement(ElementId original) const {
   if (!s_.dist) {
     s_.elements.index(original);  // LOOKUP HANDLE when it names no element
     return original;
   }
-  const std::optional<uint64_t> gid = globalIdOfHandle(original);
-  if (!gid) return ElementId{};
-  const ElementArrays<D>& a = s_.elements.a;
-  const size_t n = s_.ownedCount();
-  for (size_t i = 0; i < n; ++i) {
-    if (a.globalId[i] == *gid) return s_.elements.pool().handleAt(static_cast<uint32_t>(i));
-  }
-  return ElementId{};
+  const uint32_t i = ownedIndexOf(s_, original);
+  return i == HandlePool<ElementKind>::kNpos ? ElementId{} : s_.elements.pool().handleAt(i);
 }
 
 template <int D>
@@ -301,11 +283,12 @@ size_t SimulationManager<D>::removeElementsOnRanks(const std::vector<ElementId>&
       if (s_.keepHistory) s_.histories.removeId(local[k].index);
       removeOwned(s_, local[k]);
     }
+    forgetContactRecords(s_);
     d.comm->sum(energy);
     for (size_t k = 0; k < n; ++k) {
       s_.ledger.reference -= energy[k];
       d.freeHandle(ids[k]);
-      std::erase(d.placed, *globalIdOfHandle(ids[k]));
+      std::erase(d.placed, *d.globalIdOf(ids[k]));
     }
     // The next step searches, as the serial scene's does: the ghosts of the removed go there.
     s_.needRebuild = true;

@@ -381,10 +381,6 @@ class SimulationManager final : public Simulation {
   // reference moved by their energies on every rank in the order given, their handles given
   // back to the pool's model. Returns ids.size() (ids hold no repeats).
   size_t removeElementsOnRanks(const std::vector<ElementId>& ids);
-  // Returns the global id of the element scripts know as original in a distributed scene
-  // (from the renamed runs), or nothing when that handle names no element's life. Changes
-  // nothing.
-  std::optional<uint64_t> globalIdOfHandle(ElementId original) const;
   void markPlaced(WallId id) {
     if (s_.steps > 0) s_.placedWalls.push_back(id);
   }
