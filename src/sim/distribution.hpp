@@ -193,15 +193,19 @@ struct Distribution {
 // Replaces this rank's kinetic energy, potential energy, ledger sums (l's losses, works and
 // elastic energy) and, when given, rotational energy by their sums over the ranks, added in rank
 // order (every rank gets the same bits). Collective. The reference, scale and start of l are the
-// whole scene's already and stay.
+// whole scene's already and stay. eachHoldsWhole (a distributed scene before its first search,
+// Distribution::initial): every rank's energies, the springs' too, are the whole scene's
+// already and stay; only the losses and works are summed (rank 0's, the others' zero).
 inline void reduceLedger(const mpi::Communicator& comm, double& kinetic, double& potential,
-                         LedgerSums& l, double* rotational = nullptr) {
+                         LedgerSums& l, double* rotational = nullptr, bool eachHoldsWhole = false) {
   std::vector<double> v{kinetic,        potential,     l.dampingLoss, l.frictionLoss,
                         l.wallWork,     l.behaviorWork, l.springWork,  l.bondReleased,
                         l.elastic,      rotational != nullptr ? *rotational : 0.0};
   comm.sum(v);
-  kinetic = v[0], potential = v[1], l.dampingLoss = v[2], l.frictionLoss = v[3];
+  l.dampingLoss = v[2], l.frictionLoss = v[3];
   l.wallWork = v[4], l.behaviorWork = v[5], l.springWork = v[6], l.bondReleased = v[7];
+  if (eachHoldsWhole) return;
+  kinetic = v[0], potential = v[1];
   l.elastic = v[8];
   if (rotational != nullptr) *rotational = v[9];
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <string>
+#include <unordered_map>
 
 #include "mpi/communicator.hpp"
 #include "mpi/error_bytes.hpp"
@@ -262,11 +263,21 @@ size_t SimulationManager<D>::removeElementsOnRanks(const std::vector<ElementId>&
   } else {
     Distribution<D>& d = *s_.dist;
     const size_t n = ids.size();
+    // One pass over the owned elements finds every id this rank owns (ids hold no repeats).
+    std::vector<std::optional<uint64_t>> gids(n);
+    std::unordered_map<uint64_t, size_t> wanted;
+    for (size_t k = 0; k < n; ++k) {
+      gids[k] = d.globalIdOf(ids[k]);
+      if (gids[k]) wanted.emplace(*gids[k], k);
+    }
     std::vector<ElementId> local(n);
     std::vector<double> held(n, 0.0);
-    for (size_t k = 0; k < n; ++k) {
-      local[k] = ownedElement(ids[k]);
-      if (!local[k].isNull()) held[k] = 1;
+    const ElementArrays<D>& a = s_.elements.a;
+    for (size_t i = 0; i < s_.ownedCount() && !wanted.empty(); ++i) {
+      const auto it = wanted.find(a.globalId[i]);
+      if (it == wanted.end()) continue;
+      local[it->second] = s_.elements.pool().handleAt(static_cast<uint32_t>(i));
+      held[it->second] = 1;
     }
     d.comm->sum(held);
     for (size_t k = 0; k < n; ++k) {
@@ -288,7 +299,7 @@ size_t SimulationManager<D>::removeElementsOnRanks(const std::vector<ElementId>&
     for (size_t k = 0; k < n; ++k) {
       s_.ledger.reference -= energy[k];
       d.freeHandle(ids[k]);
-      std::erase(d.placed, *d.globalIdOf(ids[k]));
+      std::erase(d.placed, *gids[k]);
     }
     // The next step searches, as the serial scene's does: the ghosts of the removed go there.
     s_.needRebuild = true;

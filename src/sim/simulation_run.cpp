@@ -816,13 +816,7 @@ double SimulationManager<D>::ledgerSum() const {
   }
   double u = potential();
   LedgerSums l = s_.ledger;
-  if (s_.dist) {
-    const double kWhole = k, uWhole = u, elasticWhole = l.elastic;
-    reduceLedger(*s_.dist->comm, k, u, l);
-    // (Until the first search every rank holds the whole scene: its energies, the springs'
-    // too, are the scene's; the losses and works are rank 0's, the others' zero.)
-    if (s_.dist->initial) k = kWhole, u = uWhole, l.elastic = elasticWhole;
-  }
+  if (s_.dist) reduceLedger(*s_.dist->comm, k, u, l, nullptr, s_.dist->initial);
   return l.balanceSum(k, u);
 }
 
@@ -839,18 +833,9 @@ EnergyLedger SimulationManager<D>::energy() const {
   if (s_.dist) {
     // The ranks' parts added: the kinetic energies as two terms, the potential, the sums.
     double kinetic = e.kineticTranslational;
-    const EnergyLedger whole = e;
-    const double elasticWhole = l.elastic;
-    reduceLedger(*s_.dist->comm, kinetic, e.gravitational, l, &e.kineticRotational);
+    reduceLedger(*s_.dist->comm, kinetic, e.gravitational, l, &e.kineticRotational,
+                 s_.dist->initial);
     e.kineticTranslational = kinetic;
-    // (Until the first search every rank holds the whole scene: its energies, the springs'
-    // too, are the scene's; the losses and works are rank 0's, the others' zero.)
-    if (s_.dist->initial) {
-      e.kineticTranslational = whole.kineticTranslational;
-      e.kineticRotational = whole.kineticRotational;
-      e.gravitational = whole.gravitational;
-      l.elastic = elasticWhole;
-    }
   }
   e.elastic = l.elastic;
   e.dampingLoss = l.dampingLoss;
