@@ -30,15 +30,9 @@ if(MPI_CXX_FOUND)
       target_compile_options(demlab_${part}_rank_tests PRIVATE -fno-sanitize=undefined)
     endif()
     foreach(np 1 2 3)
-      # Three ranks share the two cores: the frictionless bed, the simplest, runs on 1 and 2
-      # only (sim.np3 was the suite's longest entry under the sanitizers).
-      set(filter "")
-      if(part STREQUAL "sim" AND np EQUAL 3)
-        set(filter --gtest_filter=-SimRanks.FrictionlessBedAgreesWithTheSerialRun)
-      endif()
       add_test(NAME ${part}.np${np}
                COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np}
-                       $<TARGET_FILE:demlab_${part}_rank_tests> --gtest_brief=1 ${filter})
+                       $<TARGET_FILE:demlab_${part}_rank_tests> --gtest_brief=1)
       # Root in CI containers; more ranks than cores; no cross-memory attach in containers.
       # OpenMPI's own allocations outlive MPI_Finalize, which LeakSanitizer would report.
       # One thread a rank: the ranks share the cores.

@@ -120,7 +120,8 @@ void compare(int n, double friction, uint64_t steps, uint64_t each, double tol, 
     EXPECT_EQ(a.contacts, b.contacts);
     EXPECT_NEAR(a.energyResidual, b.energyResidual, 1e-6 + 0.01 * a.energyResidual);
   }
-  EXPECT_GT(b.contacts, static_cast<uint64_t>(n));
+  // (A bed, not a gas: most balls touch others or the floor by the end.)
+  EXPECT_GT(b.contacts, static_cast<uint64_t>(n / 2));
   const Simulation::DistributionReport r = dist->distribution();
   EXPECT_EQ(r.ranks, world().size());
   // Every rank owns a fair share and, with several ranks, holds ghosts.
@@ -133,22 +134,22 @@ void compare(int n, double friction, uint64_t steps, uint64_t each, double tol, 
   EXPECT_GT(r.searches, 1u);
 }
 
-// 1200 balls fall 0.12 s (about 1 700 contacts at the end), in runs of 2000 steps.
-TEST(SimRanks, FrictionalBedAgreesWithTheSerialRun) { compare(1200, 0.5, 6000, 2000, 1e-6); }
+// 1200 balls fall 0.06 s (about 950-1 200 contacts at the end), in runs of 1000 steps.
+TEST(SimRanks, FrictionalBedAgreesWithTheSerialRun) { compare(1200, 0.5, 3000, 1000, 1e-6); }
 
-TEST(SimRanks, FrictionlessBedAgreesWithTheSerialRun) { compare(1200, 0, 6000, 2000, 1e-6); }
+TEST(SimRanks, FrictionlessBedAgreesWithTheSerialRun) { compare(1200, 0, 3000, 1000, 1e-6); }
 
 // Rolling resistance and cohesion: their torques and forces on ghosts go back with the rest.
 TEST(SimRanks, RollingCohesiveBedAgreesWithTheSerialRun) {
-  compare(1200, 0.5, 6000, 2000, 1e-6, false, 0.1, 2.0);
+  compare(1200, 0.5, 3000, 1000, 1e-6, false, 0.1, 2.0);
 }
 
 TEST(SimRanks, BedDistributedAfterARunAgreesWithTheSerialRun) {
-  compare(1200, 0.5, 6000, 2000, 1e-6, true);
+  compare(1200, 0.5, 3000, 1000, 1e-6, true);
 }
 
 // A checkpoint of a distributed scene holds the whole scene (sim/simulation_gather.cpp): loaded
-// alone after 2000 steps it is the serial run's scene to round-off, under the same handles, with
+// alone after 1000 steps it is the serial run's scene to round-off, under the same handles, with
 // the same pool (the next element added gets the serial scene's next handle), the ledger's sums
 // and the walls' work whole; and it goes on as the distributed run does.
 TEST(SimRanks, CheckpointOfRanksLoadsAlone) {
@@ -163,17 +164,17 @@ TEST(SimRanks, CheckpointOfRanksLoadsAlone) {
   std::unique_ptr<Simulation> serial;
   if (judge) {
     serial = make();
-    serial->runSteps(2000);
+    serial->runSteps(1000);
   }
   auto dist = make();
   dist->distribute();
-  dist->runSteps(2000);
+  dist->runSteps(1000);
   std::vector<std::string> skipped;
   const std::string bytes = dist->saveBytes(false, &skipped);
   EXPECT_TRUE(skipped.empty());
   EXPECT_EQ(bytes.empty(), !judge);  // rank 0 alone gets the file
   const EnergyLedger distLedger = dist->energy();
-  dist->runSteps(1000);
+  dist->runSteps(500);
   const auto wentOn = dist->elementSnapshots();
   if (!judge) return;
   auto loaded = makeSimulation(3);
@@ -193,7 +194,7 @@ TEST(SimRanks, CheckpointOfRanksLoadsAlone) {
   EXPECT_NEAR(es.wallWork, el.wallWork, 1e-9 + 1e-6 * std::abs(es.wallWork));
   EXPECT_NEAR(distLedger.residual, el.residual, 1e-9);
   // Loaded alone it goes on as the distributed scene did.
-  loaded->runSteps(1000);
+  loaded->runSteps(500);
   const auto y = loaded->elementSnapshots();
   ASSERT_EQ(wentOn.size(), y.size());
   double worst = 0;
