@@ -120,7 +120,8 @@ void usage(std::FILE* f) {
                "  --all-ranks       under mpirun: every rank writes its breakdown on stderr\n"
                "                    (its own module times: the ranks' balance)\n"
                "  --tile N          N copies of the bed side by side along x, the box N times\n"
-               "                    as wide (scene SCENExN): weak scaling with N ranks\n"
+               "                    as wide (scene SCENExN), a two-sided wall between each\n"
+               "                    two copies: weak scaling with N ranks\n"
                "  --integrator NAME verlet or synchronized (default: verlet, the peers', in\n"
                "                    the like-for-like variants; the Simulation's in default)\n"
                "  --variant LIST    comma-separated: full, nofriction, norotation, touch,\n"
@@ -319,6 +320,21 @@ std::unique_ptr<sim::Simulation> buildScene(const io::SphereData& d, const Optio
     w.normal[f.axis] = f.high ? -1.0 : 1.0;
     w.material = "wall";
     w.name = f.name;
+    s->addWall(w);
+  }
+  // A tiled scene is that many copies of the bed, each in its own box: a two-sided rectangle
+  // where two copies meet takes the place of their side walls there (without it the grains at
+  // the seam would move, and the copies search far more often than one bed does).
+  const double width = (hi[0] - lo[0]) / o.tile;
+  for (int k = 1; k < o.tile; ++k) {
+    sim::WallDef w;
+    w.shape = sim::WallShape::Finite;
+    w.point = {lo[0] + k * width, 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    w.normal = {1, 0, 0};
+    w.axis = {0, 1, 0};
+    w.halfExtents = {0.5 * (hi[1] - lo[1]), 0.5 * (hi[2] - lo[2]), 0};
+    w.material = "wall";
+    w.name = "seam" + std::to_string(k);
     s->addWall(w);
   }
   s->addGravity({0, 0, -9.81});
