@@ -458,7 +458,7 @@ std::string Registry::distributedMarkdown() const {
          "bisection, with copies of its neighbours' elements within reach), or fails with "
          "`MPI UNSUPPORTED` on every rank when the scene has what distributed runs do not "
          "support yet (2D, element shapes, bonds, mesh walls, periodic boundaries, sources, "
-         "sinks, blocked degrees of freedom, behaviors other than gravity, loads and torque ramps, outputs other than "
+         "sinks, behaviors other than gravity, loads and torque ramps, outputs other than "
          "`dump every`, `snapshot every` and `series every`, named or tagged elements). Element ids "
          "stay what the script was given. `dump vtk` and `dump every` write each rank's "
          "elements and contacts as a piece under one `.pvtp`; snapshots are drawn by rank 0 "

@@ -14,6 +14,20 @@
 
 namespace demlab::sim {
 
+// Calls fn(dense index, dof:: mask) for each blocked element of s this rank holds, in the
+// order they were blocked. Changes nothing but a distributed scene's copy of the answer.
+template <int D, class F>
+void forEachBlocked(const Scene<D>& s, F&& fn) {
+  if (s.ownedBlocked != nullptr) {
+    for (const OwnedBlockedElement& b : s.ownedBlocked(s)) fn(b.i, b.dofs);
+    return;
+  }
+  for (const BlockedElement& b : s.blocked) {
+    const uint32_t i = s.elements.pool().findDense(b.id);
+    if (i != HandlePool<ElementKind>::kNpos) fn(i, b.dofs);
+  }
+}
+
 template <int D>
 class ConstraintModule final : public SimModule<D> {
  public:
@@ -24,30 +38,28 @@ class ConstraintModule final : public SimModule<D> {
     ElementArrays<D>& a = s.elements.a;
     const Real dt = s.stepDt;
     double work = 0;
-    for (const BlockedElement& b : s.blocked) {
-      const uint32_t i = s.elements.pool().findDense(b.id);
-      if (i == HandlePool<ElementKind>::kNpos) continue;
+    forEachBlocked(s, [&](uint32_t i, uint8_t dofs) {
       for (int k = 0; k < D; ++k) {
-        if (b.dofs & (dof::X << k)) {
+        if (dofs & (dof::X << k)) {
           work -= a.f[i][k] * a.v[i][k] * dt;
           a.f[i][k] = 0;
         }
       }
-      if (!s.rotating) continue;
+      if (!s.rotating) return;
       if constexpr (D == 2) {
-        if (b.dofs & dof::Rz) {
+        if (dofs & dof::Rz) {
           work -= a.t[i] * a.w[i] * dt;
           a.t[i] = 0;
         }
       } else {
         for (int k = 0; k < 3; ++k) {
-          if (b.dofs & (dof::Rx << k)) {
+          if (dofs & (dof::Rx << k)) {
             work -= a.t[i][k] * a.w[i][k] * dt;
             a.t[i][k] = 0;
           }
         }
       }
-    }
+    });
     s.ledger.behaviorWork += work;
   }
 };

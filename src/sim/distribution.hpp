@@ -109,6 +109,11 @@ struct Distribution {
   // The global ids of the elements edits placed since the last step, on every rank (the
   // watchdog holds their contacts, ghosts' too, to its `placed` limit: Scene::placedElements).
   std::vector<uint64_t> placed;
+  // The blocked elements this rank owns (ownedBlockedOf), as made after search `blockedAt`
+  // from a list of `blockedListed` entries.
+  std::vector<OwnedBlockedElement> ownedBlocked;
+  uint64_t blockedAt = ~uint64_t{0};
+  size_t blockedListed = 0;
 
   // Returns the run of renamed handles holding global id gid, or nullptr. Changes nothing.
   const Renamed* renamedRun(uint64_t gid) const {
@@ -224,6 +229,42 @@ uint32_t ownedIndexOf(const Scene<D>& s, ElementId h) {
     }
   }
   return HandlePool<ElementKind>::kNpos;
+}
+
+// Returns the blocked elements (Scene::blocked, by the scripts' handles) this rank owns, with
+// their dense indices, in the list's order (Scene::ownedBlocked). The last answer while it still
+// holds (no search since, every entry still the list's and its element still at its index:
+// edits between searches move an owned element or change the list), else made anew by one
+// pass over the owned elements. Changes the distribution's copy of the answer.
+template <int D>
+const std::vector<OwnedBlockedElement>& ownedBlockedOf(const Scene<D>& s) {
+  Distribution<D>& d = *s.dist;
+  const ElementArrays<D>& a = s.elements.a;
+  const size_t owned = s.ownedCount();
+  // (An entry added or dropped changes the list's length; one changed is dropped and added.)
+  bool holds = d.blockedAt == s.rebuilds && d.blockedListed == s.blocked.size();
+  for (const OwnedBlockedElement& b : d.ownedBlocked) {
+    if (!holds) break;
+    holds = b.listed < s.blocked.size() && s.blocked[b.listed].dofs == b.dofs &&
+            d.globalIdOf(s.blocked[b.listed].id) == b.globalId && b.i < owned &&
+            a.globalId[b.i] == b.globalId;
+  }
+  if (holds) return d.ownedBlocked;
+  std::unordered_map<uint64_t, size_t> wanted;  // global id -> place in the list
+  for (size_t k = 0; k < s.blocked.size(); ++k) {
+    if (const std::optional<uint64_t> gid = d.globalIdOf(s.blocked[k].id)) wanted.emplace(*gid, k);
+  }
+  d.ownedBlocked.clear();
+  for (size_t i = 0; i < owned && d.ownedBlocked.size() < wanted.size(); ++i) {
+    const auto it = wanted.find(a.globalId[i]);
+    if (it == wanted.end()) continue;
+    d.ownedBlocked.push_back({static_cast<uint32_t>(i), s.blocked[it->second].dofs, it->first, it->second});
+  }
+  std::sort(d.ownedBlocked.begin(), d.ownedBlocked.end(),
+            [](const OwnedBlockedElement& x, const OwnedBlockedElement& y) { return x.listed < y.listed; });
+  d.blockedAt = s.rebuilds;
+  d.blockedListed = s.blocked.size();
+  return d.ownedBlocked;
 }
 
 // Returns the centres of elements [0, n) of the 3D arrays a, as the bisection and the reach
@@ -591,17 +632,38 @@ class GhostForceModule final : public SimModule<D> {
  private:
   // Adds the values of T (GhostForce or GhostForceTouch) the other ranks sent back.
   template <class T>
-  static void add(Scene<D>& s) {
+  void add(Scene<D>& s) {
     ElementArrays<D>& a = s.elements.a;
+    constexpr bool touch = std::is_same_v<T, GhostForceTouch>;
+    // The touch correction's kicks from the other ranks' pairs are held along blocked degrees
+    // of freedom, as the owner's own are (TouchModule::holdBlocked), the reaction's work booked.
+    held_.clear();
+    if (touch && !s.blocked.empty()) {
+      for (const OwnedBlockedElement& b : s.ownedBlocked(s)) held_.emplace_back(b.i, b.dofs);
+      std::sort(held_.begin(), held_.end());
+    }
+    double work = 0;
     s.dist->plan.template receiveBack<T>([&](uint32_t i, const T& g) {
       a.f[i] += Vec3(g.f[0], g.f[1], g.f[2]);
       a.t[i] += Vec3(g.t[0], g.t[1], g.t[2]);
-      if constexpr (std::is_same_v<T, GhostForceTouch>) {
+      if constexpr (touch) {
+        Vec3 dv(g.dv[0], g.dv[1], g.dv[2]);
+        const auto it = std::lower_bound(held_.begin(), held_.end(), std::pair<uint32_t, uint8_t>{i, 0});
+        if (it != held_.end() && it->first == i) {
+          for (int k = 0; k < 3; ++k) {
+            if (!(it->second & (dof::X << k))) continue;
+            if (a.invMass[i] > 0) work -= dv[k] / a.invMass[i] * a.v[i][k];
+            dv[k] = 0;
+          }
+        }
         // (Most ghosts' velocities are untouched: their zeros change no bits but a -0.)
-        a.v[i] += Vec3(g.dv[0], g.dv[1], g.dv[2]);
+        a.v[i] += dv;
       }
     });
+    if (work != 0) s.ledger.behaviorWork += work;
   }
+
+  std::vector<std::pair<uint32_t, uint8_t>> held_;  // blocked: dense index, dof mask (sorted)
 };
 
 // Moves the "ghost-forces-out" module of a level-ordered list m (made by the "ghost-forces"

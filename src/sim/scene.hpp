@@ -157,6 +157,14 @@ struct BlockedElement {
   uint8_t dofs;  // dof:: mask, never 0 (an element with none blocked leaves the list)
 };
 
+// A blocked element a rank owns: its dense index and mask (Scene::ownedBlocked).
+struct OwnedBlockedElement {
+  uint32_t i;
+  uint8_t dofs;
+  uint64_t globalId;
+  size_t listed;  // its place in Scene::blocked
+};
+
 
 // Returns the Geometry list a new scene starts with: the ball's, at index 0.
 template <int D>
@@ -183,6 +191,9 @@ struct Scene {
   // serial scene's, not the rank's pool's; ownedIndexOf, sim/distribution.hpp), null in a
   // serial scene, where the pool answers.
   uint32_t (*ownedIndexOfHandle)(const Scene& s, ElementId h) = nullptr;
+  // Likewise the blocked elements (`blocked`, which holds the scripts' handles) this rank owns,
+  // in the list's order: set by distribution (ownedBlockedOf), null in a serial scene.
+  const std::vector<OwnedBlockedElement>& (*ownedBlocked)(const Scene& s) = nullptr;
   WallSet<D> walls;
   BehaviorManager<D> behaviors;
   std::vector<BlockedElement> blocked;  // in the order they were blocked

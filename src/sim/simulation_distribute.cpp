@@ -49,7 +49,6 @@ std::string unsupported(const Scene<D>& s, std::ptrdiff_t outputs) {
   if (s.periodic.any()) return "periodic boundaries";
   if (!s.sources.empty()) return "a source";
   if (!s.sinks.empty()) return "a sink";
-  if (!s.blocked.empty()) return "blocked degrees of freedom";
   // (Gravity acts on every element; a load or a torque ramp on one element finds it among the
   // rank's own through Scene::ownedIndexOfHandle, on a tag on no element: tags are refused.)
   for (const auto& b : s.behaviors.items()) {
@@ -139,6 +138,7 @@ void SimulationManager<D>::distribute() {
     s_.needRebuild = s_.needRebuild || comm.size() > 1;
     s_.dist = std::move(d);
     s_.ownedIndexOfHandle = &ownedIndexOf<D>;
+    s_.ownedBlocked = &ownedBlockedOf<D>;
     configDirty_ = true;
   }
 }
@@ -228,7 +228,6 @@ ElementId SimulationManager<D>::addElementOnRanks(const ElementDef& def) {
     if (!def.name.empty() || !def.tags.empty()) refuse("a name or tags");
     const CheckedElement c = checkElement(def);
     if (c.geometry.boundRadius != 0) refuse("a shape other than the ball");
-    if (c.blocked != 0) refuse("blocked degrees of freedom");
     Distribution<D>& d = *s_.dist;
     const uint64_t gid = s_.elements.peekGlobalId();  // (the same on every rank)
     const ElementId h = d.allocateHandle(gid);
@@ -248,6 +247,8 @@ ElementId SimulationManager<D>::addElementOnRanks(const ElementDef& def) {
       if (owner == d.comm->rank()) energy = elementEnergy(static_cast<uint32_t>(s_.ownedCount() - 1));
     }
     s_.ledger.reference += d.comm->sum(energy);
+    // (Every rank lists it under the scripts' handle; its owner finds it: ownedBlockedOf.)
+    if (c.blocked != 0) s_.blocked.push_back({h, c.blocked});
     // The next step searches, as the serial scene's does: the new element's pairs and ghosts.
     s_.needRebuild = true;
     if (s_.steps > 0) d.placed.push_back(gid);  // (as markPlaced)
@@ -298,6 +299,7 @@ size_t SimulationManager<D>::removeElementsOnRanks(const std::vector<ElementId>&
     d.comm->sum(energy);
     for (size_t k = 0; k < n; ++k) {
       s_.ledger.reference -= energy[k];
+      std::erase_if(s_.blocked, [&](const BlockedElement& b) { return b.id == ids[k]; });
       d.freeHandle(ids[k]);
       std::erase(d.placed, *gids[k]);
     }

@@ -113,6 +113,8 @@ Scene<D> SimulationManager<D>::gatheredScene() const {
 
     Scene<D> g = s_;
     g.dist.reset();
+    g.ownedIndexOfHandle = nullptr;
+    g.ownedBlocked = nullptr;
     g.ghosts = 0;
     g.ledger = ledger;
     for (size_t k = 0; k < g.walls.items.size(); ++k) {

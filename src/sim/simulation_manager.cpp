@@ -667,8 +667,10 @@ ElementState SimulationManager<D>::element(ElementId id) const {
   g.orientation = fromRotation(a.q[i]);
   g.shape = ShapeTable<D>::get().type(geom.shape).name();
   g.shapeParams = geom.params;
+  // (The list holds the scripts' handles; a distributed scene's id is this rank's handle.)
+  const ElementId listed = s_.dist ? s_.dist->handleOf(a.globalId[i]) : id;
   for (const BlockedElement& b : s_.blocked) {
-    if (b.id == id) g.blocked = b.dofs;
+    if (b.id == listed) g.blocked = b.dofs;
   }
   return g;
 }
@@ -736,7 +738,16 @@ void SimulationManager<D>::checkDofMask(unsigned mask) const {
 
 template <int D>
 void SimulationManager<D>::setElementBlocked(ElementId id, unsigned mask) {
-  s_.elements.index(id);
+  // A distributed scene: its owner answers the lookup on every rank, and every rank keeps the
+  // list alike (ownedBlockedOf finds the owner's part). Nothing moves: no search follows.
+  if (s_.dist) {
+    if (s_.dist->comm->sum(ownedElement(id).isNull() ? 0.0 : 1.0) == 0) {
+      throw Error("invalid element id \"" + toString(id) + "\": no such element",
+                  {"LOOKUP", "HANDLE"});
+    }
+  } else {
+    s_.elements.index(id);
+  }
   checkDofMask(mask);
   dropBlocked([&](ElementId g) { return g == id; });
   if (mask != 0) s_.blocked.push_back({id, static_cast<uint8_t>(mask)});

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "physics/touch.hpp"
+#include "sim/constraints.hpp"
 #include "sim/contact_kernel.hpp"
 #include "sim/contacts.hpp"
 #include "sim/integrator.hpp"
@@ -391,10 +392,7 @@ class TouchModule final : public SimModule<D> {
   // the velocity as its work, as that module books its forces'. Changes kicks_ and the ledger.
   void holdBlocked(Scene<D>& s) {
     blockedDofs_.clear();
-    for (const BlockedElement& b : s.blocked) {
-      const uint32_t i = s.elements.pool().findDense(b.id);
-      if (i != HandlePool<ElementKind>::kNpos) blockedDofs_.emplace_back(i, b.dofs);
-    }
+    forEachBlocked(s, [&](uint32_t i, uint8_t dofs) { blockedDofs_.emplace_back(i, dofs); });
     std::sort(blockedDofs_.begin(), blockedDofs_.end());
     const ElementArrays<D>& a = s.elements.a;
     double work = 0;

@@ -36,6 +36,12 @@ set ser [series every -steps 500 -quantities [list {*}$seriesOf {ztop {lindex [q
 # applies them (found by the id the script holds).
 behavior add load -element [lindex $ids 42] -force {2e-4 0 0}
 behavior add torque-ramp -element [lindex $ids 43] -torque {0 1e-8 0} -rate {0 1e-6 0}
+# Blocked degrees of freedom: a grain fixed where it starts (an obstacle the bed falls on, its
+# contacts on whichever ranks hold its copies), one that cannot move vertically.
+element set [lindex $ids 44] -fixed 1
+element set [lindex $ids 45] -block z
+set fixedAt [element get [lindex $ids 44] -position]
+set heldVz [lindex [element get [lindex $ids 45] -velocity] 2]
 set ranks [sim ranks]
 check "no rank before the run should be distributed" [expr {![dict get $ranks distributed]}]
 
@@ -137,8 +143,15 @@ expectError {DEMLAB LOOKUP ELEMENT} {element get 5000}
 expectError {DEMLAB LOOKUP ELEMENT} "element get $gone"
 expectError {DEMLAB LOOKUP ELEMENT} "element set $gone -velocity {0 0 0}"
 expectError {DEMLAB VALUE VELOCITY} "element set [lindex $ids 5] -velocity {1e9 0 0}"
+check "a fixed grain should stay where it was" [expr {[element get [lindex $ids 44] -position] eq $fixedAt}]
+check "a grain blocked along z should keep its vertical speed" \
+    [expr {[lindex [element get [lindex $ids 45] -velocity] 2] == $heldVz}]
+# Blocked after the first run (every rank lists it, its owner holds it); one freed.
+element set [lindex $ids 5] -block {x y rz}
+element set [lindex $ids 45] -block {}
+puts "blocked [element get [lindex $ids 44] -blocked] [element get [lindex $ids 5] -blocked] [element get [lindex $ids 45] -blocked] [element get [lindex $ids 44] -fixed]"
+expectError {DEMLAB LOOKUP ELEMENT} "element set $gone -fixed 1"
 if {$n > 1} {
-    expectError {DEMLAB MPI UNSUPPORTED} "element set [lindex $ids 5] -fixed 1"
     expectError {DEMLAB MPI UNSUPPORTED} {element add -radius 0.001 -position {0.02 0.02 0.1} -name x}
     set before [element count]
     expectError {DEMLAB VALUE} {element add -radius -1 -position {0.02 0.02 0.1}}

@@ -209,7 +209,7 @@ void registerElementCommands(Registry& r) {
       "The shape is a type of the dimension's shape table: the ball (sphere in 3D, disc in 2D), "
       "sized by -radius, or a type registered by a plug-in, described by -params (its bounding "
       "radius follows from them) and oriented by -orientation. `element shapes` lists them. In a "
-      "distributed run (a ball, without a name, tags or blocked degrees of freedom) it gets "
+      "distributed run (a ball, without a name or tags) it gets "
       "the id the serial scene would give and the rank whose box holds it takes it.";
   add.option("radius", real().positive().withUnit("m"), "radius (the ball's; required for it)")
       .to(&sim::ElementDef::radius);
@@ -423,11 +423,6 @@ void registerElementCommands(Registry& r) {
   set.onRanks = OnRanks::Collective;
   set.onCheck([](Call& c) {
     auto& s = session(c).scene();
-    if (s.distributed() && (c.given("fixed") || c.given("block"))) {
-      throw Error("can't block degrees of freedom in a distributed scene: distributed runs do "
-                  "not support them yet",
-                  {"MPI", "UNSUPPORTED"});
-    }
     // LOOKUP before changes (distributed: the rank owning it answers, on every rank).
     const ElementId e = c.get<ElementId>("element");
     const ElementId here = s.ownedElement(e);
