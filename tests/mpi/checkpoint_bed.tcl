@@ -11,6 +11,10 @@ if {$mode eq "save"} {
     # Elements removed on the ranks before the save: their slots are free in the checkpoint's
     # handle pool (the next element added takes the last one freed, as the serial scene does).
     element remove [lindex $bed 5] [lindex $bed 800] [lindex $bed 333]
+    # A grain fixed and one held vertically: the checkpoint keeps them (under the scripts'
+    # handles) for whichever rank will own them.
+    element set [lindex $bed 700] -fixed 1
+    element set [lindex $bed 701] -block z
     sim save $file
 } else {
     sim load $file
@@ -31,5 +35,7 @@ foreach k {0 1 17 600 1196} {
     puts "position$k [element get $id -position]"
     puts "velocity$k [element get $id -velocity]"
 }
+puts "blocked [element get [lindex $ids 697] -blocked] / [element get [lindex $ids 698] -blocked]"
+puts "position_fixed [element get [lindex $ids 697] -position]"
 puts "reused [element get [expr {2**32}] -position]"
 puts "nextid [element add -radius 0.001 -position {0.02 0.02 0.05}]"
