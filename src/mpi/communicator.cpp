@@ -390,4 +390,17 @@ void Communicator::barrier() const {
 #endif
 }
 
+void Communicator::idleBarrier() const {
+  if (!world_ || size_ == 1) return;
+#ifdef DEMLAB_HAVE_MPI
+  MPI_Request request;
+  MPI_Ibarrier(MPI_COMM_WORLD, &request);
+  for (int done = 0;;) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+#endif
+}
+
 }  // namespace demlab::mpi

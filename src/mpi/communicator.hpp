@@ -63,6 +63,10 @@ class Communicator {
 
   // Waits until every rank has come here.
   void barrier() const;
+  // barrier, sleeping a millisecond between looks: for ranks that wait seconds while one works
+  // alone, so that they leave their cores to other processes (a blocking collective spins on
+  // its core unless the node is oversubscribed). Collective.
+  void idleBarrier() const;
 
   // exchangeWith in halves (PostedExchange), so that a rank works while its messages travel.
   friend class PostedExchange;

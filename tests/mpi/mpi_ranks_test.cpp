@@ -4,9 +4,11 @@
 // brute force over the whole scene (every rank makes the same scene from one seed and keeps its
 // share, so each can check its own result against all of it).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -88,6 +90,25 @@ TEST(Ranks, SumsAreTakenInRankOrderAndAgreeEverywhere) {
   EXPECT_EQ(c.sum(int64_t{c.rank() + 1}), int64_t{c.size()} * (c.size() + 1) / 2);
   // Every rank holds the same bits of the sum.
   EXPECT_EQ(c.max(got), c.min(got));
+}
+
+// idleBarrier holds every rank until the last has come: rank 0 comes 50 ms late, and no rank
+// leaves before it came (the ranks share one machine, so one clock: system_clock).
+TEST(Ranks, IdleBarrierWaitsForTheLastRank) {
+  const Communicator& c = world();
+  using Clock = std::chrono::system_clock;
+  const auto micros = [](Clock::time_point t) {
+    return static_cast<double>(std::chrono::duration_cast<std::chrono::microseconds>(t.time_since_epoch()).count());
+  };
+  double came = 0;
+  if (c.rank() == 0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    came = micros(Clock::now());
+  }
+  c.idleBarrier();
+  const double left = micros(Clock::now());
+  const double last = c.max(came);  // rank 0's arrival, known everywhere
+  EXPECT_GE(left, last) << "rank " << c.rank() << " left the barrier before rank 0 came";
 }
 
 TEST(Ranks, TheBisectionOfSpreadPointsIsTheBisectionOfAllOfThem) {

@@ -97,6 +97,9 @@ void compare(int n, double friction, uint64_t steps, uint64_t each, double tol, 
     for (uint64_t k = 0; k < steps + (warm ? each : 0); k += each) a = serial->runSteps(each);
     x = serial->elementSnapshots();
   }
+  // (The others sleep meanwhile: spinning in distribute()'s first collective they would take
+  // a core from whatever else runs, another test under ctest -j2.)
+  world().idleBarrier();
   auto dist = bed(n, 0.005, 0.2, friction, rolling, cohesion);
   dist->setOption("detection", "margins", false);
   if (warm) dist->runSteps(each);
@@ -166,6 +169,7 @@ TEST(SimRanks, CheckpointOfRanksLoadsAlone) {
     serial = make();
     serial->runSteps(1000);
   }
+  world().idleBarrier();
   auto dist = make();
   dist->distribute();
   dist->runSteps(1000);
