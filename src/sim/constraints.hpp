@@ -9,6 +9,11 @@
 // a blocked element that moves.
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
 #include "sim/scene.hpp"
 #include "sim/sim_loop.hpp"
 
@@ -27,6 +32,36 @@ void forEachBlocked(const Scene<D>& s, F&& fn) {
     if (i != HandlePool<ElementKind>::kNpos) fn(i, b.dofs);
   }
 }
+
+// The blocked elements a rank holds, by dense index, for holding velocity kicks along their
+// blocked directions: the touch correction's own (TouchModule::holdBlocked) and, in a
+// distributed scene, those other ranks send back for their ghosts (GhostForceModule).
+class BlockedKickHold {
+ public:
+  // Takes the blocked elements of s (forEachBlocked). Changes this.
+  template <int D>
+  void collect(const Scene<D>& s) {
+    dofs_.clear();
+    forEachBlocked(s, [&](uint32_t i, uint8_t dofs) { dofs_.emplace_back(i, dofs); });
+    std::sort(dofs_.begin(), dofs_.end());
+  }
+  // Removes from dv, a kick to element i, its components along i's blocked degrees of freedom
+  // (ConstraintModule cancels the forces there, which kicks bypass), booking the constraint's
+  // reaction impulse times the velocity in work, as that module books its forces'.
+  template <int D>
+  void hold(const ElementArrays<D>& a, uint32_t i, VecD<D>& dv, double& work) const {
+    const auto it = std::lower_bound(dofs_.begin(), dofs_.end(), std::pair<uint32_t, uint8_t>{i, 0});
+    if (it == dofs_.end() || it->first != i) return;
+    for (int k = 0; k < D; ++k) {
+      if (!(it->second & (dof::X << k))) continue;
+      if (a.invMass[i] > 0) work -= dv[k] / a.invMass[i] * a.v[i][k];
+      dv[k] = 0;
+    }
+  }
+
+ private:
+  std::vector<std::pair<uint32_t, uint8_t>> dofs_;  // dense index, dof mask (sorted)
+};
 
 template <int D>
 class ConstraintModule final : public SimModule<D> {

@@ -32,6 +32,7 @@
 #include "mpi/partition.hpp"
 #include "mpi/reach.hpp"
 #include "mpi/records.hpp"
+#include "sim/constraints.hpp"
 #include "sim/history_store.hpp"
 #include "sim/module_table.hpp"
 #include "sim/scene.hpp"
@@ -637,25 +638,15 @@ class GhostForceModule final : public SimModule<D> {
     constexpr bool touch = std::is_same_v<T, GhostForceTouch>;
     // The touch correction's kicks from the other ranks' pairs are held along blocked degrees
     // of freedom, as the owner's own are (TouchModule::holdBlocked), the reaction's work booked.
-    held_.clear();
-    if (touch && !s.blocked.empty()) {
-      for (const OwnedBlockedElement& b : s.ownedBlocked(s)) held_.emplace_back(b.i, b.dofs);
-      std::sort(held_.begin(), held_.end());
-    }
+    const bool holding = touch && !s.blocked.empty();
+    if (holding) held_.collect(s);
     double work = 0;
     s.dist->plan.template receiveBack<T>([&](uint32_t i, const T& g) {
       a.f[i] += Vec3(g.f[0], g.f[1], g.f[2]);
       a.t[i] += Vec3(g.t[0], g.t[1], g.t[2]);
       if constexpr (touch) {
         Vec3 dv(g.dv[0], g.dv[1], g.dv[2]);
-        const auto it = std::lower_bound(held_.begin(), held_.end(), std::pair<uint32_t, uint8_t>{i, 0});
-        if (it != held_.end() && it->first == i) {
-          for (int k = 0; k < 3; ++k) {
-            if (!(it->second & (dof::X << k))) continue;
-            if (a.invMass[i] > 0) work -= dv[k] / a.invMass[i] * a.v[i][k];
-            dv[k] = 0;
-          }
-        }
+        if (holding) held_.hold(a, i, dv, work);
         // (Most ghosts' velocities are untouched: their zeros change no bits but a -0.)
         a.v[i] += dv;
       }
@@ -663,7 +654,7 @@ class GhostForceModule final : public SimModule<D> {
     if (work != 0) s.ledger.behaviorWork += work;
   }
 
-  std::vector<std::pair<uint32_t, uint8_t>> held_;  // blocked: dense index, dof mask (sorted)
+  BlockedKickHold held_;  // the rank's blocked elements (the touch correction's kicks)
 };
 
 // Moves the "ghost-forces-out" module of a level-ordered list m (made by the "ghost-forces"

@@ -157,7 +157,8 @@ struct BlockedElement {
   uint8_t dofs;  // dof:: mask, never 0 (an element with none blocked leaves the list)
 };
 
-// A blocked element a rank owns: its dense index and mask (Scene::ownedBlocked).
+// A blocked element a rank owns: its dense index, mask and global id, and its place in
+// Scene::blocked (Scene::ownedBlocked).
 struct OwnedBlockedElement {
   uint32_t i;
   uint8_t dofs;

@@ -391,26 +391,15 @@ class TouchModule final : public SimModule<D> {
   // the forces there, which the kicks bypass), booking the constraint's reaction impulse times
   // the velocity as its work, as that module books its forces'. Changes kicks_ and the ledger.
   void holdBlocked(Scene<D>& s) {
-    blockedDofs_.clear();
-    forEachBlocked(s, [&](uint32_t i, uint8_t dofs) { blockedDofs_.emplace_back(i, dofs); });
-    std::sort(blockedDofs_.begin(), blockedDofs_.end());
+    held_.collect(s);
     const ElementArrays<D>& a = s.elements.a;
     double work = 0;
-    for (auto& [i, dv] : kicks_) {
-      const auto it = std::lower_bound(blockedDofs_.begin(), blockedDofs_.end(),
-                                       std::pair<uint32_t, uint8_t>{i, 0});
-      if (it == blockedDofs_.end() || it->first != i) continue;
-      for (int k = 0; k < D; ++k) {
-        if (!(it->second & (dof::X << k))) continue;
-        if (a.invMass[i] > 0) work -= dv[k] / a.invMass[i] * a.v[i][k];
-        dv[k] = 0;
-      }
-    }
+    for (auto& [i, dv] : kicks_) held_.hold(a, i, dv, work);
     s.ledger.behaviorWork += work;
   }
 
   std::vector<std::pair<uint32_t, VecD<D>>> kicks_;  // grain, velocity change: applied last
-  std::vector<std::pair<uint32_t, uint8_t>> blockedDofs_;  // dense index, dof mask (sorted)
+  BlockedKickHold held_;                                   // the blocked grains (holdBlocked)
   std::vector<VecD<D>> xBefore_, vBefore_;           // per grain, this step (velocities())
   std::vector<uint8_t> damped_;                      // per material pair: dampsNormal
   std::vector<uint32_t> picked_;                     // grainPairs' candidates with an event
