@@ -459,8 +459,8 @@ std::string Registry::distributedMarkdown() const {
          "`MPI UNSUPPORTED` on every rank when the scene has what distributed runs do not "
          "support yet (2D, element shapes, bonds, mesh walls, periodic boundaries, sources, "
          "sinks, behaviors other than gravity, loads and torque ramps, outputs other than "
-         "`dump every`, `snapshot every` and `series every`, named or tagged elements). Element ids "
-         "stay what the script was given. `dump vtk` and `dump every` write each rank's "
+         "`dump every`, `snapshot every` and `series every`). Element ids, names and tags "
+         "stay what the script gave them, alike on every rank. `dump vtk` and `dump every` write each rank's "
          "elements and contacts as a piece under one `.pvtp`; snapshots are drawn by rank 0 "
          "from every rank's elements. Rank 0 alone "
          "writes standard output; `sim ranks` tells a script its rank. A script that fails the "
@@ -469,7 +469,7 @@ std::string Registry::distributedMarkdown() const {
          "Once the scene is distributed, these act alike on every rank: " +
          join(alike) +
          ".\n\nThese are collective, every rank gets the whole scene's answer (element lists "
-         "in the order of the ids): " +
+         "in the order of the ids, a tag's in the tag's order): " +
          join(collective) +
          ".\n\nEvery other command fails with `MPI UNSUPPORTED` on every rank, changing "
          "nothing.\n";

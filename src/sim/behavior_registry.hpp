@@ -81,6 +81,8 @@ void forEachTarget(const Scene<D>& s, ElementId grain, const std::string& tag, F
     const uint32_t i = s.ownedIndexOfHandle != nullptr ? s.ownedIndexOfHandle(s, grain)
                                                        : s.elements.pool().findDense(grain);
     if (i != HandlePool<ElementKind>::kNpos) fn(i);
+  } else if (s.ownedTagged != nullptr) {
+    for (uint32_t i : s.ownedTagged(s, tag)) fn(i);
   } else {
     s.elements.tags().forEach(tag, [&](ElementId id) { fn(s.elements.pool().denseIndex(id)); });
   }

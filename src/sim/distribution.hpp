@@ -21,8 +21,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
+#include <string>
+#include <string_view>
 #include <type_traits>
 #include <unordered_map>
 #include <vector>
@@ -32,6 +35,8 @@
 #include "mpi/partition.hpp"
 #include "mpi/reach.hpp"
 #include "mpi/records.hpp"
+#include "core/name_lookup.hpp"
+#include "core/tag_table.hpp"
 #include "sim/constraints.hpp"
 #include "sim/history_store.hpp"
 #include "sim/module_table.hpp"
@@ -115,6 +120,20 @@ struct Distribution {
   std::vector<OwnedBlockedElement> ownedBlocked;
   uint64_t blockedAt = ~uint64_t{0};
   size_t blockedListed = 0;
+  // The elements' names and tags under the scripts' handles, alike on every rank (the rank's
+  // own store has none: its handles are its pool's, and they change as elements migrate).
+  // tagEdits counts the changes to the tags, which the owned members' cache is keyed by.
+  NameLookup<ElementId> names{"grain"};
+  TagTable<ElementKind> tags;
+  uint64_t tagEdits = 0;
+  // Per tag, the dense indices of its members this rank owns, in the tag's order, with their
+  // global ids (ownedTaggedOf), as made after search `at` and tag edit `edits`.
+  struct OwnedTagged {
+    std::vector<uint32_t> i;
+    std::vector<uint64_t> globalId;
+    uint64_t at = ~uint64_t{0}, edits = ~uint64_t{0};
+  };
+  std::map<std::string, OwnedTagged, std::less<>> ownedTagged;
 
   // Returns the run of renamed handles holding global id gid, or nullptr. Changes nothing.
   const Renamed* renamedRun(uint64_t gid) const {
@@ -266,6 +285,46 @@ const std::vector<OwnedBlockedElement>& ownedBlockedOf(const Scene<D>& s) {
   d.blockedAt = s.rebuilds;
   d.blockedListed = s.blocked.size();
   return d.ownedBlocked;
+}
+
+// Returns the dense indices of the elements carrying tag that this rank owns, in the tag's
+// order (Scene::ownedTagged): the last answer while it still holds (no search and no tag edit
+// since, each entry's element still at its index: a removal between searches moves an owned
+// element), else made anew by one pass over the tag's members and one over the owned elements.
+// Changes the distribution's copy of the answer.
+template <int D>
+const std::vector<uint32_t>& ownedTaggedOf(const Scene<D>& s, std::string_view tag) {
+  Distribution<D>& d = *s.dist;
+  const ElementArrays<D>& a = s.elements.a;
+  const size_t owned = s.ownedCount();
+  auto it = d.ownedTagged.find(tag);
+  if (it == d.ownedTagged.end()) it = d.ownedTagged.emplace(std::string(tag), typename Distribution<D>::OwnedTagged{}).first;
+  typename Distribution<D>::OwnedTagged& c = it->second;
+  bool holds = c.at == s.rebuilds && c.edits == d.tagEdits;
+  for (size_t k = 0; holds && k < c.i.size(); ++k) {
+    holds = c.i[k] < owned && a.globalId[c.i[k]] == c.globalId[k];
+  }
+  if (holds) return c.i;
+  std::unordered_map<uint64_t, size_t> place;  // global id -> place among the tag's members
+  size_t members = 0;
+  d.tags.forEach(tag, [&](ElementId h) {
+    if (const std::optional<uint64_t> gid = d.globalIdOf(h)) place.emplace(*gid, members);
+    ++members;
+  });
+  std::vector<uint32_t> at(members, HandlePool<ElementKind>::kNpos);
+  for (size_t i = 0; i < owned && !place.empty(); ++i) {
+    const auto p = place.find(a.globalId[i]);
+    if (p != place.end()) at[p->second] = static_cast<uint32_t>(i);
+  }
+  c.i.clear(), c.globalId.clear();
+  for (uint32_t i : at) {
+    if (i == HandlePool<ElementKind>::kNpos) continue;
+    c.i.push_back(i);
+    c.globalId.push_back(a.globalId[i]);
+  }
+  c.at = s.rebuilds;
+  c.edits = d.tagEdits;
+  return c.i;
 }
 
 // Returns the centres of elements [0, n) of the 3D arrays a, as the bisection and the reach

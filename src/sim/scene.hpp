@@ -11,6 +11,7 @@
 #include <memory>
 #include <tuple>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <limits>
 #include <vector>
@@ -195,6 +196,9 @@ struct Scene {
   // Likewise the blocked elements (`blocked`, which holds the scripts' handles) this rank owns,
   // in the list's order: set by distribution (ownedBlockedOf), null in a serial scene.
   const std::vector<OwnedBlockedElement>& (*ownedBlocked)(const Scene& s) = nullptr;
+  // Likewise the members of a tag (kept under the scripts' handles) this rank owns, as dense
+  // indices in the tag's order: set by distribution (ownedTaggedOf), null in a serial scene.
+  const std::vector<uint32_t>& (*ownedTagged)(const Scene& s, std::string_view tag) = nullptr;
   WallSet<D> walls;
   BehaviorManager<D> behaviors;
   std::vector<BlockedElement> blocked;  // in the order they were blocked

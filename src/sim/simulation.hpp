@@ -702,6 +702,9 @@ class Simulation {
   virtual void tagElement(ElementId id, const std::string& tag) = 0;    // LOOKUP HANDLE, VALUE TAG
   virtual void untagElement(ElementId id, const std::string& tag) = 0;  // LOOKUP HANDLE
   virtual std::vector<ElementId> elementsTagged(const std::string& tag) const = 0;
+  // Returns the dense indices (those of elementIds() and the per-element arrays) of the
+  // elements carrying tag, in the tag's order: a distributed scene's among this rank's own.
+  virtual std::vector<uint32_t> taggedIndices(const std::string& tag) const = 0;
   // Every name of the kind given (elements, walls) and every tag an element or wall carries,
   // sorted: what the console completes.
   virtual std::vector<std::string> elementNames() const = 0;

@@ -50,16 +50,12 @@ std::string unsupported(const Scene<D>& s, std::ptrdiff_t outputs) {
   if (!s.sources.empty()) return "a source";
   if (!s.sinks.empty()) return "a sink";
   // (Gravity acts on every element; a load or a torque ramp on one element finds it among the
-  // rank's own through Scene::ownedIndexOfHandle, on a tag on no element: tags are refused.)
+  // rank's own through Scene::ownedIndexOfHandle, on a tag its members there: ownedTagged.)
   for (const auto& b : s.behaviors.items()) {
     const std::string_view t = b->type();
     if (t != "gravity" && t != "load" && t != "torque-ramp") return "a " + std::string(t) + " behavior";
   }
   if (outputs > 0) return "an output distributed runs do not write yet";
-  if (s.elements.names().size() > 0) return "named elements";
-  for (std::string_view t : s.elements.tags().tags()) {
-    if (s.elements.tags().count(t) > 0) return "tagged elements";
-  }
   return "";
 }
 
@@ -93,6 +89,12 @@ void SimulationManager<D>::distribute() {
     d->hertzDuration = survey.hertzDuration;
     d->stepLimit = watchdogStepLimit(s_, d->skin);
     renameRuns(s_, *d);
+    // The names and tags, under the pool's handles (the scripts' now), go to the distribution
+    // before any element leaves: each rank's pool names its own elements anew from here on.
+    d->names = std::move(s_.elements.names());
+    s_.elements.names() = NameLookup<ElementId>("grain");
+    d->tags = std::move(s_.elements.tags());
+    s_.elements.tags() = TagTable<ElementKind>{};
     {
       const auto pool = s_.elements.pool().saveState();
       d->poolSlots = static_cast<uint32_t>(pool.generations.size());
@@ -139,6 +141,7 @@ void SimulationManager<D>::distribute() {
     s_.dist = std::move(d);
     s_.ownedIndexOfHandle = &ownedIndexOf<D>;
     s_.ownedBlocked = &ownedBlockedOf<D>;
+    s_.ownedTagged = &ownedTaggedOf<D>;
     configDirty_ = true;
   }
 }
@@ -225,7 +228,6 @@ ElementId SimulationManager<D>::addElementOnRanks(const ElementDef& def) {
                       " to a distributed scene: distributed runs do not support them yet",
                   {"MPI", "UNSUPPORTED"});
     };
-    if (!def.name.empty() || !def.tags.empty()) refuse("a name or tags");
     const CheckedElement c = checkElement(def);
     if (c.geometry.boundRadius != 0) refuse("a shape other than the ball");
     Distribution<D>& d = *s_.dist;
@@ -249,6 +251,10 @@ ElementId SimulationManager<D>::addElementOnRanks(const ElementDef& def) {
     s_.ledger.reference += d.comm->sum(energy);
     // (Every rank lists it under the scripts' handle; its owner finds it: ownedBlockedOf.)
     if (c.blocked != 0) s_.blocked.push_back({h, c.blocked});
+    // (Its name and tags, checked with the rest, under the scripts' handle on every rank.)
+    if (!def.name.empty()) d.names.add(def.name, h);
+    for (const std::string& t : def.tags) d.tags.add(h, t);
+    if (!def.tags.empty()) ++d.tagEdits;
     // The next step searches, as the serial scene's does: the new element's pairs and ghosts.
     s_.needRebuild = true;
     if (s_.steps > 0) d.placed.push_back(gid);  // (as markPlaced)
@@ -300,6 +306,8 @@ size_t SimulationManager<D>::removeElementsOnRanks(const std::vector<ElementId>&
     for (size_t k = 0; k < n; ++k) {
       s_.ledger.reference -= energy[k];
       std::erase_if(s_.blocked, [&](const BlockedElement& b) { return b.id == ids[k]; });
+      d.names.remove(ids[k]);
+      if (d.tags.removeObject(ids[k]) > 0) ++d.tagEdits;
       d.freeHandle(ids[k]);
       std::erase(d.placed, *gids[k]);
     }

@@ -115,6 +115,7 @@ Scene<D> SimulationManager<D>::gatheredScene() const {
     g.dist.reset();
     g.ownedIndexOfHandle = nullptr;
     g.ownedBlocked = nullptr;
+    g.ownedTagged = nullptr;
     g.ghosts = 0;
     g.ledger = ledger;
     for (size_t k = 0; k < g.walls.items.size(); ++k) {
@@ -141,6 +142,9 @@ Scene<D> SimulationManager<D>::gatheredScene() const {
       pool.dense.push_back(h);
     }
     g.elements.pool().restoreState(pool);
+    // (The pool's handles are the scripts' again: the names and tags are the store's.)
+    g.elements.names() = d.names;
+    g.elements.tags() = d.tags;
     ElementArrays<D>& ga = g.elements.a;
     ElementArrays<D>::forEachArray(ga, [](auto& arr) { arr.clear(); });
     ga.reserve(elements.size());

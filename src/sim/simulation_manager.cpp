@@ -486,7 +486,7 @@ typename SimulationManager<D>::CheckedElement SimulationManager<D>::checkElement
   for (const std::string& t : def.tags) checkTagName(t);
   if (!def.name.empty()) {
     checkObjectName("grain", def.name);
-    if (s_.elements.names().find(def.name)) throwNameExists("grain", def.name);
+    if (elementNameTable().find(def.name)) throwNameExists("grain", def.name);
   }
   if (s_.materials[c.material].isRigid()) {
     throw Error("material \"" + def.material + "\" is rigid: only walls take it",
@@ -609,10 +609,9 @@ size_t SimulationManager<D>::removeElementList(const std::vector<ElementId>& ids
 
 template <int D>
 size_t SimulationManager<D>::removeElements(const std::string& tag) {
-  const std::vector<ElementId> ids = s_.elements.tags().objects(tag);
-  // (A distributed scene has no tags, distribute() refuses them: every rank answers 0.)
+  const std::vector<ElementId> ids = elementTagTable().objects(tag);
   if (ids.empty()) return 0;
-  refuseIfDistributed("remove elements");
+  if (s_.dist) return removeElementsOnRanks(ids);
   removeElementSet(ids);
   return ids.size();
 }
@@ -647,8 +646,11 @@ ElementState SimulationManager<D>::element(ElementId id) const {
   const ElementArrays<D>& a = s_.elements.a;
   ElementState g;
   g.id = id;
-  if (auto n = s_.elements.names().nameOf(id)) g.name = std::string(*n);
-  for (std::string_view t : s_.elements.tags().tagsOf(id)) g.tags.emplace_back(t);
+  // (The names, tags and blocked list hold the scripts' handles; a distributed scene's id is
+  // this rank's handle.)
+  const ElementId listed = s_.dist ? s_.dist->handleOf(a.globalId[i]) : id;
+  if (auto n = elementNameTable().nameOf(listed)) g.name = std::string(*n);
+  for (std::string_view t : elementTagTable().tagsOf(listed)) g.tags.emplace_back(t);
   g.material = s_.materialNames[a.material[i]];
   g.radius = a.r[i];
   g.mass = 1 / a.invMass[i];
@@ -667,8 +669,6 @@ ElementState SimulationManager<D>::element(ElementId id) const {
   g.orientation = fromRotation(a.q[i]);
   g.shape = ShapeTable<D>::get().type(geom.shape).name();
   g.shapeParams = geom.params;
-  // (The list holds the scripts' handles; a distributed scene's id is this rank's handle.)
-  const ElementId listed = s_.dist ? s_.dist->handleOf(a.globalId[i]) : id;
   for (const BlockedElement& b : s_.blocked) {
     if (b.id == listed) g.blocked = b.dofs;
   }
@@ -677,7 +677,7 @@ ElementState SimulationManager<D>::element(ElementId id) const {
 
 template <int D>
 ElementId SimulationManager<D>::findElement(const std::string& name) const {
-  return s_.elements.names().get(name);
+  return elementNameTable().get(name);
 }
 
 // The kinematic setters change one element wherever it is (editElement, after which a
@@ -740,14 +740,7 @@ template <int D>
 void SimulationManager<D>::setElementBlocked(ElementId id, unsigned mask) {
   // A distributed scene: its owner answers the lookup on every rank, and every rank keeps the
   // list alike (ownedBlockedOf finds the owner's part). Nothing moves: no search follows.
-  if (s_.dist) {
-    if (s_.dist->comm->sum(ownedElement(id).isNull() ? 0.0 : 1.0) == 0) {
-      throw Error("invalid element id \"" + toString(id) + "\": no such element",
-                  {"LOOKUP", "HANDLE"});
-    }
-  } else {
-    s_.elements.index(id);
-  }
+  requireElement(id);
   checkDofMask(mask);
   dropBlocked([&](ElementId g) { return g == id; });
   if (mask != 0) s_.blocked.push_back({id, static_cast<uint8_t>(mask)});
@@ -813,25 +806,64 @@ void SimulationManager<D>::forgetCandidates() {
 // ---- tags ----------------------------------------------------------------------------------
 
 template <int D>
+NameLookup<ElementId>& SimulationManager<D>::elementNameTable() {
+  return s_.dist ? s_.dist->names : s_.elements.names();
+}
+
+template <int D>
+const NameLookup<ElementId>& SimulationManager<D>::elementNameTable() const {
+  return s_.dist ? s_.dist->names : s_.elements.names();
+}
+
+template <int D>
+TagTable<ElementKind>& SimulationManager<D>::elementTagTable() {
+  return s_.dist ? s_.dist->tags : s_.elements.tags();
+}
+
+template <int D>
+const TagTable<ElementKind>& SimulationManager<D>::elementTagTable() const {
+  return s_.dist ? s_.dist->tags : s_.elements.tags();
+}
+
+template <int D>
+void SimulationManager<D>::requireElement(ElementId id) const {
+  if (!s_.dist) {
+    s_.elements.index(id);
+  } else if (s_.dist->comm->sum(ownedElement(id).isNull() ? 0.0 : 1.0) == 0) {
+    throw Error("invalid element id \"" + toString(id) + "\": no such element", {"LOOKUP", "HANDLE"});
+  }
+}
+
+template <int D>
 void SimulationManager<D>::tagElement(ElementId id, const std::string& tag) {
-  s_.elements.index(id);
-  s_.elements.tags().add(id, tag);
+  requireElement(id);
+  elementTagTable().add(id, tag);
+  if (s_.dist) ++s_.dist->tagEdits;
 }
 
 template <int D>
 void SimulationManager<D>::untagElement(ElementId id, const std::string& tag) {
-  s_.elements.index(id);
-  s_.elements.tags().remove(id, tag);
+  requireElement(id);
+  elementTagTable().remove(id, tag);
+  if (s_.dist) ++s_.dist->tagEdits;
 }
 
 template <int D>
 std::vector<ElementId> SimulationManager<D>::elementsTagged(const std::string& tag) const {
-  return s_.elements.tags().objects(tag);
+  return elementTagTable().objects(tag);
+}
+
+template <int D>
+std::vector<uint32_t> SimulationManager<D>::taggedIndices(const std::string& tag) const {
+  if (s_.ownedTagged != nullptr) return s_.ownedTagged(s_, tag);
+  std::vector<uint32_t> out;
+  s_.elements.tags().forEach(tag, [&](ElementId id) { out.push_back(s_.elements.pool().denseIndex(id)); });
+  return out;
 }
 
 template <int D>
 std::vector<std::string> SimulationManager<D>::elementNames() const {
-  const auto names = s_.elements.names().names();
+  const auto names = elementNameTable().names();
   return {names.begin(), names.end()};
 }
 
@@ -844,7 +876,7 @@ std::vector<std::string> SimulationManager<D>::wallNames() const {
 template <int D>
 std::vector<std::string> SimulationManager<D>::tagNames() const {
   std::vector<std::string> out;
-  for (auto t : s_.elements.tags().tags()) out.emplace_back(t);
+  for (auto t : elementTagTable().tags()) out.emplace_back(t);
   for (auto t : s_.walls.tags().tags()) out.emplace_back(t);
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());

@@ -129,6 +129,7 @@ class SimulationManager final : public Simulation {
   void tagElement(ElementId id, const std::string& tag) override;
   void untagElement(ElementId id, const std::string& tag) override;
   std::vector<ElementId> elementsTagged(const std::string& tag) const override;
+  std::vector<uint32_t> taggedIndices(const std::string& tag) const override;
   std::vector<std::string> elementNames() const override;
   std::vector<std::string> wallNames() const override;
   std::vector<std::string> tagNames() const override;
@@ -238,6 +239,16 @@ class SimulationManager final : public Simulation {
   void checkFinite() const;
   // Throws MPI DISTRIBUTED ("can't <what> in a distributed scene") when the scene is.
   void refuseIfDistributed(const char* what) const;
+  // The elements' names and tags under the handles scripts hold: a distributed scene's are
+  // its distribution's, alike on every rank (the rank's store then holds none), a serial
+  // scene's its store's.
+  NameLookup<ElementId>& elementNameTable();
+  const NameLookup<ElementId>& elementNameTable() const;
+  TagTable<ElementKind>& elementTagTable();
+  const TagTable<ElementKind>& elementTagTable() const;
+  // Throws LOOKUP HANDLE ("invalid element id") unless id names an element: in a distributed
+  // scene the one a rank owns (collective: every rank answers alike). Changes nothing.
+  void requireElement(ElementId id) const;
   // Returns the watchdog's finding hit as a trip: the elements, the likely cause and the fix.
   WatchdogTrip describeTrip(const WatchdogHit& hit, bool atStart) const;
   // Returns the largest overlap / smaller radius over the contacts of the last force pass;

@@ -1089,10 +1089,10 @@ ElementTable SimulationManager<D>::elementTable() const {
     t.shape[i] = shapeIndex(g.shape);
     std::copy(g.params.begin(), g.params.end(), t.shapeParams.begin() + i * t.shapeParamCount);
   }
-  for (std::string_view tag : s_.elements.tags().tags()) {
+  for (std::string_view tag : elementTagTable().tags()) {
     t.tagNames.emplace_back(tag);
     std::vector<uint8_t>& on = t.tagged.emplace_back(n, 0);
-    s_.elements.tags().forEach(tag, [&](ElementId id) { on[s_.elements.index(id)] = 1; });
+    for (uint32_t i : taggedIndices(std::string(tag))) on[i] = 1;
   }
   return t;
 }

@@ -7,6 +7,9 @@ lassign $argv mode file
 if {$mode eq "save"} {
     source [file join [file dirname [info script]] bed_scene.tcl]
     lassign [makeBed] gone bed
+    # A tag, in an order other than the ids', pushed by a load: the checkpoint keeps them.
+    element tag kept {*}[lreverse [lrange $bed 10 20]]
+    behavior add load -tag kept -force {0 0 1e-4}
     sim run -steps 3000 -quiet
     # Elements removed on the ranks before the save: their slots are free in the checkpoint's
     # handle pool (the next element added takes the last one freed, as the serial scene does).
@@ -15,6 +18,8 @@ if {$mode eq "save"} {
     # handles) for whichever rank will own them.
     element set [lindex $bed 700] -fixed 1
     element set [lindex $bed 701] -block z
+    # A grain added named and tagged on the ranks: kept under the handle scripts hold.
+    element add -radius 0.001 -position {0.03 0.03 0.05} -name marker -tags kept
     sim save $file
 } else {
     sim load $file
@@ -38,4 +43,6 @@ foreach k {0 1 17 600 1196} {
 puts "blocked [element get [lindex $ids 697] -blocked] / [element get [lindex $ids 698] -blocked]"
 puts "position_fixed [element get [lindex $ids 697] -position]"
 puts "reused [element get [expr {2**32}] -position]"
+puts "tagged [element list -tag kept] [element get marker -id]"
+puts "position_marker [element get marker -position]"
 puts "nextid [element add -radius 0.001 -position {0.02 0.02 0.05}]"

@@ -31,7 +31,7 @@ if {[dict keys $serial] ne [dict keys $ranks]} {
 dict for {key a} $serial {
     if {![dict exists $ranks $key]} continue
     set b [dict get $ranks $key]
-    if {$np == 1 || [regexp {^(steps|time|rebuilds|elements|walls|contacts[23]?|count|list|radii|coordination|contactlist|addedid|removed|againid|nextid|wallsleft|seriesplot|blocked|series2?(time|step|elements|contacts|file))$} $key]} {
+    if {$np == 1 || [regexp {^(steps|time|rebuilds|elements|walls|contacts[23]?|count|list|radii|coordination|contactlist|addedid|addedname|removed(tag|named)?|tagcount|taglist|tagids|tags|tagged|againid|nextid|wallsleft|seriesplot|blocked|series2?(time|step|elements|contacts|file))$} $key]} {
         if {$a ne $b} { lappend failures "$key: $a alone, $b on $np ranks" }
         continue
     }

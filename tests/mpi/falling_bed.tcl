@@ -40,6 +40,14 @@ behavior add torque-ramp -element [lindex $ids 43] -torque {0 1e-8 0} -rate {0 1
 # contacts on whichever ranks hold its copies), one that cannot move vertically.
 element set [lindex $ids 44] -fixed 1
 element set [lindex $ids 45] -block z
+# Tags, under the ids the script holds, alike on every rank: every seventh grain tagged in
+# reverse order (a tag lists its members in the order they were tagged, not by id), and ten
+# grains pushed by a load on their tag (each rank pushes the members it owns).
+set seventh {}
+for {set k 0} {$k < 1200} {incr k 7} { lappend seventh [lindex $ids $k] }
+element tag seventh {*}[lreverse $seventh]
+element tag pushed {*}[lrange $ids 50 59]
+behavior add load -tag pushed -force {0 1e-4 0}
 set fixedAt [element get [lindex $ids 44] -position]
 set heldVz [lindex [element get [lindex $ids 45] -velocity] 2]
 set ranks [sim ranks]
@@ -69,6 +77,7 @@ foreach k {kinetic gravitational elastic damping friction wallwork} { puts "$k [
 # The micromechanics of a region in the bed: the whole scene's sample on every rank.
 set region {box {0.006 0.006 0.004} {0.034 0.034 0.02}}
 puts "stress [dict get [query stress -region $region] tensor]"
+puts "stresstagged [dict get [query stress -tag seventh -region $region] tensor]"
 set z [query coordination -region $region]
 puts "coordination [dict get $z elements] [dict get $z contacts] [dict get $z n0] [dict get $z n1]"
 puts "coordinationz [dict get $z z] [dict get $z mechanical]"
@@ -93,6 +102,11 @@ foreach k {0 1 17 600 1199} {
     puts "position$k [element get $id -position]"
     puts "velocity$k [element get $id -velocity]"
 }
+puts "tagcount [element count -tag seventh] [element count -tag pushed] [element count -tag none]"
+puts "taglist [element list -tag seventh]"
+puts "tagids [element array id -tag pushed]"
+puts "position_tagged [concat {*}[element array position -tag pushed]]"
+puts "tags [element get [lindex $ids 56] -tags] / [element get [lindex $ids 7] -tags]"
 set id [lindex $ids 17]
 check "element get returns the dict with the id the script knows" \
     [expr {[dict get [element get $id] id] == $id && [dict get [element get $id] radius] > 0}]
@@ -131,6 +145,8 @@ if {$argc > 0} {
                            : {bed_elements.vtp bed_walls.vtp bed_contacts.vtp}}]
     check "dump vtk returns $want, gave $files" [expr {[lmap f $files {file tail $f}] eq $want}]
     snapshot write [file join [lindex $argv 0] bed.png] -size 320x240 -color speed
+    snapshot write [file join [lindex $argv 0] tagged.png] -size 320x240 -tags {seventh pushed} \
+        -color tag
     dump csv [file join [lindex $argv 0] bed.csv] -fields {id radius x y z vx vy vz}
     dump lammps [file join [lindex $argv 0] bed.data]
     if {$n > 1} {
@@ -151,8 +167,13 @@ element set [lindex $ids 5] -block {x y rz}
 element set [lindex $ids 45] -block {}
 puts "blocked [element get [lindex $ids 44] -blocked] [element get [lindex $ids 5] -blocked] [element get [lindex $ids 45] -blocked] [element get [lindex $ids 44] -fixed]"
 expectError {DEMLAB LOOKUP ELEMENT} "element set $gone -fixed 1"
+# Tags changed after the run, and two grains removed by their tag.
+expectError {DEMLAB VALUE TAG} "element tag 12 [lindex $ids 3]"
+expectError {DEMLAB LOOKUP ELEMENT} "element tag late $gone"
+element untag seventh [lindex $ids 7]
+element tag doomed [lindex $ids 21] [lindex $ids 28]
+puts "removedtag [element remove -tag doomed] [element count] [element count -tag seventh] [element count -tag doomed]"
 if {$n > 1} {
-    expectError {DEMLAB MPI UNSUPPORTED} {element add -radius 0.001 -position {0.02 0.02 0.1} -name x}
     set before [element count]
     expectError {DEMLAB VALUE} {element add -radius -1 -position {0.02 0.02 0.1}}
     check "a refused element add changes nothing" [expr {[element count] == $before}]
@@ -204,8 +225,10 @@ foreach x [element array position] r [element array radius] {
     if {hypot($px - 0.03, $py - 0.012) < 0.004} { set under [expr {max($under, $pz + $r)}] }
 }
 set added [element add -radius 0.002 -position [list 0.03 0.012 [expr {$under + 0.0025}]] \
-    -velocity {0 0 -0.5}]
+    -velocity {0 0 -0.5} -name dropped -tags {top seventh}]
 puts "addedid $added [element count] [llength [element list]]"
+puts "addedname [dict get [element get dropped] id] [element get $added -name] [element get dropped -tags] [element count -tag top] [lindex [element list -tag seventh] end]"
+expectError {DEMLAB EXISTS NAME} {element add -radius 0.001 -position {0.02 0.02 0.1} -name dropped}
 puts "addedstate [element get $added -position] [element get $added -velocity]"
 # A series added on the ranks (collective: its first row is the whole scene's now).
 set ser2 [series every -steps 100 -quantities {step contacts wall:2:fx}]
@@ -233,6 +256,8 @@ check "a refused element remove changes nothing" [expr {[element count] == $befo
 set removed [element remove {*}$gone2 $added [lindex $gone2 0]]
 puts "removed $removed [element count] [llength [element list]] [dict get [query counts] contacts]"
 expectError {DEMLAB LOOKUP ELEMENT} "element get [lindex $gone2 1]"
+expectError {DEMLAB LOOKUP} {element get dropped}
+puts "removednamed [element count -tag top] [element count -tag seventh]"
 # A side wall removed alike on every rank (the lid, the last wall, takes its place among them).
 wall remove 1
 puts "wallsleft [llength [wall list]] [dict get [wall get $lid] id]"

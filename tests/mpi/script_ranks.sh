@@ -22,7 +22,7 @@ if [ "$np" -gt 1 ]; then
   /usr/bin/python3 "$here/vtk_compare.py" --series "$dir/serial/series" "$dir/ranks/series" ||
     fail "the VTK series differ"
   frames=""
-  for f in bed.png frames/frame_000000.png frames/frame_000001.png frames/frame_000002.png; do
+  for f in bed.png tagged.png frames/frame_000000.png frames/frame_000001.png frames/frame_000002.png; do
     frames="$frames $dir/serial/$f $dir/ranks/$f"
   done
   # shellcheck disable=SC2086

@@ -160,18 +160,25 @@ Value idList(const std::vector<ElementId>& ids) {
 
 // Returns the ids of a distributed scene's elements, or with stride > 0 their rows of data
 // (stride numbers an element, in the order of s.elementIds()), gathered from every rank and
-// sorted by id; flat: one list of numbers. Collective.
+// sorted by id; flat: one list of numbers. With `only` (the scripts' ids of live elements,
+// alike on every rank) the rows of those elements alone, in its order. Collective.
 Value gatheredElements(const sim::Simulation& s, const std::vector<double>& data, int stride,
-                       bool flat) {
+                       bool flat, const std::vector<ElementId>& only = {}) {
   const std::vector<ElementId> all = s.elementIds();
   const std::size_t n = s.distribution().owned;  // the owned first, then the ghosts
   const std::size_t row = sizeof(std::int64_t) + std::size_t(stride) * sizeof(double);
-  std::vector<char> mine(n * row);
+  std::unordered_set<std::int64_t> wanted;
+  for (ElementId g : only) wanted.insert(scriptId(g));
+  std::vector<char> mine;
+  mine.reserve(n * row);
   for (std::size_t k = 0; k < n; ++k) {
     const std::int64_t id = scriptId(s.originalHandle(all[k]));
-    std::memcpy(mine.data() + k * row, &id, sizeof id);
+    if (!only.empty() && !wanted.contains(id)) continue;
+    const std::size_t at = mine.size();
+    mine.resize(at + row);
+    std::memcpy(mine.data() + at, &id, sizeof id);
     if (stride > 0) {
-      std::memcpy(mine.data() + k * row + sizeof id, data.data() + k * std::size_t(stride),
+      std::memcpy(mine.data() + at + sizeof id, data.data() + k * std::size_t(stride),
                   std::size_t(stride) * sizeof(double));
     }
   }
@@ -186,6 +193,20 @@ Value gatheredElements(const sim::Simulation& s, const std::vector<double>& data
   }
   std::sort(rows.begin(), rows.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (!only.empty()) {
+    // (Each listed element is a live one: its owner sent its row.)
+    std::vector<std::pair<std::int64_t, const char*>> listed;
+    listed.reserve(only.size());
+    for (ElementId g : only) {
+      const auto it = std::lower_bound(rows.begin(), rows.end(), scriptId(g),
+                                       [](const auto& r, std::int64_t id) { return r.first < id; });
+      if (it == rows.end() || it->first != scriptId(g)) {
+        throw Error("no rank holds element " + std::to_string(scriptId(g)), {"LOOKUP", "ELEMENT"});
+      }
+      listed.push_back(*it);
+    }
+    rows.swap(listed);
+  }
   if (stride == 0) {
     Ints ids;
     for (const auto& r : rows) ids.data.push_back(r.first);
@@ -209,7 +230,7 @@ void registerElementCommands(Registry& r) {
       "The shape is a type of the dimension's shape table: the ball (sphere in 3D, disc in 2D), "
       "sized by -radius, or a type registered by a plug-in, described by -params (its bounding "
       "radius follows from them) and oriented by -orientation. `element shapes` lists them. In a "
-      "distributed run (a ball, without a name or tags) it gets "
+      "distributed run (a ball) it gets "
       "the id the serial scene would give and the rank whose box holds it takes it.";
   add.option("radius", real().positive().withUnit("m"), "radius (the ball's; required for it)")
       .to(&sim::ElementDef::radius);
@@ -573,12 +594,12 @@ void registerElementCommands(Registry& r) {
   Command& list = r.add("element list", "Returns the ids of all elements, or of those with a tag.");
   list.option("tag", tagName(), "only elements carrying this tag");
   list.changesScene = false;
-  list.details = "In a distributed scene, in the order of the ids.";
+  list.details = "In a distributed scene, in the order of the ids; a tag's in the tag's order, as in a serial scene.";
   list.onRanks = OnRanks::Collective;
   list.run([](Call& c) {
     auto& s = session(c).scene();
-    if (!s.distributed()) return idList(targets(c, s));
-    if (c.given("tag")) return Value(List{});  // distributed scenes have no tagged elements
+    // (A tag's members are the same list of the scripts' ids on every rank.)
+    if (!s.distributed() || c.given("tag")) return idList(targets(c, s));
     return gatheredElements(s, {}, 0, false);
   });
 
@@ -589,10 +610,10 @@ void registerElementCommands(Registry& r) {
   count.changesScene = false;
   count.run([](Call& c) {
     auto& s = session(c).scene();
-    // Every rank's own elements (a distributed scene's, not its ghosts), summed.
-    const std::int64_t n = std::int64_t(c.given("tag") ? s.elementsTagged(c.str("tag")).size()
-                                                       : s.distribution().owned);
-    return Value(ranksOf(s).sum(n));
+    // A tag's members, listed alike on every rank; else every rank's own elements (a
+    // distributed scene's, not its ghosts), summed.
+    if (c.given("tag")) return Value(std::int64_t(s.elementsTagged(c.str("tag")).size()));
+    return Value(ranksOf(s).sum(std::int64_t(s.distribution().owned)));
   });
 
   Command& arr =
@@ -611,10 +632,9 @@ void registerElementCommands(Registry& r) {
   arr.run([](Call& c) {
     auto& s = session(c).scene();
     const std::string& f = c.str("field");
-    // A distributed scene has no tagged elements (distribute refuses them).
-    if (s.distributed() && c.given("tag")) return Value(List{});
     std::vector<ElementId> all = s.elementIds();
-    if (f == "id" && !c.given("tag")) {
+    if (f == "id") {
+      if (c.given("tag")) return idList(s.elementsTagged(c.str("tag")));
       return s.distributed() ? gatheredElements(s, {}, 0, false) : idList(all);
     }
     int d = s.dim();
@@ -632,16 +652,13 @@ void registerElementCommands(Registry& r) {
       data = s.angularVelocities(), stride = d == 2 ? 1 : 3;
     else if (f == "orientation")
       data = s.orientations(), stride = d == 2 ? 1 : 4;
-    if (s.distributed()) return gatheredElements(s, data, stride, c.flag("flat"));
+    if (s.distributed()) {
+      if (!c.given("tag")) return gatheredElements(s, data, stride, c.flag("flat"));
+      return gatheredElements(s, data, stride, c.flag("flat"), s.elementsTagged(c.str("tag")));
+    }
     if (c.given("tag")) {
-      std::unordered_map<std::uint64_t, std::size_t> dense;
-      for (std::size_t k = 0; k < all.size(); ++k) dense[all[k].bits()] = k;
-      std::vector<ElementId> tagged = s.elementsTagged(c.str("tag"));
-      if (f == "id") return idList(tagged);
       std::vector<double> picked;
-      picked.reserve(tagged.size() * std::size_t(stride));
-      for (ElementId g : tagged) {
-        std::size_t k = dense.at(g.bits());
+      for (std::uint32_t k : s.taggedIndices(c.str("tag"))) {
         picked.insert(picked.end(), data.begin() + long(k) * stride,
                       data.begin() + long(k + 1) * stride);
       }
@@ -650,8 +667,10 @@ void registerElementCommands(Registry& r) {
     return Value(Reals{std::move(data), (c.flag("flat") || stride == 1) ? 0 : stride});
   });
 
+  // (A distributed scene's tags are alike on every rank; the element's owner answers whether
+  // it exists, to every rank.)
   addTagCommands<ElementId>(r, "element", "elements", elementRef(), &sim::Simulation::tagElement,
-                          &sim::Simulation::untagElement);
+                            &sim::Simulation::untagElement, OnRanks::Collective);
 }
 
 }  // namespace demlab::cmd

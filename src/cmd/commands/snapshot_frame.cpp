@@ -165,15 +165,14 @@ std::string fieldTitle(const std::string& by) {
 
 // Returns nothing; keeps in f only the grains o draws (those with one of o.tags, those on the
 // kept side of o.clip) and the chains between two of them. Changes f's per-grain arrays.
-void keepDrawn(const sim::Simulation& s, const SnapOptions& o, const DenseIndex& dense,
-               FrameData& f) {
+void keepDrawn(const sim::Simulation& s, const SnapOptions& o, FrameData& f) {
   const size_t n = f.radii.size();
   const int d = s.dim();
   std::vector<char> keep(n, 1);
   if (!o.tags.empty()) {
     std::fill(keep.begin(), keep.end(), 0);
     for (const std::string& t : o.tags)
-      for (sim::ElementId id : s.elementsTagged(t)) keep[dense.at(id.bits())] = 1;
+      for (uint32_t i : s.taggedIndices(t)) keep[i] = 1;
   }
   if (o.clip) {
     const auto& c = *o.clip;
@@ -311,7 +310,7 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
   if (d == 2) f.angles = s.orientations();
   const std::string& by = o.colourBy;
   // Element ids to dense indices, built only for what needs them (a hash map of every element).
-  const bool needsDense = !o.tags.empty() || by == "contactforce" || o.chains;
+  const bool needsDense = by == "contactforce" || o.chains;
   const DenseIndex dense = needsDense ? denseIndex(s) : DenseIndex{};
   auto norms = [&](const std::vector<double>& v, int k) {
     f.field.assign(n, 0.0);
@@ -353,8 +352,7 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
   } else {  // tag: the first of o.tags a grain carries (only those grains are drawn)
     f.field.assign(n, double(o.tags.size()));
     for (std::size_t k = o.tags.size(); k-- > 0;)
-      for (sim::ElementId id : s.elementsTagged(o.tags[k]))
-        f.field[dense.at(id.bits())] = double(k);
+      for (uint32_t i : s.taggedIndices(o.tags[k])) f.field[i] = double(k);
     sc.categoryNames = o.tags;
   }
   poll();
@@ -370,7 +368,7 @@ void buildFrame(const sim::Simulation& s, const SnapOptions& o, FrameData& f,
   if (o.chains) f.chains = forceChains(s, dense, o.chainMin);
   poll();
   if (s.distributed()) keepOwned(s, f);
-  keepDrawn(s, o, dense, f);
+  keepDrawn(s, o, f);
   if (s.distributed()) gatherDrawn(s, f);
   poll();
   sc.centres = f.centres;

@@ -373,7 +373,7 @@ void registerWallCommands(Registry& r) {
   count.run([](Call& c) { return Value(session(c).scene().wallCount()); });
 
   addTagCommands<WallId>(r, "wall", "walls", wallRef(), &sim::Simulation::tagWall,
-                         &sim::Simulation::untagWall);
+                         &sim::Simulation::untagWall, OnRanks::Alike);  // (every rank holds every wall)
 }
 
 }  // namespace demlab::cmd

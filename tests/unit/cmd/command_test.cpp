@@ -121,7 +121,7 @@ TEST_F(RegistryTest, ADistributedSceneRefusesWhatIsNotDeclaredForRanksBeforeAnyC
   ASSERT_NE(section, std::string::npos);
   EXPECT_NE(md.find("act alike on every rank: `help`", section), std::string::npos);
   EXPECT_NE(md.find("collective, every rank gets the whole scene's answer (element lists in the "
-                    "order of the ids): `ball get`",
+                    "order of the ids, a tag's in the tag's order): `ball get`",
                     section),
             std::string::npos);
   EXPECT_NE(toString(reg.declarations({"ball", "add"})).find("onranks refused"), std::string::npos);
