@@ -340,19 +340,24 @@ TEST(SimDistribute, TagsAndNamesFollowTheScriptsHandles) {
   EXPECT_EQ(dist->findElement("marker"), marker);
   EXPECT_EQ(dist->elementsTagged("pushed"), serial->elementsTagged("pushed"));
   for (Simulation* s : {serial.get(), dist.get()}) s->runSteps(700);
+  // (Each edit followed by a run of its own: a stale list of members would show in the bits.)
   for (Simulation* s : {serial.get(), dist.get()}) {
     s->untagElement(ids[50], "pushed");
+    s->runSteps(500);
     s->tagElement(ids[70], "pushed");
-    s->runSteps(700);
+    s->runSteps(500);
   }
-  const auto same = [&] {
+  // residual: how far the ledgers may differ (0 but after a removal: the serial removal parks
+  // the springs with each contact's damper loss still to book, which the distributed scene's
+  // next search drops; RemovesElementsAsTheSerialSceneDoes).
+  const auto same = [&](double residual) {
     const auto x = serial->elementSnapshots(), y = dist->elementSnapshots();
     ASSERT_EQ(y.size(), x.size());
     for (size_t i = 0; i < x.size(); ++i) EXPECT_EQ(x[i].position, y[i].position) << i;
     EXPECT_EQ(serial->energy().behaviorWork, dist->energy().behaviorWork);
-    EXPECT_EQ(serial->energy().residual, dist->energy().residual);
+    EXPECT_NEAR(serial->energy().residual, dist->energy().residual, residual);
   };
-  same();
+  same(0);
   EXPECT_NE(serial->element(ids[70]).position, tagged()->element(ids[70]).position);
   EXPECT_NE(serial->energy().behaviorWork, 0);
   const std::vector<ElementId> members = serial->elementsTagged("pushed");
@@ -388,7 +393,7 @@ TEST(SimDistribute, TagsAndNamesFollowTheScriptsHandles) {
   EXPECT_EQ(dist->elementsTagged("pushed"), serial->elementsTagged("pushed"));
   EXPECT_EQ(dist->elementsTagged("pushed").size(), members.size() - 1);
   for (Simulation* s : {serial.get(), dist.get()}) s->runSteps(300);
-  same();
+  same(1e-14);
 }
 
 }  // namespace sim_distribute_test
