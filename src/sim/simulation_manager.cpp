@@ -921,7 +921,7 @@ BehaviorId SimulationManager<D>::addLoad(const LoadDef& def) {
   if (def.grain.isNull() == def.tag.empty()) {
     throw Error("bad target: give exactly one of a grain or a tag", {"VALUE", "TARGET"});
   }
-  if (!def.grain.isNull()) s_.elements.index(def.grain);
+  if (!def.grain.isNull()) requireElement(def.grain);
   if (!def.tag.empty()) checkTagName(def.tag);
   toVec<D>(def.force, "force");
   toAngular<D>(def.torque, "torque");
@@ -946,14 +946,15 @@ BehaviorId SimulationManager<D>::addLoad(const LoadDef& def) {
 template <int D>
 BehaviorId SimulationManager<D>::addBehavior(const std::string& type,
                                              const std::vector<BehaviorParam>& params) {
-  if (s_.dist && type != "gravity") {
+  // (The types a distributed step applies: each rank acts on the elements it owns.)
+  if (s_.dist && type != "gravity" && type != "load" && type != "torque-ramp") {
     throw Error("can't add a " + type + " behavior to a distributed scene: distributed runs do "
                 "not support it yet",
                 {"MPI", "UNSUPPORTED"});
   }
   std::unique_ptr<Behavior<D>> b = makeBehavior<D>(type, params);
   for (const BehaviorParam& p : params) {
-    if (!p.grain.isNull()) s_.elements.index(p.grain);
+    if (!p.grain.isNull()) requireElement(p.grain);
     if (!p.text.empty()) checkTagName(p.text);
   }
   // A uniform field changes the potential: the ledger is rebased as for any edit.

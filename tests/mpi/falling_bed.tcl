@@ -217,6 +217,12 @@ wall servo $lid -force 0.01 -gain 0.5 -maxspeed 0.01
 material set glass -friction 0.3 -density 2600
 behavior remove [dict get [lindex [behavior list] 0] id]
 behavior add gravity -g {0.5 0 -9.81}
+# A load on a tag and a torque ramp on one grain added after the run: each rank acts on the
+# elements it owns; an unknown grain refused alike.
+behavior add load -tag seventh -force {0 -2e-5 0}
+behavior add torque-ramp -element [lindex $ids 600] -torque {1e-9 0 0} -rate {0 0 1e-7}
+expectError {DEMLAB LOOKUP ELEMENT} "behavior add load -element $gone -force {0 0 1e-4}"
+expectError {DEMLAB LOOKUP ELEMENT} "behavior add torque-ramp -element $gone -torque {0 0 1e-9} -rate {0 0 0}"
 # A grain added on the ranks: the id the serial scene gives, the grain at once where queries
 # look (the rank whose box holds it takes it), falling into the bed.
 set under 0

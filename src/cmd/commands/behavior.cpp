@@ -42,6 +42,9 @@ void declareFromRegistry(Registry& r, const sim::BehaviorTypeInfo& t) {
     if (o.required) q.require();
   }
   if (t.targeted) c.oneOf({"element", "tag"}, true);
+  // (A distributed scene: the element's owner answers whether it exists, to every rank; a
+  // type its step cannot apply is refused on every rank.)
+  c.onRanks = OnRanks::Collective;
   c.run([t](Call& c) {
     std::vector<sim::BehaviorParam> ps;
     for (const sim::BehaviorOption& o : t.options) {
@@ -67,7 +70,14 @@ void declareFromRegistry(Registry& r, const sim::BehaviorTypeInfo& t) {
       }
       ps.push_back(std::move(p));
     }
-    return Value(scriptId(session(c).scene().addBehavior(t.name, ps)));
+    try {
+      return Value(scriptId(session(c).scene().addBehavior(t.name, ps)));
+    } catch (const Error& e) {
+      for (const sim::BehaviorParam& p : ps) {
+        if (!p.grain.isNull()) rethrowLookup(e, "element", scriptId(p.grain));
+      }
+      throw;
+    }
   });
 }
 
@@ -131,6 +141,7 @@ void registerBehaviorCommands(Registry& r) {
       "fails or gives more (or a non-finite value) during a run undoes that run (DEMLAB "
       "CALLBACK). Loads with expressions cannot be saved in a checkpoint (see sim save "
       "-skipcallbacks).";
+  load.onRanks = OnRanks::Collective;  // (the element's owner answers whether it exists)
   load.option("element", elementRef(), "the element");
   load.option("tag", tagName(), "every element carrying this tag (evaluated at each step)");
   load.oneOf({"element", "tag"}, true);
@@ -149,7 +160,13 @@ void registerBehaviorCommands(Registry& r) {
     c.prepared = d;
   });
   load.run([](Call& c) {
-    return Value(scriptId(session(c).scene().addLoad(std::any_cast<sim::LoadDef>(c.prepared))));
+    const auto& d = std::any_cast<const sim::LoadDef&>(c.prepared);
+    try {
+      return Value(scriptId(session(c).scene().addLoad(d)));
+    } catch (const Error& e) {
+      if (d.grain.isNull()) throw;
+      rethrowLookup(e, "element", scriptId(d.grain));
+    }
   });
 
   for (const auto& t : sim::behaviorTypes()) {

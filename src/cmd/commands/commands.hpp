@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cctype>
+#include <cstdint>
 #include <string>
 #include <utility>
 
@@ -50,6 +51,16 @@ std::string materialOrFirst(const Call& c, const sim::Simulation& s);
 // Returns the tags of the call's -tags option (none when not given), each checked ({VALUE TAG}).
 std::vector<std::string> tagsOption(const Call& c);
 
+// Rethrows e, or, when it is a lookup of a handle, the pipe's error for a missing id of that
+// kind ("no element with id 7", LOOKUP ELEMENT): a distributed scene's owner checks an element
+// id in the command, not in the pipe, and answers alike.
+[[noreturn]] inline void rethrowLookup(const Error& e, const std::string& kind, std::int64_t id) {
+  if (e.code().size() < 3 || e.code()[2] != "HANDLE") throw e;
+  std::string code = kind;
+  for (char& ch : code) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  throw Error("no " + kind + " with id " + std::to_string(id), {"LOOKUP", code});
+}
+
 // Declares "<group> tag" and "<group> untag" for the objects ref names (element or wall ids
 // or names, as Id): each calls tag or untag of the scene for every object given, so the tag
 // rules (TagTable) are the scene's; onRanks says how a distributed scene runs them. Changes r.
@@ -71,11 +82,7 @@ void addTagCommands(Registry& r, const std::string& group, const std::string& ob
         try {
           (s.*change)(id, c.str("tag"));
         } catch (const Error& e) {
-          // (A distributed scene's owner checks the id here, not in the pipe: worded alike.)
-          if (e.code().size() < 3 || e.code()[2] != "HANDLE") throw;
-          std::string kind = group;
-          for (char& ch : kind) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
-          throw Error("no " + group + " with id " + std::to_string(id.scriptId()), {"LOOKUP", kind});
+          rethrowLookup(e, group, id.scriptId());
         }
       }
       return Value();

@@ -341,12 +341,25 @@ TEST(SimDistribute, TagsAndNamesFollowTheScriptsHandles) {
   EXPECT_EQ(dist->elementsTagged("pushed"), serial->elementsTagged("pushed"));
   for (Simulation* s : {serial.get(), dist.get()}) s->runSteps(700);
   // (Each edit followed by a run of its own: a stale list of members would show in the bits.)
+  // A load on one element and a torque ramp added after the first run act as the serial ones.
   for (Simulation* s : {serial.get(), dist.get()}) {
     s->untagElement(ids[50], "pushed");
     s->runSteps(500);
     s->tagElement(ids[70], "pushed");
+    LoadDef pull;
+    pull.grain = ids[90];
+    pull.force = {-0.002, 0, 0.001};
+    s->addLoad(pull);
+    s->addBehavior("torque-ramp", {{"element", {}, {}, ids[91]}, vecParam("torque", {0, 1e-6, 0}),
+                                   vecParam("rate", {0, 1e-4, 0})});
     s->runSteps(500);
   }
+  EXPECT_EQ(codeOf([&] {
+              LoadDef none;
+              none.grain = ElementId{900000, 1};
+              dist->addLoad(none);
+            }),
+            (std::vector<std::string>{"LOOKUP", "HANDLE"}));
   // residual: how far the ledgers may differ (0 but after a removal: the serial removal parks
   // the springs with each contact's damper loss still to book, which the distributed scene's
   // next search drops; RemovesElementsAsTheSerialSceneDoes).
