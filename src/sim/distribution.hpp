@@ -30,13 +30,13 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/name_lookup.hpp"
+#include "core/tag_table.hpp"
 #include "mpi/communicator.hpp"
 #include "mpi/ghost_plan.hpp"
 #include "mpi/partition.hpp"
 #include "mpi/reach.hpp"
 #include "mpi/records.hpp"
-#include "core/name_lookup.hpp"
-#include "core/tag_table.hpp"
 #include "sim/constraints.hpp"
 #include "sim/history_store.hpp"
 #include "sim/module_table.hpp"
@@ -297,9 +297,10 @@ const std::vector<uint32_t>& ownedTaggedOf(const Scene<D>& s, std::string_view t
   Distribution<D>& d = *s.dist;
   const ElementArrays<D>& a = s.elements.a;
   const size_t owned = s.ownedCount();
+  using Cached = typename Distribution<D>::OwnedTagged;
   auto it = d.ownedTagged.find(tag);
-  if (it == d.ownedTagged.end()) it = d.ownedTagged.emplace(std::string(tag), typename Distribution<D>::OwnedTagged{}).first;
-  typename Distribution<D>::OwnedTagged& c = it->second;
+  if (it == d.ownedTagged.end()) it = d.ownedTagged.emplace(std::string(tag), Cached{}).first;
+  Cached& c = it->second;
   bool holds = c.at == s.rebuilds && c.edits == d.tagEdits;
   for (size_t k = 0; holds && k < c.i.size(); ++k) {
     holds = c.i[k] < owned && a.globalId[c.i[k]] == c.globalId[k];

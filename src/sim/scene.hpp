@@ -7,13 +7,13 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
-#include <tuple>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <utility>
-#include <limits>
 #include <vector>
 
 #include "core/instance_interaction.hpp"

@@ -830,7 +830,8 @@ void SimulationManager<D>::requireElement(ElementId id) const {
   if (!s_.dist) {
     s_.elements.index(id);
   } else if (s_.dist->comm->sum(ownedElement(id).isNull() ? 0.0 : 1.0) == 0) {
-    throw Error("invalid element id \"" + toString(id) + "\": no such element", {"LOOKUP", "HANDLE"});
+    throw Error("invalid element id \"" + toString(id) + "\": no such element",
+                {"LOOKUP", "HANDLE"});
   }
 }
 
@@ -857,7 +858,8 @@ template <int D>
 std::vector<uint32_t> SimulationManager<D>::taggedIndices(const std::string& tag) const {
   if (s_.ownedTagged != nullptr) return s_.ownedTagged(s_, tag);
   std::vector<uint32_t> out;
-  s_.elements.tags().forEach(tag, [&](ElementId id) { out.push_back(s_.elements.pool().denseIndex(id)); });
+  s_.elements.tags().forEach(
+      tag, [&](ElementId id) { out.push_back(s_.elements.pool().denseIndex(id)); });
   return out;
 }
 

@@ -594,7 +594,9 @@ void registerElementCommands(Registry& r) {
   Command& list = r.add("element list", "Returns the ids of all elements, or of those with a tag.");
   list.option("tag", tagName(), "only elements carrying this tag");
   list.changesScene = false;
-  list.details = "In a distributed scene, in the order of the ids; a tag's in the tag's order, as in a serial scene.";
+  list.details =
+      "In a distributed scene, in the order of the ids; a tag's in the tag's order, as in a "
+      "serial scene.";
   list.onRanks = OnRanks::Collective;
   list.run([](Call& c) {
     auto& s = session(c).scene();

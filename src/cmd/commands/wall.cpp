@@ -372,8 +372,9 @@ void registerWallCommands(Registry& r) {
   count.changesScene = false;
   count.run([](Call& c) { return Value(session(c).scene().wallCount()); });
 
+  // (Every rank holds every wall.)
   addTagCommands<WallId>(r, "wall", "walls", wallRef(), &sim::Simulation::tagWall,
-                         &sim::Simulation::untagWall, OnRanks::Alike);  // (every rank holds every wall)
+                         &sim::Simulation::untagWall, OnRanks::Alike);
 }
 
 }  // namespace demlab::cmd

@@ -129,7 +129,8 @@ TEST(SimDistribute, RefusesWhatItCannotRun) {
   ElementDef clump = grain({0.1, 0.1, 0.15}, 0, "glass");
   clump.shape = "clump";
   clump.shapeParams = {0, 0, 0, 0.004, 0.008, 0, 0, 0.003};
-  EXPECT_EQ(codeOf([&] { s->addElement(clump); }), (std::vector<std::string>{"MPI", "UNSUPPORTED"}));
+  EXPECT_EQ(codeOf([&] { s->addElement(clump); }),
+            (std::vector<std::string>{"MPI", "UNSUPPORTED"}));
   EXPECT_EQ(s->stateDigest(), digest);
   auto serial = bed(20);
   serial->setOption("detection", "margins", false);
@@ -350,7 +351,8 @@ TEST(SimDistribute, TagsAndNamesFollowTheScriptsHandles) {
     pull.grain = ids[90];
     pull.force = {-0.002, 0, 0.001};
     s->addLoad(pull);
-    s->addBehavior("torque-ramp", {{"element", {}, {}, ids[91]}, vecParam("torque", {0, 1e-6, 0}),
+    s->addBehavior("torque-ramp", {{"element", {}, {}, ids[91]},
+                                   vecParam("torque", {0, 1e-6, 0}),
                                    vecParam("rate", {0, 1e-4, 0})});
     s->runSteps(500);
   }
@@ -384,12 +386,16 @@ TEST(SimDistribute, TagsAndNamesFollowTheScriptsHandles) {
   const std::vector<uint32_t> at = dist->taggedIndices("pushed");
   const std::vector<ElementId> local = dist->elementIds();
   ASSERT_EQ(at.size(), members.size());
-  for (size_t k = 0; k < at.size(); ++k) EXPECT_EQ(dist->originalHandle(local[at[k]]), members[k]) << k;
+  for (size_t k = 0; k < at.size(); ++k)
+    EXPECT_EQ(dist->originalHandle(local[at[k]]), members[k]) << k;
   // Refused edits change nothing.
   const uint64_t digest = dist->stateDigest();
-  EXPECT_EQ(codeOf([&] { dist->tagElement(ElementId{900000, 1}, "x"); }),
+  EXPECT_EQ(codeOf([&] {
+              dist->tagElement(ElementId{900000, 1}, "x");
+            }),
             (std::vector<std::string>{"LOOKUP", "HANDLE"}));
-  EXPECT_EQ(codeOf([&] { dist->tagElement(marker, "12"); }), (std::vector<std::string>{"VALUE", "TAG"}));
+  EXPECT_EQ(codeOf([&] { dist->tagElement(marker, "12"); }),
+            (std::vector<std::string>{"VALUE", "TAG"}));
   ElementDef taken = grain({0.05, 0.05, 0.15}, 0.006, "glass");
   taken.name = "marker";
   EXPECT_EQ(codeOf([&] { dist->addElement(taken); }), (std::vector<std::string>{"EXISTS", "NAME"}));
@@ -402,7 +408,8 @@ TEST(SimDistribute, TagsAndNamesFollowTheScriptsHandles) {
   EXPECT_EQ(loaded->findElement("marker"), marker);
   // Removed by a tag: the named element goes, its name and tags with it.
   EXPECT_EQ(dist->removeElements("top"), serial->removeElements("top"));
-  EXPECT_EQ(codeOf([&] { dist->findElement("marker"); }), (std::vector<std::string>{"LOOKUP", "NAME"}));
+  EXPECT_EQ(codeOf([&] { dist->findElement("marker"); }),
+            (std::vector<std::string>{"LOOKUP", "NAME"}));
   EXPECT_EQ(dist->elementsTagged("pushed"), serial->elementsTagged("pushed"));
   EXPECT_EQ(dist->elementsTagged("pushed").size(), members.size() - 1);
   for (Simulation* s : {serial.get(), dist.get()}) s->runSteps(300);
