@@ -196,6 +196,14 @@ if(MPI_CXX_FOUND)
     set_tests_properties(tcl_ranks.np${np} PROPERTIES TIMEOUT 900 ENVIRONMENT
       "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0;DEMLAB_THREADS=1")
   endforeach()
+  # The distributed fuzzer's kept sequences (its seeds and findings), each a script on 2 ranks
+  # whose ranks must see the same outcome of every command (tests/fuzz/ranks_fuzz.tcl).
+  add_test(NAME fuzz_corpus.ranks
+           COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/ranks_fuzz.tcl replay
+                   -mpiexec ${MPIEXEC_EXECUTABLE} -demlab $<TARGET_FILE:demlab>
+                   ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/corpus/ranks)
+  set_tests_properties(fuzz_corpus.ranks PROPERTIES TIMEOUT 900 ENVIRONMENT
+    "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0;DEMLAB_THREADS=1")
 endif()
 
 # The sequences the command fuzzer found failing, kept as regression tests: each is run again

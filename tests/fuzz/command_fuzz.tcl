@@ -22,6 +22,7 @@
 
 set here [file dirname [file normalize [info script]]]
 source [file join $here .. tcl declcalls.tcl]
+source [file join $here random_calls.tcl]
 
 # ---------------------------------------------------------------------------------------------
 # The runner: runs sequences, checking the invariants after each command.
@@ -92,6 +93,9 @@ proc runSequence {steps} {
             dict set result message [string range $msg 0 300]
             break
         }
+        # Only the driver interrupts (a sequence past its timeout): the rest of the sequence
+        # is not wanted, and its next long command would look like a hang.
+        if {$failed && [lindex [dict get $opts -errorcode] 1] eq "INTERRUPTED"} break
         incr i
     }
     interp delete $fz
@@ -211,66 +215,6 @@ proc driver::run {steps} {
     return $answer
 }
 
-# Returns a word for parameter p of decl: mostly a valid one, sometimes a bad or boundary one.
-proc randomWord {decl p} {
-    if {rand() < 0.75} {
-        set w [validWord $decl $p]
-        if {[dict get $p kind] eq "real" && rand() < 0.5} {
-            set pick [lindex {0.005 0.01 0.02 0.1} [expr {int(rand() * 4)}]]
-            if {![outsideRange $p $pick]} {set w $pick}
-        }
-        return $w
-    }
-    set words [badWords $p]
-    if {$words eq {}} {return [validWord $decl $p]}
-    lindex [lindex $words [expr {int(rand() * [llength $words])}]] 0
-}
-
-# Returns a random call of decl: its required parameters, some optional ones.
-proc randomCall {decl} {
-    set call [dict get $decl command]
-    set options {}
-    set chosen {}
-    foreach g [dict get $decl exclusive] {
-        set names [dict get $g names]
-        if {[dict get $g requireone] || rand() < 0.3} {
-            lappend chosen [lindex $names [expr {int(rand() * [llength $names])}]]
-        }
-        foreach n $names {if {$n ni $chosen} {lappend excluded $n}}
-    }
-    foreach p [dict get $decl params] {
-        set n [dict get $p name]
-        set role [dict get $p role]
-        set wanted [expr {[dict get $p required] || $n in $chosen
-            || (![info exists excluded] || $n ni $excluded) && rand() < 0.25}]
-        if {!$wanted} continue
-        switch -- $role {
-            positional - variadic {lappend call [randomWord $decl $p]}
-            flag {lappend options -$n}
-            option {lappend options -$n [randomWord $decl $p]}
-        }
-    }
-    concat $call $options
-}
-
-# Returns a call that sets up a callback into demlab from inside another command: puts
-# redirected to a command, a load whose force expression runs one, a kept puts restored.
-proc randomCallback {decls} {
-    set inner [randomCall [lindex $decls [expr {int(rand() * [llength $decls])}]]]
-    switch -- [expr {int(rand() * 4)}] {
-        0 {return [list proc ::puts args $inner]}
-        1 {return [list proc ::puts args "catch [list $inner]; ::fuzz_puts {*}\$args"]}
-        2 {
-            return [list behavior add load -element first \
-                -force [list 0 0 "\[catch [list $inner]\] * 0.0"]]
-        }
-        3 {
-            return [list study convergence -scene ::valid::tinyScene -steps 1 -quiet \
-                -measure "[list catch $inner]; expr 1.0"]
-        }
-    }
-}
-
 # Returns a random sequence: the scene with one of everything (or a bare one), then up to
 # `length` random calls and callbacks.
 proc randomSequence {decls length} {
@@ -284,50 +228,6 @@ proc randomSequence {decls length} {
         }
     }
     return $steps
-}
-
-# Returns 1 if result is a failure of the same kind as the one being minimised.
-proc sameFailure {result target} {
-    expr {[dict get $result status] eq [dict get $target status]
-          && [lindex [dict get $result rule] 0] eq [lindex [dict get $target rule] 0]}
-}
-
-# Returns the smallest sublist of steps found (delta debugging: dropping chunks, then single
-# steps) that still fails the way target does.
-proc minimise {steps target} {
-    set chunk [expr {max(1, [llength $steps] / 2)}]
-    while {$chunk >= 1} {
-        set progress 0
-        for {set start 0} {$start < [llength $steps]} {incr start $chunk} {
-            set trial [lreplace $steps $start [expr {$start + $chunk - 1}]]
-            if {$trial eq {}} continue
-            if {[sameFailure [driver::run $trial] $target]} {
-                set steps $trial
-                set progress 1
-                incr start -$chunk
-            }
-        }
-        if {!$progress} {set chunk [expr {$chunk / 2}]}
-    }
-    return $steps
-}
-
-# Saves a minimised failing sequence as a Tcl file in dir. Returns the file's path.
-proc saveFinding {dir steps result seed} {
-    file mkdir $dir
-    set body "# A sequence found by tests/fuzz/command_fuzz.tcl (seed $seed): [dict get $result status]\n"
-    foreach line [split "[dict get $result rule]: [dict get $result message]" \n] {
-        append body "# $line\n"
-    }
-    append body "set steps {\n"
-    foreach s $steps {append body "    [list $s]\n"}
-    append body "}\n"
-    set name [format "%s-%08x.tcl" [dict get $result status] [expr {[zlib crc32 $steps] & 0xffffffff}]]
-    set path [file join $dir $name]
-    set f [open $path w]
-    puts -nonewline $f $body
-    close $f
-    return $path
 }
 
 # Fuzzes for the given seconds from seed. Returns the number of findings other than hangs;
@@ -359,9 +259,9 @@ proc fuzz {seconds seed corpus} {
         set steps [lrange $steps 0 [dict get $result step]]
         set timeout $driver::timeout
         if {[dict get $result status] eq "hang"} {set driver::timeout [expr {min($timeout, 5)}]}
-        set small [minimise $steps $result]
+        set small [minimise $steps $result driver::run]
         set driver::timeout $timeout
-        set path [saveFinding $corpus $small $result $seed]
+        set path [saveFinding $corpus $small $result "tests/fuzz/command_fuzz.tcl (seed $seed)"]
         puts "  minimised from [llength $steps] to [llength $small] commands: $path"
     }
     driver::stop
@@ -375,14 +275,7 @@ proc fuzz {seconds seed corpus} {
 # Replays saved sequences; returns the number that still fail.
 proc replay {paths} {
     set failures 0
-    set files {}
-    foreach p $paths {
-        if {[file isdirectory $p]} {
-            lappend files {*}[lsort [glob -nocomplain -directory $p *.tcl]]
-        } else {
-            lappend files $p
-        }
-    }
+    set files [sequenceFiles $paths]
     foreach f $files {
         unset -nocomplain steps
         source $f
