@@ -368,7 +368,6 @@ struct WatchdogTrip {
   WallId wall;                  // the wall concerned, if any
   std::string what;             // e.g. "overlap by 45% of the smaller radius (limit 20%)"
   std::string cause, fix;       // the likely cause and the fix, in words
-  int rank = -1;  // a distributed run: the rank whose element it is, when not this one
   // Returns "run stopped at step N (t = T s) by the watchdog: <subject> <what>; likely cause:
   // ...; fix: ...", naming the elements and the wall with the given functions (the core passes
   // handles, the Tcl layer its script ids).

@@ -250,7 +250,12 @@ class SimulationManager final : public Simulation {
   // scene the one a rank owns (collective: every rank answers alike). Changes nothing.
   void requireElement(ElementId id) const;
   // Returns the watchdog's finding hit as a trip: the elements, the likely cause and the fix.
+  // In a distributed scene collective: every rank returns the description of the rank whose
+  // element it is (hit.rank, or this one when it is -1).
   WatchdogTrip describeTrip(const WatchdogHit& hit, bool atStart) const;
+  // Returns the check, the elements (by the handles scripts hold), the finding, the cause and
+  // the fix of a hit on this rank's own elements.
+  WatchdogTrip describeOwnTrip(const WatchdogHit& hit) const;
   // Returns the largest overlap / smaller radius over the contacts of the last force pass;
   // with push, first moves the grains of each contact overlapping by more than fraction x the
   // smaller radius apart, back to half of that (one relaxation pass), and returns the largest

@@ -525,9 +525,7 @@ std::string percent(double x) {
 std::string WatchdogTrip::message(const std::function<std::string(ElementId)>& grainName,
                                   const std::function<std::string(WallId)>& wallName) const {
   std::string who;
-  if (rank >= 0) {
-    who = "an element of rank " + std::to_string(rank);
-  } else if (grains.size() == 1 && wall.isNull()) {
+  if (grains.size() == 1 && wall.isNull()) {
     who = "element " + grainName(grains[0]);
   } else if (grains.size() == 2) {
     who = "elements " + grainName(grains[0]) + " and " + grainName(grains[1]);
@@ -546,23 +544,62 @@ RunStopped::RunStopped(WatchdogTrip trip, RunReport report)
       trip_(std::move(trip)),
       report_(std::move(report)) {}
 
+namespace {
+
+// Returns the words of trip t that the rank describing it knows alone (the check, the elements
+// and the wall, the finding, the cause and the fix), each ended by a NUL.
+std::vector<char> tripBytes(const WatchdogTrip& t) {
+  std::vector<char> out;
+  const auto add = [&](const std::string& w) {
+    out.insert(out.end(), w.c_str(), w.c_str() + w.size() + 1);
+  };
+  add(t.check);
+  add(std::to_string(t.wall.bits()));
+  for (const std::string* w : {&t.what, &t.cause, &t.fix}) add(*w);
+  for (const ElementId g : t.grains) add(std::to_string(g.bits()));
+  return out;
+}
+
+// Sets t's words from tripBytes' form b. Changes t.
+void tripFromBytes(const std::vector<char>& b, WatchdogTrip& t) {
+  std::vector<std::string> words;
+  for (size_t at = 0; at < b.size(); at += words.back().size() + 1)
+    words.emplace_back(b.data() + at);
+  t.check = words.at(0);
+  t.wall = WallId::fromBits(std::stoull(words.at(1)));
+  t.what = words.at(2);
+  t.cause = words.at(3);
+  t.fix = words.at(4);
+  t.grains.clear();
+  for (size_t k = 5; k < words.size(); ++k)
+    t.grains.push_back(ElementId::fromBits(std::stoull(words[k])));
+}
+
+}  // namespace
+
 template <int D>
 WatchdogTrip SimulationManager<D>::describeTrip(const WatchdogHit& h, bool atStart) const {
   WatchdogTrip t;
+  if (h.rank < 0) t = describeOwnTrip(h);
   t.step = s_.steps;
   t.time = s_.time;
   t.atStart = atStart;
-  if (h.rank >= 0) {
-    // Another rank's element: that rank's message names it, with the cause and the fix.
-    static const char* const kChecks[] = {"NAN", "SPEED", "OVERLAP", "ENERGY"};
-    t.check = kChecks[h.kind];
-    t.rank = h.rank;
-    t.what = "failed the " + t.check + " check";
-    t.cause = "rank " + std::to_string(h.rank) + "'s message names the element and the cause";
-    t.fix = "the same as that rank's";
-    return t;
+  // A distributed run: the rank holding the element describes it, and every rank raises that
+  // description, so that a script reading the message does the same on every rank.
+  if (s_.dist) {
+    const mpi::Communicator& comm = *s_.dist->comm;
+    const int owner = h.rank >= 0 ? h.rank : comm.rank();
+    const auto all = comm.gatherBytes(h.rank < 0 ? tripBytes(t) : std::vector<char>{});
+    if (owner != comm.rank()) tripFromBytes(all.at(static_cast<size_t>(owner)), t);
   }
-  const auto grainId = [&](uint32_t i) { return s_.elements.pool().handleAt(i); };
+  return t;
+}
+
+template <int D>
+WatchdogTrip SimulationManager<D>::describeOwnTrip(const WatchdogHit& h) const {
+  WatchdogTrip t;
+  // The handles scripts hold (in a distributed scene not this rank's own).
+  const auto grainId = [&](uint32_t i) { return elementHandleAt(i); };
   t.grains.push_back(grainId(h.a));
   if (h.hasB) {
     if (h.wall) {

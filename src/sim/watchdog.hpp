@@ -61,8 +61,9 @@ struct WatchdogHit {
 };
 
 // Runs check() (which may throw WatchdogHit) on every rank of a distributed scene and throws on
-// every rank when one found a hit: the hit of the lowest rank that has one, its elements named
-// by that rank only (the others' hit carries its kind and rank). A serial scene: check().
+// every rank when one found a hit: the hit of the lowest rank that has one, its elements known
+// to that rank only (the others' hit carries its kind and rank, and
+// SimulationManager::describeTrip gives them that rank's description). A serial scene: check().
 // Collective in a distributed scene.
 template <int D, class Check>
 void watchTogether(const Scene<D>& s, Check&& check) {

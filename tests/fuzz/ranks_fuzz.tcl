@@ -1,11 +1,13 @@
 # The distributed command-sequence fuzzer: random sequences of demlab commands (the same calls
 # as command_fuzz.tcl's, from the declarations) run as one script by every rank of
 # `mpirun -np N demlab`, in a 3D scene that distributes at its first run. Each rank records
-# the outcome of every command (ok, or its -errorcode) in a file of its own; the driver checks:
+# the outcome of every command (ok and a checksum of its result, or its -errorcode and a
+# checksum of its message) in a file of its own; the driver checks:
 #   - the run ends (a sequence still running after its timeout gets SIGINT, which a
 #     distributed run obeys on every rank at the same step; one that does not end 15 s later
 #     is killed) and no rank crashes (the script catches every error, so it exits 0);
-#   - every rank saw the same outcome of every command: an error raised on some ranks only
+#   - every rank saw the same outcome of every command: the same result (a query answers for
+#     the whole scene on every rank), or the same error; an error raised on some ranks only
 #     would leave the others waiting in the next collective (a hang, when the ranks' records
 #     differ in length at the timeout);
 #   - an error has an -errorcode starting DEMLAB, and not DEMLAB INTERNAL.
@@ -61,7 +63,8 @@ proc ranksSceneSteps {} {
 }
 
 # Returns a random sequence: the scene above (or, one time in ten, a bare 2D one, which
-# distributed runs refuse), then up to `length` random calls and callbacks.
+# distributed runs refuse), then up to `length` random calls and callbacks, one in five
+# followed by a short run (the collective step: migration, ghosts and outputs after the edit).
 proc randomRanksSequence {decls length} {
     set steps [expr {rand() < 0.9 ? [ranksSceneSteps] : [list {sim new -dim 2}]}]
     set n [expr {1 + int(rand() * $length)}]
@@ -71,6 +74,7 @@ proc randomRanksSequence {decls length} {
         } else {
             lappend steps [randomCall [lindex $decls [expr {int(rand() * [llength $decls])}]]]
         }
+        if {rand() < 0.2} {lappend steps {sim run -steps 20 -quiet}}
     }
     return $steps
 }
@@ -84,11 +88,12 @@ proc ranksScript {steps} {
         source @DECLCALLS@
         cd [lindex $argv 0]
         set fuzzOut [open rank[dict get [sim ranks] rank].txt w]
-        # One line a command: its index, 1 if it failed, and its -errorcode.
+        # One line a command: its index, 1 if it failed, its -errorcode, its first two words
+        # and a checksum of its result or message.
         proc fuzzStep {k call} {
             set failed [catch {uplevel #0 $call} msg opts]
             set code [expr {$failed ? [dict get $opts -errorcode] : ""}]
-            chan puts $::fuzzOut [list $k $failed $code [lindex $call 0]]
+            chan puts $::fuzzOut [list $k $failed $code [lrange $call 0 1] [zlib crc32 $msg]]
             chan flush $::fuzzOut
             # Only the driver interrupts (a sequence past its timeout): the rest is not wanted.
             if {$failed && [lindex $code 1] eq "INTERRUPTED"} {exit 0}
@@ -100,6 +105,17 @@ proc ranksScript {steps} {
         incr k
     }
     return $body
+}
+
+# Returns what every rank must agree on in a record line: the command's index, whether it
+# failed, its -errorcode, and its result or message, except where that holds the rank's own
+# figures (`sim ranks`: its part; the reports of runs and studies: their wall-clock times).
+proc outcomeOf {line} {
+    lassign $line index failed code words sum
+    if {!$failed && ($words in {{sim ranks} {sim run} {sim step}} || [lindex $words 0] eq "study")} {
+        set sum ""
+    }
+    list $index $failed $code $sum
 }
 
 # Reads the records of a run's ranks. Returns a list with one list of lines a rank.
@@ -155,13 +171,13 @@ proc runRanks {steps} {
     close $f
     # The first command whose outcome differs between ranks, or that failed with a bad code.
     for {set k 0} {$k < $done} {incr k} {
-        set outcomes [lsort -unique [lmap r $records {lrange [lindex $r $k] 0 2}]]
+        set outcomes [lsort -unique [lmap r $records {outcomeOf [lindex $r $k]}]]
         if {[llength $outcomes] > 1} {
             return [dict merge $result [dict create status violation step $k \
                 rule "ranks disagree" message [join $outcomes " | "]]]
         }
         lassign [lindex $outcomes 0] index failed code
-        set command [lindex [lindex $records 0 $k] 3]
+        set command [lindex [lindex $records 0 $k] 3 0]
         if {$failed && $command ni {proc rename}
                 && ([lindex $code 0] ne "DEMLAB" || [lindex $code 1] eq "INTERNAL")} {
             return [dict merge $result [dict create status violation step $k \

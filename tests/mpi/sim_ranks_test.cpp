@@ -216,24 +216,34 @@ TEST(SimRanks, CheckpointOfRanksLoadsAlone) {
 }
 
 // One element far too fast for the step: the watchdog stops the run before its first step on
-// every rank alike (the rank holding it names it), none left waiting in a collective.
+// every rank alike, none left waiting in a collective, with the same message on every rank (the
+// description of the rank holding it), naming it by the handle the scene gave it: one that
+// reused a removed element's slot, which is not the handle its global id would give.
 TEST(SimRanks, WatchdogStopsEveryRank) {
   auto s = bed(600, 0.005, 0.2, 0.5);
   ElementDef fast;
   fast.material = "glass";
   fast.radius = 0.005;
   fast.position = {0.15, 0.15, 0.15};
+  s->removeElement(s->addElement(fast));
   fast.velocity = {0, 0, -400};
-  s->addElement(fast);
+  const ElementId fastId = s->addElement(fast);
+  ASSERT_GT(fastId.generation, 1u);
   s->distribute();
   std::vector<std::string> code;
+  std::string message;
   try {
     s->runSteps(10);
   } catch (const Error& e) {
     code = e.code();
+    message = e.what();
   }
   EXPECT_EQ(code, (std::vector<std::string>{"DEMLAB", "WATCHDOG", "SPEED"}));
   EXPECT_EQ(s->stepCount(), 0u);
+  EXPECT_NE(message.find("element " + toString(fastId) + " moves"), std::string::npos) << message;
+  for (const std::vector<char>& m : world().gatherBytes({message.begin(), message.end()})) {
+    EXPECT_EQ(std::string(m.begin(), m.end()), message);
+  }
 }
 
 }  // namespace
