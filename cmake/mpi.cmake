@@ -16,6 +16,12 @@ endif()
 # The serial tests (one rank: Communicator::self()).
 demlab_add_unit_tests(mpi demlab_mpi_tests mpi/ demlab_mpi)
 
+# The environment of every test run under mpirun: root in CI containers; more ranks than
+# cores; no cross-memory attach in containers; no leak check (OpenMPI's own allocations outlive
+# MPI_Finalize, which LeakSanitizer would report); one thread a rank (the ranks share the cores).
+set(DEMLAB_MPI_TEST_ENV
+    "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0;DEMLAB_THREADS=1")
+
 # The distributed tests, one program run under mpirun on 1, 2 and 3 ranks (3 oversubscribes a
 # 2-core machine, as the test command runs it).
 # The distributed runs of whole scenes (sim_ranks_test.cpp) likewise, as sim.np1-3.
@@ -33,11 +39,8 @@ if(MPI_CXX_FOUND)
       add_test(NAME ${part}.np${np}
                COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np}
                        $<TARGET_FILE:demlab_${part}_rank_tests> --gtest_brief=1)
-      # Root in CI containers; more ranks than cores; no cross-memory attach in containers.
-      # OpenMPI's own allocations outlive MPI_Finalize, which LeakSanitizer would report.
-      # One thread a rank: the ranks share the cores.
       set_tests_properties(${part}.np${np} PROPERTIES TIMEOUT 900 ENVIRONMENT
-        "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0;DEMLAB_THREADS=1")
+                           "${DEMLAB_MPI_TEST_ENV}")
     endforeach()
   endforeach()
 endif()

@@ -193,8 +193,7 @@ if(MPI_CXX_FOUND)
     add_test(NAME tcl_ranks.np${np}
              COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/tests/mpi/script_ranks.sh $<TARGET_FILE:demlab>
                      ${MPIEXEC_EXECUTABLE} ${np})
-    set_tests_properties(tcl_ranks.np${np} PROPERTIES TIMEOUT 900 ENVIRONMENT
-      "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0;DEMLAB_THREADS=1")
+    set_tests_properties(tcl_ranks.np${np} PROPERTIES TIMEOUT 900 ENVIRONMENT "${DEMLAB_MPI_TEST_ENV}")
   endforeach()
   # The distributed fuzzer's kept sequences (its seeds and findings), each a script on 2 ranks
   # whose ranks must see the same outcome of every command (tests/fuzz/ranks_fuzz.tcl).
@@ -202,8 +201,7 @@ if(MPI_CXX_FOUND)
            COMMAND demlab ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/ranks_fuzz.tcl replay
                    -mpiexec ${MPIEXEC_EXECUTABLE} -demlab $<TARGET_FILE:demlab>
                    ${CMAKE_CURRENT_SOURCE_DIR}/tests/fuzz/corpus/ranks)
-  set_tests_properties(fuzz_corpus.ranks PROPERTIES TIMEOUT 900 ENVIRONMENT
-    "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;ASAN_OPTIONS=detect_leaks=0;DEMLAB_THREADS=1")
+  set_tests_properties(fuzz_corpus.ranks PROPERTIES TIMEOUT 900 ENVIRONMENT "${DEMLAB_MPI_TEST_ENV}")
 endif()
 
 # The sequences the command fuzzer found failing, kept as regression tests: each is run again

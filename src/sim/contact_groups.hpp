@@ -17,6 +17,7 @@
 #include <numeric>
 #include <vector>
 
+#include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
 
 namespace demlab::sim {
@@ -67,6 +68,7 @@ void groupCandidates(std::vector<Pair>& pairs, ContactGroups* groups, std::vecto
   });
   std::vector<std::vector<uint32_t>> higher(blocks);
   std::vector<uint32_t> local = polledFill(nc, 0u, poll);
+  const FreeAsideOnThrow asideLocal(local);  // stopped: megabytes not to free on the way out
   polledFor(nc, poll, [&](size_t k) {
     const uint32_t a = pairs[k].i / B, b = pairs[k].j / B;
     const uint32_t lo = std::min(a, b), hi = std::max(a, b);
@@ -134,6 +136,7 @@ void groupCandidates(std::vector<Pair>& pairs, ContactGroups* groups, std::vecto
   polledFor(nc, poll, [&](size_t k) { start[rank[k] + 1] += 1; });
   for (size_t r = 0; r < edges.size(); ++r) start[r + 1] += start[r];
   std::vector<uint32_t> order = polledFill(nc, 0u, poll);
+  const FreeAsideOnThrow asideOrder(order);
   {
     std::vector<uint32_t> at(start.begin(), start.end() - 1);
     polledFor(nc, poll, [&](size_t k) { order[at[rank[k]]++] = static_cast<uint32_t>(k); });
@@ -142,6 +145,7 @@ void groupCandidates(std::vector<Pair>& pairs, ContactGroups* groups, std::vecto
   polledFor(nc, poll, [&](size_t k) { same = same && order[k] == k; });
   if (!same) {
     std::vector<Pair> sorted = polledFill(nc, Pair{}, poll);
+    const FreeAsideOnThrow asideSorted(sorted);
     polledFor(nc, poll, [&](size_t k) { sorted[k] = pairs[order[k]]; });
     pairs.swap(sorted);
   }

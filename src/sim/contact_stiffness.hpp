@@ -117,9 +117,12 @@ Real inverseMassAt(const Scene<D>& s, uint32_t i, const VecD<D>& r, const VecD<D
 // Returns the critical time step of s's ball contacts at their present overlaps (the
 // candidates of the last search, the walls' candidates, mesh walls' among the shape
 // candidates), +inf when none touches. Needs the
-// pair table (s.pairParams) of a prepared scene. Changes nothing.
-template <int D>
-Real contactCriticalStep(const Scene<D>& s) {
+// pair table (s.pairParams) of a prepared scene. Calls poll() every 65 536 candidate pairs
+// (a wide skin gives tens of millions: a second's pass); poll may throw, and this changes
+// nothing.
+template <int D, class Poll = void (*)()>
+Real contactCriticalStep(
+    const Scene<D>& s, Poll&& poll = [] {}) {
   using contact_stiffness_detail::contactModes;
   using contact_stiffness_detail::fastestRate;
   using contact_stiffness_detail::ModeSums;
@@ -130,8 +133,9 @@ Real contactCriticalStep(const Scene<D>& s) {
   const bool rotating = s.rotating;
   const bool sync = s.integrator == IntegratorKind::Synchronized;
   std::vector<Real> rate(n, 0);
-  for (const CandidatePair& c : s.candidates) {
-    const uint32_t i = c.i, j = c.j;
+  for (size_t at = 0; at < s.candidates.size(); ++at) {
+    if ((at & 0xffff) == 0) poll();
+    const uint32_t i = s.candidates[at].i, j = s.candidates[at].j;
     if (a.geometry[i] != 0 || a.geometry[j] != 0) continue;
     const VecD<D> raw = a.x[j] - a.x[i];
     const Real d2 = (s.periodic.any() ? s.periodic.nearest(raw) : raw).squaredNorm();

@@ -12,12 +12,14 @@
 #include <ostream>
 #include <string_view>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
 
 #include "core/free_aside.hpp"
 #include "core/interrupt.hpp"
+#include "mpi/error_bytes.hpp"
 #include "physics/critical_step.hpp"
 #include "physics/narrow_phase.hpp"
 #include "sim/behavior_modules.hpp"
@@ -174,6 +176,15 @@ struct AbandonOff {
   ~AbandonOff() { flag = nullptr; }
 };
 
+// Puts the scene `copy` holds in place of s and empties copy. The scene replaced is freed
+// aside: a step stopped part way in a large scene holds hundreds of megabytes of candidates,
+// whose return to the system would delay the stop by tenths of a second. Changes s and copy.
+template <int D>
+void replaceScene(Scene<D>& s, std::optional<Scene<D>>& copy) {
+  freeAside(std::exchange(s, std::move(*copy)));
+  copy.reset();
+}
+
 }  // namespace
 
 template <int D>
@@ -201,8 +212,9 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   std::optional<Scene<D>> before;
   if ((s_.watchdog.enabled && (!s_.forcesReady || configDirty_)) || scripted) {
     // The copy polls the run's stop flag as it serializes (a scene of hundreds of megabytes
-    // takes a second to copy): stopped there, the run has done nothing.
-    before = copySceneUnlessStopped(options.stop);
+    // takes a second to copy): stopped there, the run has done nothing. (A distributed run's
+    // ranks would not stop alike: they copy to the end.)
+    before = copySceneUnlessStopped(s_.dist ? nullptr : options.stop);
     if (!before) {
       RunReport rep;
       rep.interrupted = true;
@@ -212,18 +224,25 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   }
   const uint64_t searchedBefore = s_.rebuilds;
   // With the copy taken above, the first force pass of an edited scene (a second on a very
-  // large one) and the steps until the run keeps a copy of its own can be abandoned too.
-  s_.abandonOn = before ? options.stop : nullptr;
+  // large one) and the steps until the run keeps a copy of its own can be abandoned too (not
+  // in a distributed run: its ranks stop together at step boundaries, none abandoning alone
+  // a pass whose exchanges the others wait in).
+  s_.abandonOn = before && !s_.dist ? options.stop : nullptr;
   const AbandonOff unset{s_.abandonOn};
-  try {
-    prepare();
-  } catch (const StepAbandoned&) {
-    s_ = std::move(*before);
+  // Stopped in the run's first force pass, or in the contacts' step taken after it: the
+  // scene as it was before the run.
+  const auto abandonedBeforeFirstStep = [&] {
+    replaceScene(s_, before);
     configDirty_ = true;
     RunReport rep;
     rep.interrupted = rep.abandoned = true;
     rep.time = s_.time;
     return rep;
+  };
+  try {
+    prepare();
+  } catch (const StepAbandoned&) {
+    return abandonedBeforeFirstStep();
   }
   RunReport rep;
   const uint64_t steps0 = s_.steps, rebuilds0 = s_.rebuilds;
@@ -250,8 +269,8 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
     if (!adaptive) return;
     bool measure = now || s_.steps % kContactStepEvery == 0;
     const bool early = !measure && checksContactsEarly(s_.steps);
-    double contacts =
-        measure || early ? contactCriticalStep(s_) : std::numeric_limits<double>::infinity();
+    double contacts = measure || early ? contactCriticalStep(s_, [&] { pollStep(s_); })
+                                       : std::numeric_limits<double>::infinity();
     // (The branches above are the same on every rank: a function of the step count.)
     if (s_.dist && (measure || early)) contacts = s_.dist->comm->min(contacts);
     // Early, taken only where the step is beyond the contacts' stability limit: each change of
@@ -280,7 +299,11 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
       total = k + static_cast<uint64_t>(std::clamp(left, 0.0, 1e15));
     }
   };
-  followContacts(0, s_.rebuilds != searchedBefore, false);
+  try {
+    followContacts(0, s_.rebuilds != searchedBefore, false);
+  } catch (const StepAbandoned&) {
+    return abandonedBeforeFirstStep();
+  }
   const uint64_t every =
       options.progressEvery ? options.progressEvery : std::max<uint64_t>(1, total / 100);
   // The contact records of a step are only seen after the run's last step unless an output,
@@ -329,8 +352,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   bool untouched = false;  // back to the scene before the run: nothing below may change it
   // Puts back the scene as it was before the run (the copy `before`, which must be there).
   const auto backToBefore = [&] {
-    s_ = std::move(*before);
-    before.reset();
+    replaceScene(s_, before);
     configDirty_ = true;
     untouched = true;
   };
@@ -434,7 +456,7 @@ RunReport SimulationManager<D>::run(const RunOptions& options) {
   rep.energyResidual = e.residual;
   const bool failed = !trip && options.failed && options.failed();
   if (before && ((trip && s_.steps == steps0) || failed)) {
-    s_ = std::move(*before);
+    replaceScene(s_, before);
     configDirty_ = true;
     rep.undone = failed;
     rep.time = s_.time;
@@ -550,9 +572,7 @@ namespace {
 // and the wall, the finding, the cause and the fix), each ended by a NUL.
 std::vector<char> tripBytes(const WatchdogTrip& t) {
   std::vector<char> out;
-  const auto add = [&](const std::string& w) {
-    out.insert(out.end(), w.c_str(), w.c_str() + w.size() + 1);
-  };
+  const auto add = [&](const std::string& w) { mpi::appendWord(w, out); };
   add(t.check);
   add(std::to_string(t.wall.bits()));
   for (const std::string* w : {&t.what, &t.cause, &t.fix}) add(*w);
@@ -562,9 +582,7 @@ std::vector<char> tripBytes(const WatchdogTrip& t) {
 
 // Sets t's words from tripBytes' form b. Changes t.
 void tripFromBytes(const std::vector<char>& b, WatchdogTrip& t) {
-  std::vector<std::string> words;
-  for (size_t at = 0; at < b.size(); at += words.back().size() + 1)
-    words.emplace_back(b.data() + at);
+  const std::vector<std::string> words = mpi::wordsFromBytes(b);
   t.check = words.at(0);
   t.wall = WallId::fromBits(std::stoull(words.at(1)));
   t.what = words.at(2);

@@ -233,43 +233,24 @@ proc randomSequence {decls length} {
 # Fuzzes for the given seconds from seed. Returns the number of findings other than hangs;
 # prints the figures.
 proc fuzz {seconds seed corpus} {
-    set decls [help -declarations]
-    expr {srand($seed)}
-    set deadline [expr {[clock milliseconds] + int($seconds * 1000)}]
-    set sequences 0
-    set commands 0
-    set findings 0
-    set slow 0
-    set hangs 0
-    set errors 0
-    set started [clock milliseconds]
-    while {[clock milliseconds] < $deadline} {
-        set steps [randomSequence $decls 20]
-        set result [driver::run $steps]
-        incr sequences
-        incr commands [dict get $result commands]
-        incr errors [dict get $result errors]
-        if {[dict get $result status] eq "slow"} {incr slow}
-        if {[dict get $result status] in {ok slow}} continue
-        incr findings
-        if {[dict get $result status] eq "hang"} {incr hangs}
-        puts "finding: [dict get $result status] [dict get $result rule]"
-        # What follows the command that crashed or hung does not matter; a hang is tried again
-        # with a shorter timeout.
-        set steps [lrange $steps 0 [dict get $result step]]
-        set timeout $driver::timeout
-        if {[dict get $result status] eq "hang"} {set driver::timeout [expr {min($timeout, 5)}]}
-        set small [minimise $steps $result driver::run]
-        set driver::timeout $timeout
-        set path [saveFinding $corpus $small $result "tests/fuzz/command_fuzz.tcl (seed $seed)"]
-        puts "  minimised from [llength $steps] to [llength $small] commands: $path"
-    }
+    set c [fuzzLoop $seconds $seed randomSequence driver::run minimiseRun $corpus \
+        "tests/fuzz/command_fuzz.tcl (seed $seed)"]
     driver::stop
-    set elapsed [expr {([clock milliseconds] - $started) / 1000.0}]
-    puts "command_fuzz: seed $seed, $sequences sequences, $commands commands ($errors failed, as\
-        they may) in $elapsed s,\
-        $findings findings ($hangs hangs), $slow interrupted after [set driver::timeout] s"
-    return [expr {$findings - $hangs}]
+    puts "command_fuzz: seed $seed, [dict get $c sequences] sequences, [dict get $c commands]\
+        commands ([dict get $c errors] failed, as they may) in [dict get $c elapsed] s,\
+        [dict get $c findings] findings ([dict get $c hangs] hangs), [dict get $c slow]\
+        interrupted after [set driver::timeout] s"
+    return [expr {[dict get $c findings] - [dict get $c hangs]}]
+}
+
+# Returns the steps of a failing sequence minimised (minimise); a hang is tried again with a
+# shorter timeout.
+proc minimiseRun {steps result} {
+    set timeout $driver::timeout
+    if {[dict get $result status] eq "hang"} {set driver::timeout [expr {min($timeout, 5)}]}
+    set small [minimise $steps $result driver::run]
+    set driver::timeout $timeout
+    return $small
 }
 
 # Replays saved sequences; returns the number that still fail.

@@ -90,6 +90,41 @@ proc minimise {steps target run} {
 }
 
 
+# Runs random command sequences for the given seconds from seed: each made by the command
+# prefix `generate` (called with the declarations and a length) and run by `run` (called with
+# the steps; returns a result dict: status ok, slow or a failure's, rule, message, the failing
+# step, and the counts commands, errors and those named in `sums`). A failing sequence is cut
+# after its failing step, minimised by `minimiser` (called with the steps and the result;
+# returns the steps kept) and saved in corpus, `origin` naming what found it. Returns the
+# counts summed over the sequences, with sequences, slow, findings, hangs and elapsed seconds.
+proc fuzzLoop {seconds seed generate run minimiser corpus origin {sums {}}} {
+    set decls [help -declarations]
+    expr {srand($seed)}
+    set started [clock milliseconds]
+    set deadline [expr {$started + int($seconds * 1000)}]
+    set counts [dict create sequences 0 commands 0 errors 0 slow 0 findings 0 hangs 0]
+    foreach key $sums {dict set counts $key 0}
+    while {[clock milliseconds] < $deadline} {
+        set steps [{*}$generate $decls 20]
+        set result [{*}$run $steps]
+        dict incr counts sequences
+        foreach key [list commands errors {*}$sums] {dict incr counts $key [dict get $result $key]}
+        set status [dict get $result status]
+        if {$status eq "slow"} {dict incr counts slow}
+        if {$status in {ok slow}} continue
+        dict incr counts findings
+        if {$status eq "hang"} {dict incr counts hangs}
+        puts "finding: $status [dict get $result rule]"
+        # What follows the command that failed, crashed or hung does not matter.
+        set steps [lrange $steps 0 [dict get $result step]]
+        set small [{*}$minimiser $steps $result]
+        set path [saveFinding $corpus $small $result $origin]
+        puts "  minimised from [llength $steps] to [llength $small] commands: $path"
+    }
+    dict set counts elapsed [expr {([clock milliseconds] - $started) / 1000.0}]
+    return $counts
+}
+
 # Saves a minimised failing sequence as a Tcl file in dir, its first line naming what found it
 # (origin, e.g. "tests/fuzz/command_fuzz.tcl (seed 3)"). Returns the file's path.
 proc saveFinding {dir steps result origin} {

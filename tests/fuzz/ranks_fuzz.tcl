@@ -214,38 +214,14 @@ proc runRanks {steps} {
 
 # Fuzzes for the given seconds from seed. Returns the number of findings; prints the figures.
 proc ranksFuzz {seconds seed corpus} {
-    set decls [help -declarations]
-    expr {srand($seed)}
-    set deadline [expr {[clock milliseconds] + int($seconds * 1000)}]
-    set sequences 0
-    set commands 0
-    set findings 0
-    set slow 0
-    set errors 0
-    set unsupported 0
-    set started [clock milliseconds]
-    while {[clock milliseconds] < $deadline} {
-        set steps [randomRanksSequence $decls 20]
-        set result [runRanks $steps]
-        incr sequences
-        incr commands [dict get $result commands]
-        incr errors [dict get $result errors]
-        incr unsupported [dict get $result unsupported]
-        if {[dict get $result status] eq "slow"} {incr slow}
-        if {[dict get $result status] in {ok slow}} continue
-        incr findings
-        puts "finding: [dict get $result status] [dict get $result rule]"
-        set steps [lrange $steps 0 [dict get $result step]]
-        set small [minimise $steps $result runRanks]
-        set path [saveFinding $corpus $small $result \
-            "tests/fuzz/ranks_fuzz.tcl (seed $seed, $ranks::np ranks)"]
-        puts "  minimised from [llength $steps] to [llength $small] commands: $path"
-    }
-    set elapsed [expr {([clock milliseconds] - $started) / 1000.0}]
-    puts "ranks_fuzz: seed $seed, $ranks::np ranks, $sequences sequences, $commands commands\
-        ($errors failed, as they may; $unsupported of them refused as unsupported on ranks) in\
-        $elapsed s, $findings findings, $slow interrupted after $ranks::timeout s"
-    return $findings
+    set c [fuzzLoop $seconds $seed randomRanksSequence runRanks \
+        {apply {{steps result} {minimise $steps $result runRanks}}} $corpus \
+        "tests/fuzz/ranks_fuzz.tcl (seed $seed, $ranks::np ranks)" unsupported]
+    puts "ranks_fuzz: seed $seed, $ranks::np ranks, [dict get $c sequences] sequences,\
+        [dict get $c commands] commands ([dict get $c errors] failed, as they may;\
+        [dict get $c unsupported] of them refused as unsupported on ranks) in [dict get $c elapsed]\
+        s, [dict get $c findings] findings, [dict get $c slow] interrupted after $ranks::timeout s"
+    return [dict get $c findings]
 }
 
 # Replays saved sequences; returns the number that still fail.

@@ -215,34 +215,82 @@ TEST(SimRanks, CheckpointOfRanksLoadsAlone) {
   for (int k = 0; k < 4; ++k) EXPECT_EQ(serial->addElement(e), loaded->addElement(e));
 }
 
-// One element far too fast for the step: the watchdog stops the run before its first step on
-// every rank alike, none left waiting in a collective, with the same message on every rank (the
-// description of the rank holding it), naming it by the handle the scene gave it: one that
-// reused a removed element's slot, which is not the handle its global id would give.
-TEST(SimRanks, WatchdogStopsEveryRank) {
-  auto s = bed(600, 0.005, 0.2, 0.5);
-  ElementDef fast;
-  fast.material = "glass";
-  fast.radius = 0.005;
-  fast.position = {0.15, 0.15, 0.15};
-  s->removeElement(s->addElement(fast));
-  fast.velocity = {0, 0, -400};
-  const ElementId fastId = s->addElement(fast);
-  ASSERT_GT(fastId.generation, 1u);
-  s->distribute();
+// Adds a 5 mm glass ball at `position` with `velocity` to s after adding and removing one
+// there, so that its handle reuses a slot (generation 2): not the handle its global id would
+// give. Returns its handle.
+ElementId addInAReusedSlot(Simulation& s, Vec3d position, Vec3d velocity) {
+  ElementDef e;
+  e.material = "glass";
+  e.radius = 0.005;
+  e.position = position;
+  s.removeElement(s.addElement(e));
+  e.velocity = velocity;
+  const ElementId id = s.addElement(e);
+  EXPECT_GT(id.generation, 1u);
+  return id;
+}
+
+// Runs s for steps steps, expecting the watchdog's speed check to stop the run on every rank
+// with the same message, which names the element scripts call `id`. Returns the message.
+std::string expectSpeedTripOnEveryRank(Simulation& s, uint64_t steps, ElementId id) {
   std::vector<std::string> code;
   std::string message;
   try {
-    s->runSteps(10);
+    s.runSteps(steps);
   } catch (const Error& e) {
     code = e.code();
     message = e.what();
   }
-  EXPECT_EQ(code, (std::vector<std::string>{"DEMLAB", "WATCHDOG", "SPEED"}));
-  EXPECT_EQ(s->stepCount(), 0u);
-  EXPECT_NE(message.find("element " + toString(fastId) + " moves"), std::string::npos) << message;
+  EXPECT_EQ(code, (std::vector<std::string>{"DEMLAB", "WATCHDOG", "SPEED"})) << message;
+  EXPECT_NE(message.find("element " + toString(id) + " moves"), std::string::npos) << message;
   for (const std::vector<char>& m : world().gatherBytes({message.begin(), message.end()})) {
     EXPECT_EQ(std::string(m.begin(), m.end()), message);
+  }
+  return message;
+}
+
+// One element far too fast for the step: the watchdog stops the run before its first step on
+// every rank alike, none left waiting in a collective, with the same message on every rank (the
+// description of the rank holding it), naming it by the handle the scene gave it.
+TEST(SimRanks, WatchdogStopsEveryRank) {
+  auto s = bed(600, 0.005, 0.2, 0.5);
+  const ElementId fast = addInAReusedSlot(*s, {0.15, 0.15, 0.15}, {0, 0, -400});
+  s->distribute();
+  expectSpeedTripOnEveryRank(*s, 10, fast);
+  EXPECT_EQ(s->stepCount(), 0u);
+}
+
+// Returns the rank that holds the element scripts call `id` (every rank learns it). Collective.
+int holderOf(const Simulation& s, ElementId id) {
+  const char mine = s.ownedElement(id).isNull() ? 0 : 1;
+  const auto all = world().gatherBytes({mine});
+  for (size_t r = 0; r < all.size(); ++r) {
+    if (all[r] == std::vector<char>{1}) return static_cast<int>(r);
+  }
+  return -1;
+}
+
+// An element pushed diagonally across the domain by a load (which holds it against gravity)
+// goes over to another rank and trips the speed check there: every rank's message names it by
+// the handle scripts hold, not by the handle of the pool of the rank it went to.
+TEST(SimRanks, WatchdogNamesAnElementThatChangedRanks) {
+  auto s = bed(600, 0.005, 0.2, 0.5);
+  const ElementId fast = addInAReusedSlot(*s, {0.02, 0.02, 0.15}, {0, 0, 0});
+  s->distribute();
+  const int before = holderOf(*s, fast);
+  // The speed limit (half the smallest radius a step, 112 m/s at this step) reached after
+  // 0.15 m of the 0.23 m diagonal: past the middle, where the bed's grains (16 by 16 across
+  // x and y, two layers deep) are cut between the ranks.
+  const double mass = 2500 * 4.0 / 3.0 * M_PI * std::pow(0.005, 3);
+  const double accel = std::pow(0.5 * 0.0045 / 2e-5, 2) / (2 * 0.15);
+  LoadDef push;
+  push.grain = fast;
+  push.force = {mass * accel / std::sqrt(2.0), mass * accel / std::sqrt(2.0), mass * 9.81};
+  s->addLoad(push);
+  expectSpeedTripOnEveryRank(*s, 400, fast);
+  EXPECT_GT(s->stepCount(), 50u);
+  if (world().size() > 1) {
+    EXPECT_NE(holderOf(*s, fast), before);
   }
 }
 

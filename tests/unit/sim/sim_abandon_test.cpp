@@ -130,6 +130,33 @@ TEST(SimAbandon, TheFirstStepOfAnEditedSceneGoesBackToTheSceneBeforeTheRun) {
   EXPECT_EQ(s->stateDigest(), before);
 }
 
+// Stopped by the load of an edited scene's first force pass (at t = 0; without the touch
+// correction the last module of the pass, which then polls no more), under the automatic step: the
+// pass over every candidate that takes the contacts' step next polls, and the run goes back to the
+// scene before it (where the stop was seen only at the first step boundary, abandoning nothing).
+TEST(SimAbandon, TheContactsStepAfterTheFirstForcePassAnswersAStop) {
+  std::atomic<bool> stop{false};
+  auto s = makeSimulation(3);
+  s->addMaterial("glass", material(1e7, 0.5, 0.4));
+  const ElementId a = s->addElement(grain({0, 0, 0}, 0.005, "glass"));
+  s->addElement(grain({0.0099, 0, 0}, 0.005, "glass"));
+  LoadDef load;
+  load.grain = a;
+  load.forceFn[0] = [&stop](double) {
+    stop.store(true);
+    return 0.0;
+  };
+  s->addLoad(load);
+  s->setOption("touch", "on", false);  // its module would follow the load's, and poll first
+  s->setAutoTimeStep(0.2);
+  const uint64_t before = s->stateDigest();
+  const RunReport rep = stopped(*s, stop, 100, RunOptions{}.longStep);
+  ASSERT_TRUE(rep.interrupted);
+  EXPECT_TRUE(rep.abandoned);
+  EXPECT_EQ(s->stepCount(), 0u);
+  EXPECT_EQ(s->stateDigest(), before);
+}
+
 // Returns a lattice of 5 x 5 x 5 grains 5 % overlapping, and a floor far below whose scripted
 // motion (zero) counts the force passes in *passes and raises *stop at the stopAt-th: the
 // walls move first in a force pass, so a relax pass's search and contacts see the flag.
