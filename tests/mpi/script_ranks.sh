@@ -3,8 +3,9 @@
 # script.tcl`. falling_bed.tcl gives the serial run's values (compare_runs.tcl) and VTK files
 # (vtk_compare.py: pieces a rank under a .pvtp, read by VTK's own readers) and snapshots (drawn
 # by rank 0 from every rank's elements, compared pixel by pixel); an error
-# raised on every rank ends the run once with it; one rank failing alone ends the run (aborted)
-# rather than leaving the others waiting; the console is refused.
+# raised on every rank ends the run once with it; Ctrl-C sent to one rank stops every rank at
+# the same step; one rank failing alone ends the run (aborted) rather than leaving the others
+# waiting; the console is refused.
 set -u
 demlab=$1 mpiexec=$2 np=$3
 here=$(cd "$(dirname "$0")" && pwd)
@@ -58,6 +59,23 @@ same ck_saved_alone.txt ck_alone_np.txt "$np"
 [ $? -eq 1 ] || fail "unsupported_scene.tcl: exit status not 1"
 n=$(grep -c "which distributed runs do not support yet" "$dir/err.txt")
 [ "$n" -eq 1 ] || { cat "$dir/err.txt" >&2; fail "unsupported_scene.tcl: the error printed $n times"; }
+
+# Ctrl-C sent to one rank alone: every rank stops at the same step, and runs on.
+mkdir "$dir/interrupted"
+timeout 120 "$mpiexec" -np "$np" "$demlab" "$here/interrupted_rank.tcl" "$dir/interrupted" \
+  > "$dir/out.txt" 2> "$dir/err.txt" || { cat "$dir/err.txt" >&2; fail "interrupted_rank.tcl: exit status $?"; }
+first=$(head -n 1 "$dir/interrupted/rank0.txt")
+case "$first" in
+  "1 {DEMLAB INTERRUPTED} {step "*) ;;
+  *) fail "interrupted_rank.tcl: rank 0 saw: $first" ;;
+esac
+r=0
+while [ "$r" -lt "$np" ]; do
+  [ "$(cat "$dir/interrupted/rank$r.txt")" = "$(printf '%s\nnext 0' "$first")" ] ||
+    fail "interrupted_rank.tcl: rank $r saw $(cat "$dir/interrupted/rank$r.txt"), rank 0 $first"
+  r=$((r + 1))
+done
+echo "interrupted_rank.tcl: every rank stopped alike: $first"
 
 start=$(date +%s)
 timeout 120 "$mpiexec" -np "$np" "$demlab" "$here/failing_rank.tcl" > "$dir/out.txt" 2> "$dir/err.txt"
