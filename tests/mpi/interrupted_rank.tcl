@@ -3,11 +3,8 @@
 # waiting in an exchange, and the scene must run on. Each rank writes what it saw to
 # <dir>/rank<R>.txt: {code errorcode {step N}}, then {next code} of a short run after it.
 set dir [lindex $argv 0]
-sim new
-material add glass -density 2500 -young 1e7 -poisson 0.25 -restitution 0.5 -friction 0.4
-wall add plane -normal {0 0 1}
-pack lattice -region {box {0 0 0} {0.02 0.02 0.02}} -radius 0.001
-behavior add gravity
+source [file join [file dirname [info script]] bed_scene.tcl]
+makeBed
 sim run -steps 10 -quiet
 set me [dict get [sim ranks] rank]
 if {$me == [dict get [sim ranks] ranks] - 1} {
