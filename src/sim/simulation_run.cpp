@@ -11,6 +11,7 @@
 #include <optional>
 #include <ostream>
 #include <string_view>
+#include <tuple>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -176,13 +177,18 @@ struct AbandonOff {
   ~AbandonOff() { flag = nullptr; }
 };
 
-// Puts the scene `copy` holds in place of s and empties copy. The scene replaced is freed
-// aside: a step stopped part way in a large scene holds hundreds of megabytes of candidates,
-// whose return to the system would delay the stop by tenths of a second. Changes s and copy.
+// Puts the scene `copy` holds in place of s and empties copy. The replaced scene's arrays of
+// candidates and contacts are freed aside: a step stopped part way in a large scene holds
+// hundreds of megabytes of them, whose return to the system would delay the stop by tenths of
+// a second. The rest is freed here: it may hold Tcl callbacks (scripted behaviors and wall
+// motions), which belong to the interpreter's thread. Changes s and copy.
 template <int D>
 void replaceScene(Scene<D>& s, std::optional<Scene<D>>& copy) {
-  freeAside(std::exchange(s, std::move(*copy)));
+  Scene<D> dropped = std::exchange(s, std::move(*copy));
   copy.reset();
+  freeAside(std::make_tuple(std::move(dropped.candidates), std::move(dropped.contactGroups),
+                            std::move(dropped.contacts), std::move(dropped.touchNow),
+                            std::move(dropped.touchPrev), std::move(dropped.pairSprings)));
 }
 
 }  // namespace
